@@ -1,0 +1,16 @@
+#pragma once
+// Reductions over the solids that the diagnostics CSV and the time-step report need, refreshed every step.
+#include "components/component_id.hpp"
+
+namespace riffle {
+
+struct SolidSummary {
+  static constexpr ComponentId kId = ComponentId::kSolidSummary;
+
+  double translational_energy = 0.0;  ///< [J] sum of m |v|^2 / 2
+  double rotational_energy = 0.0;     ///< [J] sum of I |w|^2 / 2
+  double potential_energy = 0.0;      ///< [J] sum of -m g . x (relative to the origin)
+  double max_speed = 0.0;             ///< [m/s] largest |v|
+};
+
+}  // namespace riffle

@@ -1,0 +1,75 @@
+#pragma once
+// Solid grains (DEM spheres) as structure-of-arrays data. One entry per sphere; slot order may change when the
+// grains are sorted by grid cell, `id` never does.
+#include <cereal/types/vector.hpp>
+#include <cstdint>
+#include <vector>
+
+#include "components/component_id.hpp"
+#include "components/soa.hpp"
+#include "components/vec.hpp"
+
+namespace riffle {
+
+struct Solids {
+  static constexpr ComponentId kId = ComponentId::kSolids;
+
+  std::vector<EntityId> id;            ///< [1] stable identity
+  std::vector<Vec3> position;          ///< [m] centre, lab frame; filled by the integrator
+  std::vector<Vec3> velocity;          ///< [m/s] centre velocity, lab frame
+  std::vector<Vec3> angular_velocity;  ///< [rad/s]
+  std::vector<double> radius;          ///< [m]
+  std::vector<double> mass;            ///< [kg]
+  std::vector<double> moment_of_inertia;  ///< [kg m^2] about the centre (solid sphere: 2/5 m r^2)
+  std::vector<Vec3> force;             ///< [N] sum of non-gravity forces of this step, gathered by force systems
+  std::vector<Vec3> torque;            ///< [N m] sum of torques of this step
+  std::vector<std::int32_t> material;  ///< [1] index into the scene's material table
+  std::vector<std::int32_t> size_class;  ///< [1] index into the scene's size classes (for per-class output)
+
+  EntityId next_id = 0;  ///< the id the next added sphere gets
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"id", "1", true}, self.id);
+    visit(FieldInfo{"position", "m", false}, self.position);  // VTK points, not a point-data array
+    visit(FieldInfo{"velocity", "m/s", true}, self.velocity);
+    visit(FieldInfo{"angular_velocity", "rad/s", true}, self.angular_velocity);
+    visit(FieldInfo{"radius", "m", true}, self.radius);
+    visit(FieldInfo{"mass", "kg", true}, self.mass);
+    visit(FieldInfo{"moment_of_inertia", "kg m^2", false}, self.moment_of_inertia);
+    visit(FieldInfo{"force", "N", true}, self.force);
+    visit(FieldInfo{"torque", "N m", true}, self.torque);
+    visit(FieldInfo{"material", "1", true}, self.material);
+    visit(FieldInfo{"size_class", "1", true}, self.size_class);
+  }
+
+  std::size_t size() const { return id.size(); }
+
+  /// Appends one sphere at rest-free state; returns its slot.
+  std::size_t add(const Vec3& position_m, const Vec3& velocity_m_s, double radius_m, double density_kg_m3,
+                  std::int32_t material_index, std::int32_t size_class_index) {
+    const std::size_t slot = size();
+    resize_fields(*this, slot + 1);
+    const double kPi = 3.14159265358979323846;
+    id[slot] = next_id++;
+    position[slot] = position_m;
+    velocity[slot] = velocity_m_s;
+    angular_velocity[slot] = Vec3::Zero();
+    radius[slot] = radius_m;
+    mass[slot] = density_kg_m3 * 4.0 / 3.0 * kPi * radius_m * radius_m * radius_m;
+    moment_of_inertia[slot] = 0.4 * mass[slot] * radius_m * radius_m;
+    force[slot] = Vec3::Zero();
+    torque[slot] = Vec3::Zero();
+    material[slot] = material_index;
+    size_class[slot] = size_class_index;
+    return slot;
+  }
+
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(next_id);
+    for_each_field(*this, [&](const FieldInfo&, auto& field) { archive(field); });
+  }
+};
+
+}  // namespace riffle

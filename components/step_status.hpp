@@ -1,0 +1,31 @@
+#pragma once
+// Problems found during a step. Kernels never throw or log: checks write here and the stepper applies the policy
+// (stop with a diagnosis, keep the last good checkpoint).
+#include <cstdint>
+#include <string>
+
+#include "components/component_id.hpp"
+#include "components/vec.hpp"
+
+namespace riffle {
+
+enum class StepProblem : std::uint8_t {
+  kNone,
+  kNonFinite,   ///< a NaN or infinity in a particle's state
+  kLeftDomain,  ///< a particle's centre left the domain box
+};
+
+struct StepStatus {
+  static constexpr ComponentId kId = ComponentId::kStepStatus;
+
+  StepProblem problem = StepProblem::kNone;
+  std::string phase;                ///< "solids", ...
+  EntityId entity = 0;              ///< id of the first offending particle (lowest slot, so deterministic)
+  Vec3 position = Vec3::Zero();     ///< [m] its position when found
+  Vec3 velocity = Vec3::Zero();     ///< [m/s] its velocity when found
+
+  bool ok() const { return problem == StepProblem::kNone; }
+  void clear() { *this = StepStatus{}; }
+};
+
+}  // namespace riffle

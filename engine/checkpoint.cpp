@@ -1,0 +1,120 @@
+#include "engine/checkpoint.hpp"
+
+#include <cereal/archives/binary.hpp>
+#include <cereal/types/optional.hpp>
+#include <cereal/types/string.hpp>
+#include <cereal/types/vector.hpp>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace riffle {
+
+namespace {
+constexpr char kMagic[8] = {'R', 'I', 'F', 'F', 'L', 'E', 'C', 'P'};
+constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8 + 8;
+
+template <class T>
+void put(std::string& out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  out.append(bytes, sizeof(T));
+}
+
+template <class T>
+T get(const std::string& in, std::size_t offset) {
+  T value;
+  std::memcpy(&value, in.data() + offset, sizeof(T));
+  return value;
+}
+
+template <class Archive>
+void archive_checkpoint(Archive& archive, CheckpointData& data) {
+  World& world = data.world;
+  archive(data.scene_file, data.scene_text, world.time, world.step, world.solids, world.walls, world.tank_motion,
+          data.output);
+}
+}  // namespace
+
+std::uint64_t fnv1a64(const std::string& bytes) {
+  std::uint64_t hash = 14695981039346656037ull;
+  for (unsigned char byte : bytes) {
+    hash ^= byte;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+std::string encode_checkpoint(const CheckpointData& data) {
+  std::ostringstream payload_stream(std::ios::binary);
+  {
+    cereal::BinaryOutputArchive archive(payload_stream);
+    archive_checkpoint(archive, const_cast<CheckpointData&>(data));  // cereal's save path does not modify
+  }
+  const std::string payload = payload_stream.str();
+  std::string out(kMagic, sizeof kMagic);
+  put<std::uint32_t>(out, kCheckpointVersion);
+  put<std::uint32_t>(out, 0);
+  put<std::uint64_t>(out, payload.size());
+  put<std::uint64_t>(out, fnv1a64(payload));
+  out += payload;
+  return out;
+}
+
+CheckpointData decode_checkpoint(const std::string& bytes, const std::string& name) {
+  if (bytes.size() < kHeaderSize || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw CheckpointError(name + ": not a riffle checkpoint (missing RIFFLECP header)");
+  const auto version = get<std::uint32_t>(bytes, 8);
+  if (version != kCheckpointVersion)
+    throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
+                          ", but this riffle reads version " + std::to_string(kCheckpointVersion));
+  const auto payload_size = get<std::uint64_t>(bytes, 16);
+  const auto checksum = get<std::uint64_t>(bytes, 24);
+  const std::size_t found = bytes.size() - kHeaderSize;
+  if (found != payload_size)
+    throw CheckpointError(name + ": checkpoint is " + (found < payload_size ? "truncated" : "oversized") +
+                          ": header says " + std::to_string(payload_size) + " payload bytes, file has " +
+                          std::to_string(found));
+  const std::string payload = bytes.substr(kHeaderSize);
+  if (fnv1a64(payload) != checksum)
+    throw CheckpointError(name + ": checkpoint is corrupted (checksum mismatch)");
+  CheckpointData data;
+  try {
+    std::istringstream payload_stream(payload, std::ios::binary);
+    cereal::BinaryInputArchive archive(payload_stream);
+    archive_checkpoint(archive, data);
+    if (data.world.solids) check_field_sizes(*data.world.solids, "solids");
+    if (data.world.walls) check_field_sizes(*data.world.walls, "walls");
+  } catch (const std::exception& error) {
+    throw CheckpointError(name + ": checkpoint payload cannot be read: " + error.what());
+  }
+  return data;
+}
+
+void write_checkpoint(const std::string& path, const CheckpointData& data) {
+  const std::string bytes = encode_checkpoint(data);
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    if (!file) throw CheckpointError(temporary + ": cannot open for writing");
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    file.flush();
+    if (!file) throw CheckpointError(temporary + ": write failed (disk full?)");
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) throw CheckpointError(path + ": cannot rename the temporary checkpoint into place: " + error.message());
+}
+
+CheckpointData read_checkpoint(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw CheckpointError(path + ": cannot open the checkpoint");
+  std::ostringstream bytes;
+  bytes << file.rdbuf();
+  return decode_checkpoint(bytes.str(), path);
+}
+
+}  // namespace riffle

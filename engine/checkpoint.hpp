@@ -1,0 +1,60 @@
+#pragma once
+// Checkpoints: everything needed to continue a run bit for bit, and nothing from the wall clock.
+//
+// File layout (little-endian):
+//   8 bytes  magic "RIFFLECP"
+//   4 bytes  format version (kCheckpointVersion)
+//   4 bytes  zero
+//   8 bytes  payload size in bytes
+//   8 bytes  FNV-1a 64 checksum of the payload
+//   payload  cereal binary archive of CheckpointData
+// Files are written to "<path>.tmp" and renamed into place, so a crash never leaves a half-written checkpoint
+// under the real name.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "engine/world.hpp"
+
+namespace riffle {
+
+inline constexpr std::uint32_t kCheckpointVersion = 1;
+
+/// Output bookkeeping that must survive a resume so the frame series and diagnostics continue seamlessly.
+struct OutputState {
+  std::vector<double> frame_times;          ///< [s] time of every VTK frame written so far (frame k = index k)
+  std::uint64_t checkpoints_due = 0;        ///< interval checkpoints written so far
+  std::vector<std::uint64_t> kept_steps;    ///< steps of the interval checkpoints still on disk, oldest first
+
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(frame_times, checkpoints_due, kept_steps);
+  }
+};
+
+struct CheckpointData {
+  std::string scene_file;  ///< the scene's file name as given when the run started (for messages)
+  std::string scene_text;  ///< the full scene; the model is rebuilt from it
+  World world;
+  OutputState output;
+};
+
+class CheckpointError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// FNV-1a, 64 bit.
+std::uint64_t fnv1a64(const std::string& bytes);
+
+/// Serialises `data` into the checkpoint byte format.
+std::string encode_checkpoint(const CheckpointData& data);
+/// Parses checkpoint bytes; `name` is used in messages. Throws CheckpointError for anything but a valid file.
+CheckpointData decode_checkpoint(const std::string& bytes, const std::string& name);
+
+/// Writes atomically (temporary file, then rename). Throws CheckpointError on I/O failure.
+void write_checkpoint(const std::string& path, const CheckpointData& data);
+CheckpointData read_checkpoint(const std::string& path);
+
+}  // namespace riffle

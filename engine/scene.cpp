@@ -1,0 +1,178 @@
+#include "engine/scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace riffle {
+
+namespace {
+
+const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+
+std::int32_t find_material(const Model& model, TableReader& reader, const std::string& key) {
+  const std::string name = reader.text(key, std::nullopt);
+  for (std::size_t k = 0; k < model.materials.size(); ++k)
+    if (model.materials[k].name == name) return static_cast<std::int32_t>(k);
+  if (!name.empty()) {
+    std::string known;
+    for (const Material& material : model.materials) known += (known.empty() ? "" : ", ") + material.name;
+    reader.problem(key, "unknown material \"" + name + "\" (materials defined: " +
+                            (known.empty() ? "none" : known) + ")");
+  }
+  return 0;
+}
+
+void read_run(TableReader& run, Model& model) {
+  model.name = run.text("name", "riffle");
+  model.end_time = run.number("end_time", std::nullopt, "s", Bounds::positive());
+  model.dt = run.number("dt", std::nullopt, "s", Bounds::positive());
+  model.solid_substeps = run.integer("solid_substeps", 1, 1, 1000000);
+  model.gravity = run.vec3("gravity", Vec3(0.0, 0.0, -9.81), "m/s^2", Bounds::any());
+  if (model.dt > 0.0 && model.end_time > 0.0 && model.end_time / model.dt > 1e12)
+    run.problem("dt", "dt is too small for end_time (more than 1e12 steps)");
+  run.finish();
+}
+
+void read_materials(TableReader& materials, Model& model) {
+  for (auto& [name, reader] : materials.named_tables()) {
+    Material material;
+    material.name = name;
+    material.density = reader.number("density", std::nullopt, "kg/m^3", Bounds::positive());
+    reader.finish();
+    model.materials.push_back(material);
+  }
+  if (model.materials.empty()) materials.problem("", "expected at least one [materials.NAME] table");
+}
+
+void read_motion(TableReader& motion, TankMotionModel& model) {
+  const std::string kind = motion.choice("kind", "none", {"none", "sinusoidal"});
+  if (kind == "none") {
+    model.kind = TankMotionModel::Kind::kNone;
+    motion.finish();
+    return;
+  }
+  model.kind = TankMotionModel::Kind::kSinusoidal;
+  const Vec3 direction = motion.vec3("direction", Vec3::UnitX(), "1", Bounds::any());
+  if (direction.norm() == 0.0)
+    motion.problem("direction", "expected a non-zero direction vector");
+  else
+    model.direction = direction.normalized();
+  model.amplitude = motion.number("amplitude", std::nullopt, "m", Bounds::non_negative());
+  model.frequency = motion.number("frequency", std::nullopt, "Hz", Bounds::positive());
+  model.ramp_time = motion.number("ramp_time", 0.0, "s", Bounds::non_negative());
+  motion.finish();
+}
+
+void read_tank(TableReader& tank, Model& model) {
+  model.tank.size = tank.vec3("size", std::nullopt, "m", Bounds::positive());
+  model.tank.origin = tank.vec3("origin", Vec3::Zero(), "m", Bounds::any());
+  model.tank.open_faces = tank.choices("open_faces", kFaceNames);
+  model.tank.wall_material = find_material(model, tank, "wall_material");
+  model.tank.domain_margin = tank.number("domain_margin", 0.05, "m", Bounds::non_negative());
+  if (auto motion = tank.table("motion", false)) read_motion(*motion, model.tank.motion);
+  tank.finish();
+}
+
+bool inside_tank(const Model& model, const Vec3& centre, double radius) {
+  const Vec3 low = model.tank.origin.array() + radius;
+  const Vec3 high = (model.tank.origin + model.tank.size).array() - radius;
+  return (centre.array() >= low.array()).all() && (centre.array() <= high.array()).all();
+}
+
+void read_solids(TableReader& solids, Model& model) {
+  model.solids.enabled = true;
+  model.solids.sort_every = solids.integer("sort_every", 0, 0, 1000000000);
+  for (TableReader& sphere : solids.tables("spheres")) {
+    SphereSpec spec;
+    spec.position = sphere.vec3("position", std::nullopt, "m", Bounds::any());
+    spec.velocity = sphere.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
+    spec.angular_velocity = sphere.vec3("angular_velocity", Vec3::Zero(), "rad/s", Bounds::any());
+    spec.radius = sphere.number("radius", std::nullopt, "m", Bounds::positive());
+    spec.material = find_material(model, sphere, "material");
+    spec.size_class = static_cast<std::int32_t>(sphere.integer("size_class", 0, 0, 1000));
+    if (spec.radius > 0.0 && !inside_tank(model, spec.position, spec.radius))
+      sphere.problem("position", "the sphere does not fit inside the tank at rest (tank spans origin to "
+                                 "origin + size)");
+    sphere.finish();
+    model.solids.spheres.push_back(spec);
+  }
+  for (TableReader& block : solids.tables("blocks")) {
+    const Vec3 low = block.vec3("min", std::nullopt, "m", Bounds::any());
+    const Vec3 high = block.vec3("max", std::nullopt, "m", Bounds::any());
+    const double spacing = block.number("spacing", std::nullopt, "m", Bounds::positive());
+    SphereSpec spec;
+    spec.radius = block.number("radius", std::nullopt, "m", Bounds::positive());
+    spec.velocity = block.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
+    spec.material = find_material(model, block, "material");
+    spec.size_class = static_cast<std::int32_t>(block.integer("size_class", 0, 0, 1000));
+    block.finish();
+    if (spacing <= 0.0 || spec.radius <= 0.0) continue;
+    if (spacing < 2.0 * spec.radius) {
+      block.problem("spacing", "spacing must be at least the sphere diameter (" + std::to_string(2 * spec.radius) +
+                                   " m) so that generated spheres do not overlap");
+      continue;
+    }
+    const Vec3 extent = high - low;
+    if ((extent.array() < 0.0).any()) {
+      block.problem("max", "every component of max must be >= the one of min");
+      continue;
+    }
+    const Eigen::Array3d counts = (extent.array() / spacing + 1e-9).floor() + 1.0;
+    if (counts.prod() > 5e7) {
+      block.problem("spacing", "the block would generate more than 5e7 spheres");
+      continue;
+    }
+    const std::size_t before = model.solids.spheres.size();
+    for (int k = 0; k < static_cast<int>(counts[2]); ++k)
+      for (int j = 0; j < static_cast<int>(counts[1]); ++j)
+        for (int i = 0; i < static_cast<int>(counts[0]); ++i) {
+          spec.position = low + spacing * Vec3(i, j, k);
+          if (inside_tank(model, spec.position, spec.radius)) model.solids.spheres.push_back(spec);
+        }
+    if (model.solids.spheres.size() == before)
+      block.problem("min", "the block places no sphere inside the tank");
+  }
+  solids.finish();
+}
+
+void read_output(TableReader& output, Model& model) {
+  model.output.vtk_interval = output.number("vtk_interval", 0.0, "s", Bounds::non_negative());
+  model.output.checkpoint_interval = output.number("checkpoint_interval", 0.0, "s", Bounds::non_negative());
+  model.output.checkpoint_keep = output.integer("checkpoint_keep", 3, 1, 1000000);
+  model.output.diagnostics_every = output.integer("diagnostics_every", 1, 1, 1000000000);
+  output.finish();
+}
+
+}  // namespace
+
+Model parse_scene(const std::string& text, const std::string& file_name) {
+  SceneProblems problems{file_name, {}};
+  std::optional<toml::table> root = parse_toml(text, problems);
+  if (!root) throw SceneError(problems.lines);
+
+  Model model;
+  model.scene_file = file_name;
+  model.scene_text = text;
+  TableReader scene(*root, "", problems);
+  if (auto run = scene.table("run", true)) read_run(*run, model);
+  // Materials first: the tank and the solids refer to them by name.
+  if (auto materials = scene.table("materials", true)) read_materials(*materials, model);
+  if (auto tank = scene.table("tank", true)) read_tank(*tank, model);
+  if (auto solids = scene.table("solids", false)) read_solids(*solids, model);
+  if (auto output = scene.table("output", false)) read_output(*output, model);
+  scene.finish();
+  if (!problems.lines.empty()) throw SceneError(problems.lines);
+  return model;
+}
+
+Model load_scene_file(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw SceneError({path + ": cannot open the scene file (does it exist and is it readable?)"});
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw SceneError({path + ": error while reading the scene file"});
+  return parse_scene(text.str(), path);
+}
+
+}  // namespace riffle

@@ -1,0 +1,96 @@
+#pragma once
+// Typed, validating access to a parsed TOML scene. Every problem becomes one line "file:line:column: key: what
+// was expected, what was found"; unknown keys are problems too, so typos cannot pass silently.
+#include <toml++/toml.h>
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "components/vec.hpp"
+
+namespace riffle {
+
+/// Raised when a scene (or a checkpoint's embedded scene) is invalid. what() lists every problem, one per line.
+class SceneError : public std::runtime_error {
+ public:
+  explicit SceneError(const std::vector<std::string>& problems);
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  std::vector<std::string> problems_;
+};
+
+/// Closed or open bounds on a number, with the wording used in messages.
+struct Bounds {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_inclusive = true;
+  bool max_inclusive = true;
+
+  static Bounds any() { return {}; }
+  static Bounds positive() { return {0.0, std::numeric_limits<double>::infinity(), false, true}; }
+  static Bounds non_negative() { return {0.0, std::numeric_limits<double>::infinity(), true, true}; }
+  static Bounds closed(double lo, double hi) { return {lo, hi, true, true}; }
+  bool contains(double value) const;
+  std::string describe() const;
+};
+
+/// The problems found so far while reading one scene file.
+struct SceneProblems {
+  std::string file;
+  std::vector<std::string> lines;
+  void add(const toml::source_region& where, const std::string& key, const std::string& message);
+};
+
+/// Reads one TOML table. Every key asked for is remembered; finish() reports the keys nobody asked for.
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string key_prefix, SceneProblems& problems);
+
+  bool has(const std::string& key) const { return table_->contains(key); }
+  const toml::source_region& where() const { return table_->source(); }
+  std::string full_key(const std::string& key) const;
+
+  double number(const std::string& key, std::optional<double> fallback, const char* unit, Bounds bounds);
+  std::int64_t integer(const std::string& key, std::optional<std::int64_t> fallback, std::int64_t min,
+                       std::int64_t max);
+  bool boolean(const std::string& key, std::optional<bool> fallback);
+  std::string text(const std::string& key, std::optional<std::string> fallback);
+  /// A string that must be one of `allowed`.
+  std::string choice(const std::string& key, std::optional<std::string> fallback,
+                     const std::vector<std::string>& allowed);
+  /// A list of strings, each one of `allowed`, no repeats.
+  std::vector<std::string> choices(const std::string& key, const std::vector<std::string>& allowed);
+  Vec3 vec3(const std::string& key, std::optional<Vec3> fallback, const char* unit, Bounds component_bounds);
+
+  /// A sub-table; nullopt if absent (or a problem if `required`).
+  std::optional<TableReader> table(const std::string& key, bool required);
+  /// An array of tables ([[key]]); empty if absent.
+  std::vector<TableReader> tables(const std::string& key);
+  /// Every sub-table of this table, keyed by its name (for named entries such as [materials.sand]).
+  std::vector<std::pair<std::string, TableReader>> named_tables();
+
+  /// Reports a problem at `key` (or at the table if the key is absent).
+  void problem(const std::string& key, const std::string& message);
+  /// Reports keys that were never asked for.
+  void finish();
+
+ private:
+  const toml::node* lookup(const std::string& key);
+
+  const toml::table* table_;
+  std::string prefix_;
+  SceneProblems* problems_;
+  std::vector<std::string> known_;
+};
+
+/// Parses TOML text; syntax errors are reported as problems with the file's line and column.
+std::optional<toml::table> parse_toml(const std::string& text, SceneProblems& problems);
+
+std::string toml_type_name(const toml::node& node);
+
+}  // namespace riffle

@@ -1,0 +1,343 @@
+#include "engine/simulation.hpp"
+
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/initial_state.hpp"
+#include "engine/scene.hpp"
+#include "engine/vtk_output.hpp"
+#include "systems/solid_checks.hpp"
+
+namespace riffle {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the stop flag must be usable from a signal handler");
+
+std::string format_vec(const Vec3& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.6g, %.6g, %.6g)", v[0], v[1], v[2]);
+  return text;
+}
+
+std::string format_duration(double seconds) {
+  const auto total = static_cast<long long>(seconds + 0.5);
+  char text[32];
+  std::snprintf(text, sizeof text, "%lld:%02lld:%02lld", total / 3600, (total / 60) % 60, total % 60);
+  return text;
+}
+
+void write_text_file(const fs::path& path, const std::string& text) {
+  const fs::path temporary = path.string() + ".tmp";
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    file << text;
+    file.flush();
+    if (!file) throw std::runtime_error(temporary.string() + ": cannot write");
+  }
+  fs::rename(temporary, path);
+}
+
+/// diagnostics.csv: one row per `diagnostics_every` steps, flushed as written so a crash loses nothing.
+class DiagnosticsWriter {
+ public:
+  DiagnosticsWriter(const fs::path& path, const World& world, const std::vector<SystemTimer>& timers,
+                    bool fresh_run) {
+    std::string header = "step,time_s,dt_s,solid_dt_s,solid_translational_energy_J,solid_rotational_energy_J,"
+                         "solid_potential_energy_J,solid_max_speed_m_s,solid_cfl,tank_displacement_m,"
+                         "tank_velocity_m_s,step_wall_s";
+    for (const SystemTimer& timer : timers) header += ",wall_" + timer.name + "_s";
+    // On resume, keep the rows up to the checkpoint's step and continue after them.
+    std::string kept;
+    if (!fresh_run && fs::exists(path)) {
+      std::ifstream existing(path);
+      std::string line;
+      std::getline(existing, line);
+      if (line == header)
+        while (std::getline(existing, line))
+          if (!line.empty() && std::stoull(line.substr(0, line.find(','))) <= world.step) kept += line + "\n";
+    }
+    file_.open(path, std::ios::trunc);
+    if (!file_) throw std::runtime_error(path.string() + ": cannot open for writing");
+    file_ << header << "\n" << kept;
+    file_.flush();
+    for (const SystemTimer& timer : timers) previous_totals_.push_back(timer.total_seconds);
+  }
+
+  void row(const World& world, const Model& model, double min_radius, double step_wall_seconds,
+           const std::vector<SystemTimer>& timers) {
+    char text[512];
+    const SolidSummary summary = world.solid_summary.value_or(SolidSummary{});
+    const double cfl = min_radius > 0.0 ? summary.max_speed * model.solid_dt() / min_radius : 0.0;
+    const Vec3 direction = model.tank.motion.direction;
+    std::snprintf(text, sizeof text, "%llu,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.6g",
+                  static_cast<unsigned long long>(world.step), world.time, model.dt, model.solid_dt(),
+                  summary.translational_energy, summary.rotational_energy, summary.potential_energy,
+                  summary.max_speed, cfl, world.tank_motion->displacement.dot(direction),
+                  world.tank_motion->velocity.dot(direction), step_wall_seconds);
+    file_ << text;
+    for (std::size_t k = 0; k < timers.size(); ++k) {
+      std::snprintf(text, sizeof text, ",%.6g", timers[k].total_seconds - previous_totals_[k]);
+      file_ << text;
+      previous_totals_[k] = timers[k].total_seconds;
+    }
+    file_ << "\n";
+    file_.flush();
+  }
+
+ private:
+  std::ofstream file_;
+  std::vector<double> previous_totals_;
+};
+
+}  // namespace
+
+void request_stop(int signal_number) { g_stop_signal.store(signal_number); }
+int stop_requested() { return g_stop_signal.load(); }
+
+Simulation::Simulation(Model model, World world, OutputState output)
+    : model_(std::make_unique<const Model>(std::move(model))),
+      world_(std::move(world)),
+      output_(std::move(output)),
+      stepper_(std::make_unique<Stepper>(build_pipeline(*model_), world_, *model_)) {}
+
+std::unique_ptr<Simulation> Simulation::from_model(Model model) {
+  World world = initial_world(model);
+  return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), OutputState{}));
+}
+
+std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path) {
+  return from_model(load_scene_file(path));
+}
+
+std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path) {
+  CheckpointData data = read_checkpoint(path);
+  Model model = parse_scene(data.scene_text, data.scene_file);
+  // Components the scene enables but that hold no persistent state are rebuilt; the rest come from the file.
+  World world = initial_world(model);
+  world.time = data.world.time;
+  world.step = data.world.step;
+  if (model.solids.enabled != data.world.solids.has_value())
+    throw CheckpointError(path + ": checkpoint does not match its own scene (solids present: " +
+                          (data.world.solids ? "yes" : "no") + ")");
+  world.solids = std::move(data.world.solids);
+  world.walls = std::move(data.world.walls);
+  world.tank_motion = std::move(data.world.tank_motion);
+  return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), std::move(data.output)));
+}
+
+CheckpointData Simulation::checkpoint_data() const {
+  CheckpointData data;
+  data.scene_file = model_->scene_file;
+  data.scene_text = model_->scene_text;
+  data.world.time = world_.time;
+  data.world.step = world_.step;
+  data.world.solids = world_.solids;
+  data.world.walls = world_.walls;
+  data.world.tank_motion = world_.tank_motion;
+  data.output = output_;
+  return data;
+}
+
+RunOutcome Simulation::run(const RunOptions& options) {
+  const fs::path out = options.out_dir;
+  const fs::path vtk_dir = out / "vtk";
+  const fs::path checkpoint_dir = out / "checkpoints";
+  RunOutcome outcome;
+  try {
+    fs::create_directories(vtk_dir);
+    fs::create_directories(checkpoint_dir);
+  } catch (const std::exception& error) {
+    return {kExitIoError, std::string("cannot create the output directory: ") + error.what(), ""};
+  }
+
+  auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "riffle.log").string(), false);
+  auto logger = spdlog::default_logger();
+  logger->sinks().push_back(file_sink);
+  struct SinkGuard {
+    std::shared_ptr<spdlog::logger> logger;
+    ~SinkGuard() { logger->sinks().pop_back(); }
+  } sink_guard{logger};
+
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const double end_time = options.until.value_or(model_->end_time);
+  const bool fresh_run = world_.step == 0 && output_.frame_times.empty();
+  spdlog::info("{} '{}' from {}: t = {} s to {} s, dt = {} s, {} solid sub-steps, {} grains, {} threads",
+               fresh_run ? "starting" : "resuming", model_->name, model_->scene_file, world_.time, end_time,
+               model_->dt, model_->solid_substeps, world_.solids ? world_.solids->size() : 0, threads);
+
+  double min_radius = 0.0;
+  if (world_.solids && world_.solids->size())
+    min_radius = *std::min_element(world_.solids->radius.begin(), world_.solids->radius.end());
+
+  std::string last_checkpoint;
+  auto save_checkpoint = [&](bool interval) {
+    std::vector<std::uint64_t> expired;
+    if (interval) {
+      ++output_.checkpoints_due;
+      output_.kept_steps.push_back(world_.step);
+      while (output_.kept_steps.size() > static_cast<std::size_t>(model_->output.checkpoint_keep)) {
+        expired.push_back(output_.kept_steps.front());
+        output_.kept_steps.erase(output_.kept_steps.begin());
+      }
+    }
+    char name[64];
+    std::snprintf(name, sizeof name, "step_%010llu.ckpt", static_cast<unsigned long long>(world_.step));
+    const fs::path path = checkpoint_dir / name;
+    write_checkpoint(path.string(), checkpoint_data());
+    last_checkpoint = path.string();
+    for (std::uint64_t step : expired) {
+      std::snprintf(name, sizeof name, "step_%010llu.ckpt", static_cast<unsigned long long>(step));
+      std::error_code ignored;
+      if (step != world_.step) fs::remove(checkpoint_dir / name, ignored);
+    }
+    spdlog::debug("checkpoint written: {}", last_checkpoint);
+  };
+
+  auto write_frame = [&]() {
+    const std::size_t index = output_.frame_times.size();
+    output_.frame_times.push_back(world_.time);
+    char name[64];
+    std::vector<std::string> solid_files, wall_files;
+    for (std::size_t k = 0; k <= index; ++k) {
+      std::snprintf(name, sizeof name, "vtk/solids_%06zu.vtp", k);
+      solid_files.push_back(name);
+      std::snprintf(name, sizeof name, "vtk/walls_%06zu.vtp", k);
+      wall_files.push_back(name);
+    }
+    if (world_.solids) {
+      write_text_file(out / solid_files.back(), solids_vtp(*world_.solids));
+      write_text_file(out / "solids.pvd", pvd_collection(output_.frame_times, solid_files));
+    }
+    if (world_.walls) {
+      write_text_file(out / wall_files.back(), walls_vtp(*world_.walls));
+      write_text_file(out / "walls.pvd", pvd_collection(output_.frame_times, wall_files));
+    }
+  };
+
+  const double dt = model_->dt;
+  auto due = [&](double interval, std::size_t done) {
+    return interval > 0.0 && world_.time >= static_cast<double>(done) * interval - 0.5 * dt;
+  };
+
+  double stepping_seconds = 0.0;
+  try {
+    DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run);
+    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_frame();
+
+    const auto run_start = Clock::now();
+    auto last_report = run_start;
+    const std::uint64_t first_step = world_.step;
+    while (world_.time < end_time - 0.5 * dt) {
+      if (const int signal_number = stop_requested()) {
+        save_checkpoint(false);
+        outcome.exit_code = signal_number == SIGINT ? kExitInterrupted : kExitTerminated;
+        outcome.message = std::string("stopped by ") + (signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
+                          " at t = " + std::to_string(world_.time) + " s; checkpoint: " + last_checkpoint;
+        outcome.last_checkpoint = last_checkpoint;
+        break;
+      }
+      const auto step_start = Clock::now();
+      try {
+        stepper_->step();
+      } catch (const std::exception& error) {
+        outcome.exit_code = kExitUnstable;
+        outcome.message = "internal error in step " + std::to_string(world_.step + 1) + ": " + error.what();
+        break;
+      }
+      const double step_seconds = seconds_since(step_start);
+      stepping_seconds += step_seconds;
+
+      if (!world_.step_status.ok()) {
+        const StepStatus& status = world_.step_status;
+        const DomainBox domain = solid_domain(*model_);
+        outcome.exit_code = kExitUnstable;
+        outcome.message =
+            "run stopped at step " + std::to_string(world_.step) + " (t = " + std::to_string(world_.time) +
+            " s): " + status.phase + " particle id " + std::to_string(status.entity) +
+            (status.problem == StepProblem::kNonFinite ? " has a non-finite state"
+                                                       : " left the domain " + format_vec(domain.low) + " - " +
+                                                             format_vec(domain.high) + " m") +
+            " at position " + format_vec(status.position) + " m with velocity " + format_vec(status.velocity) +
+            " m/s";
+        diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
+        if (world_.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids));
+        break;
+      }
+      if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
+        diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
+      if (due(model_->output.vtk_interval, output_.frame_times.size())) write_frame();
+      if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) save_checkpoint(true);
+
+      const auto now = Clock::now();
+      const double since_report = std::chrono::duration<double>(now - last_report).count();
+      const bool report = options.progress ? since_report >= 1.0 : since_report >= 30.0;
+      if (report) {
+        last_report = now;
+        const double elapsed = std::chrono::duration<double>(now - run_start).count();
+        const double steps_per_second = static_cast<double>(world_.step - first_step) / elapsed;
+        const double eta = steps_per_second > 0.0 ? (end_time - world_.time) / dt / steps_per_second : 0.0;
+        if (options.progress) {
+          std::fprintf(stderr, "\r  t = %.4f / %.4f s   step %llu   %.1f steps/s   ETA %s   ", world_.time,
+                       end_time, static_cast<unsigned long long>(world_.step), steps_per_second,
+                       format_duration(eta).c_str());
+          std::fflush(stderr);
+        } else {
+          spdlog::info("t = {:.4f} / {:.4f} s, step {}, {:.1f} steps/s, ETA {}", world_.time, end_time, world_.step,
+                       steps_per_second, format_duration(eta));
+        }
+      }
+    }
+    if (options.progress) std::fprintf(stderr, "\n");
+
+    if (outcome.exit_code == kExitOk) {
+      save_checkpoint(false);
+      outcome.last_checkpoint = last_checkpoint;
+      outcome.message = "finished at t = " + std::to_string(world_.time) + " s after " +
+                        std::to_string(world_.step) + " steps; final checkpoint: " + last_checkpoint;
+    } else if (outcome.exit_code == kExitUnstable) {
+      outcome.last_checkpoint = last_checkpoint;
+      if (last_checkpoint.empty() && !output_.kept_steps.empty()) {
+        char name[64];
+        std::snprintf(name, sizeof name, "step_%010llu.ckpt",
+                      static_cast<unsigned long long>(output_.kept_steps.back()));
+        outcome.last_checkpoint = (checkpoint_dir / name).string();
+      }
+      outcome.message += "; last good checkpoint: " +
+                         (outcome.last_checkpoint.empty() ? std::string("none written yet (set output.checkpoint_interval)")
+                                                          : outcome.last_checkpoint);
+    }
+  } catch (const CheckpointError& error) {
+    outcome = {kExitIoError, error.what(), last_checkpoint};
+  } catch (const std::exception& error) {
+    outcome = {kExitIoError, std::string("output failed: ") + error.what(), last_checkpoint};
+  }
+
+  const std::vector<SystemTimer> timers = stepper_->timers();
+  try {
+    write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
+  } catch (const std::exception& error) {
+    spdlog::error("{}", error.what());
+  }
+  spdlog::info("per-system timings ({} threads):\n{}", threads, format_timing_table(timers, stepping_seconds));
+  if (outcome.exit_code == kExitOk)
+    spdlog::info("{}", outcome.message);
+  else
+    spdlog::error("{}", outcome.message);
+  return outcome;
+}
+
+}  // namespace riffle

@@ -1,0 +1,34 @@
+#include "engine/stepper.hpp"
+
+namespace riffle {
+
+Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
+    : world_(world),
+      model_(model),
+      step_("step", std::move(pipeline.step), world, model),
+      substep_("substep", std::move(pipeline.substep), world, model),
+      end_of_step_("end_of_step", std::move(pipeline.end_of_step), world, model) {}
+
+void Stepper::step() {
+  world_.step_status.clear();
+  const double start = world_.time;
+  const double dt = model_.dt;
+  step_.run(start, dt);
+  const double solid_dt = model_.solid_dt();
+  // Sub-step times come from the step start and the sub-step index, never from a running sum, so a resumed run
+  // sees exactly the same times as an uninterrupted one.
+  for (std::int64_t sub = 0; sub < model_.solid_substeps; ++sub)
+    substep_.run(start + static_cast<double>(sub) * solid_dt, solid_dt);
+  world_.time = start + dt;
+  end_of_step_.run(start, dt);
+  ++world_.step;
+}
+
+std::vector<SystemTimer> Stepper::timers() const {
+  std::vector<SystemTimer> all;
+  for (const Scheduler* graph : {&step_, &substep_, &end_of_step_})
+    all.insert(all.end(), graph->timers().begin(), graph->timers().end());
+  return all;
+}
+
+}  // namespace riffle

@@ -1,0 +1,34 @@
+#pragma once
+// The stepper advances the World by one engine step: the step-phase graph (the fluid, later), then
+// solid_substeps runs of the sub-step graph (DEM), then the end-of-step graph (checks, reductions, reordering).
+// Each graph is built once.
+#include <memory>
+#include <vector>
+
+#include "engine/scheduler.hpp"
+#include "systems/registry.hpp"
+
+namespace riffle {
+
+class Stepper {
+ public:
+  Stepper(Pipeline pipeline, World& world, const Model& model);
+
+  /// Advances world.time by model.dt and world.step by one. Problems are left in world.step_status.
+  void step();
+
+  /// Timers of every system, step phase first.
+  std::vector<SystemTimer> timers() const;
+  const Scheduler& step_graph() const { return step_; }
+  const Scheduler& substep_graph() const { return substep_; }
+  const Scheduler& end_of_step_graph() const { return end_of_step_; }
+
+ private:
+  World& world_;
+  const Model& model_;
+  Scheduler step_;
+  Scheduler substep_;
+  Scheduler end_of_step_;
+};
+
+}  // namespace riffle

@@ -1,0 +1,21 @@
+#pragma once
+// ParaView output: VTK XML PolyData frames (.vtp, base64 binary arrays) per particle phase and for the walls, tied
+// together by one .pvd time series per phase. Point and cell arrays come from the components' field tables.
+#include <string>
+#include <vector>
+
+#include "components/solids.hpp"
+#include "components/walls.hpp"
+
+namespace riffle {
+
+/// Grains as vertices with every output field of the Solids table as point data.
+std::string solids_vtp(const Solids& solids);
+/// Walls as quads (face centre +- half extents) with every output field of the Walls table as cell data.
+std::string walls_vtp(const Walls& walls);
+/// A .pvd collection listing `files[k]` at `times[k]`.
+std::string pvd_collection(const std::vector<double>& times, const std::vector<std::string>& files);
+
+std::string base64_encode(const void* data, std::size_t size);
+
+}  // namespace riffle

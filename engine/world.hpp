@@ -1,0 +1,43 @@
+#pragma once
+// The World owns every component of a run. Components a scene does not need are absent (std::nullopt), so
+// nothing unused is allocated or scheduled.
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "components/solid_summary.hpp"
+#include "components/solids.hpp"
+#include "components/step_status.hpp"
+#include "components/tank_motion.hpp"
+#include "components/walls.hpp"
+
+namespace riffle {
+
+class World {
+ public:
+  double time = 0.0;       ///< [s] simulated time at the start of the next step
+  std::uint64_t step = 0;  ///< engine steps completed
+
+  std::optional<Solids> solids;
+  std::optional<Walls> walls;
+  std::optional<TankMotion> tank_motion;
+  std::optional<SolidSummary> solid_summary;
+  StepStatus step_status;  ///< always present: every run can fail
+
+  /// The component of type C, or nullptr if the scene does not use it.
+  template <class C>
+  C* find() {
+    if constexpr (std::is_same_v<C, Solids>) return solids ? &*solids : nullptr;
+    else if constexpr (std::is_same_v<C, Walls>) return walls ? &*walls : nullptr;
+    else if constexpr (std::is_same_v<C, TankMotion>) return tank_motion ? &*tank_motion : nullptr;
+    else if constexpr (std::is_same_v<C, SolidSummary>) return solid_summary ? &*solid_summary : nullptr;
+    else if constexpr (std::is_same_v<C, StepStatus>) return &step_status;
+    else static_assert(sizeof(C) == 0, "unknown component type");
+  }
+
+  /// True if the component with this id exists in this world.
+  bool has(ComponentId id) const;
+};
+
+}  // namespace riffle

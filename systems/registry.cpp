@@ -1,0 +1,25 @@
+#include "systems/registry.hpp"
+
+#include "systems/solid_cell_sort.hpp"
+#include "systems/solid_checks.hpp"
+#include "systems/solid_integrate.hpp"
+#include "systems/wall_motion.hpp"
+
+namespace riffle {
+
+Pipeline build_pipeline(const Model& model) {
+  Pipeline pipeline;
+  // Order matters only where systems share a component: the scheduler derives the edges from it.
+  if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>());
+  // The walls move once per sub-step when grains feel them, otherwise once per engine step.
+  (model.solids.enabled ? pipeline.substep : pipeline.step).push_back(std::make_unique<WallMotion>());
+  if (model.solids.enabled) {
+    pipeline.substep.push_back(std::make_unique<SolidKick>());
+    pipeline.end_of_step.push_back(std::make_unique<SolidDomainCheck>());
+    pipeline.end_of_step.push_back(std::make_unique<SolidSummarize>());
+    if (model.solids.sort_every > 0) pipeline.end_of_step.push_back(std::make_unique<SolidCellSort>());
+  }
+  return pipeline;
+}
+
+}  // namespace riffle
