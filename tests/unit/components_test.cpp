@@ -1,0 +1,83 @@
+// Structure-of-arrays invariants and the cell reorder.
+#include <doctest/doctest.h>
+
+#include <map>
+
+#include "engine/initial_state.hpp"
+#include "systems/solid_cell_sort.hpp"
+#include "tests/test_support.hpp"
+
+using namespace riffle;
+
+TEST_CASE("adding grains keeps every field the same length and ids unique") {
+  Solids solids;
+  for (int k = 0; k < 10; ++k) solids.add(Vec3(k, 0, 0), Vec3::Zero(), 0.001 * (k + 1), 1000.0, 0, k % 3);
+  CHECK(entity_count(solids) == 10);
+  CHECK_NOTHROW(check_field_sizes(solids, "solids"));
+  for (std::size_t k = 0; k < 10; ++k) CHECK(solids.id[k] == k);
+  // m = rho 4/3 pi r^3, I = 2/5 m r^2 for a solid sphere.
+  CHECK(solids.mass[0] == doctest::Approx(1000.0 * 4.0 / 3.0 * 3.14159265358979 * 1e-9).epsilon(1e-12));
+  CHECK(solids.moment_of_inertia[0] == doctest::Approx(0.4 * solids.mass[0] * 1e-6).epsilon(1e-12));
+  solids.radius.pop_back();
+  CHECK_THROWS_WITH(check_field_sizes(solids, "solids"), "solids.radius holds 9 values, expected 10");
+}
+
+TEST_CASE("permute_fields moves every field together with its id") {
+  Solids solids;
+  for (int k = 0; k < 6; ++k) solids.add(Vec3(k, 2 * k, 3 * k), Vec3(-k, 0, 0), 0.01 + k, 1000.0, k, k);
+  const std::vector<std::size_t> order = {5, 3, 1, 0, 2, 4};
+  REQUIRE(is_permutation_of_indices(order));
+  CHECK_FALSE(is_permutation_of_indices({0, 0, 1}));
+  CHECK_FALSE(is_permutation_of_indices({0, 3, 1}));
+  permute_fields(solids, order);
+  for (std::size_t slot = 0; slot < order.size(); ++slot) {
+    const auto id = static_cast<double>(solids.id[slot]);
+    CHECK(solids.id[slot] == order[slot]);
+    CHECK(solids.position[slot] == Vec3(id, 2 * id, 3 * id));
+    CHECK(solids.velocity[slot] == Vec3(-id, 0, 0));
+    CHECK(solids.radius[slot] == 0.01 + id);
+    CHECK(solids.material[slot] == static_cast<std::int32_t>(id));
+  }
+}
+
+TEST_CASE("cell_order sorts grains by (z, y, x) cell and is a permutation") {
+  const Model model = test::small_model();
+  World world = initial_world(model);
+  Solids& solids = *world.solids;
+  // Shuffle deterministically so the order is not already sorted.
+  std::vector<std::size_t> shuffle(solids.size());
+  for (std::size_t k = 0; k < shuffle.size(); ++k) shuffle[k] = (k * 7919) % shuffle.size();
+  REQUIRE(is_permutation_of_indices(shuffle));
+  permute_fields(solids, shuffle);
+  std::map<EntityId, Vec3> before;
+  for (std::size_t k = 0; k < solids.size(); ++k) before[solids.id[k]] = solids.position[k];
+
+  const double cell = 0.03;
+  const std::vector<std::size_t> order = cell_order(solids, Vec3::Zero(), cell);
+  REQUIRE(is_permutation_of_indices(order));
+  permute_fields(solids, order);
+  auto key = [&](std::size_t k) {
+    const Eigen::Array3d c = (solids.position[k] / cell).array().floor();
+    return std::make_tuple(c[2], c[1], c[0]);
+  };
+  for (std::size_t k = 1; k < solids.size(); ++k) CHECK(key(k - 1) <= key(k));
+  for (std::size_t k = 0; k < solids.size(); ++k) CHECK(before.at(solids.id[k]) == solids.position[k]);
+}
+
+TEST_CASE("tank_walls builds one inward-facing plane per closed face") {
+  TankModel tank;
+  tank.size = Vec3(0.24, 0.16, 0.2);
+  tank.origin = Vec3(1.0, 0.0, 0.0);
+  tank.open_faces = {"z_max"};
+  const Walls walls = tank_walls(tank);
+  REQUIRE(walls.size() == 5);
+  const Vec3 centre = tank.origin + 0.5 * tank.size;
+  for (std::size_t wall = 0; wall < walls.size(); ++wall) {
+    CHECK(walls.name[wall] != "z_max");
+    // The inward normal points from the face towards the tank centre.
+    CHECK(walls.normal[wall].dot(centre - walls.point[wall]) > 0.0);
+    CHECK(walls.normal[wall].norm() == doctest::Approx(1.0));
+    CHECK(walls.half_extent_u[wall].dot(walls.normal[wall]) == 0.0);
+    CHECK(walls.half_extent_v[wall].dot(walls.normal[wall]) == 0.0);
+  }
+}

@@ -1,0 +1,100 @@
+// VTK XML output: base64 encoding and the arrays a reader will decode.
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <regex>
+
+#include "engine/initial_state.hpp"
+#include "engine/vtk_output.hpp"
+#include "tests/test_support.hpp"
+
+using namespace riffle;
+
+namespace {
+std::string base64_decode(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  unsigned buffer = 0;
+  int bits = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    buffer = (buffer << 6) | static_cast<unsigned>(alphabet.find(c));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += static_cast<char>((buffer >> bits) & 0xFF);
+    }
+  }
+  return out;
+}
+
+/// The decoded payload (after the UInt32 byte count) of the DataArray named `name`.
+std::string array_bytes(const std::string& vtp, const std::string& name) {
+  const std::regex pattern("Name=\"" + name + "\"[^>]*>\\s*([A-Za-z0-9+/=]+)\\s*</DataArray>");
+  std::smatch match;
+  REQUIRE(std::regex_search(vtp, match, pattern));
+  const std::string block = base64_decode(match[1].str());
+  REQUIRE(block.size() >= 4);
+  std::uint32_t count;
+  std::memcpy(&count, block.data(), 4);
+  REQUIRE(block.size() == 4 + count);
+  return block.substr(4);
+}
+
+template <class T>
+std::vector<T> values(const std::string& bytes) {
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
+}  // namespace
+
+TEST_CASE("base64 matches RFC 4648 test vectors") {
+  CHECK(base64_encode("", 0) == "");
+  CHECK(base64_encode("f", 1) == "Zg==");
+  CHECK(base64_encode("fo", 2) == "Zm8=");
+  CHECK(base64_encode("foo", 3) == "Zm9v");
+  CHECK(base64_encode("foob", 4) == "Zm9vYg==");
+  CHECK(base64_encode("fooba", 5) == "Zm9vYmE=");
+  CHECK(base64_encode("foobar", 6) == "Zm9vYmFy");
+}
+
+TEST_CASE("solids_vtp carries positions and every output field exactly") {
+  const World world = initial_world(test::small_model());
+  const Solids& solids = *world.solids;
+  const std::string vtp = solids_vtp(solids);
+  CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(solids.size()) + "\"") != std::string::npos);
+  const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
+  REQUIRE(points.size() == 3 * solids.size());
+  for (std::size_t i = 0; i < solids.size(); ++i)
+    for (int c = 0; c < 3; ++c) CHECK(points[3 * i + static_cast<std::size_t>(c)] == solids.position[i][c]);
+  CHECK(values<double>(array_bytes(vtp, "radius")) == solids.radius);
+  CHECK(values<std::uint64_t>(array_bytes(vtp, "id")) == solids.id);
+  CHECK(values<std::int32_t>(array_bytes(vtp, "size_class")) == solids.size_class);
+  CHECK(values<double>(array_bytes(vtp, "velocity")).size() == 3 * solids.size());
+  // Fields marked not for output stay out.
+  CHECK(vtp.find("Name=\"moment_of_inertia\"") == std::string::npos);
+}
+
+TEST_CASE("walls_vtp draws each wall as a quad around its centre") {
+  const World world = initial_world(test::small_model());
+  const Walls& walls = *world.walls;
+  const std::string vtp = walls_vtp(walls);
+  CHECK(vtp.find("NumberOfPolys=\"" + std::to_string(walls.size()) + "\"") != std::string::npos);
+  const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
+  REQUIRE(points.size() == 12 * walls.size());
+  for (std::size_t wall = 0; wall < walls.size(); ++wall) {
+    Vec3 mean = Vec3::Zero();
+    for (std::size_t corner = 0; corner < 4; ++corner)
+      mean += Vec3(points[12 * wall + 3 * corner], points[12 * wall + 3 * corner + 1],
+                   points[12 * wall + 3 * corner + 2]);
+    CHECK((mean / 4.0 - walls.point[wall]).norm() < 1e-15);
+  }
+  CHECK(values<std::int64_t>(array_bytes(vtp, "offsets")).back() == static_cast<std::int64_t>(4 * walls.size()));
+}
+
+TEST_CASE("pvd_collection lists every frame with its time") {
+  const std::string pvd = pvd_collection({0.0, 0.5}, {"vtk/a_000000.vtp", "vtk/a_000001.vtp"});
+  CHECK(pvd.find("timestep=\"0\" group=\"\" part=\"0\" file=\"vtk/a_000000.vtp\"") != std::string::npos);
+  CHECK(pvd.find("timestep=\"0.5\" group=\"\" part=\"0\" file=\"vtk/a_000001.vtp\"") != std::string::npos);
+}
