@@ -40,7 +40,6 @@ int main(int argc, char** argv) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   auto simulation = riffle::Simulation::from_model(riffle::parse_scene(scene, "bench_engine"));
   const std::size_t grains = simulation->world().solids->size();
-  simulation->step();  // warm-up
   const auto start = riffle::Clock::now();
   for (long s = 0; s < steps; ++s) simulation->step();
   const double seconds = riffle::seconds_since(start);
