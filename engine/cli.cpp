@@ -43,30 +43,37 @@ int cli_main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", RIFFLE_VERSION);
   std::string log_level = "info";
-  app.add_option("--log-level", log_level, "Log verbosity")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
-      ->capture_default_str();
+  // Accepted before and after the subcommand (riffle --log-level debug run ... / riffle run ... --log-level debug).
+  auto add_log_level = [&log_level](CLI::App* command) {
+    command->add_option("--log-level", log_level, "Log verbosity")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
+        ->capture_default_str();
+  };
+  add_log_level(&app);
 
   std::string scene_path, checkpoint_path, out_dir;
   int threads = 0;
   double until = -1.0;
 
   CLI::App* run = app.add_subcommand("run", "Validate and run a scene file");
-  run->add_option("scene", scene_path, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  run->add_option("scene", scene_path, "Scene file (TOML)")->required();
   run->add_option("--out", out_dir, "Output directory (default: out/<run.name>)");
   run->add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
   run->add_option("--until", until, "End time [s], overrides run.end_time")->check(CLI::PositiveNumber);
+  add_log_level(run);
   run->footer(kExitCodes);
 
   CLI::App* check = app.add_subcommand("check", "Validate a scene file without running it");
   check->add_option("scene", scene_path, "Scene file (TOML)")->required();
+  add_log_level(check);
   check->footer(kExitCodes);
 
   CLI::App* resume = app.add_subcommand("resume", "Continue a run from a checkpoint");
-  resume->add_option("checkpoint", checkpoint_path, "Checkpoint file (.ckpt)")->required()->check(CLI::ExistingFile);
+  resume->add_option("checkpoint", checkpoint_path, "Checkpoint file (.ckpt)")->required();
   resume->add_option("--out", out_dir, "Output directory (default: the checkpoint's run directory)");
   resume->add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
   resume->add_option("--until", until, "End time [s], overrides run.end_time")->check(CLI::PositiveNumber);
+  add_log_level(resume);
   resume->footer(kExitCodes);
 
   try {
@@ -85,7 +92,12 @@ int cli_main(int argc, char** argv) {
   try {
     if (*resume) {
       simulation = Simulation::from_checkpoint(checkpoint_path);
-      if (out_dir.empty()) out_dir = std::filesystem::path(checkpoint_path).parent_path().parent_path().string();
+      if (out_dir.empty()) {
+        // The run directory is the one holding checkpoints/, also when the path is a bare name inside checkpoints/.
+        auto run_dir = (std::filesystem::path(checkpoint_path).parent_path() / "..").lexically_normal();
+        if (!run_dir.has_filename()) run_dir = run_dir.parent_path();  // "A/" -> "A"
+        out_dir = run_dir.string();
+      }
     } else {
       simulation = Simulation::from_scene_file(scene_path);
       if (out_dir.empty()) out_dir = default_out_dir(simulation->model());

@@ -1,0 +1,467 @@
+#!/usr/bin/env bash
+# End-to-end test of the riffle command line: help and usage errors, scene validation, run outputs, resume and
+# thread-count determinism (byte-identical checkpoints), damaged checkpoints, SIGINT/SIGTERM, and an unstable run.
+#
+#   bash tests/cli/test_cli.sh <riffle-binary> <source-dir> <work-dir>
+#
+# Prints one "ok - ..." / "not ok - ..." line per check (details of a failure follow as "#" lines), then
+# "N passed, M failed". Exits 1 if any check failed, 2 on bad usage. The work dir is wiped first (see below).
+set -u
+
+if [ $# -ne 3 ]; then
+  echo "usage: bash $0 <riffle-binary> <source-dir> <work-dir>" >&2
+  exit 2
+fi
+abs_path() { (cd "$(dirname "$1")" && printf '%s/%s\n' "$(pwd -P)" "$(basename "$1")"); }
+RIFFLE=$(abs_path "$1") || exit 2
+SRC=$(cd "$2" && pwd -P) || exit 2
+# The work dir is wiped, but only if it is new, empty or one this script made (it holds the marker file).
+if [ -d "$3" ] && [ -n "$(ls -A "$3")" ] && [ ! -f "$3/.riffle_cli_work" ]; then
+  echo "$3: not empty and not a riffle CLI test work dir; refusing to wipe it" >&2
+  exit 2
+fi
+rm -rf "$3" && mkdir -p "$3" && touch "$3/.riffle_cli_work" || exit 2
+WORK=$(cd "$3" && pwd -P) || exit 2
+if [ ! -x "$RIFFLE" ]; then
+  echo "$RIFFLE: not an executable" >&2
+  exit 2
+fi
+cd "$WORK" || exit 2
+export LC_ALL=C
+# A background run of check 6 must not outlive the script (e.g. when a test driver's timeout stops it).
+background_pid=
+trap '[ -z "$background_pid" ] || kill -s KILL "$background_pid" 2>/dev/null' EXIT
+
+passed=0
+failed=0
+ok() { echo "ok - $1"; passed=$((passed + 1)); }
+not_ok() {
+  echo "not ok - $1"
+  shift
+  local line
+  for line in "$@"; do printf '#   %s\n' "$line"; done
+  failed=$((failed + 1))
+}
+# check DESCRIPTION COMMAND...: ok if the command succeeds.
+check() {
+  local description=$1 output command
+  shift
+  if output=$("$@" 2>&1); then
+    ok "$description"
+  else
+    command="$*"
+    command=${command//$'\n'/ }
+    [ ${#command} -le 160 ] || command="${command:0:160}..."
+    not_ok "$description" "failed: $command"
+    [ -z "$output" ] || printf '%s\n' "$output" | sed 's/^\(#   \)\{0,1\}/#   /'
+  fi
+}
+# Shows the tail of a file under a failing check.
+show() { [ -f "$1" ] && tail -n 6 "$1" | sed "s|^|#   $(basename "$1"): |"; return 0; }
+
+# riffle_as NAME ARGS...: runs riffle with stdout/stderr in NAME.out / NAME.err and its exit code in NAME.rc
+# (and in $rc). A hard 60 s limit keeps a hang from stalling the test.
+riffle_as() {
+  local name=$1
+  shift
+  timeout -k 5 60 "$RIFFLE" "$@" >"$WORK/$name.out" 2>"$WORK/$name.err"
+  rc=$?
+  echo "$rc" >"$WORK/$name.rc"
+}
+# expect_rc DESCRIPTION NAME CODE: the run NAME exited with CODE.
+expect_rc() {
+  local got
+  got=$(cat "$WORK/$2.rc")
+  if [ "$got" = "$3" ]; then
+    ok "$1"
+  else
+    not_ok "$1" "expected exit $3, got $got"
+    tail -n 6 "$WORK/$2.err" | sed 's/^/#   stderr: /'
+  fi
+}
+# contains FILE STRING...: every string occurs in FILE (fixed strings).
+contains() {
+  local file=$1 needle
+  shift
+  for needle in "$@"; do grep -qF -- "$needle" "$file" || { echo "#   '$needle' not found in $(basename "$file")"; return 1; }; done
+}
+# same_text A B: the two strings are equal; on a difference, shows its first lines.
+same_text() {
+  [ "$1" = "$2" ] && return 0
+  diff <(printf '%s\n' "$1") <(printf '%s\n' "$2") | head -n 5
+  return 1
+}
+ckpt_name() { printf 'step_%010d.ckpt' "$1"; }
+data_rows() { if [ -f "$1" ]; then tail -n +2 "$1" | grep -c . || true; else echo 0; fi; }
+
+# ---------------------------------------------------------------------------------------------------------------
+# Scenes. Line numbers in typo.toml matter (check 2).
+
+# small: ~3700 grains thrown upwards in a shaken tank (tank motion, rotation, cell sorting every 7 steps).
+# 50 steps; a VTK frame and an interval checkpoint every 10 steps.
+cat >small.toml <<'EOF'
+[run]
+name = "cli_small"
+end_time = 0.05
+dt = 1.0e-3
+solid_substeps = 5
+
+[materials.grain]
+density = 1318.0
+
+[materials.glass]
+density = 2500.0
+
+[tank]
+size = [0.10, 0.08, 0.10]
+open_faces = ["z_max"]
+wall_material = "glass"
+
+[tank.motion]
+kind = "sinusoidal"
+amplitude = 0.01
+frequency = 1.7
+ramp_time = 0.02
+
+[solids]
+sort_every = 7
+
+[[solids.spheres]]
+position = [0.05, 0.04, 0.08]
+velocity = [0.05, 0.0, 0.4]
+angular_velocity = [0.0, 10.0, 3.0]
+radius = 0.004
+material = "grain"
+
+[[solids.blocks]]
+min = [0.01, 0.01, 0.01]
+max = [0.09, 0.07, 0.05]
+spacing = 0.004
+radius = 0.0015
+material = "grain"
+velocity = [0.0, 0.0, 0.5]
+
+[output]
+vtk_interval = 0.01
+checkpoint_interval = 0.01
+checkpoint_keep = 10
+EOF
+
+# typo: "end_tme" on line 4, column 1.
+cat >typo.toml <<'EOF'
+[run]
+name = "cli_typo"
+dt = 1.0e-3
+end_tme = 0.05
+
+[materials.grain]
+density = 1318.0
+
+[tank]
+size = [0.10, 0.08, 0.10]
+wall_material = "grain"
+EOF
+
+# long: ~2900 grains at rest without gravity, so it runs for as long as --until says (minutes for --until 1000)
+# and never fails.
+cat >long.toml <<'EOF'
+[run]
+name = "cli_long"
+end_time = 0.01
+dt = 1.0e-3
+solid_substeps = 4
+gravity = [0.0, 0.0, 0.0]
+
+[materials.grain]
+density = 1318.0
+
+[tank]
+size = [0.10, 0.10, 0.10]
+wall_material = "grain"
+
+[tank.motion]
+kind = "sinusoidal"
+amplitude = 0.005
+frequency = 2.0
+
+[solids]
+sort_every = 50
+
+[[solids.blocks]]
+min = [0.005, 0.005, 0.005]
+max = [0.095, 0.095, 0.04]
+spacing = 0.005
+radius = 0.002
+material = "grain"
+
+[output]
+diagnostics_every = 20
+EOF
+
+# unstable: particle id 1 (the second sphere) sits near the x_max wall moving outwards at 4.5 m/s. Nothing stops it
+# yet (no grain-wall contact), and it passes the domain (tank + 0.05 m margin: x <= 0.15) in step 14.
+cat >unstable.toml <<'EOF'
+[run]
+name = "cli_unstable"
+end_time = 0.05
+dt = 1.0e-3
+solid_substeps = 4
+
+[materials.grain]
+density = 1318.0
+
+[tank]
+size = [0.10, 0.10, 0.10]
+wall_material = "grain"
+
+[solids]
+sort_every = 1
+
+[[solids.spheres]]
+position = [0.05, 0.05, 0.05]
+radius = 0.003
+material = "grain"
+
+[[solids.spheres]]
+position = [0.09, 0.05, 0.05]
+velocity = [4.5, 0.0, 0.0]
+radius = 0.003
+material = "grain"
+
+[[solids.blocks]]
+min = [0.01, 0.01, 0.01]
+max = [0.03, 0.03, 0.03]
+spacing = 0.01
+radius = 0.003
+material = "grain"
+
+[output]
+checkpoint_interval = 0.005
+EOF
+
+# ---------------------------------------------------------------------------------------------------------------
+# 1. Help and usage errors.
+exit_code_lines=("  0    success" "  1    bad command line" "  2    invalid scene or checkpoint" "  3    the run stopped"
+                 "  4    output could not be written" "  130  interrupted by SIGINT" "  143  terminated by SIGTERM")
+riffle_as help --help
+expect_rc "riffle --help exits 0" help 0
+check "riffle --help lists the subcommands, --log-level and the exit codes" \
+  contains help.out "run" "check" "resume" "--log-level" "Exit codes:" "${exit_code_lines[@]}"
+for sub in run resume check; do
+  riffle_as "help_$sub" "$sub" --help
+  expect_rc "riffle $sub --help exits 0" "help_$sub" 0
+  options=(--log-level)
+  [ "$sub" != check ] && options+=(--out --threads --until)
+  check "riffle $sub --help mentions ${options[*]} and the exit codes" \
+    contains "help_$sub.out" "Usage: riffle $sub" "${options[@]}" "Exit codes:" "${exit_code_lines[@]}"
+done
+riffle_as usage_sub frobnicate
+expect_rc "an unknown subcommand exits 1" usage_sub 1
+riffle_as usage_none
+expect_rc "no subcommand exits 1" usage_none 1
+riffle_as usage_opt run small.toml --bogus
+expect_rc "an unknown option exits 1" usage_opt 1
+riffle_as usage_threads run small.toml --threads 0 --out usage_threads
+expect_rc "--threads 0 exits 1" usage_threads 1
+riffle_as usage_level run small.toml --log-level loud --out usage_level
+expect_rc "an unknown --log-level exits 1" usage_level 1
+riffle_as level_after check small.toml --log-level warn
+expect_rc "--log-level is accepted after the subcommand" level_after 0
+
+# ---------------------------------------------------------------------------------------------------------------
+# 2. Scene validation.
+riffle_as check_seed check "$SRC/scenes/free_fall_box.toml"
+expect_rc "riffle check scenes/free_fall_box.toml exits 0" check_seed 0
+check "riffle check reports the valid scene on stdout" contains check_seed.out "valid scene 'free_fall_box'"
+check "riffle check writes no output directory" test ! -e out
+riffle_as check_typo check typo.toml
+expect_rc "riffle check on a scene with a typo key exits 2" check_typo 2
+check "the typo is reported as file:line:column: key: message" \
+  contains check_typo.err "typo.toml:4:1: run.end_tme: unknown key"
+check "the required key the typo hides is reported too" contains check_typo.err "run.end_time: missing required key"
+riffle_as check_missing check no_such_scene.toml
+expect_rc "riffle check on a missing file exits 2" check_missing 2
+check "the missing file is named" contains check_missing.err "no_such_scene.toml"
+riffle_as run_missing run no_such_scene.toml --out run_missing
+expect_rc "riffle run on a missing file exits 2" run_missing 2
+riffle_as resume_missing resume no_such.ckpt --out resume_missing
+expect_rc "riffle resume on a missing checkpoint exits 2" resume_missing 2
+check "the missing checkpoint is named" contains resume_missing.err "no_such.ckpt"
+riffle_as run_typo run typo.toml --out run_typo
+expect_rc "riffle run on an invalid scene exits 2" run_typo 2
+check "riffle run on an invalid scene writes nothing" test ! -e run_typo
+
+# ---------------------------------------------------------------------------------------------------------------
+# 3. Outputs of a run (also run A of check 4: two threads, 50 steps).
+riffle_as A run small.toml --out A --threads 2
+expect_rc "riffle run on a small scene exits 0" A 0
+final=$(ckpt_name 50)
+grains=$(grep -o 'NumberOfPoints="[0-9]*"' A/vtk/solids_000000.vtp 2>/dev/null | head -n 1 | tr -dc 0-9)
+diagnostics_ok() {
+  head -n 1 A/diagnostics.csv | grep -q '^step,time_s,dt_s,' || { echo "#   bad header"; return 1; }
+  local steps
+  steps=$(tail -n +2 A/diagnostics.csv | cut -d, -f1 | tr '\n' ' ')
+  [ "$steps" = "$(seq -s ' ' 1 50) " ] || { echo "#   steps: $steps"; return 1; }
+  # Every row has as many fields as the header.
+  awk -F, 'NR == 1 { n = NF } NF != n { exit 1 }' A/diagnostics.csv || { echo "#   ragged rows"; return 1; }
+}
+check "diagnostics.csv has a header and one row per step (1..50)" diagnostics_ok
+timings_ok() {
+  # The systems in timings.csv are exactly the wall_<system>_s columns of diagnostics.csv, once each.
+  local from_timings from_diagnostics
+  from_timings=$(tail -n +2 A/timings.csv | cut -d, -f1 | grep -v '^stepping$' | sort)
+  from_diagnostics=$(head -n 1 A/diagnostics.csv | tr ',' '\n' | sed -n 's/^wall_\(.*\)_s$/\1/p' | sort)
+  [ -n "$from_timings" ] && [ "$from_timings" = "$from_diagnostics" ] &&
+    [ "$(printf '%s\n' "$from_timings" | uniq -d)" = "" ] &&
+    head -n 1 A/timings.csv | grep -q '^system,' && grep -q '^stepping,' A/timings.csv ||
+    { echo "#   timings: $(echo $from_timings) / diagnostics: $(echo $from_diagnostics)"; return 1; }
+}
+check "timings.csv has one row per system (those of diagnostics.csv) and a stepping row" timings_ok
+frames_ok() {
+  local kind k f
+  for kind in solids walls; do
+    [ "$(grep -c '<DataSet' "A/$kind.pvd")" = 6 ] || { echo "#   $kind.pvd does not list 6 frames"; return 1; }
+    for k in 0 1 2 3 4 5; do
+      f=$(printf 'vtk/%s_%06d.vtp' "$kind" "$k")
+      grep -qF "file=\"$f\"" "A/$kind.pvd" && grep -q '^<VTKFile type="PolyData"' "A/$f" ||
+        { echo "#   $kind frame $k missing"; return 1; }
+    done
+  done
+  [ "$(ls A/vtk/*.vtp | wc -l)" = 12 ] || { echo "#   expected 12 .vtp files: $(ls A/vtk)"; return 1; }
+  grep -qF 'timestep="0.05"' A/solids.pvd || { echo "#   no frame at t = 0.05"; return 1; }
+}
+check "solids.pvd and walls.pvd list 6 frames (t = 0 .. 0.05 s), each a vtk/*.vtp file" frames_ok
+check "the solids frames hold every grain (${grains:-?} > 3000)" test "${grains:-0}" -gt 3000
+check "the final checkpoint A/checkpoints/$final exists and is a riffle checkpoint" \
+  test "$(head -c 8 "A/checkpoints/$final" 2>/dev/null)" = RIFFLECP
+check "the interval checkpoints of steps 10..40 are kept" \
+  test -f "A/checkpoints/$(ckpt_name 10)" -a -f "A/checkpoints/$(ckpt_name 40)"
+check "no temporary files are left behind" test -z "$(find A -name '*.tmp')"
+check "the log names the final checkpoint" contains A.err "final checkpoint: A/checkpoints/$final"
+
+# ---------------------------------------------------------------------------------------------------------------
+# 4. Determinism: resume == uninterrupted run, and --threads 1 == --threads 2, byte for byte.
+riffle_as B resume "A/checkpoints/$(ckpt_name 20)" --out B --until 0.05 --threads 2
+expect_rc "riffle resume from A's step-20 checkpoint into B exits 0" B 0
+check "B's final checkpoint is byte-identical to A's" cmp "A/checkpoints/$final" "B/checkpoints/$final"
+check "B's step-30 interval checkpoint is byte-identical to A's" \
+  cmp "A/checkpoints/$(ckpt_name 30)" "B/checkpoints/$(ckpt_name 30)"
+physics() { tail -n +2 "$1" | cut -d, -f1-11; }  # drops the wall-clock columns
+check "B's diagnostics rows (steps 21..50) equal A's, wall-clock columns aside" \
+  same_text "$(physics B/diagnostics.csv)" "$(physics A/diagnostics.csv | tail -n 30)"
+riffle_as T1 run small.toml --out T1 --threads 1
+expect_rc "riffle run --threads 1 exits 0" T1 0
+check "--threads 1 and --threads 2 write byte-identical final checkpoints" \
+  cmp "T1/checkpoints/$final" "A/checkpoints/$final"
+check "--threads 1 and --threads 2 write identical diagnostics, wall-clock columns aside" \
+  same_text "$(physics T1/diagnostics.csv)" "$(physics A/diagnostics.csv)"
+
+# Resuming by a bare file name from inside checkpoints/ continues in the run directory (T1), not in checkpoints/.
+rm -f "T1/checkpoints/$final"
+(cd T1/checkpoints && riffle_as T1_inside resume "$(ckpt_name 40)")
+expect_rc "riffle resume from inside checkpoints/ exits 0" T1_inside 0
+check "... and continues in the run directory, to the same final checkpoint" \
+  cmp "T1/checkpoints/$final" "A/checkpoints/$final"
+check "... and writes nothing inside checkpoints/ but checkpoints" \
+  test -z "$(ls T1/checkpoints | grep -v '^step_[0-9]*\.ckpt$')"
+
+# ---------------------------------------------------------------------------------------------------------------
+# 5. Damaged checkpoints are refused.
+good="A/checkpoints/$final"
+size=$(wc -c <"$good")
+# Neutral file names, so that the words looked for cannot come from the path in the message.
+head -c $((size - 100)) "$good" >damaged_1.ckpt
+riffle_as truncated resume damaged_1.ckpt --out truncated_out
+expect_rc "a truncated checkpoint is refused with exit 2" truncated 2
+check "the refusal says 'truncated'" contains truncated.err "truncated"
+cp "$good" damaged_2.ckpt
+offset=$((size / 2))
+byte=$(od -An -tu1 -j "$offset" -N 1 "$good" | tr -d ' ')
+printf "\\$(printf '%03o' $((byte ^ 0x10)))" | dd of=damaged_2.ckpt bs=1 seek="$offset" count=1 conv=notrunc 2>/dev/null
+check "the bit-flipped copy has the same size but differs" \
+  test "$(wc -c <damaged_2.ckpt)" = "$size" -a "$(cmp -l "$good" damaged_2.ckpt 2>/dev/null | wc -l)" = 1
+riffle_as flipped resume damaged_2.ckpt --out flipped_out
+expect_rc "a bit-flipped checkpoint is refused with exit 2" flipped 2
+check "the refusal says 'corrupted'" contains flipped.err "corrupted"
+riffle_as not_ckpt resume small.toml --out not_ckpt_out
+expect_rc "a file that is not a checkpoint is refused with exit 2" not_ckpt 2
+check "the refusal says it is not a riffle checkpoint" contains not_ckpt.err "not a riffle checkpoint"
+check "a refused resume writes nothing" test ! -e truncated_out -a ! -e flipped_out -a ! -e not_ckpt_out
+
+# ---------------------------------------------------------------------------------------------------------------
+# 6. SIGINT and SIGTERM: a checkpoint is written, the exit code says which signal, the run can be resumed.
+# A non-interactive bash starts background jobs with SIGINT ignored; `trap - INT` in the subshell undoes that
+# before exec, so the signal reaches riffle the way a Ctrl-C would.
+signal_test() {
+  local signal=$1 code=$2 dir=sig_$1 pid waited=0 got ckpts ckpt step
+  if [ "$signal" = INT ]; then
+    (trap - INT; exec "$RIFFLE" run long.toml --out "$dir" --threads 1 --until 1000 >"$dir.out" 2>"$dir.err") &
+  else
+    "$RIFFLE" run long.toml --out "$dir" --threads 1 --until 1000 >"$dir.out" 2>"$dir.err" &
+  fi
+  pid=$!
+  background_pid=$pid
+  # Wait (at most 30 s) for three diagnostics rows, i.e. 60 steps.
+  while [ "$(data_rows "$dir/diagnostics.csv")" -lt 3 ] && kill -0 "$pid" 2>/dev/null &&
+        [ $waited -lt 600 ]; do
+    sleep 0.05
+    waited=$((waited + 1))
+  done
+  if ! kill -0 "$pid" 2>/dev/null; then
+    wait "$pid"
+    not_ok "SIG$signal: the long run was still running when signalled" "it exited early with $?"
+    show "$dir.err"
+    return
+  fi
+  kill -s "$signal" "$pid"
+  waited=0
+  while kill -0 "$pid" 2>/dev/null && [ $waited -lt 300 ]; do
+    sleep 0.05
+    waited=$((waited + 1))
+  done
+  if kill -0 "$pid" 2>/dev/null; then
+    kill -s KILL "$pid"
+    wait "$pid" 2>/dev/null
+    not_ok "SIG$signal stops the run within 15 s" "still running; killed"
+    return
+  fi
+  wait "$pid"
+  got=$?
+  background_pid=
+  if [ "$got" = "$code" ]; then ok "SIG$signal: riffle exits $code"; else not_ok "SIG$signal: riffle exits $code" "got $got"; show "$dir.err"; fi
+  ckpts=$(ls "$dir/checkpoints" 2>/dev/null | grep -c '^step_[0-9]*\.ckpt$')
+  ckpt=$(ls "$dir/checkpoints" 2>/dev/null | grep '^step_[0-9]*\.ckpt$' | tail -n 1)
+  check "SIG$signal: one checkpoint was written ($ckpt)" test "$ckpts" = 1
+  [ -n "$ckpt" ] || ckpt=none
+  check "SIG$signal: stderr names the signal and where the checkpoint is" \
+    contains "$dir.err" "stopped by SIG$signal" "checkpoint: $dir/checkpoints/$ckpt" "riffle resume $dir/checkpoints/$ckpt"
+  step=$(echo "$ckpt" | tr -dc 0-9 | sed 's/^0*//')
+  step=${step:-0}
+  check "SIG$signal: it was stopped mid-run (step $step >= 60)" test "$step" -ge 60
+  # Resume into the same run directory (the default) for 25 more steps; diagnostics rows come every 20 steps.
+  local target=$((step + 25))
+  riffle_as "${dir}_resume" resume "$dir/checkpoints/$ckpt" --until "$(awk -v s="$target" 'BEGIN { printf "%.6f", s * 1e-3 }')"
+  expect_rc "SIG$signal: resuming from its checkpoint for 25 steps exits 0" "${dir}_resume" 0
+  check "SIG$signal: the resumed run continues in the same directory to step $target" \
+    test -f "$dir/checkpoints/$(ckpt_name $target)"
+  check "SIG$signal: diagnostics.csv continues without repeated rows, to step $((target / 20 * 20))" \
+    same_text "$(tail -n +2 "$dir/diagnostics.csv" | cut -d, -f1)" "$(seq 20 20 $target)"
+}
+signal_test INT 130
+signal_test TERM 143
+
+# ---------------------------------------------------------------------------------------------------------------
+# 7. An unstable run stops with a diagnosis and keeps what it wrote.
+riffle_as unstable run unstable.toml --out U --threads 2
+expect_rc "a grain leaving the domain stops the run with exit 3" unstable 3
+check "stderr names the particle id and the step" contains unstable.err "run stopped at step 14 " "particle id 1 left the domain"
+check "stderr names the last good checkpoint" contains unstable.err "last good checkpoint: U/checkpoints/$(ckpt_name 10)"
+check "the last good checkpoint is on disk" test -f "U/checkpoints/$(ckpt_name 10)"
+check "diagnostics.csv still holds the rows of steps 1..14" \
+  same_text "$(tail -n +2 U/diagnostics.csv 2>/dev/null | cut -d, -f1)" "$(seq 1 14)"
+riffle_as unstable_resume resume "U/checkpoints/$(ckpt_name 10)" --out U2 --until 0.013
+expect_rc "the last good checkpoint resumes (to step 13, before the failure)" unstable_resume 0
+
+# ---------------------------------------------------------------------------------------------------------------
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
