@@ -1,6 +1,7 @@
 #include "engine/scene.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -11,10 +12,12 @@ namespace {
 const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
 std::int32_t find_material(const Model& model, TableReader& reader, const std::string& key) {
+  const std::size_t problems_before = reader.problem_count();
   const std::string name = reader.text(key, std::nullopt);
   for (std::size_t k = 0; k < model.materials.size(); ++k)
     if (model.materials[k].name == name) return static_cast<std::int32_t>(k);
-  if (!name.empty()) {
+  // text() has already reported a missing or non-string value; anything else (even "") names no material.
+  if (reader.problem_count() == problems_before) {
     std::string known;
     for (const Material& material : model.materials) known += (known.empty() ? "" : ", ") + material.name;
     reader.problem(key, "unknown material \"" + name + "\" (materials defined: " +
@@ -46,7 +49,10 @@ void read_materials(TableReader& materials, Model& model) {
 }
 
 void read_motion(TableReader& motion, TankMotionModel& model) {
+  const std::size_t problems_before = motion.problem_count();
   const std::string kind = motion.choice("kind", "none", {"none", "sinusoidal"});
+  // With an invalid kind the other keys cannot be judged; calling amplitude etc. "unknown" would mislead.
+  if (motion.problem_count() != problems_before) return;
   if (kind == "none") {
     model.kind = TankMotionModel::Kind::kNone;
     motion.finish();
@@ -54,10 +60,13 @@ void read_motion(TableReader& motion, TankMotionModel& model) {
   }
   model.kind = TankMotionModel::Kind::kSinusoidal;
   const Vec3 direction = motion.vec3("direction", Vec3::UnitX(), "1", Bounds::any());
-  if (direction.norm() == 0.0)
+  // stableNorm: the plain norm overflows for components near 1e300 (normalising to a zero vector) and
+  // underflows to 0 for components near 1e-200, although both give a valid direction.
+  const double length = direction.stableNorm();
+  if (!(length > 0.0) || !std::isfinite(length))
     motion.problem("direction", "expected a non-zero direction vector");
   else
-    model.direction = direction.normalized();
+    model.direction = direction / length;
   model.amplitude = motion.number("amplitude", std::nullopt, "m", Bounds::non_negative());
   model.frequency = motion.number("frequency", std::nullopt, "Hz", Bounds::positive());
   model.ramp_time = motion.number("ramp_time", 0.0, "s", Bounds::non_negative());
@@ -80,24 +89,35 @@ bool inside_tank(const Model& model, const Vec3& centre, double radius) {
   return (centre.array() >= low.array()).all() && (centre.array() <= high.array()).all();
 }
 
+std::string format_length(double value) {
+  std::ostringstream stream;
+  stream << value;  // not std::to_string: its fixed 6 decimals print a 1e-7 m diameter as 0.000000
+  return stream.str();
+}
+
 void read_solids(TableReader& solids, Model& model) {
   model.solids.enabled = true;
+  // Without a valid tank size every grain would also be reported as outside the tank, burying the real problem.
+  const bool tank_known = (model.tank.size.array() > 0.0).all();
   model.solids.sort_every = solids.integer("sort_every", 0, 0, 1000000000);
   for (TableReader& sphere : solids.tables("spheres")) {
     SphereSpec spec;
+    const std::size_t problems_before = sphere.problem_count();
     spec.position = sphere.vec3("position", std::nullopt, "m", Bounds::any());
+    const bool position_known = sphere.problem_count() == problems_before;
     spec.velocity = sphere.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
     spec.angular_velocity = sphere.vec3("angular_velocity", Vec3::Zero(), "rad/s", Bounds::any());
     spec.radius = sphere.number("radius", std::nullopt, "m", Bounds::positive());
     spec.material = find_material(model, sphere, "material");
     spec.size_class = static_cast<std::int32_t>(sphere.integer("size_class", 0, 0, 1000));
-    if (spec.radius > 0.0 && !inside_tank(model, spec.position, spec.radius))
+    if (tank_known && position_known && spec.radius > 0.0 && !inside_tank(model, spec.position, spec.radius))
       sphere.problem("position", "the sphere does not fit inside the tank at rest (tank spans origin to "
                                  "origin + size)");
     sphere.finish();
     model.solids.spheres.push_back(spec);
   }
   for (TableReader& block : solids.tables("blocks")) {
+    const std::size_t problems_before = block.problem_count();
     const Vec3 low = block.vec3("min", std::nullopt, "m", Bounds::any());
     const Vec3 high = block.vec3("max", std::nullopt, "m", Bounds::any());
     const double spacing = block.number("spacing", std::nullopt, "m", Bounds::positive());
@@ -107,9 +127,10 @@ void read_solids(TableReader& solids, Model& model) {
     spec.material = find_material(model, block, "material");
     spec.size_class = static_cast<std::int32_t>(block.integer("size_class", 0, 0, 1000));
     block.finish();
-    if (spacing <= 0.0 || spec.radius <= 0.0) continue;
+    // A block with a bad key cannot be laid out meaningfully; its problems are already reported.
+    if (block.problem_count() != problems_before) continue;
     if (spacing < 2.0 * spec.radius) {
-      block.problem("spacing", "spacing must be at least the sphere diameter (" + std::to_string(2 * spec.radius) +
+      block.problem("spacing", "spacing must be at least the sphere diameter (" + format_length(2 * spec.radius) +
                                    " m) so that generated spheres do not overlap");
       continue;
     }
@@ -123,6 +144,7 @@ void read_solids(TableReader& solids, Model& model) {
       block.problem("spacing", "the block would generate more than 5e7 spheres");
       continue;
     }
+    if (!tank_known) continue;
     const std::size_t before = model.solids.spheres.size();
     for (int k = 0; k < static_cast<int>(counts[2]); ++k)
       for (int j = 0; j < static_cast<int>(counts[1]); ++j)
@@ -167,6 +189,10 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
 }
 
 Model load_scene_file(const std::string& path) {
+  // A directory opens and reads as empty text, which would be reported as "missing required table [run]".
+  std::error_code ignored;
+  if (std::filesystem::is_directory(path, ignored))
+    throw SceneError({path + ": is a directory, not a scene file"});
   std::ifstream file(path, std::ios::binary);
   if (!file) throw SceneError({path + ": cannot open the scene file (does it exist and is it readable?)"});
   std::ostringstream text;

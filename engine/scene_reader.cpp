@@ -16,6 +16,14 @@ std::string join(const std::vector<std::string>& items, const char* separator) {
   return out;
 }
 
+// toml++'s value<double>() refuses an integer that a double cannot hold exactly (above 2^53); a scene number
+// that large is still a number, so convert it rather than report "got 0" or "got an integer".
+std::optional<double> as_double(const toml::node& node) {
+  if (const auto* integer = node.as_integer()) return static_cast<double>(integer->get());
+  if (const auto* floating = node.as_floating_point()) return floating->get();
+  return std::nullopt;
+}
+
 std::string format_number(double value) {
   std::ostringstream stream;
   stream << value;
@@ -103,7 +111,7 @@ double TableReader::number(const std::string& key, std::optional<double> fallbac
     problem(key, "expected " + expected + ", got " + toml_type_name(*node));
     return fallback.value_or(0.0);
   }
-  const double value = node->value<double>().value_or(0.0);
+  const double value = *as_double(*node);
   if (!bounds.contains(value)) {
     problem(key, "expected " + expected + ", got " + format_number(value));
     return fallback.value_or(0.0);
@@ -213,7 +221,7 @@ Vec3 TableReader::vec3(const std::string& key, std::optional<Vec3> fallback, con
   Vec3 value;
   for (std::size_t k = 0; k < 3; ++k) {
     const toml::node& item = *array->get(k);
-    const std::optional<double> component = item.is_number() ? item.value<double>() : std::nullopt;
+    const std::optional<double> component = as_double(item);
     if (!component || !component_bounds.contains(*component)) {
       problems_->add(item.source(), full_key(key) + "[" + std::to_string(k) + "]",
                      "expected " + component_bounds.describe() + " [" + unit + "], got " +
@@ -243,7 +251,8 @@ std::vector<TableReader> TableReader::tables(const std::string& key) {
   const toml::node* node = lookup(key);
   if (!node) return readers;
   const toml::array* array = node->as_array();
-  if (!array || !array->is_array_of_tables()) {
+  // An empty array is an empty list of tables ("spheres = []"), not a type error.
+  if (!array || (!array->empty() && !array->is_array_of_tables())) {
     problem(key, "expected an array of tables ([[" + full_key(key) + "]]), got " + toml_type_name(*node));
     return readers;
   }

@@ -53,6 +53,8 @@ class TableReader {
 
   bool has(const std::string& key) const { return table_->contains(key); }
   const toml::source_region& where() const { return table_->source(); }
+  /// Problems reported so far in the whole file; lets a caller skip checks that would only echo an earlier one.
+  std::size_t problem_count() const { return problems_->lines.size(); }
   std::string full_key(const std::string& key) const;
 
   double number(const std::string& key, std::optional<double> fallback, const char* unit, Bounds bounds);
