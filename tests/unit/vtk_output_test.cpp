@@ -2,7 +2,8 @@
 #include <doctest/doctest.h>
 
 #include <cstring>
-#include <regex>
+#include <algorithm>
+#include <cctype>
 
 #include "engine/initial_state.hpp"
 #include "engine/vtk_output.hpp"
@@ -30,10 +31,15 @@ std::string base64_decode(const std::string& text) {
 
 /// The decoded payload (after the UInt32 byte count) of the DataArray named `name`.
 std::string array_bytes(const std::string& vtp, const std::string& name) {
-  const std::regex pattern("Name=\"" + name + "\"[^>]*>\\s*([A-Za-z0-9+/=]+)\\s*</DataArray>");
-  std::smatch match;
-  REQUIRE(std::regex_search(vtp, match, pattern));
-  const std::string block = base64_decode(match[1].str());
+  // Plain string search: std::regex recurses per character and overflows the stack on long base64 runs.
+  const std::size_t tag = vtp.find("Name=\"" + name + "\"");
+  REQUIRE(tag != std::string::npos);
+  const std::size_t open_end = vtp.find('>', tag);
+  const std::size_t close = vtp.find("</DataArray>", open_end);
+  REQUIRE(close != std::string::npos);
+  std::string text = vtp.substr(open_end + 1, close - open_end - 1);
+  text.erase(std::remove_if(text.begin(), text.end(), [](unsigned char c) { return std::isspace(c); }), text.end());
+  const std::string block = base64_decode(text);
   REQUIRE(block.size() >= 4);
   std::uint32_t count;
   std::memcpy(&count, block.data(), 4);
