@@ -12,11 +12,12 @@ enum class ComponentId : std::uint8_t {
   kTankMotion,   ///< prescribed tank kinematics (components/tank_motion.hpp)
   kStepStatus,   ///< per-step problem flags raised by checks (components/step_status.hpp)
   kSolidSummary, ///< per-step reductions over the solids: energy, max speed (components/solid_summary.hpp)
+  kContacts,     ///< contact candidates and histories (components/contacts.hpp)
   kCount
 };
 
 inline constexpr std::array<std::string_view, static_cast<std::size_t>(ComponentId::kCount)> kComponentNames = {
-    "solids", "walls", "tank_motion", "step_status", "solid_summary"};
+    "solids", "walls", "tank_motion", "step_status", "solid_summary", "contacts"};
 
 constexpr std::string_view component_name(ComponentId id) { return kComponentNames[static_cast<std::size_t>(id)]; }
 

@@ -21,8 +21,10 @@ struct Solids {
   std::vector<double> radius;          ///< [m]
   std::vector<double> mass;            ///< [kg]
   std::vector<double> moment_of_inertia;  ///< [kg m^2] about the centre (solid sphere: 2/5 m r^2)
-  std::vector<Vec3> force;             ///< [N] sum of non-gravity forces of this step, gathered by force systems
-  std::vector<Vec3> torque;            ///< [N m] sum of torques of this step
+  std::vector<Vec3> force;             ///< [N] sum of the non-gravity force sources below (solid_force_sum)
+  std::vector<Vec3> torque;            ///< [N m] sum of the torque sources below
+  std::vector<Vec3> contact_force;     ///< [N] from grain-grain and grain-wall contacts (solid_contact_gather)
+  std::vector<Vec3> contact_torque;    ///< [N m] from contacts, rolling friction included
   std::vector<std::int32_t> material;  ///< [1] index into the scene's material table
   std::vector<std::int32_t> size_class;  ///< [1] index into the scene's size classes (for per-class output)
 
@@ -39,6 +41,8 @@ struct Solids {
     visit(FieldInfo{"moment_of_inertia", "kg m^2", false}, self.moment_of_inertia);
     visit(FieldInfo{"force", "N", true}, self.force);
     visit(FieldInfo{"torque", "N m", true}, self.torque);
+    visit(FieldInfo{"contact_force", "N", true}, self.contact_force);
+    visit(FieldInfo{"contact_torque", "N m", false}, self.contact_torque);
     visit(FieldInfo{"material", "1", true}, self.material);
     visit(FieldInfo{"size_class", "1", true}, self.size_class);
   }
@@ -60,6 +64,8 @@ struct Solids {
     moment_of_inertia[slot] = 0.4 * mass[slot] * radius_m * radius_m;
     force[slot] = Vec3::Zero();
     torque[slot] = Vec3::Zero();
+    contact_force[slot] = Vec3::Zero();
+    contact_torque[slot] = Vec3::Zero();
     material[slot] = material_index;
     size_class[slot] = size_class_index;
     return slot;

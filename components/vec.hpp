@@ -1,6 +1,7 @@
 #pragma once
 // Small vector vocabulary shared by every component and system.
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross products
 #include <cstdint>
 
 namespace riffle {

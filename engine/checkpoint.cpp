@@ -35,7 +35,7 @@ template <class Archive>
 void archive_checkpoint(Archive& archive, CheckpointData& data) {
   World& world = data.world;
   archive(data.scene_file, data.scene_text, world.time, world.step, world.solids, world.walls, world.tank_motion,
-          data.output);
+          world.contacts, data.output);
 }
 }  // namespace
 

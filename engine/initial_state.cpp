@@ -36,6 +36,7 @@ World initial_world(const Model& model) {
   if (model.solids.enabled) {
     world.solids.emplace();
     world.solid_summary.emplace();
+    if (model.contact.enabled) world.contacts.emplace();
     for (const SphereSpec& sphere : model.solids.spheres) {
       const std::size_t slot = world.solids->add(sphere.position, sphere.velocity, sphere.radius,
                                                  model.materials[static_cast<std::size_t>(sphere.material)].density,

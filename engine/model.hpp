@@ -12,7 +12,44 @@ namespace riffle {
 
 struct Material {
   std::string name;
-  double density = 0.0;  ///< [kg/m^3]
+  double density = 0.0;        ///< [kg/m^3]
+  double young_modulus = 0.0;  ///< [Pa] E; needed when [contact] is present
+  double poisson_ratio = 0.0;  ///< [1] nu
+};
+
+enum class ContactLaw {
+  kHertzMindlin,        ///< seed 003 Sec. 2.2: Hertz normal, Mindlin no-slip tangential, restitution damping
+  kLinearSpringDashpot  ///< seed 004 Sec. 2.2: linear spring-dashpot whose stiffness is set by a collision time
+};
+
+/// Contact constants of one pair of materials, derived once when the scene is read.
+struct ContactPairParameters {
+  double restitution = 1.0;       ///< [1] requested normal coefficient of restitution e
+  double friction = 0.0;          ///< [1] Coulomb sliding friction mu
+  double rolling_friction = 0.0;  ///< [1] mu_r; rolling torque -mu_r R* F_n (direction of relative spin)
+  double effective_young = 0.0;   ///< [Pa] E*: 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j
+  double effective_shear = 0.0;   ///< [Pa] G*: 1/G* = (2 - nu_i)/G_i + (2 - nu_j)/G_j
+  /// [1] dimensionless damping c of the law's normal equation x'' = -f(x) - c g(x) x', calibrated so that the
+  /// achieved restitution (with the no-tension cut-off) equals `restitution` exactly; see contact_law.hpp.
+  double damping = 0.0;
+};
+
+struct ContactModel {
+  bool enabled = false;
+  ContactLaw law = ContactLaw::kHertzMindlin;
+  std::size_t material_count = 0;
+  std::vector<ContactPairParameters> pairs;  ///< material_count x material_count, symmetric; [a * count + b]
+  double collision_time = 0.0;     ///< [s] linear law: duration of a normal collision
+  double max_impact_speed = 1.0;   ///< [m/s] impact speed for the Hertz contact-time estimate
+  double rayleigh_fraction = 0.25; ///< sub-step <= this fraction of the Rayleigh time
+  double steps_per_collision = 16; ///< sub-step <= contact time / this
+  double skin = 0.0;               ///< [m] Verlet skin of the neighbour list
+  std::int64_t sort_every_rebuild = 10;  ///< reorder grains by cell every this many neighbour rebuilds
+  double stable_solid_dt = 0.0;    ///< [s] largest sub-step allowed by the estimates (filled by the scene reader)
+
+  const ContactPairParameters& pair(std::int32_t a, std::int32_t b) const {
+    return pairs[static_cast<std::size_t>(a) * material_count + static_cast<std::size_t>(b)];
+  }
 };
 
 /// Prescribed rigid translation of the tank. x(t) = -A r(t) sin(2 pi f t) along `direction` (seed 000 Eq. 1),
@@ -64,12 +101,13 @@ struct Model {
 
   double end_time = 0.0;             ///< [s]
   double dt = 0.0;                   ///< [s] engine (fluid) step
-  std::int64_t solid_substeps = 1;   ///< DEM sub-steps per engine step
+  std::int64_t solid_substeps = 1;   ///< DEM sub-steps per engine step (derived from the contact estimates if unset)
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< [m/s^2]
 
   std::vector<Material> materials;
   TankModel tank;
   SolidsModel solids;
+  ContactModel contact;
   OutputModel output;
 
   double solid_dt() const { return dt / static_cast<double>(solid_substeps); }

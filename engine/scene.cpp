@@ -1,5 +1,11 @@
 #include "engine/scene.hpp"
 
+#include <cstdio>
+#include <limits>
+#include <map>
+
+#include "systems/contact_law.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -37,11 +43,19 @@ void read_run(TableReader& run, Model& model) {
   run.finish();
 }
 
-void read_materials(TableReader& materials, Model& model) {
+void read_materials(TableReader& materials, Model& model, bool contacts_enabled) {
   for (auto& [name, reader] : materials.named_tables()) {
     Material material;
     material.name = name;
     material.density = reader.number("density", std::nullopt, "kg/m^3", Bounds::positive());
+    // Elastic constants are required exactly when grains touch: the contact laws and the time-step estimates use them.
+    const std::optional<double> no_default = std::nullopt;
+    material.young_modulus =
+        reader.number("young_modulus", contacts_enabled ? no_default : std::optional<double>(0.0), "Pa",
+                      contacts_enabled ? Bounds::positive() : Bounds::non_negative());
+    material.poisson_ratio =
+        reader.number("poisson_ratio", contacts_enabled ? no_default : std::optional<double>(0.0), "1",
+                      Bounds{-1.0, 0.5, false, false});
     reader.finish();
     model.materials.push_back(material);
   }
@@ -166,6 +180,125 @@ void read_output(TableReader& output, Model& model) {
   output.finish();
 }
 
+/// [contact]: the contact law, its constants per material pair, and the neighbour-list skin.
+void read_contact(TableReader& contact, Model& model) {
+  ContactModel& out = model.contact;
+  out.enabled = true;
+  const std::string law = contact.choice("law", "hertz_mindlin", {"hertz_mindlin", "linear_spring_dashpot"});
+  out.law = law == "linear_spring_dashpot" ? ContactLaw::kLinearSpringDashpot : ContactLaw::kHertzMindlin;
+  ContactPairParameters defaults;
+  defaults.restitution = contact.number("restitution", std::nullopt, "1", Bounds{0.0, 1.0, false, true});
+  defaults.friction = contact.number("friction", std::nullopt, "1", Bounds::non_negative());
+  defaults.rolling_friction = contact.number("rolling_friction", 0.0, "1", Bounds::non_negative());
+  if (out.law == ContactLaw::kLinearSpringDashpot)
+    out.collision_time = contact.number("collision_time", std::nullopt, "s", Bounds::positive());
+  out.max_impact_speed = contact.number("max_impact_speed", 1.0, "m/s", Bounds::positive());
+  out.rayleigh_fraction = contact.number("rayleigh_fraction", 0.25, "1", Bounds{0.0, 1.0, false, true});
+  out.steps_per_collision = contact.number("steps_per_collision", 16.0, "1", Bounds::closed(4.0, 1e6));
+  out.skin = contact.number("skin", 0.0, "m", Bounds::non_negative());
+  out.sort_every_rebuild = contact.integer("sort_every_rebuild", 10, 1, 1000000);
+
+  const std::size_t count = model.materials.size();
+  out.material_count = count;
+  out.pairs.assign(count * count, defaults);
+  for (TableReader& override_table : contact.tables("pairs")) {
+    const std::vector<std::string> names = override_table.choices("materials", [&] {
+      std::vector<std::string> known;
+      for (const Material& material : model.materials) known.push_back(material.name);
+      return known;
+    }());
+    ContactPairParameters pair = defaults;
+    pair.restitution = override_table.number("restitution", defaults.restitution, "1", Bounds{0.0, 1.0, false, true});
+    pair.friction = override_table.number("friction", defaults.friction, "1", Bounds::non_negative());
+    pair.rolling_friction =
+        override_table.number("rolling_friction", defaults.rolling_friction, "1", Bounds::non_negative());
+    override_table.finish();
+    if (names.size() != 2 && !(names.size() == 1)) {
+      override_table.problem("materials", "expected the names of two materials (or one, for a material with itself)");
+      continue;
+    }
+    auto index_of = [&](const std::string& name) {
+      for (std::size_t k = 0; k < count; ++k)
+        if (model.materials[k].name == name) return k;
+      return std::size_t{0};
+    };
+    const std::size_t a = index_of(names.front()), b = index_of(names.back());
+    out.pairs[a * count + b] = pair;
+    out.pairs[b * count + a] = pair;
+  }
+  contact.finish();
+
+  // Derived constants: effective moduli and the damping calibrated to the requested restitution.
+  for (std::size_t a = 0; a < count; ++a)
+    for (std::size_t b = 0; b < count; ++b) {
+      ContactPairParameters& pair = out.pairs[a * count + b];
+      const Material& first = model.materials[a];
+      const Material& second = model.materials[b];
+      if (first.young_modulus <= 0.0 || second.young_modulus <= 0.0) continue;  // reported by read_materials
+      const double shear_first = first.young_modulus / (2.0 * (1.0 + first.poisson_ratio));
+      const double shear_second = second.young_modulus / (2.0 * (1.0 + second.poisson_ratio));
+      pair.effective_young = 1.0 / ((1.0 - first.poisson_ratio * first.poisson_ratio) / first.young_modulus +
+                                    (1.0 - second.poisson_ratio * second.poisson_ratio) / second.young_modulus);
+      pair.effective_shear =
+          1.0 / ((2.0 - first.poisson_ratio) / shear_first + (2.0 - second.poisson_ratio) / shear_second);
+      if (pair.restitution > 0.0 && pair.restitution <= 1.0) pair.damping = calibrate_damping(out.law, pair.restitution);
+    }
+}
+
+/// The largest stable DEM sub-step: a fraction of the Rayleigh time of the smallest grain of each material, and the
+/// contact time (Hertz at max_impact_speed, or the linear law's collision time) divided by steps_per_collision, for
+/// the smallest grains of every pair of materials in use and for each of them against the walls.
+struct StableStep {
+  double solid_dt = 0.0;
+  std::string reason;
+};
+StableStep stable_solid_step(const Model& model) {
+  const ContactModel& contact = model.contact;
+  std::map<std::int32_t, double> smallest_radius;
+  for (const SphereSpec& sphere : model.solids.spheres) {
+    auto [it, inserted] = smallest_radius.emplace(sphere.material, sphere.radius);
+    if (!inserted) it->second = std::min(it->second, sphere.radius);
+  }
+  StableStep best{std::numeric_limits<double>::infinity(), ""};
+  auto consider = [&](double candidate, const std::string& reason) {
+    if (candidate < best.solid_dt) best = {candidate, reason};
+  };
+  const double kPi = 3.14159265358979323846;
+  auto mass_of = [&](std::int32_t material, double radius) {
+    return model.materials[static_cast<std::size_t>(material)].density * 4.0 / 3.0 * kPi * radius * radius * radius;
+  };
+  char text[256];
+  for (const auto& [material, radius] : smallest_radius) {
+    const Material& props = model.materials[static_cast<std::size_t>(material)];
+    const double rayleigh = rayleigh_time(radius, props.density, props.young_modulus, props.poisson_ratio);
+    std::snprintf(text, sizeof text, "%g x the Rayleigh time %.3g s of a %g m grain of %s", contact.rayleigh_fraction,
+                  rayleigh, radius, props.name.c_str());
+    consider(contact.rayleigh_fraction * rayleigh, text);
+    for (const auto& [other, other_radius] : smallest_radius) {
+      const ContactPairParameters& pair = contact.pair(material, other);
+      const double effective_radius = radius * other_radius / (radius + other_radius);
+      const double first_mass = mass_of(material, radius), second_mass = mass_of(other, other_radius);
+      const double effective_mass = first_mass * second_mass / (first_mass + second_mass);
+      const double collision = contact.law == ContactLaw::kHertzMindlin
+                                   ? hertz_contact_time(pair.effective_young, effective_radius, effective_mass,
+                                                        contact.max_impact_speed)
+                                   : contact.collision_time;
+      std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%s grains of %g and %g m)",
+                    collision, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
+      consider(collision / contact.steps_per_collision, text);
+    }
+    const ContactPairParameters& wall = contact.pair(material, model.tank.wall_material);
+    const double wall_collision = contact.law == ContactLaw::kHertzMindlin
+                                      ? hertz_contact_time(wall.effective_young, radius, mass_of(material, radius),
+                                                           contact.max_impact_speed)
+                                      : contact.collision_time;
+    std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%g m grain of %s on a wall)",
+                  wall_collision, contact.steps_per_collision, radius, props.name.c_str());
+    consider(wall_collision / contact.steps_per_collision, text);
+  }
+  return best;
+}
+
 }  // namespace
 
 Model parse_scene(const std::string& text, const std::string& file_name) {
@@ -177,14 +310,36 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   model.scene_file = file_name;
   model.scene_text = text;
   TableReader scene(*root, "", problems);
-  if (auto run = scene.table("run", true)) read_run(*run, model);
-  // Materials first: the tank and the solids refer to them by name.
-  if (auto materials = scene.table("materials", true)) read_materials(*materials, model);
+  std::optional<TableReader> run = scene.table("run", true);
+  if (run) read_run(*run, model);
+  // Materials first: the tank, the contacts and the solids refer to them by name.
+  if (auto materials = scene.table("materials", true)) read_materials(*materials, model, scene.has("contact"));
   if (auto tank = scene.table("tank", true)) read_tank(*tank, model);
+  if (auto contact = scene.table("contact", false)) read_contact(*contact, model);
   if (auto solids = scene.table("solids", false)) read_solids(*solids, model);
   if (auto output = scene.table("output", false)) read_output(*output, model);
   scene.finish();
   if (!problems.lines.empty()) throw SceneError(problems.lines);
+
+  // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
+  if (model.contact.enabled && model.solids.enabled && !model.solids.spheres.empty()) {
+    const StableStep stable = stable_solid_step(model);
+    model.contact.stable_solid_dt = stable.solid_dt;
+    if (run && run->has("solid_substeps")) {
+      if (model.solid_dt() > stable.solid_dt * (1.0 + 1e-12)) {
+        char message[512];
+        std::snprintf(message, sizeof message,
+                      "the sub-step dt / solid_substeps = %.4g s exceeds the stable estimate %.4g s (%s); use "
+                      "solid_substeps >= %lld or leave it out to have it chosen",
+                      model.solid_dt(), stable.solid_dt, stable.reason.c_str(),
+                      static_cast<long long>(std::ceil(model.dt / stable.solid_dt)));
+        run->problem("solid_substeps", message);
+        throw SceneError(problems.lines);
+      }
+    } else {
+      model.solid_substeps = static_cast<std::int64_t>(std::ceil(model.dt / stable.solid_dt * (1.0 - 1e-12)));
+    }
+  }
   return model;
 }
 

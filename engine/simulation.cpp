@@ -135,6 +135,10 @@ std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path)
   world.solids = std::move(data.world.solids);
   world.walls = std::move(data.world.walls);
   world.tank_motion = std::move(data.world.tank_motion);
+  if (model.contact.enabled != data.world.contacts.has_value())
+    throw CheckpointError(path + ": checkpoint does not match its own scene (contacts present: " +
+                          (data.world.contacts ? "yes" : "no") + ")");
+  world.contacts = std::move(data.world.contacts);
   return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), std::move(data.output)));
 }
 
@@ -147,6 +151,7 @@ CheckpointData Simulation::checkpoint_data() const {
   data.world.solids = world_.solids;
   data.world.walls = world_.walls;
   data.world.tank_motion = world_.tank_motion;
+  data.world.contacts = world_.contacts;
   data.output = output_;
   return data;
 }

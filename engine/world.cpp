@@ -8,6 +8,7 @@ bool World::has(ComponentId id) const {
     case ComponentId::kWalls: return walls.has_value();
     case ComponentId::kTankMotion: return tank_motion.has_value();
     case ComponentId::kSolidSummary: return solid_summary.has_value();
+    case ComponentId::kContacts: return contacts.has_value();
     case ComponentId::kStepStatus: return true;
     case ComponentId::kCount: break;
   }

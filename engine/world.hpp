@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "components/contacts.hpp"
 #include "components/solid_summary.hpp"
 #include "components/solids.hpp"
 #include "components/step_status.hpp"
@@ -23,6 +24,7 @@ class World {
   std::optional<Walls> walls;
   std::optional<TankMotion> tank_motion;
   std::optional<SolidSummary> solid_summary;
+  std::optional<Contacts> contacts;
   StepStatus step_status;  ///< always present: every run can fail
 
   /// The component of type C, or nullptr if the scene does not use it.
@@ -32,6 +34,7 @@ class World {
     else if constexpr (std::is_same_v<C, Walls>) return walls ? &*walls : nullptr;
     else if constexpr (std::is_same_v<C, TankMotion>) return tank_motion ? &*tank_motion : nullptr;
     else if constexpr (std::is_same_v<C, SolidSummary>) return solid_summary ? &*solid_summary : nullptr;
+    else if constexpr (std::is_same_v<C, Contacts>) return contacts ? &*contacts : nullptr;
     else if constexpr (std::is_same_v<C, StepStatus>) return &step_status;
     else static_assert(sizeof(C) == 0, "unknown component type");
   }

@@ -2,6 +2,8 @@
 
 #include "systems/solid_cell_sort.hpp"
 #include "systems/solid_checks.hpp"
+#include "systems/solid_contacts.hpp"
+#include "systems/solid_neighbours.hpp"
 #include "systems/solid_integrate.hpp"
 #include "systems/wall_motion.hpp"
 
@@ -13,11 +15,19 @@ Pipeline build_pipeline(const Model& model) {
   if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>());
   // The walls move once per sub-step when grains feel them, otherwise once per engine step.
   (model.solids.enabled ? pipeline.substep : pipeline.step).push_back(std::make_unique<WallMotion>());
+  const bool contacts = model.solids.enabled && model.contact.enabled;
+  if (contacts) {
+    pipeline.substep.push_back(std::make_unique<SolidNeighbours>());
+    pipeline.substep.push_back(std::make_unique<SolidContactForces>());
+    pipeline.substep.push_back(std::make_unique<SolidContactGather>());
+    pipeline.substep.push_back(std::make_unique<SolidForceSum>());
+  }
   if (model.solids.enabled) {
     pipeline.substep.push_back(std::make_unique<SolidKick>());
     pipeline.end_of_step.push_back(std::make_unique<SolidDomainCheck>());
     pipeline.end_of_step.push_back(std::make_unique<SolidSummarize>());
-    if (model.solids.sort_every > 0) pipeline.end_of_step.push_back(std::make_unique<SolidCellSort>());
+    // With contacts the neighbour list reorders the grains itself, at rebuilds, where slots may change.
+    if (!contacts && model.solids.sort_every > 0) pipeline.end_of_step.push_back(std::make_unique<SolidCellSort>());
   }
   return pipeline;
 }

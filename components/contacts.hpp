@@ -1,0 +1,59 @@
+#pragma once
+// Grain-grain and grain-wall contact candidates (a Verlet neighbour list with a skin) and their persistent state.
+//
+// Pairs are stored once, from the grain with the lower slot ("first") to the higher ("second"), grouped by first
+// grain in CSR form. Slots change only when the list is rebuilt (the rebuild may reorder the grains by cell); the
+// tangential springs are carried over by grain id, so contact history survives reordering and checkpoints.
+// Forces are computed per pair into the pair arrays, then gathered per grain in a fixed order (pairs where it is
+// first, then pairs where it is second, then wall pairs): results do not depend on the thread count.
+#include <cereal/types/vector.hpp>
+#include <cstdint>
+#include <vector>
+
+#include "components/component_id.hpp"
+#include "components/vec.hpp"
+
+namespace riffle {
+
+struct Contacts {
+  static constexpr ComponentId kId = ComponentId::kContacts;
+
+  // Grain-grain candidates.
+  std::vector<std::uint32_t> pair_offsets;     ///< grains + 1: pairs of first grain i are [offsets[i], offsets[i+1])
+  std::vector<std::uint32_t> pair_second;      ///< slot of the second grain (> first)
+  std::vector<Vec3> pair_spring;               ///< [m] tangential spring, on the first grain; zero when apart
+  std::vector<Vec3> pair_force;                ///< [N] contact force on the first grain (second gets the negative)
+  std::vector<Vec3> pair_torque_first;         ///< [N m] contact torque on the first grain
+  std::vector<Vec3> pair_torque_second;        ///< [N m] contact torque on the second grain
+  std::vector<double> pair_overlap;            ///< [m] > 0 while touching
+  // Reverse index for the gather: for grain j, the pairs where it is second, ascending.
+  std::vector<std::uint32_t> second_offsets;   ///< grains + 1
+  std::vector<std::uint32_t> second_pairs;     ///< pair indices
+
+  // Grain-wall candidates, grouped by grain.
+  std::vector<std::uint32_t> wall_pair_offsets;  ///< grains + 1
+  std::vector<std::uint32_t> wall_pair_wall;     ///< wall slot (walls are never reordered)
+  std::vector<Vec3> wall_pair_spring;            ///< [m] tangential spring, on the grain
+  std::vector<Vec3> wall_pair_force;             ///< [N] force on the grain (the wall gets the negative)
+  std::vector<Vec3> wall_pair_torque;            ///< [N m] torque on the grain
+  std::vector<double> wall_pair_overlap;         ///< [m] > 0 while touching
+
+  // Rebuild bookkeeping.
+  std::vector<Vec3> build_position;              ///< [m] grain positions at the last rebuild (per slot)
+  Vec3 build_tank_displacement = Vec3::Zero();   ///< [m] tank displacement at the last rebuild
+  double skin = 0.0;                             ///< [m] the skin the list was built with
+  std::uint64_t rebuilds = 0;                    ///< rebuilds so far
+  bool valid = false;                            ///< false until the first build (and after a resize)
+
+  std::size_t pair_count() const { return pair_second.size(); }
+  std::size_t wall_pair_count() const { return wall_pair_wall.size(); }
+
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(pair_offsets, pair_second, pair_spring, pair_force, pair_torque_first, pair_torque_second, pair_overlap,
+            second_offsets, second_pairs, wall_pair_offsets, wall_pair_wall, wall_pair_spring, wall_pair_force,
+            wall_pair_torque, wall_pair_overlap, build_position, build_tank_displacement, skin, rebuilds, valid);
+  }
+};
+
+}  // namespace riffle

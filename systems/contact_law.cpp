@@ -1,0 +1,76 @@
+#include "systems/contact_law.hpp"
+
+#include <stdexcept>
+
+namespace riffle {
+
+namespace {
+
+/// Scaled normal force: Hertz -x^{3/2} - c x^{1/4} x', linear -x - c x'.
+double scaled_force(ContactLaw law, double damping, double x, double v) {
+  if (law == ContactLaw::kHertzMindlin) {
+    const double root = std::sqrt(std::max(x, 0.0));
+    return -x * root - damping * std::sqrt(root) * v;
+  }
+  return -x - damping * v;
+}
+
+}  // namespace
+
+double achieved_restitution(ContactLaw law, double damping) {
+  // Start touching with unit approach speed; RK4 in scaled time until the force would pull (cut-off) or the
+  // overlap closes. The scaled contact lasts about 3.2 (Hertz) or pi (linear) time units.
+  const double step = 1e-3;
+  double x = 0.0, v = 1.0;
+  for (int k = 0; k < 100000; ++k) {
+    auto acceleration = [&](double xx, double vv) { return scaled_force(law, damping, xx, vv); };
+    const double k1x = v, k1v = acceleration(x, v);
+    const double k2x = v + 0.5 * step * k1v, k2v = acceleration(x + 0.5 * step * k1x, v + 0.5 * step * k1v);
+    const double k3x = v + 0.5 * step * k2v, k3v = acceleration(x + 0.5 * step * k2x, v + 0.5 * step * k2v);
+    const double k4x = v + step * k3v, k4v = acceleration(x + step * k3x, v + step * k3v);
+    const double x_next = x + step / 6.0 * (k1x + 2 * k2x + 2 * k3x + k4x);
+    const double v_next = v + step / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    const double force_next = scaled_force(law, damping, x_next, v_next);
+    if (v_next < 0.0 && (force_next >= 0.0 || x_next <= 0.0)) {
+      // The contact ends inside this step: interpolate the speed at the sign change of force (or overlap).
+      const double force_now = scaled_force(law, damping, x, v);
+      double fraction = 1.0;
+      if (force_next >= 0.0 && force_now < 0.0) fraction = -force_now / (force_next - force_now);
+      else if (x_next <= 0.0 && x > 0.0) fraction = x / (x - x_next);
+      return -(v + fraction * (v_next - v));
+    }
+    x = x_next;
+    v = v_next;
+  }
+  throw std::logic_error("achieved_restitution: the scaled collision did not end");
+}
+
+double calibrate_damping(ContactLaw law, double restitution) {
+  if (!(restitution > 0.0 && restitution <= 1.0))
+    throw std::invalid_argument("calibrate_damping: restitution must be in (0, 1]");
+  if (restitution == 1.0) return 0.0;
+  double low = 0.0, high = 1.0;
+  while (achieved_restitution(law, high) > restitution) high *= 2.0;
+  for (int iteration = 0; iteration < 60 && high - low > 1e-12 * high; ++iteration) {
+    const double middle = 0.5 * (low + high);
+    (achieved_restitution(law, middle) > restitution ? low : high) = middle;
+  }
+  return 0.5 * (low + high);
+}
+
+double hertz_max_overlap(double effective_young, double effective_radius, double effective_mass, double speed) {
+  return std::pow(15.0 * effective_mass * speed * speed / (16.0 * effective_young * std::sqrt(effective_radius)),
+                  0.4);
+}
+
+double hertz_contact_time(double effective_young, double effective_radius, double effective_mass, double speed) {
+  // t_c = 2 d_max / v * integral_0^1 dx / sqrt(1 - x^{5/2}) = 2.94328 d_max / v (Timoshenko & Goodier).
+  return 2.94328 * hertz_max_overlap(effective_young, effective_radius, effective_mass, speed) / speed;
+}
+
+double rayleigh_time(double radius, double density, double young_modulus, double poisson_ratio) {
+  const double shear_modulus = young_modulus / (2.0 * (1.0 + poisson_ratio));
+  return 3.14159265358979323846 * radius * std::sqrt(density / shear_modulus) / (0.1631 * poisson_ratio + 0.8766);
+}
+
+}  // namespace riffle
