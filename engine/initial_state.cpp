@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "engine/checkpoint.hpp"
+#include "engine/scene_reader.hpp"
 #include "systems/wall_motion.hpp"
 
 namespace riffle {
@@ -28,13 +30,49 @@ Walls tank_walls(const TankModel& tank) {
   return walls;
 }
 
+Solids initial_grains(const Model& model) {
+  const std::string& path = model.solids.initial_state;
+  CheckpointData data = read_checkpoint(path);
+  if (!data.world.solids) throw std::runtime_error(path + ": the checkpoint holds no grains");
+  // Material indices follow the order of [materials.*] in the scene that wrote the checkpoint: map them by name.
+  SceneProblems problems{data.scene_file, {}};
+  const std::optional<toml::table> root = parse_toml(data.scene_text, problems);
+  const toml::table* materials = root ? (*root)["materials"].as_table() : nullptr;
+  if (!materials) throw std::runtime_error(path + ": the checkpoint's scene has no readable [materials]");
+  std::vector<std::int32_t> mapped;
+  for (auto&& [name, node] : *materials) {
+    const auto found = std::find_if(model.materials.begin(), model.materials.end(),
+                                    [&](const Material& material) { return material.name == name.str(); });
+    if (found == model.materials.end())
+      throw std::runtime_error(path + ": its grains use material \"" + std::string(name.str()) +
+                               "\", which this scene does not define");
+    mapped.push_back(static_cast<std::int32_t>(found - model.materials.begin()));
+  }
+  Solids grains = std::move(*data.world.solids);
+  for (std::size_t i = 0; i < grains.size(); ++i) {
+    const auto old_index = static_cast<std::size_t>(grains.material[i]);
+    if (old_index >= mapped.size()) throw std::runtime_error(path + ": a grain has an unknown material index");
+    grains.material[i] = mapped[old_index];
+    // Mass and inertia follow this scene's density, so a material may be redefined between runs.
+    const double density = model.materials[static_cast<std::size_t>(grains.material[i])].density;
+    const double r = grains.radius[i];
+    grains.mass[i] = density * 4.0 / 3.0 * 3.14159265358979323846 * r * r * r;
+    grains.moment_of_inertia[i] = 0.4 * grains.mass[i] * r * r;
+    grains.force[i] = grains.torque[i] = grains.contact_force[i] = grains.contact_torque[i] = Vec3::Zero();
+  }
+  return grains;
+}
+
 World initial_world(const Model& model) {
   World world;
   world.tank_motion = tank_kinematics(model.tank.motion, 0.0);
   world.walls = tank_walls(model.tank);
   apply_tank_motion(*world.tank_motion, *world.walls);
   if (model.solids.enabled) {
-    world.solids.emplace();
+    if (model.solids.initial_state.empty())
+      world.solids.emplace();
+    else
+      world.solids = initial_grains(model);
     world.solid_summary.emplace();
     if (model.contact.enabled) world.contacts.emplace();
     for (const SphereSpec& sphere : model.solids.spheres) {

@@ -83,6 +83,7 @@ struct SphereSpec {
 
 struct SolidsModel {
   bool enabled = false;
+  std::string initial_state;           ///< checkpoint whose grains start this run (resolved path), or empty
   std::vector<SphereSpec> spheres;     ///< initial spheres, explicit and generated from blocks, in scene order
   std::int64_t sort_every = 0;         ///< [steps] reorder grains by grid cell this often; 0 = never
 };

@@ -1,9 +1,11 @@
 #include "engine/scene.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <map>
 
+#include "engine/initial_state.hpp"
 #include "systems/contact_law.hpp"
 
 #include <cmath>
@@ -114,6 +116,17 @@ void read_solids(TableReader& solids, Model& model) {
   // Without a valid tank size every grain would also be reported as outside the tank, burying the real problem.
   const bool tank_known = (model.tank.size.array() > 0.0).all();
   model.solids.sort_every = solids.integer("sort_every", 0, 0, 1000000000);
+  if (solids.has("initial_state")) {
+    // Relative to the scene file, so a scene and the run it continues can move together.
+    std::filesystem::path path = solids.text("initial_state", "");
+    if (path.is_relative()) path = std::filesystem::path(model.scene_file).parent_path() / path;
+    model.solids.initial_state = path.lexically_normal().string();
+    try {
+      initial_grains(model);
+    } catch (const std::exception& error) {
+      solids.problem("initial_state", error.what());
+    }
+  }
   for (TableReader& sphere : solids.tables("spheres")) {
     SphereSpec spec;
     const std::size_t problems_before = sphere.problem_count();
@@ -255,9 +268,14 @@ struct StableStep {
 StableStep stable_solid_step(const Model& model) {
   const ContactModel& contact = model.contact;
   std::map<std::int32_t, double> smallest_radius;
-  for (const SphereSpec& sphere : model.solids.spheres) {
-    auto [it, inserted] = smallest_radius.emplace(sphere.material, sphere.radius);
-    if (!inserted) it->second = std::min(it->second, sphere.radius);
+  auto note_grain = [&](std::int32_t material, double radius) {
+    auto [it, inserted] = smallest_radius.emplace(material, radius);
+    if (!inserted) it->second = std::min(it->second, radius);
+  };
+  for (const SphereSpec& sphere : model.solids.spheres) note_grain(sphere.material, sphere.radius);
+  if (!model.solids.initial_state.empty()) {
+    const Solids grains = initial_grains(model);  // validated when [solids] was read
+    for (std::size_t i = 0; i < grains.size(); ++i) note_grain(grains.material[i], grains.radius[i]);
   }
   StableStep best{std::numeric_limits<double>::infinity(), ""};
   auto consider = [&](double candidate, const std::string& reason) {
@@ -322,7 +340,8 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   if (!problems.lines.empty()) throw SceneError(problems.lines);
 
   // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
-  if (model.contact.enabled && model.solids.enabled && !model.solids.spheres.empty()) {
+  if (model.contact.enabled && model.solids.enabled &&
+      (!model.solids.spheres.empty() || !model.solids.initial_state.empty())) {
     const StableStep stable = stable_solid_step(model);
     model.contact.stable_solid_dt = stable.solid_dt;
     if (run && run->has("solid_substeps")) {

@@ -310,6 +310,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
 
     if (outcome.exit_code == kExitOk) {
       save_checkpoint(false);
+      // A stable name for the end state, so other scenes can start from it ([solids] initial_state).
+      fs::copy_file(last_checkpoint, checkpoint_dir / "final.ckpt", fs::copy_options::overwrite_existing);
       outcome.last_checkpoint = last_checkpoint;
       outcome.message = "finished at t = " + std::to_string(world_.time) + " s after " +
                         std::to_string(world_.step) + " steps; final checkpoint: " + last_checkpoint;
