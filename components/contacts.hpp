@@ -25,7 +25,7 @@ struct Contacts {
   std::vector<Vec3> pair_force;                ///< [N] contact force on the first grain (second gets the negative)
   std::vector<Vec3> pair_torque_first;         ///< [N m] contact torque on the first grain
   std::vector<Vec3> pair_torque_second;        ///< [N m] contact torque on the second grain
-  std::vector<double> pair_overlap;            ///< [m] > 0 while touching
+  std::vector<double> pair_overlap;            ///< [m] > 0 while touching, 0 when apart
   // Reverse index for the gather: for grain j, the pairs where it is second, ascending.
   std::vector<std::uint32_t> second_offsets;   ///< grains + 1
   std::vector<std::uint32_t> second_pairs;     ///< pair indices
@@ -36,7 +36,7 @@ struct Contacts {
   std::vector<Vec3> wall_pair_spring;            ///< [m] tangential spring, on the grain
   std::vector<Vec3> wall_pair_force;             ///< [N] force on the grain (the wall gets the negative)
   std::vector<Vec3> wall_pair_torque;            ///< [N m] torque on the grain
-  std::vector<double> wall_pair_overlap;         ///< [m] > 0 while touching
+  std::vector<double> wall_pair_overlap;         ///< [m] > 0 while touching, 0 when apart
 
   // Rebuild bookkeeping.
   std::vector<Vec3> build_position;              ///< [m] grain positions at the last rebuild (per slot)

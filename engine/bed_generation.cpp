@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -54,11 +53,13 @@ class OverlapGrid {
     // Cells no smaller than needed for about one sphere each, so tiny grains in a big box cannot ask for more
     // cells than spheres; then grow until the count is bounded whatever the box's shape.
     const double volume = extent.prod();
-    cell_ = std::max(largest_diameter, std::cbrt(volume / static_cast<double>(std::max<std::int64_t>(expected_spheres, 1))));
+    const double spheres = static_cast<double>(std::max<std::int64_t>(expected_spheres, 1));
+    cell_ = std::max(largest_diameter, std::cbrt(volume / spheres));
     const double cell_limit = 8.0 * static_cast<double>(expected_spheres) + 64.0;
     for (;;) {
       for (int axis = 0; axis < 3; ++axis)
-        cells_[axis] = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(extent[axis] / cell_)));
+        // Clamped before the cast: a long thin region can ask for more cells along one axis than int64 holds.
+        cells_[axis] = static_cast<std::int64_t>(std::clamp(std::ceil(extent[axis] / cell_), 1.0, 1e15));
       if (static_cast<double>(cells_[0]) * static_cast<double>(cells_[1]) * static_cast<double>(cells_[2]) <=
           cell_limit)
         break;
@@ -158,18 +159,34 @@ RandomPlacement place_randomly(const GrainClassSpec& grains, std::int64_t count,
   return result;
 }
 
-std::string jam_summary(std::int64_t placed, std::int64_t wanted, const RandomPlacement& result,
-                        const std::string& where) {
-  return "random sequential addition placed only " + std::to_string(placed) + " of the " + std::to_string(wanted) +
+std::string jam_summary(const RandomPlacement& result, std::int64_t wanted, const std::string& where) {
+  return "random sequential addition placed only " + std::to_string(result.placed) + " of the " +
+         std::to_string(wanted) +
          " spheres of this class" + where + " (gave up after " + std::to_string(result.attempts) +
          " attempts); it jams near a solid fraction of " + format_number(kJammingFraction);
 }
 
-/// The suggestion for a bed that jammed: the nominal solid fraction over the jamming fraction, and at least a
-/// quarter more than now, rounded up to a tenth.
+/// Rounds a suggested loose_factor up to a tenth.
+double round_up_to_tenth(double value) { return std::ceil(value * 10.0 - 1e-9) / 10.0; }
+
+/// A loose_factor for a layer that is refused before trying: enough to bring the bed to the jamming fraction.
 double suggested_loose_factor(const LayeredBedSpec& spec) {
-  const double needed = std::max(nominal_solid_fraction(spec) / kJammingFraction, spec.loose_factor * 1.25);
-  return std::ceil(needed * 10.0 - 1e-9) / 10.0;
+  return round_up_to_tenth(std::max(nominal_solid_fraction(spec) / kJammingFraction, spec.loose_factor * 1.1));
+}
+
+/// A loose_factor for a layer that jammed with `random_placed` of `random_wanted` random solid volume [m^3] placed
+/// beside `regular` [m^3] of regular spheres: the fraction of the free space the random classes reached is taken as
+/// what they can reach, the slab grown until the wanted volume fits at that fraction, plus 10%. The fraction grows a
+/// little with the slab (fewer spheres lose room at its faces), so the estimate errs on the safe side.
+double suggested_loose_factor(const LayeredBedSpec& spec, double regular, double random_placed,
+                              double random_wanted) {
+  const double layer_area = (spec.x_max - spec.x_min) * (spec.y_max - spec.y_min);
+  const double slab_volume = layer_area * spec.slab_thickness();
+  const double reached = random_placed / std::max(slab_volume - regular, 1e-300);
+  if (!(reached > 0.0)) return round_up_to_tenth(2.0 * spec.loose_factor);
+  const double needed_slab = regular + random_wanted / reached;
+  const double needed = needed_slab / (layer_area * spec.layer_thickness);
+  return round_up_to_tenth(1.1 * std::max(needed, spec.loose_factor));
 }
 
 void check_class(const GrainClassSpec& grains, std::size_t index) {
@@ -235,8 +252,8 @@ std::int64_t spread_position(std::int64_t k, std::int64_t count, std::int64_t fi
 /// Sites the spread picks that would overlap are skipped and made up in row-major order.
 void place_regular_layer(const LayeredBedSpec& spec, std::int64_t layer, OverlapGrid& grid,
                          std::vector<SphereSpec>& spheres) {
-  const std::vector<std::size_t> order =
-      largest_first<BedClassSpec>(spec.classes, [](const BedClassSpec& c) { return c.arrangement == BedArrangement::kRegular; });
+  const std::vector<std::size_t> order = largest_first<BedClassSpec>(
+      spec.classes, [](const BedClassSpec& c) { return c.arrangement == BedArrangement::kRegular; });
   std::int64_t sites_needed = 0;
   for (std::size_t index : order) sites_needed += count_in_layer(spec.classes[index].count, spec.layers, layer);
   if (sites_needed == 0) return;
@@ -283,8 +300,12 @@ void place_regular_layer(const LayeredBedSpec& spec, std::int64_t layer, Overlap
         const std::int64_t b = (wanted + a - 1) / a;
         if (b > usable_rows) continue;
         const double inf = std::numeric_limits<double>::infinity();
-        const double gap_x = a > 1 ? static_cast<double>(usable_columns - 1) / static_cast<double>(a - 1) * lattice.spacing_x : inf;
-        const double gap_y = b > 1 ? static_cast<double>(usable_rows - 1) / static_cast<double>(b - 1) * lattice.spacing_y : inf;
+        // [m] mean distance between neighbouring picks along x and along y
+        const double gap_x = a > 1 ? static_cast<double>(usable_columns - 1) / static_cast<double>(a - 1) *
+                                         lattice.spacing_x
+                                   : inf;
+        const double gap_y =
+            b > 1 ? static_cast<double>(usable_rows - 1) / static_cast<double>(b - 1) * lattice.spacing_y : inf;
         const double gap = std::min(gap_x, gap_y);
         if (gap > best_gap || (gap == best_gap && a * b < best_a * best_b)) {
           best_gap = gap;
@@ -383,29 +404,30 @@ std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec) {
   std::vector<SphereSpec> spheres;
   if (total == 0) return spheres;
 
-  // Refuse a bed no random sequential addition can reach before spending the attempt budget on it.
-  const std::vector<std::size_t> random_order =
-      largest_first<BedClassSpec>(spec.classes, [](const BedClassSpec& c) { return c.arrangement == BedArrangement::kRandom; });
+  const std::vector<std::size_t> random_order = largest_first<BedClassSpec>(
+      spec.classes, [](const BedClassSpec& c) { return c.arrangement == BedArrangement::kRandom; });
   const double slab_volume = width * length * slab;
-  for (std::int64_t layer = 0; layer < spec.layers && !random_order.empty(); ++layer) {
-    double solid = 0.0;
-    for (const BedClassSpec& grains : spec.classes)
-      solid += static_cast<double>(count_in_layer(grains.count, spec.layers, layer)) * sphere_volume(grains.diameter);
-    if (solid > kHopelessFraction * slab_volume)
-      throw BedGenerationError(
-          std::nullopt, "loose_factor",
-          "layer " + std::to_string(layer + 1) + " would have a solid fraction of " +
-              format_number(solid / slab_volume) + " at loose_factor " + format_number(spec.loose_factor) +
-              ", beyond random sequential addition (it jams near " + format_number(kJammingFraction) +
-              "); raise loose_factor, e.g. to " + format_number(suggested_loose_factor(spec)));
-  }
-
   spheres.reserve(static_cast<std::size_t>(total));
   OverlapGrid grid(Vec3(spec.x_min, spec.y_min, spec.base), Vec3(spec.x_max, spec.y_max, spec.slab_bottom(spec.layers)),
                    largest_diameter, total);
   std::mt19937_64 random(spec.seed);
   for (std::int64_t layer = 0; layer < spec.layers; ++layer) {
     place_regular_layer(spec, layer, grid, spheres);
+
+    double regular = 0.0, random_wanted = 0.0, random_placed = 0.0;  // [m^3] in this layer
+    for (const BedClassSpec& grains : spec.classes)
+      (grains.arrangement == BedArrangement::kRegular ? regular : random_wanted) +=
+          static_cast<double>(count_in_layer(grains.count, spec.layers, layer)) * sphere_volume(grains.diameter);
+    // Refuse a layer no random sequential addition can fill before spending the attempt budget on it.
+    if (random_wanted > 0.0 && regular + random_wanted > kHopelessFraction * slab_volume)
+      throw BedGenerationError(
+          std::nullopt, "loose_factor",
+          "layer " + std::to_string(layer + 1) + " would have a solid fraction of " +
+              format_number((regular + random_wanted) / slab_volume) + " at loose_factor " +
+              format_number(spec.loose_factor) + ", beyond random sequential addition (it jams near " +
+              format_number(kJammingFraction) + "); raise loose_factor, e.g. to " +
+              format_number(suggested_loose_factor(spec)));
+
     // The slab's faces are computed like the neighbouring slabs' (slab_bottom), so adjacent layers share them
     // exactly and no sphere crosses into the next layer by rounding.
     const Vec3 low(spec.x_min, spec.y_min, spec.slab_bottom(layer));
@@ -414,13 +436,15 @@ std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec) {
       const BedClassSpec& grains = spec.classes[index];
       const std::int64_t wanted = count_in_layer(grains.count, spec.layers, layer);
       const RandomPlacement result = place_randomly(grains, wanted, low, high, random, grid, spheres);
+      random_placed += static_cast<double>(result.placed) * sphere_volume(grains.diameter);
       if (result.placed < wanted)
         throw BedGenerationError(
             index, "count",
-            jam_summary(result.placed, wanted, result, " in layer " + std::to_string(layer + 1)) +
+            jam_summary(result, wanted, " in layer " + std::to_string(layer + 1)) +
                 "; the bed's solid fraction at its nominal thickness is " +
                 format_number(nominal_solid_fraction(spec)) + ", so raise loose_factor (now " +
-                format_number(spec.loose_factor) + "), e.g. to " + format_number(suggested_loose_factor(spec)));
+                format_number(spec.loose_factor) + "), e.g. to " +
+                format_number(suggested_loose_factor(spec, regular, random_placed, random_wanted)));
     }
   }
   return spheres;
@@ -455,8 +479,9 @@ std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
   if (solid > kHopelessFraction * extent.prod())
     throw BedGenerationError(std::nullopt, "classes",
                              "the classes would fill the box to a solid fraction of " +
-                                 format_number(solid / extent.prod()) + ", beyond random sequential addition (it "
-                                 "jams near " + format_number(kJammingFraction) + "); enlarge the box or lower the counts");
+                                 format_number(solid / extent.prod()) +
+                                 ", beyond random sequential addition (it jams near " +
+                                 format_number(kJammingFraction) + "); enlarge the box or lower the counts");
   spheres.reserve(static_cast<std::size_t>(total));
   OverlapGrid grid(spec.min, spec.max, largest_diameter, total);
   std::mt19937_64 random(spec.seed);
@@ -466,7 +491,7 @@ std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
     const RandomPlacement result = place_randomly(grains, grains.count, spec.min, spec.max, random, grid, spheres);
     if (result.placed < grains.count)
       throw BedGenerationError(index, "count",
-                               jam_summary(result.placed, grains.count, result, "") +
+                               jam_summary(result, grains.count, "") +
                                    "; the box asks for a solid fraction of " +
                                    format_number(solid / extent.prod()) + ": enlarge the box or lower the counts");
   }

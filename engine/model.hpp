@@ -88,11 +88,27 @@ struct SolidsModel {
   std::int64_t sort_every = 0;         ///< [steps] reorder grains by grid cell this often; 0 = never
 };
 
+/// One [[output.probes]] entry: a CSV written while the run goes (engine/probes.hpp).
+struct ProbeModel {
+  enum class Kind {
+    kGrains,     ///< chosen grains by id: position, velocity, angular velocity, contact force
+    kWallForces  ///< reaction force on each wall: minus the sum of its grain-wall contact forces
+  };
+  Kind kind = Kind::kGrains;
+  std::string name;                 ///< unique among the probes
+  std::string file;                 ///< file name inside the output directory
+  double interval = 0.0;            ///< [s] between rows; 0 = every engine step
+  std::vector<std::uint64_t> ids;   ///< grains: grain ids (stable, not slots), in the order of the columns
+};
+
 struct OutputModel {
   double vtk_interval = 0.0;         ///< [s] 0 = no frames
   double checkpoint_interval = 0.0;  ///< [s] 0 = only on signal and at the end
   std::int64_t checkpoint_keep = 3;  ///< newest interval checkpoints kept on disk
   std::int64_t diagnostics_every = 1;  ///< [steps] rows of diagnostics.csv
+  std::vector<ProbeModel> probes;
+  double bed_profile_interval = 0.0;  ///< [s] bed_profile.csv and class_centroids.csv; 0 = off
+  double bed_layer_thickness = 0.0;   ///< [m] sub-layer thickness; 0 = the smallest grain diameter (bed_layer_thickness())
 };
 
 struct Model {

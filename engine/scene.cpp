@@ -5,7 +5,10 @@
 #include <limits>
 #include <map>
 
+#include "engine/bed_generation.hpp"
 #include "engine/initial_state.hpp"
+#include "engine/bed_statistics.hpp"
+#include "engine/probes.hpp"
 #include "systems/contact_law.hpp"
 
 #include <cmath>
@@ -182,6 +185,7 @@ void read_solids(TableReader& solids, Model& model) {
     if (model.solids.spheres.size() == before)
       block.problem("min", "the block places no sphere inside the tank");
   }
+  read_bed_generators(solids, model);
   solids.finish();
 }
 
@@ -190,6 +194,8 @@ void read_output(TableReader& output, Model& model) {
   model.output.checkpoint_interval = output.number("checkpoint_interval", 0.0, "s", Bounds::non_negative());
   model.output.checkpoint_keep = output.integer("checkpoint_keep", 3, 1, 1000000);
   model.output.diagnostics_every = output.integer("diagnostics_every", 1, 1, 1000000000);
+  read_bed_profile_keys(output, model);  // engine/bed_statistics.cpp
+  read_probes(output, model);            // [[output.probes]], engine/probes.cpp
   output.finish();
 }
 

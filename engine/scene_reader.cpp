@@ -233,6 +233,48 @@ Vec3 TableReader::vec3(const std::string& key, std::optional<Vec3> fallback, con
   return value;
 }
 
+std::vector<std::int64_t> TableReader::integers(const std::string& key, bool required, std::int64_t min,
+                                                std::int64_t max) {
+  std::vector<std::int64_t> values;
+  const toml::node* node = lookup(key);
+  const std::string expected =
+      "an array of integers, each in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+  if (!node) {
+    if (required) problem(key, "missing required key; expected " + expected);
+    return values;
+  }
+  const toml::array* array = node->as_array();
+  if (!array) {
+    problem(key, "expected " + expected + ", got " + toml_type_name(*node));
+    return values;
+  }
+  bool all_good = true;
+  for (std::size_t k = 0; k < array->size(); ++k) {
+    const toml::node& item = *array->get(k);
+    const std::optional<std::int64_t> value = item.is_integer() ? item.value<std::int64_t>() : std::nullopt;
+    if (!value || *value < min || *value > max) {
+      problems_->add(item.source(), full_key(key) + "[" + std::to_string(k) + "]",
+                     "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "], got " +
+                         (value ? std::to_string(*value) : toml_type_name(item)));
+      all_good = false;
+      continue;
+    }
+    values.push_back(*value);
+  }
+  if (!all_good) values.clear();
+  return values;
+}
+
+void TableReader::item_problem(const std::string& key, std::size_t index, const std::string& message) {
+  const toml::node* node = table_->get(key);
+  const toml::array* array = node ? node->as_array() : nullptr;
+  if (!array || index >= array->size()) {
+    problem(key, message);
+    return;
+  }
+  problems_->add(array->get(index)->source(), full_key(key) + "[" + std::to_string(index) + "]", message);
+}
+
 std::optional<TableReader> TableReader::table(const std::string& key, bool required) {
   const toml::node* node = lookup(key);
   if (!node) {

@@ -68,6 +68,11 @@ class TableReader {
   /// A list of strings, each one of `allowed`, no repeats.
   std::vector<std::string> choices(const std::string& key, const std::vector<std::string>& allowed);
   Vec3 vec3(const std::string& key, std::optional<Vec3> fallback, const char* unit, Bounds component_bounds);
+  /// An array of integers, each in [min, max]. Every bad item is reported at the item; then the result is empty,
+  /// so a non-empty result has one value per item (item k is key[k] for item_problem).
+  std::vector<std::int64_t> integers(const std::string& key, bool required, std::int64_t min, std::int64_t max);
+  /// Reports a problem at item `index` of the array `key` (named key[index]), or at the key if there is no such item.
+  void item_problem(const std::string& key, std::size_t index, const std::string& message);
 
   /// A sub-table; nullopt if absent (or a problem if `required`).
   std::optional<TableReader> table(const std::string& key, bool required);

@@ -12,7 +12,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/bed_statistics.hpp"
 #include "engine/initial_state.hpp"
+#include "engine/output_series.hpp"
+#include "engine/probes.hpp"
 #include "engine/scene.hpp"
 #include "engine/vtk_output.hpp"
 #include "systems/solid_checks.hpp"
@@ -54,25 +57,10 @@ void write_text_file(const fs::path& path, const std::string& text) {
 class DiagnosticsWriter {
  public:
   DiagnosticsWriter(const fs::path& path, const World& world, const std::vector<SystemTimer>& timers,
-                    bool fresh_run) {
-    std::string header = "step,time_s,dt_s,solid_dt_s,solid_translational_energy_J,solid_rotational_energy_J,"
-                         "solid_potential_energy_J,solid_max_speed_m_s,solid_cfl,tank_displacement_m,"
-                         "tank_velocity_m_s,step_wall_s";
-    for (const SystemTimer& timer : timers) header += ",wall_" + timer.name + "_s";
-    // On resume, keep the rows up to the checkpoint's step and continue after them.
-    std::string kept;
-    if (!fresh_run && fs::exists(path)) {
-      std::ifstream existing(path);
-      std::string line;
-      std::getline(existing, line);
-      if (line == header)
-        while (std::getline(existing, line))
-          if (!line.empty() && std::stoull(line.substr(0, line.find(','))) <= world.step) kept += line + "\n";
-    }
-    file_.open(path, std::ios::trunc);
-    if (!file_) throw std::runtime_error(path.string() + ": cannot open for writing");
-    file_ << header << "\n" << kept;
-    file_.flush();
+                    bool fresh_run)
+      : file_(path, header(timers),
+              // On resume, keep the rows up to the checkpoint's step and continue after them.
+              fresh_run ? std::nullopt : std::optional<double>(static_cast<double>(world.step))) {
     for (const SystemTimer& timer : timers) previous_totals_.push_back(timer.total_seconds);
   }
 
@@ -87,18 +75,25 @@ class DiagnosticsWriter {
                   summary.translational_energy, summary.rotational_energy, summary.potential_energy,
                   summary.max_speed, cfl, world.tank_motion->displacement.dot(direction),
                   world.tank_motion->velocity.dot(direction), step_wall_seconds);
-    file_ << text;
+    std::string line = text;
     for (std::size_t k = 0; k < timers.size(); ++k) {
       std::snprintf(text, sizeof text, ",%.6g", timers[k].total_seconds - previous_totals_[k]);
-      file_ << text;
+      line += text;
       previous_totals_[k] = timers[k].total_seconds;
     }
-    file_ << "\n";
-    file_.flush();
+    file_.write_row(line);
   }
 
  private:
-  std::ofstream file_;
+  static std::string header(const std::vector<SystemTimer>& timers) {
+    std::string text = "step,time_s,dt_s,solid_dt_s,solid_translational_energy_J,solid_rotational_energy_J,"
+                       "solid_potential_energy_J,solid_max_speed_m_s,solid_cfl,tank_displacement_m,"
+                       "tank_velocity_m_s,step_wall_s";
+    for (const SystemTimer& timer : timers) text += ",wall_" + timer.name + "_s";
+    return text;
+  }
+
+  CsvSeries file_;
   std::vector<double> previous_totals_;
 };
 
@@ -241,7 +236,17 @@ RunOutcome Simulation::run(const RunOptions& options) {
   double stepping_seconds = 0.0;
   try {
     DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run);
+    // Probes and the bed profile keep no state in checkpoints: their schedules depend on the time only.
+    std::vector<ProbeWriter> probes;
+    for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(probe, out, world_, dt, fresh_run);
+    std::optional<BedProfileWriter> bed_profile;
+    if (model_->output.bed_profile_interval > 0.0 && world_.solids)
+      bed_profile.emplace(*model_, out, world_, fresh_run);
     if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_frame();
+    if (fresh_run) {
+      for (ProbeWriter& probe : probes) probe.write(world_);
+      if (bed_profile) bed_profile->write(world_);
+    }
 
     const auto run_start = Clock::now();
     auto last_report = run_start;
@@ -285,6 +290,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
       if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
       if (due(model_->output.vtk_interval, output_.frame_times.size())) write_frame();
+      for (ProbeWriter& probe : probes) probe.write_if_due(world_);
+      if (bed_profile) bed_profile->write_if_due(world_);
       if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) save_checkpoint(true);
 
       const auto now = Clock::now();

@@ -71,18 +71,21 @@ inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParamet
 
   // Keep the spring in the current tangent plane, with its length (the contact frame rotates with the pair).
   Vec3 spring = tangential_spring;
-  const double spring_length = spring.norm();
-  spring -= spring.dot(n) * n;
-  const double projected_length = spring.norm();
-  if (projected_length > 0.0) spring *= spring_length / projected_length;
+  const double out_of_plane = spring.dot(n);
+  if (out_of_plane != 0.0) {
+    const double length_squared = spring.squaredNorm();
+    spring -= out_of_plane * n;
+    const double projected_squared = spring.squaredNorm();
+    if (projected_squared > 0.0) spring *= std::sqrt(length_squared / projected_squared);
+  }
   spring += dt * tangential_velocity;
 
   Vec3 tangential_force = tangential_stiffness * spring + tangential_damping * tangential_velocity;
   const double friction_limit = pair.friction * normal_force;
-  const double tangential_magnitude = tangential_force.norm();
-  if (tangential_magnitude > friction_limit) {
+  const double tangential_squared = tangential_force.squaredNorm();
+  if (tangential_squared > friction_limit * friction_limit) {
     response.sliding = true;
-    tangential_force *= tangential_magnitude > 0.0 ? friction_limit / tangential_magnitude : 0.0;
+    tangential_force *= friction_limit / std::sqrt(tangential_squared);
     spring = tangential_stiffness > 0.0 ? Vec3(tangential_force / tangential_stiffness) : Vec3::Zero();
   }
   tangential_spring = spring;

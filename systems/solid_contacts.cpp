@@ -3,6 +3,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <cmath>
+
 #include "systems/contact_law.hpp"
 
 namespace riffle {
@@ -24,16 +26,22 @@ void SolidContactForces::run(SystemContext& context) {
       for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
         const std::uint32_t j = contacts.pair_second[k];
         const Vec3 centre_line = solids.position[j] - position;
-        const double distance = centre_line.norm();
-        const double overlap = radius + solids.radius[j] - distance;
-        contacts.pair_overlap[k] = overlap;
-        if (overlap <= 0.0 || distance <= 0.0) {
-          contacts.pair_spring[k] = Vec3::Zero();
-          contacts.pair_force[k] = Vec3::Zero();
-          contacts.pair_torque_first[k] = Vec3::Zero();
-          contacts.pair_torque_second[k] = Vec3::Zero();
+        const double touching_distance = radius + solids.radius[j];
+        const double distance_squared = centre_line.squaredNorm();
+        if (distance_squared >= touching_distance * touching_distance || distance_squared == 0.0) {
+          // Apart: most candidates stay apart for many sub-steps, so write only when the pair has just separated.
+          if (contacts.pair_overlap[k] > 0.0) {
+            contacts.pair_overlap[k] = 0.0;
+            contacts.pair_spring[k] = Vec3::Zero();
+            contacts.pair_force[k] = Vec3::Zero();
+            contacts.pair_torque_first[k] = Vec3::Zero();
+            contacts.pair_torque_second[k] = Vec3::Zero();
+          }
           continue;
         }
+        const double distance = std::sqrt(distance_squared);
+        const double overlap = touching_distance - distance;
+        contacts.pair_overlap[k] = overlap;
         ContactGeometry geometry;
         geometry.normal = centre_line / distance;
         geometry.overlap = overlap;
@@ -57,13 +65,16 @@ void SolidContactForces::run(SystemContext& context) {
         const Vec3& wall_normal = walls.normal[wall];
         const double height = (position - walls.point[wall]).dot(wall_normal);
         const double overlap = radius - height;
-        contacts.wall_pair_overlap[k] = overlap;
         if (overlap <= 0.0) {
-          contacts.wall_pair_spring[k] = Vec3::Zero();
-          contacts.wall_pair_force[k] = Vec3::Zero();
-          contacts.wall_pair_torque[k] = Vec3::Zero();
+          if (contacts.wall_pair_overlap[k] > 0.0) {
+            contacts.wall_pair_overlap[k] = 0.0;
+            contacts.wall_pair_spring[k] = Vec3::Zero();
+            contacts.wall_pair_force[k] = Vec3::Zero();
+            contacts.wall_pair_torque[k] = Vec3::Zero();
+          }
           continue;
         }
+        contacts.wall_pair_overlap[k] = overlap;
         ContactGeometry geometry;
         geometry.normal = -wall_normal;  // from the grain towards the wall
         geometry.overlap = overlap;

@@ -362,8 +362,10 @@ rm -f "T1/checkpoints/$final"
 expect_rc "riffle resume from inside checkpoints/ exits 0" T1_inside 0
 check "... and continues in the run directory, to the same final checkpoint" \
   cmp "T1/checkpoints/$final" "A/checkpoints/$final"
+check "a finished run also writes checkpoints/final.ckpt, identical to its last checkpoint" \
+  cmp T1/checkpoints/final.ckpt "T1/checkpoints/$(ls T1/checkpoints | grep '^step_[0-9]*\.ckpt$' | tail -n 1)"
 check "... and writes nothing inside checkpoints/ but checkpoints" \
-  test -z "$(ls T1/checkpoints | grep -v '^step_[0-9]*\.ckpt$')"
+  test -z "$(ls T1/checkpoints | grep -v -e '^step_[0-9]*\.ckpt$' -e '^final\.ckpt$')"
 
 # ---------------------------------------------------------------------------------------------------------------
 # 5. Damaged checkpoints are refused.

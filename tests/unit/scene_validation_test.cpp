@@ -441,7 +441,13 @@ TEST_CASE("the shipped scenes load") {
       const riffle::Model model = riffle::load_scene_file(scene.string());
       CHECK(model.dt > 0.0);
     } catch (const riffle::SceneError& error) {
-      FAIL_CHECK(error.what());
+      // A scene that starts from another run's end state (scenes/dry_shaken_tank.toml) is valid only once that run
+      // has been made; on a fresh clone the one acceptable problem is the missing checkpoint, named at its key.
+      const auto& problems = error.problems();
+      const bool only_missing_start = problems.size() == 1 &&
+                                      problems[0].find(": solids.initial_state: ") != std::string::npos &&
+                                      problems[0].find("cannot open the checkpoint") != std::string::npos;
+      if (!only_missing_start) FAIL_CHECK(error.what());
     }
   }
 }
