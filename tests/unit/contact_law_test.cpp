@@ -81,13 +81,14 @@ TEST_CASE("linear law: the calibrated damping exceeds the textbook value, which 
     INFO("e = " << restitution);
     const double calibrated = calibrate_damping(ContactLaw::kLinearSpringDashpot, restitution);
     const double textbook = textbook_linear_damping(restitution);
+    // The calibrated c restitutes exactly e by the closed form (1e-6: the budget of the first test case).
+    CHECK(std::abs(linear_restitution_with_cutoff(calibrated) - restitution) < 1e-6);
     CHECK(calibrated > textbook);
     CHECK(linear_restitution_with_cutoff(textbook) > restitution);
     // The first-order agreement: the relative difference is O(c) = O(1 - e).
     if (restitution >= 0.9) CHECK(calibrated / textbook - 1.0 < 0.03);
+    if (restitution <= 0.5) CHECK(calibrated / textbook - 1.0 > 0.15);
   }
-  CHECK(calibrate_damping(ContactLaw::kLinearSpringDashpot, 0.5) / textbook_linear_damping(0.5) ==
-        doctest::Approx(1.185).epsilon(0.005));
 }
 
 TEST_CASE("small damping: 1 - e = (pi/2) c for the linear law and (pi/sqrt 5) c for Hertz") {
@@ -257,7 +258,7 @@ TEST_CASE("the normal force never pulls: zero force while separating fast at sma
   }
 }
 
-TEST_CASE("Coulomb: below the limit the spring grows by v_t dt; above it |F_t| = mu F_n and the spring is reset") {
+TEST_CASE("Coulomb: below the limit the spring grows by v_t dt, above it |F_t| = mu F_n and the spring is reset") {
   for (ContactLaw law : kLaws) {
     INFO(name_of(law));
     const double friction = 0.3;
