@@ -32,6 +32,14 @@ struct ContactPairParameters {
   /// [1] dimensionless damping c of the law's normal equation x'' = -f(x) - c g(x) x', calibrated so that the
   /// achieved restitution (with the no-tension cut-off) equals `restitution` exactly; see contact_law.hpp.
   double damping = 0.0;
+
+  // Derived by prepare_contact_pair (systems/contact_law.hpp), so the pair loop does no logarithms and fewer roots:
+  //   Hertz:  k_n = A sqrt(R* d), gamma_n = c sqrt(k_n m*), k_t = B sqrt(R* d), gamma_t = T gamma_n
+  //   linear: k_n = A m*,         gamma_n = D m*,           k_t = B k_n,         gamma_t = T gamma_n
+  double normal_stiffness_coefficient = 0.0;      ///< A: Hertz 4/3 E* [Pa]; linear (pi^2 + ln^2 e)/t_c^2 [1/s^2]
+  double normal_damping_coefficient = 0.0;        ///< D: linear c sqrt(A) [1/s]; unused by Hertz
+  double tangential_stiffness_coefficient = 0.0;  ///< B: Hertz 8 G* [Pa]; linear 2/7
+  double tangential_damping_ratio = 0.0;          ///< T: Hertz sqrt(4 G*/E*) (seed 003's ratio); linear 2/7
 };
 
 struct ContactModel {

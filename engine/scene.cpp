@@ -261,6 +261,7 @@ void read_contact(TableReader& contact, Model& model) {
       pair.effective_shear =
           1.0 / ((2.0 - first.poisson_ratio) / shear_first + (2.0 - second.poisson_ratio) / shear_second);
       if (pair.restitution > 0.0 && pair.restitution <= 1.0) pair.damping = calibrate_damping(out.law, pair.restitution);
+      prepare_contact_pair(pair, out.law, out.collision_time);
     }
 }
 

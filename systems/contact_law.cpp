@@ -45,6 +45,25 @@ double achieved_restitution(ContactLaw law, double damping) {
   throw std::logic_error("achieved_restitution: the scaled collision did not end");
 }
 
+void prepare_contact_pair(ContactPairParameters& pair, ContactLaw law, double collision_time) {
+  if (law == ContactLaw::kHertzMindlin) {
+    pair.normal_stiffness_coefficient = 4.0 / 3.0 * pair.effective_young;
+    pair.normal_damping_coefficient = 0.0;
+    pair.tangential_stiffness_coefficient = 8.0 * pair.effective_shear;
+    // Seed 003: gamma_t / sqrt(k_t m*) = sqrt(2/3) gamma_n / sqrt(k_n m*), so gamma_t / gamma_n = sqrt(2/3 k_t/k_n).
+    pair.tangential_damping_ratio =
+        pair.effective_young > 0.0 ? std::sqrt(4.0 * pair.effective_shear / pair.effective_young) : 0.0;
+  } else {
+    const double log_e = std::log(pair.restitution);
+    pair.normal_stiffness_coefficient =
+        (3.14159265358979323846 * 3.14159265358979323846 + log_e * log_e) / (collision_time * collision_time);
+    pair.normal_damping_coefficient = pair.damping * std::sqrt(pair.normal_stiffness_coefficient);
+    // k_t = 2/7 k_n and gamma_t = 2/7 gamma_n: a solid sphere's tangential and normal periods are then equal.
+    pair.tangential_stiffness_coefficient = 2.0 / 7.0;
+    pair.tangential_damping_ratio = 2.0 / 7.0;
+  }
+}
+
 double calibrate_damping(ContactLaw law, double restitution) {
   if (!(restitution > 0.0 && restitution <= 1.0))
     throw std::invalid_argument("calibrate_damping: restitution must be in (0, 1]");

@@ -41,7 +41,7 @@ struct ContactResponse {
 };
 
 /// Evaluates one contact over a sub-step of length dt and advances its tangential spring.
-inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParameters& pair, double collision_time,
+inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParameters& pair,
                                         const ContactGeometry& contact, Vec3& tangential_spring, double dt) {
   ContactResponse response;
   const Vec3& n = contact.normal;
@@ -50,23 +50,19 @@ inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParamet
   const double overlap = contact.overlap;
   const double m = contact.effective_mass;
 
-  double normal_stiffness, normal_damping, tangential_stiffness, tangential_damping;
+  double normal_stiffness, normal_damping, tangential_stiffness;
   if (law == ContactLaw::kHertzMindlin) {
     const double root = std::sqrt(contact.effective_radius * overlap);  // sqrt(R* d)
-    normal_stiffness = 4.0 / 3.0 * pair.effective_young * root;
+    normal_stiffness = pair.normal_stiffness_coefficient * root;
     // gamma_n = c sqrt(k_n(d) m*): the scaling in which c alone sets the restitution, whatever the speed.
     normal_damping = pair.damping * std::sqrt(normal_stiffness * m);
-    tangential_stiffness = 8.0 * pair.effective_shear * root;
-    // Seed 003's ratio of tangential to normal damping: gamma_t / sqrt(k_t m*) = sqrt(2/3) gamma_n / sqrt(k_n m*).
-    tangential_damping = pair.damping * std::sqrt(2.0 / 3.0 * tangential_stiffness * m);
+    tangential_stiffness = pair.tangential_stiffness_coefficient * root;
   } else {
-    const double log_e = std::log(pair.restitution);
-    normal_stiffness = m * (3.14159265358979323846 * 3.14159265358979323846 + log_e * log_e) /
-                       (collision_time * collision_time);
-    normal_damping = pair.damping * std::sqrt(normal_stiffness * m);
-    tangential_stiffness = 2.0 / 7.0 * normal_stiffness;
-    tangential_damping = 2.0 / 7.0 * normal_damping;
+    normal_stiffness = pair.normal_stiffness_coefficient * m;
+    normal_damping = pair.normal_damping_coefficient * m;
+    tangential_stiffness = pair.tangential_stiffness_coefficient * normal_stiffness;
   }
+  const double tangential_damping = pair.tangential_damping_ratio * normal_damping;
   const double normal_force = std::max(0.0, normal_stiffness * overlap - normal_damping * normal_speed);
 
   // Keep the spring in the current tangent plane, with its length (the contact frame rotates with the pair).
@@ -100,6 +96,9 @@ inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParamet
   }
   return response;
 }
+
+/// Fills the derived coefficients of `pair` from its moduli, damping and restitution (call after those are set).
+void prepare_contact_pair(ContactPairParameters& pair, ContactLaw law, double collision_time);
 
 /// Restitution achieved by the scaled normal equation of `law` with damping c (no-tension cut-off included).
 double achieved_restitution(ContactLaw law, double damping);

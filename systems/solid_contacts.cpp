@@ -21,8 +21,13 @@ void SolidContactForces::run(SystemContext& context) {
   const double dt = context.dt;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, solids.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      const Vec3& position = solids.position[i];
+      // Local copies: the pair arrays written below could alias the grain arrays as far as the compiler knows.
+      const Vec3 position = solids.position[i];
+      const Vec3 velocity = solids.velocity[i];
+      const Vec3 angular_velocity = solids.angular_velocity[i];
       const double radius = solids.radius[i];
+      const double mass = solids.mass[i];
+      const std::int32_t material = solids.material[i];
       for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
         const std::uint32_t j = contacts.pair_second[k];
         const Vec3 centre_line = solids.position[j] - position;
@@ -48,12 +53,12 @@ void SolidContactForces::run(SystemContext& context) {
         const Vec3 arm_first = radius * geometry.normal;
         const Vec3 arm_second = -solids.radius[j] * geometry.normal;
         geometry.contact_velocity = (solids.velocity[j] + solids.angular_velocity[j].cross(arm_second)) -
-                                    (solids.velocity[i] + solids.angular_velocity[i].cross(arm_first));
-        geometry.relative_angular_velocity = solids.angular_velocity[i] - solids.angular_velocity[j];
-        geometry.effective_radius = radius * solids.radius[j] / (radius + solids.radius[j]);
-        geometry.effective_mass = solids.mass[i] * solids.mass[j] / (solids.mass[i] + solids.mass[j]);
-        const ContactResponse response = evaluate_contact(law.law, law.pair(solids.material[i], solids.material[j]),
-                                                          law.collision_time, geometry, contacts.pair_spring[k], dt);
+                                    (velocity + angular_velocity.cross(arm_first));
+        geometry.relative_angular_velocity = angular_velocity - solids.angular_velocity[j];
+        geometry.effective_radius = radius * solids.radius[j] / touching_distance;
+        geometry.effective_mass = mass * solids.mass[j] / (mass + solids.mass[j]);
+        const ContactResponse response = evaluate_contact(law.law, law.pair(material, solids.material[j]),
+                                                          geometry, contacts.pair_spring[k], dt);
         contacts.pair_force[k] = response.force_on_first;
         contacts.pair_torque_first[k] = arm_first.cross(response.force_on_first) + response.rolling_torque_on_first;
         // The second grain receives -F at -R_j n from its centre: (-R_j n) x (-F) = R_j n x F.
@@ -79,12 +84,12 @@ void SolidContactForces::run(SystemContext& context) {
         geometry.normal = -wall_normal;  // from the grain towards the wall
         geometry.overlap = overlap;
         const Vec3 arm = radius * geometry.normal;
-        geometry.contact_velocity = walls.velocity[wall] - (solids.velocity[i] + solids.angular_velocity[i].cross(arm));
-        geometry.relative_angular_velocity = solids.angular_velocity[i];
+        geometry.contact_velocity = walls.velocity[wall] - (velocity + angular_velocity.cross(arm));
+        geometry.relative_angular_velocity = angular_velocity;
         geometry.effective_radius = radius;  // a plane has zero curvature
-        geometry.effective_mass = solids.mass[i];  // a wall does not move in response
-        const ContactResponse response = evaluate_contact(law.law, law.pair(solids.material[i], walls.material[wall]),
-                                                          law.collision_time, geometry, contacts.wall_pair_spring[k], dt);
+        geometry.effective_mass = mass;      // a wall does not move in response
+        const ContactResponse response = evaluate_contact(law.law, law.pair(material, walls.material[wall]),
+                                                          geometry, contacts.wall_pair_spring[k], dt);
         contacts.wall_pair_force[k] = response.force_on_first;
         contacts.wall_pair_torque[k] = arm.cross(response.force_on_first) + response.rolling_torque_on_first;
       }

@@ -143,6 +143,7 @@ ContactPairParameters pair_parameters(ContactLaw law, double restitution, double
   pair.effective_young = 5.494505e7;
   pair.effective_shear = 1.131222e7;  // 1/G* = 2 (2 - nu) / G
   pair.damping = calibrate_damping(law, restitution);
+  prepare_contact_pair(pair, law, kCollisionTime);
   return pair;
 }
 
@@ -190,13 +191,13 @@ TEST_CASE("normal force: Hertz 4/3 E* sqrt(R*) d^{3/2} and linear k d, plus the 
     const ContactGeometry at_rest = skew_contact(2e-5, Vec3::Zero());
     const Coefficients k = coefficients(law, pair, at_rest);
     Vec3 spring = Vec3::Zero();
-    const ContactResponse response = evaluate_contact(law, pair, kCollisionTime, at_rest, spring, kDt);
+    const ContactResponse response = evaluate_contact(law, pair, at_rest, spring, kDt);
     CHECK(response.normal_force == doctest::Approx(k.k_n * 2e-5).epsilon(1e-12));
     CHECK((response.force_on_first + response.normal_force * at_rest.normal).norm() < 1e-12 * response.normal_force);
     CHECK_FALSE(response.sliding);
     // Approaching at 0.1 m/s along the normal: the dashpot adds gamma_n x 0.1.
     const ContactGeometry approaching = skew_contact(2e-5, -0.1 * at_rest.normal);
-    const ContactResponse damped = evaluate_contact(law, pair, kCollisionTime, approaching, spring, kDt);
+    const ContactResponse damped = evaluate_contact(law, pair, approaching, spring, kDt);
     CHECK(damped.normal_force == doctest::Approx(k.k_n * 2e-5 + k.gamma_n * 0.1).epsilon(1e-12));
   }
 }
@@ -217,8 +218,8 @@ TEST_CASE("swapping the bodies gives the opposite force and torque, sliding or n
         swapped.normal = -geometry.normal;
         swapped.contact_velocity = -geometry.contact_velocity;
         swapped.relative_angular_velocity = -geometry.relative_angular_velocity;
-        const ContactResponse one = evaluate_contact(law, pair, kCollisionTime, geometry, spring, kDt);
-        const ContactResponse other = evaluate_contact(law, pair, kCollisionTime, swapped, swapped_spring, kDt);
+        const ContactResponse one = evaluate_contact(law, pair, geometry, spring, kDt);
+        const ContactResponse other = evaluate_contact(law, pair, swapped, swapped_spring, kDt);
         const double scale = one.force_on_first.norm();
         CHECK(scale > 0.0);
         CHECK((one.force_on_first + other.force_on_first).norm() < 1e-12 * scale);
@@ -244,14 +245,14 @@ TEST_CASE("the normal force never pulls: zero force while separating fast at sma
     const Coefficients k = coefficients(law, pair, separating);
     REQUIRE(k.k_n * 1e-7 - k.gamma_n * 1.0 < 0.0);  // the dashpot alone would pull
     Vec3 spring = Vec3(2.0, -1.0, 0.0) * 1e-7;
-    const ContactResponse response = evaluate_contact(law, pair, kCollisionTime, separating, spring, kDt);
+    const ContactResponse response = evaluate_contact(law, pair, separating, spring, kDt);
     CHECK(response.normal_force == 0.0);
     CHECK(response.force_on_first.norm() == 0.0);
     // A sweep of normal speeds: F_n >= 0 and the force on the first body never points towards the second.
     for (double normal_speed = -1.0; normal_speed <= 1.0; normal_speed += 0.05) {
       Vec3 sweep_spring = Vec3::Zero();
       const ContactResponse swept =
-          evaluate_contact(law, pair, kCollisionTime, skew_contact(1e-6, normal_speed * n), sweep_spring, kDt);
+          evaluate_contact(law, pair, skew_contact(1e-6, normal_speed * n), sweep_spring, kDt);
       CHECK(swept.normal_force >= 0.0);
       CHECK(swept.force_on_first.dot(n) <= 0.0);
     }
@@ -269,7 +270,7 @@ TEST_CASE("Coulomb: below the limit the spring grows by v_t dt, above it |F_t| =
       const ContactGeometry geometry = skew_contact(2e-5, -0.01 * n + 1e-4 * t);
       const Coefficients k = coefficients(law, pair, geometry);
       Vec3 spring = Vec3::Zero();
-      const ContactResponse response = evaluate_contact(law, pair, kCollisionTime, geometry, spring, kDt);
+      const ContactResponse response = evaluate_contact(law, pair, geometry, spring, kDt);
       CHECK_FALSE(response.sliding);
       CHECK((spring - kDt * 1e-4 * t).norm() < 1e-12 * kDt * 1e-4);
       const Vec3 expected_tangential = (k.k_t * kDt * 1e-4 + k.gamma_t * 1e-4) * t;
@@ -283,7 +284,7 @@ TEST_CASE("Coulomb: below the limit the spring grows by v_t dt, above it |F_t| =
       const ContactGeometry geometry = skew_contact(2e-5, -0.01 * n + 2.0 * t);
       const Coefficients k = coefficients(law, pair, geometry);
       Vec3 spring = 1e-6 * t;
-      const ContactResponse response = evaluate_contact(law, pair, kCollisionTime, geometry, spring, kDt);
+      const ContactResponse response = evaluate_contact(law, pair, geometry, spring, kDt);
       CHECK(response.sliding);
       const Vec3 tangential = tangential_part(response.force_on_first, n);
       CHECK(tangential.norm() == doctest::Approx(friction * response.normal_force).epsilon(1e-12));
@@ -305,7 +306,7 @@ TEST_CASE("the spring is rotated into the new tangent plane with its length kept
     const Vec3 n = geometry.normal, t = Vec3(2.0, 1.0, -2.0) / 3.0;
     const Vec3 old_spring = 3e-7 * t + 1e-7 * n;
     Vec3 spring = old_spring;
-    const ContactResponse response = evaluate_contact(law, pair, kCollisionTime, geometry, spring, kDt);
+    const ContactResponse response = evaluate_contact(law, pair, geometry, spring, kDt);
     CHECK_FALSE(response.sliding);
     CHECK(std::abs(spring.dot(n)) < 1e-15 * spring.norm());
     CHECK(spring.norm() == doctest::Approx(old_spring.norm()).epsilon(1e-14));
@@ -320,7 +321,7 @@ TEST_CASE("rolling friction opposes the relative spin with magnitude mu_r R* F_n
     const ContactPairParameters pair = pair_parameters(law, 0.5, 0.3, rolling);
     ContactGeometry geometry = skew_contact(2e-5, Vec3::Zero());
     Vec3 spring = Vec3::Zero();
-    const ContactResponse response = evaluate_contact(law, pair, kCollisionTime, geometry, spring, kDt);
+    const ContactResponse response = evaluate_contact(law, pair, geometry, spring, kDt);
     const Vec3& spin = geometry.relative_angular_velocity;
     const Vec3& torque = response.rolling_torque_on_first;
     CHECK(torque.norm() == doctest::Approx(rolling * geometry.effective_radius * response.normal_force).epsilon(1e-12));
@@ -328,10 +329,10 @@ TEST_CASE("rolling friction opposes the relative spin with magnitude mu_r R* F_n
     // The magnitude does not depend on how fast the spin is, and there is none without spin.
     geometry.relative_angular_velocity = 1e-3 * spin;
     spring = Vec3::Zero();
-    CHECK(evaluate_contact(law, pair, kCollisionTime, geometry, spring, kDt).rolling_torque_on_first.norm() ==
+    CHECK(evaluate_contact(law, pair, geometry, spring, kDt).rolling_torque_on_first.norm() ==
           doctest::Approx(torque.norm()).epsilon(1e-12));
     geometry.relative_angular_velocity = Vec3::Zero();
     spring = Vec3::Zero();
-    CHECK(evaluate_contact(law, pair, kCollisionTime, geometry, spring, kDt).rolling_torque_on_first.norm() == 0.0);
+    CHECK(evaluate_contact(law, pair, geometry, spring, kDt).rolling_torque_on_first.norm() == 0.0);
   }
 }
