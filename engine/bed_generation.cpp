@@ -1,5 +1,7 @@
 #include "engine/bed_generation.hpp"
 
+#include "engine/scene.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -503,25 +505,10 @@ std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
 
 namespace {
 
-std::int32_t find_material(const Model& model, TableReader& reader, const std::string& key) {
-  const std::size_t problems_before = reader.problem_count();
-  const std::string name = reader.text(key, std::nullopt);
-  for (std::size_t k = 0; k < model.materials.size(); ++k)
-    if (model.materials[k].name == name) return static_cast<std::int32_t>(k);
-  // text() has already reported a missing or non-string value; anything else (even "") names no material.
-  if (reader.problem_count() == problems_before) {
-    std::string known;
-    for (const Material& material : model.materials) known += (known.empty() ? "" : ", ") + material.name;
-    reader.problem(key, "unknown material \"" + name + "\" (materials defined: " +
-                            (known.empty() ? "none" : known) + ")");
-  }
-  return 0;
-}
-
 void read_grain_class(TableReader& reader, const Model& model, GrainClassSpec& grains) {
   grains.diameter = reader.number("diameter", std::nullopt, "m", Bounds::positive());
   grains.count = reader.integer("count", std::nullopt, 0, kBedMaxSpheres);
-  grains.material = find_material(model, reader, "material");
+  grains.material = read_material(model, reader, "material");
   grains.size_class = static_cast<std::int32_t>(reader.integer("size_class", 0, 0, 1000));
 }
 

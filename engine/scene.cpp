@@ -18,11 +18,7 @@
 
 namespace riffle {
 
-namespace {
-
-const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
-
-std::int32_t find_material(const Model& model, TableReader& reader, const std::string& key) {
+std::int32_t read_material(const Model& model, TableReader& reader, const std::string& key) {
   const std::size_t problems_before = reader.problem_count();
   const std::string name = reader.text(key, std::nullopt);
   for (std::size_t k = 0; k < model.materials.size(); ++k)
@@ -36,6 +32,10 @@ std::int32_t find_material(const Model& model, TableReader& reader, const std::s
   }
   return 0;
 }
+
+namespace {
+
+const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
 void read_run(TableReader& run, Model& model) {
   model.name = run.text("name", "riffle");
@@ -96,7 +96,7 @@ void read_tank(TableReader& tank, Model& model) {
   model.tank.size = tank.vec3("size", std::nullopt, "m", Bounds::positive());
   model.tank.origin = tank.vec3("origin", Vec3::Zero(), "m", Bounds::any());
   model.tank.open_faces = tank.choices("open_faces", kFaceNames);
-  model.tank.wall_material = find_material(model, tank, "wall_material");
+  model.tank.wall_material = read_material(model, tank, "wall_material");
   model.tank.domain_margin = tank.number("domain_margin", 0.05, "m", Bounds::non_negative());
   if (auto motion = tank.table("motion", false)) read_motion(*motion, model.tank.motion);
   tank.finish();
@@ -138,7 +138,7 @@ void read_solids(TableReader& solids, Model& model) {
     spec.velocity = sphere.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
     spec.angular_velocity = sphere.vec3("angular_velocity", Vec3::Zero(), "rad/s", Bounds::any());
     spec.radius = sphere.number("radius", std::nullopt, "m", Bounds::positive());
-    spec.material = find_material(model, sphere, "material");
+    spec.material = read_material(model, sphere, "material");
     spec.size_class = static_cast<std::int32_t>(sphere.integer("size_class", 0, 0, 1000));
     if (tank_known && position_known && spec.radius > 0.0 && !inside_tank(model, spec.position, spec.radius))
       sphere.problem("position", "the sphere does not fit inside the tank at rest (tank spans origin to "
@@ -154,7 +154,7 @@ void read_solids(TableReader& solids, Model& model) {
     SphereSpec spec;
     spec.radius = block.number("radius", std::nullopt, "m", Bounds::positive());
     spec.velocity = block.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
-    spec.material = find_material(model, block, "material");
+    spec.material = read_material(model, block, "material");
     spec.size_class = static_cast<std::int32_t>(block.integer("size_class", 0, 0, 1000));
     block.finish();
     // A block with a bad key cannot be laid out meaningfully; its problems are already reported.
