@@ -97,6 +97,131 @@ class DiagnosticsWriter {
   std::vector<double> previous_totals_;
 };
 
+
+std::string checkpoint_name(std::uint64_t step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "step_%010llu.ckpt", static_cast<unsigned long long>(step));
+  return name;
+}
+
+/// Writes checkpoints into OUT/checkpoints and keeps the newest `keep` interval ones (the list of kept steps lives
+/// in OutputState, so it survives a resume).
+class CheckpointStore {
+ public:
+  CheckpointStore(fs::path directory, OutputState& output, std::int64_t keep)
+      : directory_(std::move(directory)), output_(output), keep_(static_cast<std::size_t>(keep)) {}
+
+  /// `interval` checkpoints count towards the schedule and the retention; the others (signal, end) do not.
+  void save(const Simulation& simulation, bool interval) {
+    const std::uint64_t step = simulation.checkpoint_step();
+    std::vector<std::uint64_t> expired;
+    if (interval) {
+      ++output_.checkpoints_due;
+      output_.kept_steps.push_back(step);
+      while (output_.kept_steps.size() > keep_) {
+        expired.push_back(output_.kept_steps.front());
+        output_.kept_steps.erase(output_.kept_steps.begin());
+      }
+    }
+    const fs::path path = directory_ / checkpoint_name(step);
+    write_checkpoint(path.string(), simulation.checkpoint_data());  // after the bookkeeping: it is part of the state
+    last_written_ = path.string();
+    for (std::uint64_t old_step : expired) {
+      std::error_code ignored;
+      if (old_step != step) fs::remove(directory_ / checkpoint_name(old_step), ignored);
+    }
+    spdlog::debug("checkpoint written: {}", last_written_);
+  }
+
+  /// A stable name for the end state, so other scenes can start from it ([solids] initial_state).
+  void copy_as_final() const {
+    fs::copy_file(last_written_, directory_ / "final.ckpt", fs::copy_options::overwrite_existing);
+  }
+
+  const std::string& last_written() const { return last_written_; }
+  /// The newest checkpoint on disk: written by this process, or kept from before a resume; empty if none.
+  std::string last_good() const {
+    if (!last_written_.empty() || output_.kept_steps.empty()) return last_written_;
+    return (directory_ / checkpoint_name(output_.kept_steps.back())).string();
+  }
+
+ private:
+  fs::path directory_;
+  OutputState& output_;
+  std::size_t keep_;
+  std::string last_written_;
+};
+
+/// Appends a VTK frame of every phase and rewrites the .pvd series that list all frames so far.
+void write_vtk_frame(const fs::path& out, const World& world, OutputState& output) {
+  const std::size_t index = output.frame_times.size();
+  output.frame_times.push_back(world.time);
+  char name[64];
+  std::vector<std::string> solid_files, wall_files;
+  for (std::size_t k = 0; k <= index; ++k) {
+    std::snprintf(name, sizeof name, "vtk/solids_%06zu.vtp", k);
+    solid_files.push_back(name);
+    std::snprintf(name, sizeof name, "vtk/walls_%06zu.vtp", k);
+    wall_files.push_back(name);
+  }
+  if (world.solids) {
+    write_text_file(out / solid_files.back(), solids_vtp(*world.solids));
+    write_text_file(out / "solids.pvd", pvd_collection(output.frame_times, solid_files));
+  }
+  if (world.walls) {
+    write_text_file(out / wall_files.back(), walls_vtp(*world.walls));
+    write_text_file(out / "walls.pvd", pvd_collection(output.frame_times, wall_files));
+  }
+}
+
+/// The one-line diagnosis of a failed step.
+std::string diagnosis(const World& world, const Model& model) {
+  const StepStatus& status = world.step_status;
+  const DomainBox domain = solid_domain(model);
+  return "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) +
+         " s): " + status.phase + " particle id " + std::to_string(status.entity) +
+         (status.problem == StepProblem::kNonFinite
+              ? " has a non-finite state"
+              : " left the domain " + format_vec(domain.low) + " - " + format_vec(domain.high) + " m") +
+         " at position " + format_vec(status.position) + " m with velocity " + format_vec(status.velocity) + " m/s";
+}
+
+/// Progress: a line on the terminal at most once a second, or a log line every 30 s when not on a terminal.
+class ProgressReporter {
+ public:
+  ProgressReporter(bool terminal, std::uint64_t first_step, double end_time, double dt)
+      : terminal_(terminal), first_step_(first_step), end_time_(end_time), dt_(dt) {}
+  ~ProgressReporter() {
+    if (terminal_ && printed_) std::fprintf(stderr, "\n");
+  }
+
+  void tick(const World& world) {
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_report_).count() < (terminal_ ? 1.0 : 30.0)) return;
+    last_report_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double steps_per_second = static_cast<double>(world.step - first_step_) / elapsed;
+    const double eta = steps_per_second > 0.0 ? (end_time_ - world.time) / dt_ / steps_per_second : 0.0;
+    if (terminal_) {
+      std::fprintf(stderr, "\r  t = %.4f / %.4f s   step %llu   %.1f steps/s   ETA %s   ", world.time, end_time_,
+                   static_cast<unsigned long long>(world.step), steps_per_second, format_duration(eta).c_str());
+      std::fflush(stderr);
+      printed_ = true;
+    } else {
+      spdlog::info("t = {:.4f} / {:.4f} s, step {}, {:.1f} steps/s, ETA {}", world.time, end_time_, world.step,
+                   steps_per_second, format_duration(eta));
+    }
+  }
+
+ private:
+  bool terminal_;
+  std::uint64_t first_step_;
+  double end_time_, dt_;
+  Clock::time_point start_ = Clock::now();
+  Clock::time_point last_report_ = start_;
+  bool printed_ = false;
+};
+
 }  // namespace
 
 void request_stop(int signal_number) { g_stop_signal.store(signal_number); }
@@ -182,52 +307,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
   double min_radius = 0.0;
   if (world_.solids && world_.solids->size())
     min_radius = *std::min_element(world_.solids->radius.begin(), world_.solids->radius.end());
-
-  std::string last_checkpoint;
-  auto save_checkpoint = [&](bool interval) {
-    std::vector<std::uint64_t> expired;
-    if (interval) {
-      ++output_.checkpoints_due;
-      output_.kept_steps.push_back(world_.step);
-      while (output_.kept_steps.size() > static_cast<std::size_t>(model_->output.checkpoint_keep)) {
-        expired.push_back(output_.kept_steps.front());
-        output_.kept_steps.erase(output_.kept_steps.begin());
-      }
-    }
-    char name[64];
-    std::snprintf(name, sizeof name, "step_%010llu.ckpt", static_cast<unsigned long long>(world_.step));
-    const fs::path path = checkpoint_dir / name;
-    write_checkpoint(path.string(), checkpoint_data());
-    last_checkpoint = path.string();
-    for (std::uint64_t step : expired) {
-      std::snprintf(name, sizeof name, "step_%010llu.ckpt", static_cast<unsigned long long>(step));
-      std::error_code ignored;
-      if (step != world_.step) fs::remove(checkpoint_dir / name, ignored);
-    }
-    spdlog::debug("checkpoint written: {}", last_checkpoint);
-  };
-
-  auto write_frame = [&]() {
-    const std::size_t index = output_.frame_times.size();
-    output_.frame_times.push_back(world_.time);
-    char name[64];
-    std::vector<std::string> solid_files, wall_files;
-    for (std::size_t k = 0; k <= index; ++k) {
-      std::snprintf(name, sizeof name, "vtk/solids_%06zu.vtp", k);
-      solid_files.push_back(name);
-      std::snprintf(name, sizeof name, "vtk/walls_%06zu.vtp", k);
-      wall_files.push_back(name);
-    }
-    if (world_.solids) {
-      write_text_file(out / solid_files.back(), solids_vtp(*world_.solids));
-      write_text_file(out / "solids.pvd", pvd_collection(output_.frame_times, solid_files));
-    }
-    if (world_.walls) {
-      write_text_file(out / wall_files.back(), walls_vtp(*world_.walls));
-      write_text_file(out / "walls.pvd", pvd_collection(output_.frame_times, wall_files));
-    }
-  };
-
+  CheckpointStore checkpoints(checkpoint_dir, output_, model_->output.checkpoint_keep);
   const double dt = model_->dt;
   auto due = [&](double interval, std::size_t done) {
     return interval > 0.0 && world_.time >= static_cast<double>(done) * interval - 0.5 * dt;
@@ -242,22 +322,20 @@ RunOutcome Simulation::run(const RunOptions& options) {
     std::optional<BedProfileWriter> bed_profile;
     if (model_->output.bed_profile_interval > 0.0 && world_.solids)
       bed_profile.emplace(*model_, out, world_, fresh_run);
-    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_frame();
+    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, output_);
     if (fresh_run) {
       for (ProbeWriter& probe : probes) probe.write(world_);
       if (bed_profile) bed_profile->write(world_);
     }
 
-    const auto run_start = Clock::now();
-    auto last_report = run_start;
-    const std::uint64_t first_step = world_.step;
+    ProgressReporter progress(options.progress, world_.step, end_time, dt);
     while (world_.time < end_time - 0.5 * dt) {
       if (const int signal_number = stop_requested()) {
-        save_checkpoint(false);
+        checkpoints.save(*this, false);
         outcome.exit_code = signal_number == SIGINT ? kExitInterrupted : kExitTerminated;
         outcome.message = std::string("stopped by ") + (signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
-                          " at t = " + std::to_string(world_.time) + " s; checkpoint: " + last_checkpoint;
-        outcome.last_checkpoint = last_checkpoint;
+                          " at t = " + std::to_string(world_.time) + " s; checkpoint: " + checkpoints.last_written();
+        outcome.last_checkpoint = checkpoints.last_written();
         break;
       }
       const auto step_start = Clock::now();
@@ -272,72 +350,41 @@ RunOutcome Simulation::run(const RunOptions& options) {
       stepping_seconds += step_seconds;
 
       if (!world_.step_status.ok()) {
-        const StepStatus& status = world_.step_status;
-        const DomainBox domain = solid_domain(*model_);
         outcome.exit_code = kExitUnstable;
-        outcome.message =
-            "run stopped at step " + std::to_string(world_.step) + " (t = " + std::to_string(world_.time) +
-            " s): " + status.phase + " particle id " + std::to_string(status.entity) +
-            (status.problem == StepProblem::kNonFinite ? " has a non-finite state"
-                                                       : " left the domain " + format_vec(domain.low) + " - " +
-                                                             format_vec(domain.high) + " m") +
-            " at position " + format_vec(status.position) + " m with velocity " + format_vec(status.velocity) +
-            " m/s";
+        outcome.message = diagnosis(world_, *model_);
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
         if (world_.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids));
         break;
       }
       if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
-      if (due(model_->output.vtk_interval, output_.frame_times.size())) write_frame();
+      if (due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, output_);
       for (ProbeWriter& probe : probes) probe.write_if_due(world_);
       if (bed_profile) bed_profile->write_if_due(world_);
-      if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) save_checkpoint(true);
-
-      const auto now = Clock::now();
-      const double since_report = std::chrono::duration<double>(now - last_report).count();
-      const bool report = options.progress ? since_report >= 1.0 : since_report >= 30.0;
-      if (report) {
-        last_report = now;
-        const double elapsed = std::chrono::duration<double>(now - run_start).count();
-        const double steps_per_second = static_cast<double>(world_.step - first_step) / elapsed;
-        const double eta = steps_per_second > 0.0 ? (end_time - world_.time) / dt / steps_per_second : 0.0;
-        if (options.progress) {
-          std::fprintf(stderr, "\r  t = %.4f / %.4f s   step %llu   %.1f steps/s   ETA %s   ", world_.time,
-                       end_time, static_cast<unsigned long long>(world_.step), steps_per_second,
-                       format_duration(eta).c_str());
-          std::fflush(stderr);
-        } else {
-          spdlog::info("t = {:.4f} / {:.4f} s, step {}, {:.1f} steps/s, ETA {}", world_.time, end_time, world_.step,
-                       steps_per_second, format_duration(eta));
-        }
-      }
+      if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) checkpoints.save(*this, true);
+      progress.tick(world_);
     }
-    if (options.progress) std::fprintf(stderr, "\n");
+  } catch (const CheckpointError& error) {
+    outcome = {kExitIoError, error.what(), checkpoints.last_written()};
+  } catch (const std::exception& error) {
+    outcome = {kExitIoError, std::string("output failed: ") + error.what(), checkpoints.last_written()};
+  }
 
+  try {
     if (outcome.exit_code == kExitOk) {
-      save_checkpoint(false);
-      // A stable name for the end state, so other scenes can start from it ([solids] initial_state).
-      fs::copy_file(last_checkpoint, checkpoint_dir / "final.ckpt", fs::copy_options::overwrite_existing);
-      outcome.last_checkpoint = last_checkpoint;
+      checkpoints.save(*this, false);
+      checkpoints.copy_as_final();
+      outcome.last_checkpoint = checkpoints.last_written();
       outcome.message = "finished at t = " + std::to_string(world_.time) + " s after " +
-                        std::to_string(world_.step) + " steps; final checkpoint: " + last_checkpoint;
+                        std::to_string(world_.step) + " steps; final checkpoint: " + outcome.last_checkpoint;
     } else if (outcome.exit_code == kExitUnstable) {
-      outcome.last_checkpoint = last_checkpoint;
-      if (last_checkpoint.empty() && !output_.kept_steps.empty()) {
-        char name[64];
-        std::snprintf(name, sizeof name, "step_%010llu.ckpt",
-                      static_cast<unsigned long long>(output_.kept_steps.back()));
-        outcome.last_checkpoint = (checkpoint_dir / name).string();
-      }
+      outcome.last_checkpoint = checkpoints.last_good();
       outcome.message += "; last good checkpoint: " +
                          (outcome.last_checkpoint.empty() ? std::string("none written yet (set output.checkpoint_interval)")
                                                           : outcome.last_checkpoint);
     }
-  } catch (const CheckpointError& error) {
-    outcome = {kExitIoError, error.what(), last_checkpoint};
   } catch (const std::exception& error) {
-    outcome = {kExitIoError, std::string("output failed: ") + error.what(), last_checkpoint};
+    outcome = {kExitIoError, std::string("final checkpoint failed: ") + error.what(), checkpoints.last_written()};
   }
 
   const std::vector<SystemTimer> timers = stepper_->timers();

@@ -60,6 +60,7 @@ class Simulation {
   World& world() { return world_; }
   const Stepper& stepper() const { return *stepper_; }
   CheckpointData checkpoint_data() const;
+  std::uint64_t checkpoint_step() const { return world_.step; }
 
  private:
   Simulation(Model model, World world, OutputState output);
