@@ -247,7 +247,9 @@ void read_contact(TableReader& contact, Model& model) {
   }
   contact.finish();
 
-  // Derived constants: effective moduli and the damping calibrated to the requested restitution.
+  // Derived constants: effective moduli and the damping calibrated to the requested restitution. The calibration
+  // integrates a collision ODE (a few ms), so it runs once per distinct restitution, not once per material pair.
+  std::map<double, double> damping_for_restitution;
   for (std::size_t a = 0; a < count; ++a)
     for (std::size_t b = 0; b < count; ++b) {
       ContactPairParameters& pair = out.pairs[a * count + b];
@@ -260,7 +262,11 @@ void read_contact(TableReader& contact, Model& model) {
                                     (1.0 - second.poisson_ratio * second.poisson_ratio) / second.young_modulus);
       pair.effective_shear =
           1.0 / ((2.0 - first.poisson_ratio) / shear_first + (2.0 - second.poisson_ratio) / shear_second);
-      if (pair.restitution > 0.0 && pair.restitution <= 1.0) pair.damping = calibrate_damping(out.law, pair.restitution);
+      if (pair.restitution > 0.0 && pair.restitution <= 1.0) {
+        auto [cached, inserted] = damping_for_restitution.emplace(pair.restitution, 0.0);
+        if (inserted) cached->second = calibrate_damping(out.law, pair.restitution);
+        pair.damping = cached->second;
+      }
       prepare_contact_pair(pair, out.law, out.collision_time);
     }
 }
