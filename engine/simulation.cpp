@@ -235,7 +235,9 @@ Simulation::Simulation(Model model, World world, OutputState output)
 
 std::unique_ptr<Simulation> Simulation::from_model(Model model) {
   World world = initial_world(model);
-  return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), OutputState{}));
+  auto simulation = std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), OutputState{}));
+  simulation->stepper_->compute_initial_forces();
+  return simulation;
 }
 
 std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path) {

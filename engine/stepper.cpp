@@ -7,7 +7,10 @@ Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
       model_(model),
       step_("step", std::move(pipeline.step), world, model),
       substep_("substep", std::move(pipeline.substep), world, model),
-      end_of_step_("end_of_step", std::move(pipeline.end_of_step), world, model) {}
+      end_of_step_("end_of_step", std::move(pipeline.end_of_step), world, model),
+      initial_forces_("initial_forces", std::move(pipeline.initial_forces), world, model) {}
+
+void Stepper::compute_initial_forces() { initial_forces_.run(world_.time, 0.0); }
 
 void Stepper::step() {
   world_.step_status.clear();

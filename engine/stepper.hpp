@@ -17,6 +17,10 @@ class Stepper {
   /// Advances world.time by model.dt and world.step by one. Problems are left in world.step_status.
   void step();
 
+  /// Computes the forces of the current state without advancing it (dt = 0: springs do not grow). Called once for
+  /// a new run; a resumed run has its forces in the checkpoint.
+  void compute_initial_forces();
+
   /// Timers of every system, step phase first.
   std::vector<SystemTimer> timers() const;
   const Scheduler& step_graph() const { return step_; }
@@ -29,6 +33,7 @@ class Stepper {
   Scheduler step_;
   Scheduler substep_;
   Scheduler end_of_step_;
+  Scheduler initial_forces_;
 };
 
 }  // namespace riffle

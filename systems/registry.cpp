@@ -17,10 +17,12 @@ Pipeline build_pipeline(const Model& model) {
   (model.solids.enabled ? pipeline.substep : pipeline.step).push_back(std::make_unique<WallMotion>());
   const bool contacts = model.solids.enabled && model.contact.enabled;
   if (contacts) {
-    pipeline.substep.push_back(std::make_unique<SolidNeighbours>());
-    pipeline.substep.push_back(std::make_unique<SolidContactForces>());
-    pipeline.substep.push_back(std::make_unique<SolidContactGather>());
-    pipeline.substep.push_back(std::make_unique<SolidForceSum>());
+    for (auto* phase : {&pipeline.substep, &pipeline.initial_forces}) {
+      phase->push_back(std::make_unique<SolidNeighbours>());
+      phase->push_back(std::make_unique<SolidContactForces>());
+      phase->push_back(std::make_unique<SolidContactGather>());
+      phase->push_back(std::make_unique<SolidForceSum>());
+    }
   }
   if (model.solids.enabled) {
     pipeline.substep.push_back(std::make_unique<SolidKick>());
