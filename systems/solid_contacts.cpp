@@ -21,7 +21,8 @@ constexpr std::size_t kBatch = 64;
 struct PairBatch {
   // Inputs.
   alignas(64) double dx[kBatch], dy[kBatch], dz[kBatch];     // centre line, first to second
-  alignas(64) double dvx[kBatch], dvy[kBatch], dvz[kBatch];  // centre velocity, second minus first
+  alignas(64) double vix[kBatch], viy[kBatch], viz[kBatch];  // centre velocity of the first
+  alignas(64) double vjx[kBatch], vjy[kBatch], vjz[kBatch];  // centre velocity of the second
   alignas(64) double wix[kBatch], wiy[kBatch], wiz[kBatch];  // angular velocity of the first
   alignas(64) double wjx[kBatch], wjy[kBatch], wjz[kBatch];  // angular velocity of the second
   alignas(64) double sx[kBatch], sy[kBatch], sz[kBatch];     // tangential spring (in: old, out: new)
@@ -51,23 +52,24 @@ void evaluate_batch(PairBatch& b, double dt) {
   for (std::size_t p = 0; p < count; ++p) {
     const double distance_squared = b.dx[p] * b.dx[p] + b.dy[p] * b.dy[p] + b.dz[p] * b.dz[p];
     const double distance = std::sqrt(distance_squared);
-    const double inverse_distance = 1.0 / distance;
-    const double nx = b.dx[p] * inverse_distance, ny = b.dy[p] * inverse_distance, nz = b.dz[p] * inverse_distance;
+    // Divisions rather than multiplications by reciprocals, and the operations in the scalar code's order: the
+    // results are bit-identical to the one-pair-at-a-time kernel (a settled bed is chaotic enough that rounding
+    // differences move tests that sit near their tolerances).
+    const double nx = b.dx[p] / distance, ny = b.dy[p] / distance, nz = b.dz[p] / distance;
     const double radius_i = b.ri[p], radius_j = b.rj[p];
     const double touching_distance = radius_i + radius_j;
     const double overlap = touching_distance - distance;
-    // Contact velocity (v_j + w_j x (-R_j n)) - (v_i + w_i x R_i n) = dv - (R_i w_i + R_j w_j) x n.
-    const double ux = radius_i * b.wix[p] + radius_j * b.wjx[p];
-    const double uy = radius_i * b.wiy[p] + radius_j * b.wjy[p];
-    const double uz = radius_i * b.wiz[p] + radius_j * b.wjz[p];
-    const double cvx = b.dvx[p] - (uy * nz - uz * ny);
-    const double cvy = b.dvy[p] - (uz * nx - ux * nz);
-    const double cvz = b.dvz[p] - (ux * ny - uy * nx);
-    // R* = R_i R_j / (R_i + R_j) and m* = m_i m_j / (m_i + m_j) with one division.
-    const double mass_sum = b.mi[p] + b.mj[p];
-    const double inverse_sums = 1.0 / (touching_distance * mass_sum);
-    const double effective_radius = radius_i * radius_j * mass_sum * inverse_sums;
-    const double effective_mass = b.mi[p] * b.mj[p] * touching_distance * inverse_sums;
+    // Contact velocity (v_j + w_j x a_j) - (v_i + w_i x a_i) with lever arms a_i = R_i n, a_j = -R_j n.
+    const double aix = radius_i * nx, aiy = radius_i * ny, aiz = radius_i * nz;
+    const double minus_radius_j = -radius_j;
+    const double ajx = minus_radius_j * nx, ajy = minus_radius_j * ny, ajz = minus_radius_j * nz;
+    const double wix = b.wix[p], wiy = b.wiy[p], wiz = b.wiz[p];
+    const double wjx = b.wjx[p], wjy = b.wjy[p], wjz = b.wjz[p];
+    const double cvx = (b.vjx[p] + (wjy * ajz - wjz * ajy)) - (b.vix[p] + (wiy * aiz - wiz * aiy));
+    const double cvy = (b.vjy[p] + (wjz * ajx - wjx * ajz)) - (b.viy[p] + (wiz * aix - wix * aiz));
+    const double cvz = (b.vjz[p] + (wjx * ajy - wjy * ajx)) - (b.viz[p] + (wix * aiy - wiy * aix));
+    const double effective_radius = radius_i * radius_j / touching_distance;
+    const double effective_mass = b.mi[p] * b.mj[p] / (b.mi[p] + b.mj[p]);
 
     const double normal_speed = cvx * nx + cvy * ny + cvz * nz;  // < 0 while approaching
     const double vtx = cvx - normal_speed * nx, vty = cvy - normal_speed * ny, vtz = cvz - normal_speed * nz;
@@ -112,11 +114,12 @@ void evaluate_batch(PairBatch& b, double dt) {
     ftx *= slide_scale;
     fty *= slide_scale;
     ftz *= slide_scale;
-    const double inverse_tangential_stiffness_any = 1.0 / tangential_stiffness;
-    const double inverse_tangential_stiffness = tangential_stiffness > 0.0 ? inverse_tangential_stiffness_any : 0.0;
-    b.sx[p] = sliding ? ftx * inverse_tangential_stiffness : spring_x;
-    b.sy[p] = sliding ? fty * inverse_tangential_stiffness : spring_y;
-    b.sz[p] = sliding ? ftz * inverse_tangential_stiffness : spring_z;
+    const bool stiff = tangential_stiffness > 0.0;
+    const double reset_x = ftx / tangential_stiffness, reset_y = fty / tangential_stiffness,
+                 reset_z = ftz / tangential_stiffness;
+    b.sx[p] = sliding ? (stiff ? reset_x : 0.0) : spring_x;
+    b.sy[p] = sliding ? (stiff ? reset_y : 0.0) : spring_y;
+    b.sz[p] = sliding ? (stiff ? reset_z : 0.0) : spring_z;
 
     const double fx = ftx - normal_force * nx, fy = fty - normal_force * ny, fz = ftz - normal_force * nz;
 
@@ -124,7 +127,7 @@ void evaluate_batch(PairBatch& b, double dt) {
     // division per pair, skipped when no material pair has mu_r).
     double rtx = 0.0, rty = 0.0, rtz = 0.0;
     if constexpr (kRolling) {
-      const double rwx = b.wix[p] - b.wjx[p], rwy = b.wiy[p] - b.wjy[p], rwz = b.wiz[p] - b.wjz[p];
+      const double rwx = wix - wjx, rwy = wiy - wjy, rwz = wiz - wjz;
       const double spin = std::sqrt(rwx * rwx + rwy * rwy + rwz * rwz);
       const double rolling_scale_any = -b.rolling[p] * effective_radius * normal_force / spin;
       const double rolling_scale = (b.rolling[p] > 0.0) & (spin > 0.0) ? rolling_scale_any : 0.0;
@@ -137,14 +140,14 @@ void evaluate_batch(PairBatch& b, double dt) {
     b.fx[p] = fx;
     b.fy[p] = fy;
     b.fz[p] = fz;
-    // Lever arms R_i n (first) and -R_j n (second); the second receives -F: (-R_j n) x (-F) = R_j n x F.
-    const double nfx = ny * fz - nz * fy, nfy = nz * fx - nx * fz, nfz = nx * fy - ny * fx;  // n x F
-    b.tix[p] = radius_i * nfx + rtx;
-    b.tiy[p] = radius_i * nfy + rty;
-    b.tiz[p] = radius_i * nfz + rtz;
-    b.tjx[p] = radius_j * nfx - rtx;
-    b.tjy[p] = radius_j * nfy - rty;
-    b.tjz[p] = radius_j * nfz - rtz;
+    b.tix[p] = (aiy * fz - aiz * fy) + rtx;
+    b.tiy[p] = (aiz * fx - aix * fz) + rty;
+    b.tiz[p] = (aix * fy - aiy * fx) + rtz;
+    // The second grain receives -F at -R_j n from its centre: (-R_j n) x (-F) = R_j n x F.
+    const double bjx = radius_j * nx, bjy = radius_j * ny, bjz = radius_j * nz;
+    b.tjx[p] = (bjy * fz - bjz * fy) - rtx;
+    b.tjy[p] = (bjz * fx - bjx * fz) - rty;
+    b.tjz[p] = (bjx * fy - bjy * fx) - rtz;
   }
 }
 
@@ -155,9 +158,12 @@ void flush_batch(PairBatch& b, const Solids& solids, const ContactModel& model, 
     const std::uint32_t i = b.first[p], j = b.second[p];
     const Vec3& velocity_i = solids.velocity[i];
     const Vec3& velocity_j = solids.velocity[j];
-    b.dvx[p] = velocity_j.x() - velocity_i.x();
-    b.dvy[p] = velocity_j.y() - velocity_i.y();
-    b.dvz[p] = velocity_j.z() - velocity_i.z();
+    b.vix[p] = velocity_i.x();
+    b.viy[p] = velocity_i.y();
+    b.viz[p] = velocity_i.z();
+    b.vjx[p] = velocity_j.x();
+    b.vjy[p] = velocity_j.y();
+    b.vjz[p] = velocity_j.z();
     const Vec3& angular_velocity_i = solids.angular_velocity[i];
     const Vec3& angular_velocity_j = solids.angular_velocity[j];
     b.wix[p] = angular_velocity_i.x();
