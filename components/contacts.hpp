@@ -29,6 +29,11 @@ struct Contacts {
   // Reverse index for the gather: for grain j, the pairs where it is second, ascending.
   std::vector<std::uint32_t> second_offsets;   ///< grains + 1
   std::vector<std::uint32_t> second_pairs;     ///< pair indices
+  // Per-grain sums over the pairs where the grain is first, in pair order, filled by solid_contact_forces while the
+  // pair results are still in registers, so the gather walks only the second-grain side. Scratch, rewritten every
+  // sub-step: not checkpointed.
+  std::vector<Vec3> first_force;               ///< [N] grains
+  std::vector<Vec3> first_torque;              ///< [N m] grains
 
   // Grain-wall candidates, grouped by grain.
   std::vector<std::uint32_t> wall_pair_offsets;  ///< grains + 1

@@ -1,7 +1,9 @@
 #pragma once
 // Contact forces on the grains (seed 000 Sec. 3.2 Eqs. 15-19 with the laws of contact_law.hpp):
-//   solid_contact_forces: each candidate pair (grain-grain, grain-wall) evaluated once, into the pair arrays;
-//   solid_contact_gather: each grain sums its pairs in a fixed order into contact_force / contact_torque;
+//   solid_contact_forces: each candidate pair (grain-grain, grain-wall) evaluated once, into the pair arrays, and
+//                         each grain's sum over the pairs where it is first (Contacts::first_force / first_torque);
+//   solid_contact_gather: each grain adds its second-grain and wall pairs to that sum, in a fixed order, into
+//                         contact_force / contact_torque;
 //   solid_force_sum:      force = sum of the force sources (contacts for now; drag and pressure later).
 // Splitting evaluation from gathering keeps every write private to one task and the sums in a fixed order, so the
 // result is bit-identical for any thread count. Torque lever arm: R_i n for each grain (numerics.md Sec. 4.1: the
