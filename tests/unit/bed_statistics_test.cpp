@@ -140,7 +140,7 @@ TEST_CASE("a contact is counted at its contact point, not at the mid-point of th
   }
 }
 
-TEST_CASE("grains and contacts outside the layers are left out; unknown contact lists are reported") {
+TEST_CASE("grains and contacts outside the layers are left out, and unknown contact lists are reported") {
   // One grain below the floor, one above the top layer, one inside.
   const Solids solids = grains({{0, 0, -0.5}, {0, 0, 5.5}, {0, 0, 0.5}}, {0.5, 0.5, 0.5});
   SUBCASE("without a contact model every layer has zero contacts, known") {
