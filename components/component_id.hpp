@@ -13,11 +13,14 @@ enum class ComponentId : std::uint8_t {
   kStepStatus,   ///< per-step problem flags raised by checks (components/step_status.hpp)
   kSolidSummary, ///< per-step reductions over the solids: energy, max speed (components/solid_summary.hpp)
   kContacts,     ///< contact candidates and histories (components/contacts.hpp)
+  kFluid,        ///< MPS fluid, wall and dummy particles (components/fluid.hpp)
+  kFluidNeighbours, ///< MPS neighbour lists within r_e, rebuilt every step (components/fluid.hpp)
   kCount
 };
 
 inline constexpr std::array<std::string_view, static_cast<std::size_t>(ComponentId::kCount)> kComponentNames = {
-    "solids", "walls", "tank_motion", "step_status", "solid_summary", "contacts"};
+    "solids", "walls", "tank_motion", "step_status", "solid_summary", "contacts", "fluid",
+    "fluid_neighbours"};
 
 constexpr std::string_view component_name(ComponentId id) { return kComponentNames[static_cast<std::size_t>(id)]; }
 

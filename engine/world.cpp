@@ -9,6 +9,8 @@ bool World::has(ComponentId id) const {
     case ComponentId::kTankMotion: return tank_motion.has_value();
     case ComponentId::kSolidSummary: return solid_summary.has_value();
     case ComponentId::kContacts: return contacts.has_value();
+    case ComponentId::kFluid: return fluid.has_value();
+    case ComponentId::kFluidNeighbours: return fluid_neighbours.has_value();
     case ComponentId::kStepStatus: return true;
     case ComponentId::kCount: break;
   }

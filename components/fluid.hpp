@@ -1,0 +1,86 @@
+#pragma once
+// MPS particles (numerics.md Secs. 1.1 and 3.1): fluid particles and the tank's wall and dummy particles in one
+// structure-of-arrays table, so one neighbour search and one number-density pass cover all of them. One entry per
+// particle; slot order may change (a later cell sort), `id` never does.
+//
+// FluidNeighbours holds the neighbour lists (CSR, slots, self excluded) built by systems/fluid_neighbours.*. It is a
+// separate component, like Contacts for the grains, so that the scheduler orders the build before every system
+// that reads the lists, and so that it can be rebuilt from positions alone (never persistent).
+#include <cereal/types/vector.hpp>
+#include <cstdint>
+#include <vector>
+
+#include "components/component_id.hpp"
+#include "components/soa.hpp"
+#include "components/vec.hpp"
+
+namespace riffle {
+
+/// What an MPS particle is (numerics 3.1 and the wall amendment): fluid particles move and are PPE unknowns;
+/// wall particles (one layer on the boundary) and dummy particles (behind them) move with the tank, count in the
+/// number density and the HS source, and are never free-surface particles.
+enum class FluidKind : std::int32_t { kFluid = 0, kWall = 1, kDummy = 2 };
+
+struct FluidParticles {
+  static constexpr ComponentId kId = ComponentId::kFluid;
+
+  std::vector<EntityId> id;                 ///< [1] stable identity
+  std::vector<std::int32_t> kind;           ///< [1] FluidKind: 0 fluid, 1 wall, 2 dummy
+  std::vector<Vec3> position;               ///< [m] lab frame, at the start of the step
+  std::vector<Vec3> velocity;               ///< [m/s] lab frame; walls and dummies carry the wall velocity
+  std::vector<Vec3> predicted_position;     ///< [m] r* after the explicit prediction (numerics 2.1)
+  std::vector<double> pressure;             ///< [Pa] gauge pressure (0 at the free surface)
+  std::vector<double> number_density;       ///< [1] n_i = sum_j w(r_ij) over fluid, wall and dummy neighbours
+  std::vector<std::int32_t> free_surface;   ///< [1] 1 if n_i < beta n0 (fluid particles only), else 0
+
+  EntityId next_id = 0;  ///< the id the next added particle gets
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"id", "1", true}, self.id);
+    visit(FieldInfo{"kind", "1", true}, self.kind);
+    visit(FieldInfo{"position", "m", false}, self.position);  // VTK points, not a point-data array
+    visit(FieldInfo{"velocity", "m/s", true}, self.velocity);
+    visit(FieldInfo{"predicted_position", "m", false}, self.predicted_position);
+    visit(FieldInfo{"pressure", "Pa", true}, self.pressure);
+    visit(FieldInfo{"number_density", "1", true}, self.number_density);
+    visit(FieldInfo{"free_surface", "1", true}, self.free_surface);
+  }
+
+  std::size_t size() const { return id.size(); }
+
+  /// Appends one particle at zero pressure and number density, not on the surface; returns its slot.
+  std::size_t add(const Vec3& position_m, const Vec3& velocity_m_s, FluidKind particle_kind) {
+    const std::size_t slot = size();
+    resize_fields(*this, slot + 1);
+    id[slot] = next_id++;
+    kind[slot] = static_cast<std::int32_t>(particle_kind);
+    position[slot] = position_m;
+    velocity[slot] = velocity_m_s;
+    predicted_position[slot] = position_m;
+    pressure[slot] = 0.0;
+    number_density[slot] = 0.0;
+    free_surface[slot] = 0;
+    return slot;
+  }
+
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(next_id);
+    for_each_field(*this, [&](const FieldInfo&, auto& field) { archive(field); });
+  }
+};
+
+/// Neighbours of every MPS particle within `radius` (self excluded), CSR by particle slot, each list ascending.
+struct FluidNeighbours {
+  static constexpr ComponentId kId = ComponentId::kFluidNeighbours;
+
+  double radius = 0.0;                  ///< [m] search radius the lists were built with (>= r_e)
+  std::vector<std::uint32_t> offsets;   ///< particles + 1: neighbours of i are slots[offsets[i] .. offsets[i+1])
+  std::vector<std::uint32_t> slots;     ///< neighbour slots, ascending within each particle's list
+  std::uint64_t builds = 0;             ///< number of builds so far
+
+  std::size_t particle_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+};
+
+}  // namespace riffle

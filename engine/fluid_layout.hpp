@@ -1,0 +1,60 @@
+#pragma once
+// Initial MPS particle layouts on one cubic lattice of spacing l0 (numerics.md Secs. 1.1 and 3.1): pure functions
+// that place fluid particles in a box and the wall and dummy particles of a box tank; `append_layout` adds them to
+// a FluidParticles component.
+//
+// The lattice is cell-centred on the tank's inner min corner: lattice cell (i, j, k) has its particle at
+// origin + (i + 1/2, j + 1/2, k + 1/2) l0, so fluid cells 0 .. n-1 put the first fluid layer l0/2 inside each
+// wall, the wall layer (cell -1 or n) l0/2 outside it, and ceil(r_e/l0) - 1 dummy layers behind. Fluid and walls
+// of one tank therefore share one perfect lattice, and every interior particle sees the lattice constants n0.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "components/fluid.hpp"
+
+namespace riffle {
+
+struct LatticeParticle {
+  Vec3 position;                      ///< [m]
+  FluidKind kind = FluidKind::kFluid;
+  std::array<std::int64_t, 3> cell{};  ///< integer lattice coordinates (i, j, k)
+  std::int32_t face = -1;             ///< wall and dummy: index into kTankFaceNames of the face owning it; fluid: -1
+};
+
+struct FluidLayout {
+  std::vector<LatticeParticle> particles;  ///< in (k, j, i) lexicographic order of the lattice cells
+  std::size_t fluid = 0, wall = 0, dummy = 0;  ///< counts per kind
+};
+
+/// Tank faces in claiming order: a wall or dummy particle beyond several faces belongs to the first.
+inline const std::array<std::string, 6> kTankFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+
+/// Number of dummy layers behind the wall layer: ceil(r_e / l0) - 1 (numerics 3.1), so that a fluid particle on
+/// the wall sees full support: 2 for r_e = 2.6 l0, 3 for r_e = 3.1 l0. A ratio within 1e-9 of an integer counts
+/// as that integer (w(r_e) = 0, so a layer at exactly r_e adds nothing).
+std::int64_t dummy_layer_count(double spacing, double effective_radius);
+
+/// Fluid particles on the lattice anchored at `lattice_origin` whose centres lie in the box [low, high] (to 1e-9
+/// l0). With low = lattice_origin and high - low = n l0 this is n_x n_y n_z particles, the first layer l0/2 from
+/// each face of the box.
+FluidLayout fluid_box_layout(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing);
+
+/// Wall and dummy particles of a box tank with inner min corner `origin` and inner size `size` (each an integer
+/// multiple of l0 to 1e-6, otherwise std::invalid_argument). Every closed face gets one wall layer at l0/2 outside
+/// the inner boundary and dummy_layer_count() dummy layers behind it; open faces (names of kTankFaceNames) get
+/// none, and the walls of the other faces stop at the open face. Edges and corners are filled too: a particle's
+/// kind comes from its depth (the largest number of layers it lies outside the inner box along any axis: 1 =
+/// wall, more = dummy), its face is the first closed face it lies beyond. Each lattice cell of the shell is
+/// visited once, so there are no duplicates by construction. Closed form, with L_a^- and L_a^+ the layers (0 if
+/// the face is open) and n_a = size_a / l0: count(L) = prod_a (n_a + L_a^- + L_a^+) - prod_a n_a, walls are
+/// count(1), dummies count(1 + dummy layers) - count(1).
+FluidLayout tank_wall_layout(const Vec3& origin, const Vec3& size, const std::vector<std::string>& open_faces,
+                             double spacing, double effective_radius);
+
+/// Appends every particle of `layout` at rest to `particles`, in layout order; returns the first new slot.
+std::size_t append_layout(FluidParticles& particles, const FluidLayout& layout);
+
+}  // namespace riffle

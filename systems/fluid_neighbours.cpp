@@ -1,0 +1,162 @@
+#include "systems/fluid_neighbours.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+
+namespace riffle {
+
+namespace {
+
+constexpr std::size_t kGrain = 512;
+
+struct Box {
+  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 high = Vec3::Constant(-std::numeric_limits<double>::infinity());
+};
+
+bool finite(const Vec3& position) { return std::isfinite(position[0]) && std::isfinite(position[1]) && std::isfinite(position[2]); }
+
+/// Uniform grid with the particles of each cell listed in slot order.
+struct CellGrid {
+  Vec3 origin = Vec3::Zero();
+  double cell_size = 1.0;
+  std::array<std::int64_t, 3> cells{1, 1, 1};
+  std::vector<std::uint32_t> cell_start;  ///< cells + 1
+  std::vector<std::uint32_t> members;     ///< finite particles grouped by cell, ascending slot within a cell
+
+  std::int64_t axis_cell(double coordinate, int axis) const {
+    const double scaled = std::floor((coordinate - origin[axis]) / cell_size);
+    const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
+    return static_cast<std::int64_t>(std::clamp(scaled, 0.0, top));
+  }
+  std::size_t linear(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    return static_cast<std::size_t>((z * cells[1] + y) * cells[0] + x);
+  }
+};
+
+CellGrid build_grid(const std::vector<Vec3>& positions, double radius) {
+  const std::size_t count = positions.size();
+  const Box box = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count, 4096), Box{},
+      [&](const tbb::blocked_range<std::size_t>& range, Box box) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+          if (!finite(positions[i])) continue;
+          box.low = box.low.cwiseMin(positions[i]);
+          box.high = box.high.cwiseMax(positions[i]);
+        }
+        return box;
+      },
+      [](Box a, const Box& b) {
+        a.low = a.low.cwiseMin(b.low);
+        a.high = a.high.cwiseMax(b.high);
+        return a;
+      });
+  CellGrid grid;
+  grid.cell_size = radius;
+  if (box.low[0] <= box.high[0]) {
+    grid.origin = box.low;
+    // Cells at least one radius wide; wider if a stray particle would make the grid much larger than the
+    // particle count (the lists are sorted, so the cell size changes no result).
+    const Vec3 extent = box.high - box.low;
+    const double cell_limit = std::max(1.0e6, 8.0 * static_cast<double>(count));
+    auto cell_count = [&](double size) {
+      return (std::floor(extent[0] / size) + 1) * (std::floor(extent[1] / size) + 1) * (std::floor(extent[2] / size) + 1);
+    };
+    while (cell_count(grid.cell_size) > cell_limit) grid.cell_size *= 2.0;
+    for (int axis = 0; axis < 3; ++axis)
+      grid.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(extent[axis] / grid.cell_size)) + 1;
+  }
+  const std::size_t cell_total = static_cast<std::size_t>(grid.cells[0] * grid.cells[1] * grid.cells[2]);
+  std::vector<std::uint32_t> cell_of(count, std::numeric_limits<std::uint32_t>::max());
+  grid.cell_start.assign(cell_total + 1, 0);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!finite(positions[i])) continue;
+    cell_of[i] = static_cast<std::uint32_t>(grid.linear(grid.axis_cell(positions[i][0], 0),
+                                                        grid.axis_cell(positions[i][1], 1),
+                                                        grid.axis_cell(positions[i][2], 2)));
+    ++grid.cell_start[cell_of[i] + 1];
+  }
+  for (std::size_t cell = 0; cell < cell_total; ++cell) grid.cell_start[cell + 1] += grid.cell_start[cell];
+  grid.members.resize(grid.cell_start[cell_total]);
+  std::vector<std::uint32_t> fill(grid.cell_start.begin(), grid.cell_start.end() - 1);
+  for (std::size_t i = 0; i < count; ++i)
+    if (cell_of[i] != std::numeric_limits<std::uint32_t>::max()) grid.members[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
+  return grid;
+}
+
+/// Calls visit(j) for every j != i within `radius` of particle i (cell order, not yet sorted).
+template <class Visit>
+void for_each_neighbour(const std::vector<Vec3>& positions, const CellGrid& grid, double radius, std::size_t i,
+                        Visit&& visit) {
+  const Vec3& position = positions[i];
+  if (!finite(position)) return;
+  const double squared_radius = radius * radius;
+  std::array<std::int64_t, 3> low{}, high{};
+  for (int axis = 0; axis < 3; ++axis) {
+    low[static_cast<std::size_t>(axis)] = grid.axis_cell(position[axis] - radius, axis);
+    high[static_cast<std::size_t>(axis)] = grid.axis_cell(position[axis] + radius, axis);
+  }
+  for (std::int64_t z = low[2]; z <= high[2]; ++z)
+    for (std::int64_t y = low[1]; y <= high[1]; ++y)
+      for (std::int64_t x = low[0]; x <= high[0]; ++x) {
+        const std::size_t cell = grid.linear(x, y, z);
+        for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
+          const std::uint32_t j = grid.members[k];
+          if (j != i && (positions[j] - position).squaredNorm() < squared_radius) visit(j);
+        }
+      }
+}
+
+}  // namespace
+
+void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours) {
+  if (!(radius > 0.0) || !std::isfinite(radius))
+    throw std::invalid_argument("build_fluid_neighbours: the search radius must be positive and finite");
+  if (positions.size() >= std::numeric_limits<std::uint32_t>::max())
+    throw std::length_error("build_fluid_neighbours: too many particles for 32-bit slots");
+  const std::size_t count = positions.size();
+  const CellGrid grid = build_grid(positions, radius);
+
+  // Count, scan, fill, sort: each task writes only its own particles' ranges.
+  neighbours.offsets.assign(count + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      std::uint32_t found = 0;
+      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t) { ++found; });
+      neighbours.offsets[i + 1] = found;
+    }
+  });
+  std::uint64_t total = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    total += neighbours.offsets[i + 1];
+    if (total >= std::numeric_limits<std::uint32_t>::max())
+      throw std::length_error("build_fluid_neighbours: too many neighbour entries for 32-bit offsets");
+    neighbours.offsets[i + 1] = static_cast<std::uint32_t>(total);
+  }
+  neighbours.slots.resize(total);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      std::uint32_t next = neighbours.offsets[i];
+      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t j) { neighbours.slots[next++] = j; });
+      std::sort(neighbours.slots.begin() + neighbours.offsets[i], neighbours.slots.begin() + next);
+    }
+  });
+  neighbours.radius = radius;
+  ++neighbours.builds;
+}
+
+void FluidNeighbourSearch::run(SystemContext& context) {
+  const FluidParticles& particles = context.read<FluidParticles>();
+  context.count_items(particles.size());
+  build_fluid_neighbours(particles.position, radius_, context.write<FluidNeighbours>());
+}
+
+}  // namespace riffle

@@ -1,0 +1,92 @@
+// MPS neighbour lists (systems/fluid_neighbours.hpp) against a brute-force O(N^2) search, and independent of the
+// thread count.
+#include <doctest/doctest.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "systems/fluid_neighbours.hpp"
+
+using namespace riffle;
+
+namespace {
+
+constexpr double kSpacing = 0.005;  // [m] l0
+
+/// A jittered 9 x 8 x 7 lattice block plus a far stray particle, a particle on top of another and a NaN.
+std::vector<Vec3> jittered_block() {
+  std::vector<Vec3> positions;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> offset(-0.4 * kSpacing, 0.4 * kSpacing);
+  for (int k = 0; k < 7; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 9; ++i)
+        positions.push_back(kSpacing * Vec3(i, j, k) + Vec3(offset(random), offset(random), offset(random)));
+  // Shuffle so slot order is not spatial order.
+  std::shuffle(positions.begin(), positions.end(), random);
+  positions.push_back(Vec3(1.0e4, -3.0e3, 2.0e4));  // stray: the grid must not explode, it has no neighbours
+  positions.push_back(positions[5]);                 // coincident with slot 5: neighbours at distance 0
+  positions.push_back(Vec3(std::nan(""), 0.0, 0.0)); // non-finite: no neighbours, nobody's neighbour
+  return positions;
+}
+
+std::vector<std::vector<std::uint32_t>> brute_force(const std::vector<Vec3>& positions, double radius) {
+  std::vector<std::vector<std::uint32_t>> lists(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    for (std::size_t j = 0; j < positions.size(); ++j)
+      if (j != i && (positions[j] - positions[i]).squaredNorm() < radius * radius)
+        lists[i].push_back(static_cast<std::uint32_t>(j));  // ascending
+  return lists;
+}
+
+}  // namespace
+
+TEST_CASE("fluid neighbour lists equal a brute-force search, in ascending slot order") {
+  const std::vector<Vec3> positions = jittered_block();
+  for (const double ratio : {2.6, 3.1}) {
+    CAPTURE(ratio);
+    const double radius = ratio * kSpacing;
+    FluidNeighbours neighbours;
+    build_fluid_neighbours(positions, radius, neighbours);
+    const auto expected = brute_force(positions, radius);
+    REQUIRE(neighbours.offsets.size() == positions.size() + 1);
+    CHECK(neighbours.offsets.front() == 0);
+    CHECK(neighbours.offsets.back() == neighbours.slots.size());
+    CHECK(neighbours.radius == radius);
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+      const std::vector<std::uint32_t> found(neighbours.slots.begin() + neighbours.offsets[i],
+                                             neighbours.slots.begin() + neighbours.offsets[i + 1]);
+      CHECK(found == expected[i]);
+      total += expected[i].size();
+    }
+    CHECK(neighbours.slots.size() == total);
+    CHECK(total > 20 * 504);  // the block is dense enough to mean something
+    const std::size_t stray = positions.size() - 3, nan_slot = positions.size() - 1;
+    CHECK(neighbours.offsets[stray + 1] == neighbours.offsets[stray]);
+    CHECK(neighbours.offsets[nan_slot + 1] == neighbours.offsets[nan_slot]);
+  }
+}
+
+TEST_CASE("fluid neighbour lists do not depend on the thread count and rebuild in place") {
+  const std::vector<Vec3> positions = jittered_block();
+  FluidNeighbours serial, parallel;
+  tbb::task_arena one(1);
+  one.execute([&] { build_fluid_neighbours(positions, 2.6 * kSpacing, serial); });
+  build_fluid_neighbours(positions, 2.6 * kSpacing, parallel);
+  CHECK(serial.offsets == parallel.offsets);
+  CHECK(serial.slots == parallel.slots);
+  // A second build over different data replaces the lists.
+  const std::vector<Vec3> few = {Vec3::Zero(), Vec3(kSpacing, 0, 0), Vec3(10 * kSpacing, 0, 0)};
+  build_fluid_neighbours(few, 2.6 * kSpacing, parallel);
+  CHECK(parallel.builds == 2);
+  CHECK(parallel.offsets == std::vector<std::uint32_t>{0, 1, 2, 2});
+  CHECK(parallel.slots == std::vector<std::uint32_t>{1, 0});
+  build_fluid_neighbours({}, 2.6 * kSpacing, parallel);
+  CHECK(parallel.offsets == std::vector<std::uint32_t>{0});
+  CHECK(parallel.slots.empty());
+  CHECK_THROWS_AS(build_fluid_neighbours(few, 0.0, parallel), std::invalid_argument);
+}
