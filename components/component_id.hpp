@@ -15,12 +15,13 @@ enum class ComponentId : std::uint8_t {
   kContacts,     ///< contact candidates and histories (components/contacts.hpp)
   kFluid,        ///< MPS fluid, wall and dummy particles (components/fluid.hpp)
   kFluidNeighbours, ///< MPS neighbour lists within r_e, rebuilt every step (components/fluid.hpp)
+  kFluidSummary,    ///< per-step reductions over the fluid and the PPE solver report (components/fluid.hpp)
   kCount
 };
 
 inline constexpr std::array<std::string_view, static_cast<std::size_t>(ComponentId::kCount)> kComponentNames = {
     "solids", "walls", "tank_motion", "step_status", "solid_summary", "contacts", "fluid",
-    "fluid_neighbours"};
+    "fluid_neighbours", "fluid_summary"};
 
 constexpr std::string_view component_name(ComponentId id) { return kComponentNames[static_cast<std::size_t>(id)]; }
 

@@ -28,7 +28,9 @@ struct FluidParticles {
   std::vector<std::int32_t> kind;           ///< [1] FluidKind: 0 fluid, 1 wall, 2 dummy
   std::vector<Vec3> position;               ///< [m] lab frame, at the start of the step
   std::vector<Vec3> velocity;               ///< [m/s] lab frame; walls and dummies carry the wall velocity
+  std::vector<Vec3> rest_position;          ///< [m] walls and dummies: position with the tank at rest (moved analytically)
   std::vector<Vec3> predicted_position;     ///< [m] r* after the explicit prediction (numerics 2.1)
+  std::vector<double> density_rate;         ///< [1/s] ECS input: (Dn/Dt)^k of fluid particles at the step start
   std::vector<double> pressure;             ///< [Pa] gauge pressure (0 at the free surface)
   std::vector<double> number_density;       ///< [1] n_i = sum_j w(r_ij) over fluid, wall and dummy neighbours
   std::vector<std::int32_t> free_surface;   ///< [1] 1 if n_i < beta n0 (fluid particles only), else 0
@@ -41,7 +43,9 @@ struct FluidParticles {
     visit(FieldInfo{"kind", "1", true}, self.kind);
     visit(FieldInfo{"position", "m", false}, self.position);  // VTK points, not a point-data array
     visit(FieldInfo{"velocity", "m/s", true}, self.velocity);
+    visit(FieldInfo{"rest_position", "m", false}, self.rest_position);
     visit(FieldInfo{"predicted_position", "m", false}, self.predicted_position);
+    visit(FieldInfo{"density_rate", "1/s", false}, self.density_rate);
     visit(FieldInfo{"pressure", "Pa", true}, self.pressure);
     visit(FieldInfo{"number_density", "1", true}, self.number_density);
     visit(FieldInfo{"free_surface", "1", true}, self.free_surface);
@@ -57,7 +61,9 @@ struct FluidParticles {
     kind[slot] = static_cast<std::int32_t>(particle_kind);
     position[slot] = position_m;
     velocity[slot] = velocity_m_s;
+    rest_position[slot] = position_m;
     predicted_position[slot] = position_m;
+    density_rate[slot] = 0.0;
     pressure[slot] = 0.0;
     number_density[slot] = 0.0;
     free_surface[slot] = 0;
@@ -68,6 +74,31 @@ struct FluidParticles {
   void serialize(Archive& archive) {
     archive(next_id);
     for_each_field(*this, [&](const FieldInfo&, auto& field) { archive(field); });
+  }
+};
+
+/// Reductions over the fluid after each step and the pressure solver's report; diagnostics.csv and the time-step
+/// control read them.
+struct FluidSummary {
+  static constexpr ComponentId kId = ComponentId::kFluidSummary;
+
+  std::size_t fluid_count = 0;        ///< fluid particles
+  std::size_t surface_count = 0;      ///< of which flagged free surface in the last solve
+  double kinetic_energy = 0.0;        ///< [J] sum 1/2 rho l0^3 |u|^2 over fluid particles
+  double max_speed = 0.0;             ///< [m/s] max |u| over fluid particles
+  double mean_density_ratio = 1.0;    ///< [1] mean n/n0 over fluid particles not on the surface
+  double volume = 0.0;                ///< [m^3] sum over fluid particles of l0^3 (n0/n_i for interior particles, 1 on the surface)
+  std::int64_t solver_iterations = 0; ///< PCG iterations of the last solve
+  double solver_residual = 0.0;       ///< [1] |r| / |b| at the end of the last solve
+  std::size_t solver_unknowns = 0;    ///< PPE rows of the last solve
+  bool solver_converged = true;
+  double last_dt = 0.0;               ///< [s] length of the last step
+  double courant = 0.0;               ///< [1] max |u| dt / l0 of the last step
+
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(fluid_count, surface_count, kinetic_energy, max_speed, mean_density_ratio, volume, solver_iterations,
+            solver_residual, solver_unknowns, solver_converged, last_dt, courant);
   }
 };
 

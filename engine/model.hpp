@@ -80,6 +80,50 @@ struct TankModel {
   TankMotionModel motion;
 };
 
+/// A box of particles on the fluid lattice, given by two corners (fluid blocks and solid wall blocks).
+struct ParticleBoxModel {
+  Vec3 low = Vec3::Zero();       ///< [m] min corner
+  Vec3 high = Vec3::Zero();      ///< [m] max corner
+  Vec3 velocity = Vec3::Zero();  ///< [m/s] initial velocity (fluid boxes only)
+};
+
+/// The enhanced MPS schemes of seed 000 Sec. 3.1, each switchable so that its cost and benefit can be measured.
+/// Off means the classic Koshizuka-Oka counterpart (numerics.md 1.4): HS off = density-deviation source
+/// (n* - n0)/(n0 dt^2); HL off = lambda0 Laplacian; GC off = plain gradient with p_j - min_j p_j; ECS, DS off = absent.
+struct FluidSchemes {
+  bool higher_order_source = true;        ///< HS, Eq. 5
+  bool error_compensating_source = true;  ///< ECS, Eq. 6
+  bool higher_order_laplacian = true;     ///< HL, Eq. 7 with the closure a = -2 w'/r (numerics 2.5)
+  bool gradient_correction = true;        ///< GC, Eqs. 8-9
+  bool dynamic_stabilisation = true;      ///< DS, Eqs. 10-12 (repulsive, numerics 2.7)
+};
+
+/// The incompressible free-surface fluid (MPS, seed 000 Sec. 3.1; numerics.md with the prototype's amendments).
+struct FluidModel {
+  bool enabled = false;
+  double spacing = 0.0;                  ///< [m] l0, the initial lattice spacing
+  double effective_radius_ratio = 2.4;   ///< [1] r_e / l0, one radius for every operator
+  double density = 1000.0;               ///< [kg/m^3] rho
+  double kinematic_viscosity = 1.0e-6;   ///< [m^2/s] nu
+  std::vector<ParticleBoxModel> boxes;       ///< fluid blocks
+  std::vector<ParticleBoxModel> wall_boxes;  ///< solid blocks of wall particles that move with the tank
+  bool tank_walls = true;                ///< wall and dummy particles on the closed faces of [tank]
+  FluidSchemes schemes;
+  bool clamp_negative_pressure = true;   ///< p < 0 -> 0 after the solve (numerics 2.8)
+  double surface_threshold = 0.93;       ///< [1] beta: free surface where n* < beta n0 (amendment: not 0.97)
+  double density_relaxation_rate = 12.0; ///< [1/s] gamma / dt of the density term gamma (n* - n0)/(n0 dt^2)
+  double compressibility = 1.0e-9;       ///< [1/Pa] alpha_c, keeps every PPE cluster well posed
+  double courant = 0.2;                  ///< [1] C_r: dt <= C_r l0 / |u|max; alpha_DS = 1 - C_r (seed)
+  double diffusion_number = 0.2;         ///< [1] dt <= this l0^2 / nu
+  double min_dt = 1.0e-6;                ///< [s] a step below this stops the run as unstable
+  double solver_tolerance = 1.0e-8;      ///< [1] PCG stops at |r| <= tol |b|
+  std::int64_t solver_max_iterations = 2000;
+  double neighbour_skin_ratio = 0.5;     ///< [1] Verlet skin / l0 of the neighbour lists
+
+  double effective_radius() const { return spacing * effective_radius_ratio; }
+  double stabilisation_distance() const { return (1.0 - courant) * spacing; }  ///< d_ij = alpha_DS l0
+};
+
 struct SphereSpec {
   Vec3 position = Vec3::Zero();          ///< [m]
   Vec3 velocity = Vec3::Zero();          ///< [m/s]
@@ -125,7 +169,7 @@ struct Model {
   std::string name;         ///< run name
 
   double end_time = 0.0;             ///< [s]
-  double dt = 0.0;                   ///< [s] engine (fluid) step
+  double dt = 0.0;                   ///< [s] engine (fluid) step; with a fluid, the largest step (Courant limits below it)
   std::int64_t solid_substeps = 1;   ///< DEM sub-steps per engine step (derived from the contact estimates if unset)
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< [m/s^2]
 
@@ -133,6 +177,7 @@ struct Model {
   TankModel tank;
   SolidsModel solids;
   ContactModel contact;
+  FluidModel fluid;
   OutputModel output;
 
   double solid_dt() const { return dt / static_cast<double>(solid_substeps); }

@@ -11,6 +11,7 @@ bool World::has(ComponentId id) const {
     case ComponentId::kContacts: return contacts.has_value();
     case ComponentId::kFluid: return fluid.has_value();
     case ComponentId::kFluidNeighbours: return fluid_neighbours.has_value();
+    case ComponentId::kFluidSummary: return fluid_summary.has_value();
     case ComponentId::kStepStatus: return true;
     case ComponentId::kCount: break;
   }

@@ -26,7 +26,8 @@ class World {
   std::optional<TankMotion> tank_motion;
   std::optional<SolidSummary> solid_summary;
   std::optional<Contacts> contacts;
-  std::optional<FluidParticles> fluid;             ///< not in checkpoints yet (the fluid phase is not wired)
+  std::optional<FluidParticles> fluid;             ///< MPS fluid, wall and dummy particles
+  std::optional<FluidSummary> fluid_summary;
   std::optional<FluidNeighbours> fluid_neighbours;  ///< rebuilt from `fluid`, never persistent
   StepStatus step_status;  ///< always present: every run can fail
 
@@ -39,6 +40,7 @@ class World {
     else if constexpr (std::is_same_v<C, SolidSummary>) return solid_summary ? &*solid_summary : nullptr;
     else if constexpr (std::is_same_v<C, Contacts>) return contacts ? &*contacts : nullptr;
     else if constexpr (std::is_same_v<C, FluidParticles>) return fluid ? &*fluid : nullptr;
+    else if constexpr (std::is_same_v<C, FluidSummary>) return fluid_summary ? &*fluid_summary : nullptr;
     else if constexpr (std::is_same_v<C, FluidNeighbours>) return fluid_neighbours ? &*fluid_neighbours : nullptr;
     else if constexpr (std::is_same_v<C, StepStatus>) return &step_status;
     else static_assert(sizeof(C) == 0, "unknown component type");
