@@ -102,7 +102,8 @@ struct FluidSummary {
   }
 };
 
-/// Neighbours of every MPS particle within `radius` (self excluded), CSR by particle slot, each list ascending.
+/// Neighbours of the fluid particles (slots [0, F)) among all MPS particles within `radius` (self excluded), CSR by
+/// particle slot, each list ascending.
 struct FluidNeighbours {
   static constexpr ComponentId kId = ComponentId::kFluidNeighbours;
 
@@ -110,6 +111,7 @@ struct FluidNeighbours {
   std::vector<std::uint32_t> offsets;   ///< particles + 1: neighbours of i are slots[offsets[i] .. offsets[i+1])
   std::vector<std::uint32_t> slots;     ///< neighbour slots, ascending within each particle's list
   std::uint64_t builds = 0;             ///< number of builds so far
+  std::vector<Vec3> built_positions;    ///< [m] every particle's position at the last build (skin check)
 
   std::size_t particle_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };

@@ -13,6 +13,8 @@ enum class StepProblem : std::uint8_t {
   kNone,
   kNonFinite,   ///< a NaN or infinity in a particle's state
   kLeftDomain,  ///< a particle's centre left the domain box
+  kSolverFailed,       ///< the pressure solve produced a non-finite residual
+  kTimeStepCollapse,   ///< the Courant limit fell below the scene's minimum step (the flow blew up)
 };
 
 struct StepStatus {

@@ -58,7 +58,7 @@ class DiagnosticsWriter {
  public:
   DiagnosticsWriter(const fs::path& path, const World& world, const std::vector<SystemTimer>& timers,
                     bool fresh_run)
-      : file_(path, header(timers),
+      : file_(path, header(timers, world.fluid_summary.has_value()),
               // On resume, keep the rows up to the checkpoint's step and continue after them.
               fresh_run ? std::nullopt : std::optional<double>(static_cast<double>(world.step))) {
     for (const SystemTimer& timer : timers) previous_totals_.push_back(timer.total_seconds);
@@ -71,11 +71,20 @@ class DiagnosticsWriter {
     const double cfl = min_radius > 0.0 ? summary.max_speed * model.solid_dt() / min_radius : 0.0;
     const Vec3 direction = model.tank.motion.direction;
     std::snprintf(text, sizeof text, "%llu,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.6g",
-                  static_cast<unsigned long long>(world.step), world.time, model.dt, model.solid_dt(),
+                  static_cast<unsigned long long>(world.step), world.time, world.last_dt > 0.0 ? world.last_dt : model.dt,
+                  model.solid_dt(),
                   summary.translational_energy, summary.rotational_energy, summary.potential_energy,
                   summary.max_speed, cfl, world.tank_motion->displacement.dot(direction),
                   world.tank_motion->velocity.dot(direction), step_wall_seconds);
     std::string line = text;
+    if (world.fluid_summary) {
+      const FluidSummary& fluid = *world.fluid_summary;
+      std::snprintf(text, sizeof text, ",%zu,%zu,%.9g,%.9g,%.6g,%.9g,%.9g,%lld,%.3g,%zu", fluid.fluid_count,
+                    fluid.surface_count, fluid.kinetic_energy, fluid.max_speed, fluid.courant, fluid.mean_density_ratio,
+                    fluid.volume, static_cast<long long>(fluid.solver_iterations), fluid.solver_residual,
+                    fluid.solver_unknowns);
+      line += text;
+    }
     for (std::size_t k = 0; k < timers.size(); ++k) {
       std::snprintf(text, sizeof text, ",%.6g", timers[k].total_seconds - previous_totals_[k]);
       line += text;
@@ -85,10 +94,13 @@ class DiagnosticsWriter {
   }
 
  private:
-  static std::string header(const std::vector<SystemTimer>& timers) {
+  static std::string header(const std::vector<SystemTimer>& timers, bool fluid) {
     std::string text = "step,time_s,dt_s,solid_dt_s,solid_translational_energy_J,solid_rotational_energy_J,"
                        "solid_potential_energy_J,solid_max_speed_m_s,solid_cfl,tank_displacement_m,"
                        "tank_velocity_m_s,step_wall_s";
+    if (fluid)
+      text += ",fluid_particles,fluid_surface_particles,fluid_kinetic_energy_J,fluid_max_speed_m_s,fluid_courant,"
+              "fluid_mean_density_ratio,fluid_volume_m3,ppe_iterations,ppe_relative_residual,ppe_unknowns";
     for (const SystemTimer& timer : timers) text += ",wall_" + timer.name + "_s";
     return text;
   }
@@ -178,6 +190,14 @@ void write_vtk_frame(const fs::path& out, const World& world, OutputState& outpu
 std::string diagnosis(const World& world, const Model& model) {
   const StepStatus& status = world.step_status;
   const DomainBox domain = solid_domain(model);
+  const std::string when = "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) + " s): ";
+  if (status.problem == StepProblem::kTimeStepCollapse)
+    return when + "the fluid's Courant limit gave dt = " + std::to_string(world.last_dt) + " s, below fluid.min_dt = " +
+           std::to_string(model.fluid.min_dt) + " s: the flow blew up (max fluid speed " +
+           (world.fluid_summary ? std::to_string(world.fluid_summary->max_speed) : std::string("?")) + " m/s)";
+  if (status.problem == StepProblem::kSolverFailed)
+    return when + "the pressure solve diverged (non-finite residual after " +
+           std::to_string(world.fluid_summary ? world.fluid_summary->solver_iterations : 0) + " iterations)";
   return "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) +
          " s): " + status.phase + " particle id " + std::to_string(status.entity) +
          (status.problem == StepProblem::kNonFinite

@@ -1,5 +1,9 @@
 #include "engine/stepper.hpp"
 
+#include <cmath>
+
+#include "systems/fluid_checks.hpp"
+
 namespace riffle {
 
 Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
@@ -15,12 +19,27 @@ void Stepper::compute_initial_forces() { initial_forces_.run(world_.time, 0.0); 
 void Stepper::step() {
   world_.step_status.clear();
   const double start = world_.time;
-  const double dt = model_.dt;
+  // A fluid limits the step by its Courant and diffusion numbers (numerics 1.5); run.dt is the largest step.
+  double dt = model_.dt;
+  if (world_.fluid) {
+    dt = fluid_time_step(model_.fluid, *world_.fluid, model_.dt);
+    if (dt < model_.fluid.min_dt) {
+      world_.step_status.problem = StepProblem::kTimeStepCollapse;
+      world_.step_status.phase = "fluid";
+      world_.last_dt = dt;
+      return;
+    }
+  }
+  world_.last_dt = dt;
   step_.run(start, dt);
-  const double solid_dt = model_.solid_dt();
+  // Sub-steps no longer than the scene's solid_dt(); exactly solid_substeps of them at the full step.
+  const std::int64_t substeps =
+      dt == model_.dt ? model_.solid_substeps
+                      : std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(dt / model_.solid_dt() - 1e-9)));
+  const double solid_dt = dt / static_cast<double>(substeps);
   // Sub-step times come from the step start and the sub-step index, never from a running sum, so a resumed run
   // sees exactly the same times as an uninterrupted one.
-  for (std::int64_t sub = 0; sub < model_.solid_substeps; ++sub)
+  for (std::int64_t sub = 0; sub < substeps; ++sub)
     substep_.run(start + static_cast<double>(sub) * solid_dt, solid_dt);
   world_.time = start + dt;
   end_of_step_.run(start, dt);

@@ -20,6 +20,7 @@ class World {
  public:
   double time = 0.0;       ///< [s] simulated time at the start of the next step
   std::uint64_t step = 0;  ///< engine steps completed
+  double last_dt = 0.0;    ///< [s] length of the last step (the fluid's Courant limit may shorten run.dt)
 
   std::optional<Solids> solids;
   std::optional<Walls> walls;

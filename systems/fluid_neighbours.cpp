@@ -117,12 +117,13 @@ void for_each_neighbour(const std::vector<Vec3>& positions, const CellGrid& grid
 
 }  // namespace
 
-void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours) {
+void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours,
+                            std::size_t query_count) {
   if (!(radius > 0.0) || !std::isfinite(radius))
     throw std::invalid_argument("build_fluid_neighbours: the search radius must be positive and finite");
   if (positions.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("build_fluid_neighbours: too many particles for 32-bit slots");
-  const std::size_t count = positions.size();
+  const std::size_t count = std::min(query_count, positions.size());
   const CellGrid grid = build_grid(positions, radius);
 
   // Count, scan, fill, sort: each task writes only its own particles' ranges.
@@ -155,8 +156,27 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
 
 void FluidNeighbourSearch::run(SystemContext& context) {
   const FluidParticles& particles = context.read<FluidParticles>();
-  context.count_items(particles.size());
-  build_fluid_neighbours(particles.position, radius_, context.write<FluidNeighbours>());
+  FluidNeighbours& neighbours = context.write<FluidNeighbours>();
+  const std::vector<Vec3>& positions = at_ == Positions::kCurrent ? particles.position : particles.predicted_position;
+  const std::size_t queries = fluid_slot_count(particles);
+  // Every pair within r_e now was within r_e + skin at the build if no particle has moved more than skin / 2.
+  bool valid = neighbours.radius >= effective_radius_ + skin_ && neighbours.built_positions.size() == positions.size() &&
+               neighbours.particle_count() == queries;
+  if (valid) {
+    const double limit = 0.25 * skin_ * skin_;
+    valid = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, positions.size(), 4096), true,
+        [&](const tbb::blocked_range<std::size_t>& range, bool ok) {
+          for (std::size_t i = range.begin(); ok && i < range.end(); ++i)
+            ok = (positions[i] - neighbours.built_positions[i]).squaredNorm() <= limit;
+          return ok;
+        },
+        [](bool a, bool b) { return a && b; });
+  }
+  if (valid) return;
+  context.count_items(positions.size());
+  build_fluid_neighbours(positions, effective_radius_ + skin_, neighbours, queries);
+  neighbours.built_positions = positions;
 }
 
 }  // namespace riffle

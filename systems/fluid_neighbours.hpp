@@ -12,23 +12,35 @@
 #include <vector>
 
 #include "engine/system.hpp"
+#include "systems/fluid_common.hpp"
 
 namespace riffle {
 
-/// Builds `neighbours` for `positions`: j is a neighbour of i (j != i) iff |r_j - r_i| < radius. Non-finite
-/// positions get no neighbours and are nobody's neighbour.
-void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours);
+/// Builds `neighbours` for the first `query_count` particles of `positions` (all by default): j is a neighbour of i
+/// (j != i) iff |r_j - r_i| < radius, j among all particles. Non-finite positions get no neighbours and are nobody's
+/// neighbour.
+void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours,
+                            std::size_t query_count = static_cast<std::size_t>(-1));
 
+/// Verlet lists of the fluid particles (queries) among all MPS particles, built with radius r_e + skin and rebuilt
+/// only when some particle (walls included: they move with the tank) has moved more than skin / 2 since the build.
+/// The operators cut at r_e and the lists are ascending, so when a rebuild happens changes no result.
+/// Two instances run per step: at the step start (current positions) and after the prediction (r*).
 class FluidNeighbourSearch final : public System {
  public:
-  /// `radius` [m]: the search radius, normally the effective radius r_e.
-  explicit FluidNeighbourSearch(double radius) : radius_(radius) {}
-  std::string_view name() const override { return "fluid_neighbours"; }
+  enum class Positions { kCurrent, kPredicted };
+  FluidNeighbourSearch(double effective_radius, double skin, Positions at)
+      : effective_radius_(effective_radius), skin_(skin), at_(at) {}
+  std::string_view name() const override {
+    return at_ == Positions::kCurrent ? "fluid_neighbours" : "fluid_neighbours_predicted";
+  }
   Access access() const override { return {{ComponentId::kFluid}, {ComponentId::kFluidNeighbours}}; }
   void run(SystemContext& context) override;
 
  private:
-  double radius_;
+  double effective_radius_;
+  double skin_;
+  Positions at_;
 };
 
 }  // namespace riffle

@@ -1,5 +1,13 @@
 #include "systems/registry.hpp"
 
+#include "systems/fluid_checks.hpp"
+#include "systems/fluid_correct.hpp"
+#include "systems/fluid_ecs_source.hpp"
+#include "systems/fluid_free_surface.hpp"
+#include "systems/fluid_neighbours.hpp"
+#include "systems/fluid_predict.hpp"
+#include "systems/fluid_pressure.hpp"
+#include "systems/fluid_wall_motion.hpp"
 #include "systems/solid_cell_sort.hpp"
 #include "systems/solid_checks.hpp"
 #include "systems/solid_contacts.hpp"
@@ -11,6 +19,21 @@ namespace riffle {
 
 Pipeline build_pipeline(const Model& model) {
   Pipeline pipeline;
+  if (model.fluid.enabled) {
+    // numerics.md 2.1 and 5.6; the scheduler chains these through the fluid component in this order.
+    const FluidModel& fluid = model.fluid;
+    const double skin = fluid.neighbour_skin_ratio * fluid.spacing;
+    using At = FluidNeighbourSearch::Positions;
+    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, At::kCurrent));
+    if (fluid.schemes.error_compensating_source) pipeline.step.push_back(std::make_unique<FluidEcsSource>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidWallMotion>());
+    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, At::kPredicted));
+    pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
+    pipeline.end_of_step.push_back(std::make_unique<FluidChecks>(fluid));
+  }
   // Order matters only where systems share a component: the scheduler derives the edges from it.
   if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>());
   // The walls move once per sub-step when grains feel them, otherwise once per engine step.

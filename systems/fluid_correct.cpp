@@ -1,0 +1,82 @@
+#include "systems/fluid_correct.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "systems/wall_motion.hpp"
+
+namespace riffle {
+
+Eigen::Matrix3d gradient_correction_matrix(const Eigen::Matrix3d& moment, double density, double reference_density) {
+  // B = D A is the identity in the lattice interior; near a void it is nearly singular and its inverse would
+  // amplify noise, so fall back to the uncorrected gradient there.
+  const Eigen::Matrix3d scaled = (3.0 / reference_density) * moment;
+  if (density < 0.5 * reference_density || scaled.determinant() < 0.05) return Eigen::Matrix3d::Identity();
+  const double smallest =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scaled, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  if (smallest < 0.2) return Eigen::Matrix3d::Identity();
+  return scaled.inverse();
+}
+
+void FluidCorrect::run(SystemContext& context) {
+  FluidParticles& particles = context.write<FluidParticles>();
+  const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  const FluidSchemes& schemes = fluid_.schemes;
+  const WendlandKernel kernel = constants_.kernel;
+  const double radius_squared = kernel.effective_radius * kernel.effective_radius;
+  const double n0 = constants_.reference_density;
+  const double dt = context.dt;
+  const double rho = fluid_.density;
+  const double stabilisation_distance = fluid_.stabilisation_distance();
+  // Wall and dummy pressure seen from fluid particle i: hydrostatic in the tank frame (amendment 1), so GC is exact
+  // for hydrostatics and the contact line sees p ~ 0.
+  const Vec3 body_acceleration =
+      context.model.gravity - tank_kinematics(context.model.tank.motion, context.time + dt).acceleration;
+  const Vec3 wall_pressure_gradient = rho * body_acceleration;
+
+  for_each_particle(fluid_count, [&](std::size_t i) {
+    const Vec3 position = particles.predicted_position[i];
+    const double pressure = particles.pressure[i];
+    const auto partner_pressure = [&](std::uint32_t j, const Vec3& offset) {
+      return particles.kind[j] == kFluidKind ? particles.pressure[j] : pressure + wall_pressure_gradient.dot(offset);
+    };
+    // Classic gradient (GC off): p_j - min p over the support, which keeps the pressure force repulsive.
+    double base_pressure = pressure;
+    if (!schemes.gradient_correction) {
+      for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+        const Vec3 offset = particles.predicted_position[j] - position;
+        if (offset.squaredNorm() < radius_squared) base_pressure = std::min(base_pressure, partner_pressure(j, offset));
+      }
+    }
+    Vec3 gradient_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
+    Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();
+    double density = 0.0;
+    for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+      const Vec3 offset = particles.predicted_position[j] - position;
+      const double distance_squared = offset.squaredNorm();
+      if (distance_squared >= radius_squared || distance_squared == 0.0) continue;
+      const double distance = std::sqrt(distance_squared);
+      const double weight = kernel.weight(distance);
+      gradient_sum += ((partner_pressure(j, offset) - base_pressure) * weight / distance_squared) * offset;
+      if (schemes.gradient_correction) {
+        moment += (weight / distance_squared) * offset * offset.transpose();
+        density += weight;
+      }
+      if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
+        // rho_j / (rho_i + rho_j): 1/2 between fluid particles, 1 against an (infinitely heavy) wall.
+        const double partner_share = particles.kind[j] == kFluidKind ? 0.5 : 1.0;
+        stabilisation -= (partner_share * (stabilisation_distance - distance) / dt * weight / distance) * offset;
+      }
+    }
+    Vec3 gradient = (3.0 / n0) * gradient_sum;
+    if (schemes.gradient_correction) gradient = gradient_correction_matrix(moment, density, n0) * gradient;
+    const Vec3 change = -dt / rho * gradient + stabilisation / n0;
+    particles.velocity[i] += change;
+    particles.position[i] = position + dt * change;
+  });
+  context.count_items(fluid_count);
+}
+
+}  // namespace riffle

@@ -1,0 +1,24 @@
+#pragma once
+// Number density n* at the predicted positions and the free-surface flag n* < beta n0 (seed 000 Eq. 4;
+// numerics 3.4 with beta = 0.93 from the amendments). Only fluid particles: walls are never surface particles.
+#include <vector>
+
+#include "engine/system.hpp"
+#include "systems/fluid_common.hpp"
+
+namespace riffle {
+
+class FluidFreeSurface final : public System {
+ public:
+  explicit FluidFreeSurface(const FluidModel& fluid)
+      : constants_(MpsConstants::from(fluid)), threshold_(fluid.surface_threshold) {}
+  std::string_view name() const override { return "fluid_free_surface"; }
+  Access access() const override { return {{ComponentId::kFluidNeighbours}, {ComponentId::kFluid}}; }
+  void run(SystemContext& context) override;
+
+ private:
+  MpsConstants constants_;
+  double threshold_;
+};
+
+}  // namespace riffle

@@ -1,0 +1,39 @@
+#include "systems/fluid_predict.hpp"
+
+#include <cmath>
+
+namespace riffle {
+
+void FluidPredict::run(SystemContext& context) {
+  FluidParticles& particles = context.write<FluidParticles>();
+  const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  const WendlandKernel kernel = constants_.kernel;
+  const double radius_squared = kernel.effective_radius * kernel.effective_radius;
+  // nu <lap u>_i = nu 2D / (lambda0 n0) sum_j (u_j - u_i) w_ij  (numerics 1.4, D = 3)
+  const double viscous_factor =
+      fluid_.kinematic_viscosity * 6.0 / (constants_.laplacian_lambda * constants_.reference_density);
+  const Vec3 gravity = context.model.gravity;
+  acceleration_.resize(fluid_count);
+  for_each_particle(fluid_count, [&](std::size_t i) {
+    Vec3 viscous = Vec3::Zero();
+    if (viscous_factor > 0.0) {
+      const Vec3 position = particles.position[i];
+      const Vec3 velocity = particles.velocity[i];
+      for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+        const double distance_squared = (particles.position[j] - position).squaredNorm();
+        if (distance_squared >= radius_squared) continue;
+        viscous += kernel.weight(std::sqrt(distance_squared)) * (particles.velocity[j] - velocity);
+      }
+    }
+    acceleration_[i] = viscous_factor * viscous + gravity;
+  });
+  const double dt = context.dt;
+  for_each_particle(fluid_count, [&](std::size_t i) {
+    particles.velocity[i] += dt * acceleration_[i];
+    particles.predicted_position[i] = particles.position[i] + dt * particles.velocity[i];
+  });
+  context.count_items(fluid_count);
+}
+
+}  // namespace riffle

@@ -1,0 +1,142 @@
+#include "systems/fluid_pressure.hpp"
+
+#include <cmath>
+
+namespace riffle {
+
+void FluidPressureSolve::run(SystemContext& context) {
+  FluidParticles& particles = context.write<FluidParticles>();
+  const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
+  FluidSummary& summary = context.write<FluidSummary>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  const FluidSchemes& schemes = fluid_.schemes;
+  const WendlandKernel kernel = constants_.kernel;
+  const double radius_squared = kernel.effective_radius * kernel.effective_radius;
+  const double n0 = constants_.reference_density;
+  const double dt = context.dt;
+  const double rho = fluid_.density;
+
+  // Unknowns: fluid particles off the free surface, in slot order (so the system is the same for any thread count).
+  row_of_.assign(fluid_count, -1);
+  slot_of_.clear();
+  for (std::size_t i = 0; i < fluid_count; ++i) {
+    if (particles.free_surface[i]) continue;
+    row_of_[i] = static_cast<std::int32_t>(slot_of_.size());
+    slot_of_.push_back(static_cast<std::uint32_t>(i));
+  }
+  const std::size_t unknowns = slot_of_.size();
+  entry_count_.assign(unknowns, 0);
+  columns_.resize(neighbours.slots.size());
+  values_.resize(neighbours.slots.size());
+  for (auto* vector : {&diagonal_, &rhs_, &solution_, &residual_, &direction_, &product_, &preconditioned_})
+    vector->resize(unknowns);
+
+  // Density term gamma (n* - n0)/(n0 dt^2) with gamma = rate dt (amendment 2); the classic source is gamma = 1.
+  const double gamma = schemes.higher_order_source ? fluid_.density_relaxation_rate * dt : 1.0;
+  const double compressibility_diagonal = rho * n0 * fluid_.compressibility / (dt * dt);
+  const double classic_coefficient = 6.0 / constants_.laplacian_lambda;  // a_ij = 2D w_ij / lambda0
+  for_each_particle(unknowns, [&](std::size_t row) {
+    const std::size_t i = slot_of_[row];
+    const Vec3 position = particles.predicted_position[i];
+    const Vec3 velocity = particles.velocity[i];
+    const std::uint32_t first_entry = neighbours.offsets[i];
+    std::uint32_t entries = 0, fluid_neighbours = 0;
+    double diagonal = compressibility_diagonal, rate = 0.0;
+    for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+      const Vec3 offset = particles.predicted_position[j] - position;
+      const double distance_squared = offset.squaredNorm();
+      if (distance_squared >= radius_squared) continue;
+      const double distance = std::sqrt(distance_squared);
+      const double derivative_over_distance = kernel.derivative_over_distance(distance);
+      const bool fluid = particles.kind[j] == kFluidKind;
+      if (fluid) {
+        // Walls are left out of the Laplacian: zero normal pressure flux (Neumann, amendment 1).
+        const double coefficient = schemes.higher_order_laplacian ? -2.0 * derivative_over_distance
+                                                                  : classic_coefficient * kernel.weight(distance);
+        diagonal += coefficient;
+        ++fluid_neighbours;
+        if (row_of_[j] >= 0) {  // surface neighbours hold p = 0: their term drops, the diagonal keeps it
+          columns_[first_entry + entries] = static_cast<std::uint32_t>(row_of_[j]);
+          values_[first_entry + entries] = -coefficient;
+          ++entries;
+        }
+      }
+      if (schemes.higher_order_source)
+        rate += (fluid ? 1.0 : 2.0) * derivative_over_distance * offset.dot(particles.velocity[j] - velocity);
+    }
+    double rhs = rho * gamma * (particles.number_density[i] - n0) / (dt * dt);
+    if (schemes.higher_order_source) rhs += rho / dt * rate;
+    if (schemes.error_compensating_source) rhs += rho / dt * particles.density_rate[i];
+    if (fluid_neighbours == 0) {  // only walls around: nothing to couple to, hold it at zero
+      diagonal = 1.0;
+      rhs = 0.0;
+    }
+    diagonal_[row] = diagonal;
+    entry_count_[row] = entries;
+    rhs_[row] = rhs;
+    solution_[row] = particles.pressure[i];  // warm start from p^k
+  });
+
+  const auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
+    for_each_particle(unknowns, [&](std::size_t row) {
+      const std::size_t first = neighbours.offsets[slot_of_[row]];
+      const std::size_t last = first + entry_count_[row];
+      double sum = diagonal_[row] * x[row];
+      for (std::size_t k = first; k < last; ++k) sum += values_[k] * x[columns_[k]];
+      y[row] = sum;
+    });
+  };
+
+  // Jacobi-preconditioned conjugate gradients (numerics 3.5), |r| <= tol |b|.
+  const double rhs_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t k) { return rhs_[k] * rhs_[k]; }));
+  const double target = fluid_.solver_tolerance * rhs_norm;
+  std::int64_t iterations = 0;
+  double residual_norm = 0.0;
+  if (rhs_norm == 0.0) {
+    std::fill(solution_.begin(), solution_.end(), 0.0);
+  } else {
+    multiply(solution_, product_);
+    double residual_dot = deterministic_sum(unknowns, [&](std::size_t k) {
+      residual_[k] = rhs_[k] - product_[k];
+      preconditioned_[k] = residual_[k] / diagonal_[k];
+      direction_[k] = preconditioned_[k];
+      return residual_[k] * preconditioned_[k];
+    });
+    residual_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t k) { return residual_[k] * residual_[k]; }));
+    while (residual_norm > target && iterations < fluid_.solver_max_iterations && std::isfinite(residual_norm)) {
+      multiply(direction_, product_);
+      const double curvature = deterministic_sum(unknowns, [&](std::size_t k) { return direction_[k] * product_[k]; });
+      const double step = residual_dot / curvature;
+      residual_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t k) {
+        solution_[k] += step * direction_[k];
+        residual_[k] -= step * product_[k];
+        return residual_[k] * residual_[k];
+      }));
+      ++iterations;
+      if (residual_norm <= target) break;
+      const double next_dot = deterministic_sum(unknowns, [&](std::size_t k) {
+        preconditioned_[k] = residual_[k] / diagonal_[k];
+        return residual_[k] * preconditioned_[k];
+      });
+      const double beta = next_dot / residual_dot;
+      residual_dot = next_dot;
+      for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned_[k] + beta * direction_[k]; });
+    }
+  }
+
+  const bool clamp = fluid_.clamp_negative_pressure;
+  std::size_t surface = 0;
+  for (std::size_t i = 0; i < fluid_count; ++i) surface += particles.free_surface[i] ? 1 : 0;
+  for_each_particle(fluid_count, [&](std::size_t i) {
+    const double pressure = row_of_[i] >= 0 ? solution_[static_cast<std::size_t>(row_of_[i])] : 0.0;
+    particles.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
+  });
+  summary.solver_iterations = iterations;
+  summary.solver_residual = rhs_norm > 0.0 ? residual_norm / rhs_norm : 0.0;
+  summary.solver_unknowns = unknowns;
+  summary.solver_converged = std::isfinite(residual_norm) && residual_norm <= target;
+  summary.surface_count = surface;
+  context.count_items(unknowns);
+}
+
+}  // namespace riffle

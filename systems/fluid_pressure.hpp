@@ -1,0 +1,36 @@
+#pragma once
+// The pressure Poisson equation (seed 000 Eqs. 4-7; numerics 2.2-2.5, 3.5 and amendments 1-2), assembled over the
+// fluid particles only (Neumann walls) and solved by Jacobi-preconditioned CG warm-started from p^k.
+#include <vector>
+
+#include "engine/system.hpp"
+#include "systems/fluid_common.hpp"
+
+namespace riffle {
+
+/// The pressure Poisson equation in the symmetric positive definite form M p = b over the unknown (non-surface)
+/// fluid particles: M_ii = sum_fluid a_ij + rho n0 alpha_c / dt^2, M_ij = -a_ij (j unknown), with
+/// b = rho/dt [Dn/Dt* + ECS] + rho gamma (n* - n0)/dt^2 (gamma = rate dt; classic source: gamma = 1, no Dn/Dt).
+class FluidPressureSolve final : public System {
+ public:
+  explicit FluidPressureSolve(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
+  std::string_view name() const override { return "fluid_pressure"; }
+  Access access() const override {
+    return {{ComponentId::kFluidNeighbours}, {ComponentId::kFluid, ComponentId::kFluidSummary}};
+  }
+  void run(SystemContext& context) override;
+
+ private:
+  FluidModel fluid_;
+  MpsConstants constants_;
+  // The matrix in padded CSR on the neighbour offsets: row i's entries start at neighbour offset of i.
+  std::vector<std::int32_t> row_of_;      ///< fluid slot -> unknown index, -1 on the surface
+  std::vector<std::uint32_t> slot_of_;    ///< unknown index -> fluid slot
+  std::vector<std::uint32_t> entry_count_;  ///< off-diagonal entries of each unknown
+  std::vector<std::uint32_t> columns_;    ///< unknown indices
+  std::vector<double> values_;            ///< M_ij
+  std::vector<double> diagonal_;
+  std::vector<double> rhs_, solution_, residual_, direction_, product_, preconditioned_;
+};
+
+}  // namespace riffle
