@@ -118,7 +118,7 @@ struct FluidModel {
   double min_dt = 1.0e-6;                ///< [s] a step below this stops the run as unstable
   double solver_tolerance = 1.0e-8;      ///< [1] PCG stops at |r| <= tol |b|
   std::int64_t solver_max_iterations = 2000;
-  double neighbour_skin_ratio = 0.5;     ///< [1] Verlet skin / l0 of the neighbour lists
+  double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
 
   double effective_radius() const { return spacing * effective_radius_ratio; }
   double stabilisation_distance() const { return (1.0 - courant) * spacing; }  ///< d_ij = alpha_DS l0
