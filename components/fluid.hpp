@@ -32,6 +32,7 @@ struct FluidParticles {
   std::vector<Vec3> predicted_position;     ///< [m] r* after the explicit prediction (numerics 2.1)
   std::vector<double> density_rate;         ///< [1/s] ECS input: (Dn/Dt)^k of fluid particles at the step start
   std::vector<double> pressure;             ///< [Pa] gauge pressure (0 at the free surface)
+  std::vector<double> previous_pressure;    ///< [Pa] pressure of the step before (the PPE's warm start extrapolates)
   std::vector<double> number_density;       ///< [1] n_i = sum_j w(r_ij) over fluid, wall and dummy neighbours
   std::vector<std::int32_t> free_surface;   ///< [1] 1 if n_i < beta n0 (fluid particles only), else 0
 
@@ -47,6 +48,7 @@ struct FluidParticles {
     visit(FieldInfo{"predicted_position", "m", false}, self.predicted_position);
     visit(FieldInfo{"density_rate", "1/s", false}, self.density_rate);
     visit(FieldInfo{"pressure", "Pa", true}, self.pressure);
+    visit(FieldInfo{"previous_pressure", "Pa", false}, self.previous_pressure);
     visit(FieldInfo{"number_density", "1", true}, self.number_density);
     visit(FieldInfo{"free_surface", "1", true}, self.free_surface);
   }
@@ -65,6 +67,7 @@ struct FluidParticles {
     predicted_position[slot] = position_m;
     density_rate[slot] = 0.0;
     pressure[slot] = 0.0;
+    previous_pressure[slot] = 0.0;
     number_density[slot] = 0.0;
     free_surface[slot] = 0;
     return slot;

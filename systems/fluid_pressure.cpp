@@ -74,7 +74,8 @@ void FluidPressureSolve::run(SystemContext& context) {
     diagonal_[row] = diagonal;
     entry_count_[row] = entries;
     rhs_[row] = rhs;
-    solution_[row] = particles.pressure[i];  // warm start from p^k
+    // Warm start: p^k extrapolated linearly in time (p^{k-1} is kept per particle), clamped at zero like p.
+    solution_[row] = std::max(0.0, 2.0 * particles.pressure[i] - particles.previous_pressure[i]);
   });
 
   const auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
@@ -128,6 +129,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   std::size_t surface = 0;
   for (std::size_t i = 0; i < fluid_count; ++i) surface += particles.free_surface[i] ? 1 : 0;
   for_each_particle(fluid_count, [&](std::size_t i) {
+    particles.previous_pressure[i] = particles.pressure[i];
     const double pressure = row_of_[i] >= 0 ? solution_[static_cast<std::size_t>(row_of_[i])] : 0.0;
     particles.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
   });
