@@ -34,8 +34,9 @@ T get(const std::string& in, std::size_t offset) {
 template <class Archive>
 void archive_checkpoint(Archive& archive, CheckpointData& data) {
   World& world = data.world;
+  // fluid_neighbours is left out: it is rebuilt from the positions.
   archive(data.scene_file, data.scene_text, world.time, world.step, world.solids, world.walls, world.tank_motion,
-          world.contacts, data.output);
+          world.contacts, world.fluid, world.fluid_summary, data.output);
 }
 }  // namespace
 
@@ -88,6 +89,7 @@ CheckpointData decode_checkpoint(const std::string& bytes, const std::string& na
     archive_checkpoint(archive, data);
     if (data.world.solids) check_field_sizes(*data.world.solids, "solids");
     if (data.world.walls) check_field_sizes(*data.world.walls, "walls");
+    if (data.world.fluid) check_field_sizes(*data.world.fluid, "fluid");
   } catch (const std::exception& error) {
     throw CheckpointError(name + ": checkpoint payload cannot be read: " + error.what());
   }

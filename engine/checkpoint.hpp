@@ -19,7 +19,7 @@
 
 namespace riffle {
 
-inline constexpr std::uint32_t kCheckpointVersion = 2;  // 2: contacts component
+inline constexpr std::uint32_t kCheckpointVersion = 3;  // 2: contacts component; 3: fluid and fluid summary
 
 /// Output bookkeeping that must survive a resume so the frame series and diagnostics continue seamlessly.
 struct OutputState {

@@ -122,6 +122,10 @@ int cli_main(int argc, char** argv) {
                 simulation->world().solids ? simulation->world().solids->size() : 0,
                 simulation->world().walls ? simulation->world().walls->size() : 0, model.end_time, model.dt,
                 static_cast<long long>(model.solid_substeps));
+    if (const FluidParticles* fluid = simulation->world().fluid ? &*simulation->world().fluid : nullptr)
+      std::printf("  fluid: %zu MPS particles, %zu of them fluid, spacing %g m, r_e = %g spacing\n", fluid->size(),
+                  simulation->world().fluid_summary->fluid_count, model.fluid.spacing,
+                  model.fluid.effective_radius_ratio);
     return kExitOk;
   }
 

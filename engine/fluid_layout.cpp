@@ -29,20 +29,34 @@ std::int64_t dummy_layer_count(double spacing, double effective_radius) {
   return std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil(effective_radius / spacing - 1e-9)) - 1);
 }
 
-FluidLayout fluid_box_layout(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing) {
-  if (!(spacing > 0.0)) throw std::invalid_argument("fluid_box_layout: spacing must be positive");
+bool LatticeRange::overlaps(const LatticeRange& other) const {
+  for (std::size_t a = 0; a < 3; ++a)
+    if (std::max(first[a], other.first[a]) > std::min(last[a], other.last[a])) return false;
+  return true;
+}
+
+LatticeRange lattice_range(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing) {
+  if (!(spacing > 0.0)) throw std::invalid_argument("lattice_range: spacing must be positive");
   constexpr double kTolerance = 1e-9;
-  std::array<std::int64_t, 3> first{}, last{};
+  LatticeRange range;
   for (int axis = 0; axis < 3; ++axis) {
     // Cell centres origin + (i + 1/2) l0 inside [low, high].
     const auto a = static_cast<std::size_t>(axis);
-    first[a] = static_cast<std::int64_t>(std::ceil((low[axis] - lattice_origin[axis]) / spacing - 0.5 - kTolerance));
-    last[a] = static_cast<std::int64_t>(std::floor((high[axis] - lattice_origin[axis]) / spacing - 0.5 + kTolerance));
+    range.first[a] =
+        static_cast<std::int64_t>(std::ceil((low[axis] - lattice_origin[axis]) / spacing - 0.5 - kTolerance));
+    range.last[a] =
+        static_cast<std::int64_t>(std::floor((high[axis] - lattice_origin[axis]) / spacing - 0.5 + kTolerance));
   }
+  return range;
+}
+
+FluidLayout fluid_box_layout(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing) {
+  if (!(spacing > 0.0)) throw std::invalid_argument("fluid_box_layout: spacing must be positive");
+  const LatticeRange range = lattice_range(lattice_origin, low, high, spacing);
   FluidLayout layout;
-  for (std::int64_t k = first[2]; k <= last[2]; ++k)
-    for (std::int64_t j = first[1]; j <= last[1]; ++j)
-      for (std::int64_t i = first[0]; i <= last[0]; ++i) {
+  for (std::int64_t k = range.first[2]; k <= range.last[2]; ++k)
+    for (std::int64_t j = range.first[1]; j <= range.last[1]; ++j)
+      for (std::int64_t i = range.first[0]; i <= range.last[0]; ++i) {
         layout.particles.push_back({lattice_position(lattice_origin, spacing, i, j, k), FluidKind::kFluid, {i, j, k}, -1});
         ++layout.fluid;
       }

@@ -37,6 +37,15 @@ inline const std::array<std::string, 6> kTankFaceNames = {"x_min", "x_max", "y_m
 /// as that integer (w(r_e) = 0, so a layer at exactly r_e adds nothing).
 std::int64_t dummy_layer_count(double spacing, double effective_radius);
 
+/// The lattice cells whose centres lie in the box [low, high] (to 1e-9 l0): cells first[a] .. last[a] along axis
+/// a. Scenes check boxes with it (emptiness, overlaps) before any particle is placed.
+struct LatticeRange {
+  std::array<std::int64_t, 3> first{}, last{};
+  bool empty() const { return last[0] < first[0] || last[1] < first[1] || last[2] < first[2]; }
+  bool overlaps(const LatticeRange& other) const;
+};
+LatticeRange lattice_range(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing);
+
 /// Fluid particles on the lattice anchored at `lattice_origin` whose centres lie in the box [low, high] (to 1e-9
 /// l0). With low = lattice_origin and high - low = n l0 this is n_x n_y n_z particles, the first layer l0/2 from
 /// each face of the box.

@@ -1,8 +1,10 @@
 #include "engine/initial_state.hpp"
 
 #include <algorithm>
+#include <set>
 
 #include "engine/checkpoint.hpp"
+#include "engine/fluid_layout.hpp"
 #include "engine/scene_reader.hpp"
 #include "systems/wall_motion.hpp"
 
@@ -63,6 +65,32 @@ Solids initial_grains(const Model& model) {
   return grains;
 }
 
+FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
+  const FluidModel& fluid = model.fluid;
+  const Vec3& origin = model.tank.origin;
+  FluidParticles particles;
+  for (const ParticleBoxModel& box : fluid.boxes)
+    for (const LatticeParticle& particle : fluid_box_layout(origin, box.low, box.high, fluid.spacing).particles)
+      particles.add(particle.position, box.velocity, FluidKind::kFluid);
+
+  // Wall-box points that coincide with a tank wall particle, or with another wall box, are placed once.
+  std::set<std::array<std::int64_t, 3>> walls_placed;
+  auto add_wall = [&](const LatticeParticle& particle, FluidKind kind) {
+    if (!walls_placed.insert(particle.cell).second) return;
+    const std::size_t slot = particles.add(particle.position + tank.displacement, tank.velocity, kind);
+    particles.rest_position[slot] = particle.position;
+  };
+  if (fluid.tank_walls)
+    for (const LatticeParticle& particle : tank_wall_layout(origin, model.tank.size, model.tank.open_faces,
+                                                            fluid.spacing, fluid.effective_radius())
+                                               .particles)
+      add_wall(particle, particle.kind);
+  for (const ParticleBoxModel& box : fluid.wall_boxes)
+    for (const LatticeParticle& particle : fluid_box_layout(origin, box.low, box.high, fluid.spacing).particles)
+      add_wall(particle, FluidKind::kWall);
+  return particles;
+}
+
 World initial_world(const Model& model) {
   World world;
   world.tank_motion = tank_kinematics(model.tank.motion, 0.0);
@@ -81,6 +109,13 @@ World initial_world(const Model& model) {
                                                  sphere.material, sphere.size_class);
       world.solids->angular_velocity[slot] = sphere.angular_velocity;
     }
+  }
+  if (model.fluid.enabled) {
+    world.fluid = initial_fluid(model, *world.tank_motion);
+    world.fluid_neighbours.emplace();  // built by the first fluid step
+    world.fluid_summary.emplace();
+    world.fluid_summary->fluid_count = static_cast<std::size_t>(
+        std::count(world.fluid->kind.begin(), world.fluid->kind.end(), static_cast<std::int32_t>(FluidKind::kFluid)));
   }
   return world;
 }

@@ -8,6 +8,7 @@
 #include "engine/bed_generation.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/bed_statistics.hpp"
+#include "engine/fluid_scene.hpp"
 #include "engine/probes.hpp"
 #include "systems/contact_law.hpp"
 
@@ -348,6 +349,7 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   if (auto tank = scene.table("tank", true)) read_tank(*tank, model);
   if (auto contact = scene.table("contact", false)) read_contact(*contact, model);
   if (auto solids = scene.table("solids", false)) read_solids(*solids, model);
+  if (auto fluid = scene.table("fluid", false)) read_fluid(*fluid, model);  // engine/fluid_scene.cpp
   if (auto output = scene.table("output", false)) read_output(*output, model);
   scene.finish();
   if (!problems.lines.empty()) throw SceneError(problems.lines);

@@ -169,12 +169,14 @@ void write_vtk_frame(const fs::path& out, const World& world, OutputState& outpu
   const std::size_t index = output.frame_times.size();
   output.frame_times.push_back(world.time);
   char name[64];
-  std::vector<std::string> solid_files, wall_files;
+  std::vector<std::string> solid_files, wall_files, fluid_files;
   for (std::size_t k = 0; k <= index; ++k) {
     std::snprintf(name, sizeof name, "vtk/solids_%06zu.vtp", k);
     solid_files.push_back(name);
     std::snprintf(name, sizeof name, "vtk/walls_%06zu.vtp", k);
     wall_files.push_back(name);
+    std::snprintf(name, sizeof name, "vtk/fluid_%06zu.vtp", k);
+    fluid_files.push_back(name);
   }
   if (world.solids) {
     write_text_file(out / solid_files.back(), solids_vtp(*world.solids));
@@ -183,6 +185,10 @@ void write_vtk_frame(const fs::path& out, const World& world, OutputState& outpu
   if (world.walls) {
     write_text_file(out / wall_files.back(), walls_vtp(*world.walls));
     write_text_file(out / "walls.pvd", pvd_collection(output.frame_times, wall_files));
+  }
+  if (world.fluid) {
+    write_text_file(out / fluid_files.back(), fluid_vtp(*world.fluid));
+    write_text_file(out / "fluid.pvd", pvd_collection(output.frame_times, fluid_files));
   }
 }
 
@@ -281,6 +287,12 @@ std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path)
     throw CheckpointError(path + ": checkpoint does not match its own scene (contacts present: " +
                           (data.world.contacts ? "yes" : "no") + ")");
   world.contacts = std::move(data.world.contacts);
+  if (model.fluid.enabled != data.world.fluid.has_value() ||
+      data.world.fluid.has_value() != data.world.fluid_summary.has_value())
+    throw CheckpointError(path + ": checkpoint does not match its own scene (fluid present: " +
+                          (data.world.fluid ? "yes" : "no") + ")");
+  world.fluid = std::move(data.world.fluid);  // fluid_neighbours stays as initial_world made it: rebuilt
+  world.fluid_summary = std::move(data.world.fluid_summary);
   return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), std::move(data.output)));
 }
 
@@ -294,6 +306,8 @@ CheckpointData Simulation::checkpoint_data() const {
   data.world.walls = world_.walls;
   data.world.tank_motion = world_.tank_motion;
   data.world.contacts = world_.contacts;
+  data.world.fluid = world_.fluid;
+  data.world.fluid_summary = world_.fluid_summary;
   data.output = output_;
   return data;
 }

@@ -98,12 +98,15 @@ std::string base64_encode(const void* data, std::size_t size) {
   return out;
 }
 
-std::string solids_vtp(const Solids& solids) {
-  const std::size_t count = solids.size();
+namespace {
+/// Particles of any SoA component as vertices at `position`, its output fields as point data.
+template <class Component>
+std::string particles_vtp(const Component& particles, const char* scalars) {
+  const std::size_t count = particles.size();
   std::vector<double> xyz(3 * count);
   std::vector<std::int64_t> connectivity(count), offsets(count);
   for (std::size_t i = 0; i < count; ++i) {
-    for (int c = 0; c < 3; ++c) xyz[3 * i + static_cast<std::size_t>(c)] = solids.position[i][c];
+    for (int c = 0; c < 3; ++c) xyz[3 * i + static_cast<std::size_t>(c)] = particles.position[i][c];
     connectivity[i] = static_cast<std::int64_t>(i);
     offsets[i] = static_cast<std::int64_t>(i + 1);
   }
@@ -112,9 +115,15 @@ std::string solids_vtp(const Solids& solids) {
                 "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"%zu\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
                 "NumberOfPolys=\"0\">\n",
                 count, count);
-  return std::string(kHeader) + piece + "      <PointData Scalars=\"radius\">\n" + field_arrays(solids) +
-         "      </PointData>\n" + points_block(xyz) + connectivity_block("Verts", connectivity, offsets) + kFooter;
+  return std::string(kHeader) + piece + "      <PointData Scalars=\"" + scalars + "\">\n" +
+         field_arrays(particles) + "      </PointData>\n" + points_block(xyz) +
+         connectivity_block("Verts", connectivity, offsets) + kFooter;
 }
+}  // namespace
+
+std::string solids_vtp(const Solids& solids) { return particles_vtp(solids, "radius"); }
+
+std::string fluid_vtp(const FluidParticles& fluid) { return particles_vtp(fluid, "pressure"); }
 
 std::string walls_vtp(const Walls& walls) {
   const std::size_t count = walls.size();

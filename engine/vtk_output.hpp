@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "components/fluid.hpp"
 #include "components/solids.hpp"
 #include "components/walls.hpp"
 
@@ -11,6 +12,9 @@ namespace riffle {
 
 /// Grains as vertices with every output field of the Solids table as point data.
 std::string solids_vtp(const Solids& solids);
+/// MPS particles (fluid, wall and dummy) as vertices with every output field of the FluidParticles table as point
+/// data: id, kind, velocity, pressure, number_density, free_surface.
+std::string fluid_vtp(const FluidParticles& fluid);
 /// Walls as quads (face centre +- half extents) with every output field of the Walls table as cell data.
 std::string walls_vtp(const Walls& walls);
 /// A .pvd collection listing `files[k]` at `times[k]`.

@@ -45,6 +45,54 @@ velocity = [0.01, -0.02, 0.9]
 
 inline Model small_model() { return parse_scene(small_scene_text(), "small.toml"); }
 
+/// A small valid fluid scene without grains: a tank of 8 x 4 x 6 lattice cells (l0 = 5 mm, open top, origin off
+/// zero so the lattice anchoring shows), two fluid boxes (4 x 4 x 3 moving, 4 x 4 x 1 at rest) and two overlapping
+/// wall boxes (4 and 8 points, 4 shared). `extra` is appended verbatim.
+inline std::string fluid_scene_text(const std::string& extra = "") {
+  return R"(
+[run]
+name = "fluid"
+end_time = 0.01
+dt = 1.0e-3
+
+[materials.glass]
+density = 2500.0
+
+[tank]
+size = [0.04, 0.02, 0.03]
+origin = [0.1, -0.01, 0.0]
+open_faces = ["z_max"]
+wall_material = "glass"
+
+[tank.motion]
+kind = "sinusoidal"
+amplitude = 0.01
+frequency = 1.7
+
+[fluid]
+spacing = 0.005
+
+[[fluid.boxes]]
+low = [0.1, -0.01, 0.0]
+high = [0.12, 0.01, 0.015]
+velocity = [0.1, 0.0, -0.2]
+
+[[fluid.boxes]]
+low = [0.12, -0.01, 0.0]
+high = [0.14, 0.01, 0.005]
+
+[[fluid.wall_boxes]]
+low = [0.12, -0.01, 0.005]
+high = [0.125, 0.01, 0.01]
+
+[[fluid.wall_boxes]]
+low = [0.12, -0.01, 0.005]
+high = [0.13, 0.01, 0.01]
+)" + extra;
+}
+
+inline Model fluid_model() { return parse_scene(fluid_scene_text(), "fluid.toml"); }
+
 /// A fresh, empty directory under the system's temporary directory.
 inline std::filesystem::path scratch_dir(const std::string& name) {
   const auto path = std::filesystem::temp_directory_path() / ("riffle_test_" + name);

@@ -5,7 +5,12 @@
 #include <algorithm>
 #include <cctype>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 #include "engine/initial_state.hpp"
+#include "engine/simulation.hpp"
 #include "engine/vtk_output.hpp"
 #include "tests/test_support.hpp"
 
@@ -103,4 +108,57 @@ TEST_CASE("pvd_collection lists every frame with its time") {
   const std::string pvd = pvd_collection({0.0, 0.5}, {"vtk/a_000000.vtp", "vtk/a_000001.vtp"});
   CHECK(pvd.find("timestep=\"0\" group=\"\" part=\"0\" file=\"vtk/a_000000.vtp\"") != std::string::npos);
   CHECK(pvd.find("timestep=\"0.5\" group=\"\" part=\"0\" file=\"vtk/a_000001.vtp\"") != std::string::npos);
+}
+
+TEST_CASE("fluid_vtp carries the MPS particles and their output fields exactly") {
+  World world = initial_world(test::fluid_model());
+  FluidParticles& fluid = *world.fluid;
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    fluid.pressure[i] = 10.0 * static_cast<double>(i) + 0.25;
+    fluid.number_density[i] = 1.0 / (1.0 + static_cast<double>(i));
+    fluid.free_surface[i] = static_cast<std::int32_t>(i % 3 == 0);
+  }
+  const std::string vtp = fluid_vtp(fluid);
+  CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
+  CHECK(vtp.find("NumberOfVerts=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
+  const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
+  REQUIRE(points.size() == 3 * fluid.size());
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    for (int c = 0; c < 3; ++c) CHECK(points[3 * i + static_cast<std::size_t>(c)] == fluid.position[i][c]);
+  CHECK(values<std::uint64_t>(array_bytes(vtp, "id")) == fluid.id);
+  CHECK(values<std::int32_t>(array_bytes(vtp, "kind")) == fluid.kind);
+  CHECK(values<double>(array_bytes(vtp, "pressure")) == fluid.pressure);
+  CHECK(values<double>(array_bytes(vtp, "number_density")) == fluid.number_density);
+  CHECK(values<std::int32_t>(array_bytes(vtp, "free_surface")) == fluid.free_surface);
+  const std::vector<double> velocity = values<double>(array_bytes(vtp, "velocity"));
+  REQUIRE(velocity.size() == 3 * fluid.size());
+  CHECK(velocity[0] == fluid.velocity[0].x());
+  CHECK(velocity[2] == fluid.velocity[0].z());
+  for (const char* hidden : {"rest_position", "predicted_position", "density_rate", "\"position"})
+    CHECK_MESSAGE(vtp.find(std::string("Name=\"") + hidden) == std::string::npos, hidden);
+}
+
+TEST_CASE("a run with a fluid writes fluid frames and the fluid.pvd series") {
+  const auto out = test::scratch_dir("vtk_fluid_run");
+  Model model = test::fluid_model();
+  model.output.vtk_interval = 0.005;
+  auto simulation = Simulation::from_model(std::move(model));
+  RunOptions options;
+  options.out_dir = out.string();
+  options.threads = 1;
+  REQUIRE(simulation->run(options).exit_code == kExitOk);
+  const auto read = [](const std::filesystem::path& path) {
+    std::ifstream file(path, std::ios::binary);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return text.str();
+  };
+  const std::string pvd = read(out / "fluid.pvd");
+  for (const char* frame : {"vtk/fluid_000000.vtp", "vtk/fluid_000001.vtp", "vtk/fluid_000002.vtp"}) {
+    CHECK_MESSAGE(pvd.find(std::string("file=\"") + frame + "\"") != std::string::npos, frame);
+    CHECK_MESSAGE(std::filesystem::exists(out / frame), frame);
+  }
+  const std::string last = read(out / "vtk/fluid_000002.vtp");
+  CHECK(values<std::int32_t>(array_bytes(last, "kind")) == simulation->world().fluid->kind);
+  CHECK_FALSE(std::filesystem::exists(out / "solids.pvd"));  // no grains in this scene
 }
