@@ -95,7 +95,7 @@ TEST_CASE("a minimal fluid table gets the documented defaults") {
   CHECK(fluid.min_dt == 1.0e-6);
   CHECK(fluid.solver_tolerance == 1.0e-8);
   CHECK(fluid.solver_max_iterations == 2000);
-  CHECK(fluid.neighbour_skin_ratio == 0.5);
+  CHECK(fluid.neighbour_skin_ratio == 0.3);
   CHECK(fluid.schemes.higher_order_source);
   CHECK(fluid.schemes.error_compensating_source);
   CHECK(fluid.schemes.higher_order_laplacian);
