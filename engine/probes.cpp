@@ -264,23 +264,43 @@ double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettin
   return weight_sum > 0.0 ? weighted_sum / weight_sum : kNaN;
 }
 
+namespace {
+/// n of particle `slot` at the current positions: sum of w(r) over every other MPS particle (fluid, wall, dummy)
+/// within r_e, as the fluid systems define it.
+double number_density_at(const FluidParticles& particles, const WendlandKernel& kernel, std::size_t slot) {
+  const double radius_squared = kernel.effective_radius * kernel.effective_radius;
+  double density = 0.0;
+  for (std::size_t j = 0; j < particles.size(); ++j) {
+    const double distance_squared = (particles.position[j] - particles.position[slot]).squaredNorm();
+    if (j != slot && distance_squared < radius_squared) density += kernel.weight(std::sqrt(distance_squared));
+  }
+  return density;
+}
+}  // namespace
+
 double wave_gauge_height(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
                          const Vec3& point, double radius) {
   const Vec3 gauge = point + tank.displacement;
   const double radius_squared = radius * radius;
-  // Half the reference density: a particle inside a drop or a thin sheet still has well over half, a lone
-  // particle of spray (only its own few neighbours) well under.
-  const double connected_density = 0.5 * settings.reference_number_density;
-  double top = -std::numeric_limits<double>::infinity();
+  std::vector<std::pair<double, std::size_t>> column;  // (z, slot) of the fluid particles over the gauge
   for (std::size_t j = 0; j < particles.size(); ++j) {
     if (particles.kind[j] != static_cast<std::int32_t>(FluidKind::kFluid)) continue;
     const double dx = particles.position[j].x() - gauge.x();
     const double dy = particles.position[j].y() - gauge.y();
-    if (dx * dx + dy * dy >= radius_squared || particles.number_density[j] < connected_density) continue;
-    top = std::max(top, particles.position[j].z());
+    if (dx * dx + dy * dy < radius_squared) column.emplace_back(particles.position[j].z(), j);
   }
-  // A particle stands for a cube of side l0: the surface is half a spacing above the top centre.
-  return std::isfinite(top) ? top + 0.5 * settings.spacing - tank.displacement.z() : kNaN;
+  std::sort(column.begin(), column.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  // The highest particle that is not isolated: n >= 0.5 n0 (a particle inside the water has n0, one on a flat
+  // surface 0.7-0.8 n0, a drop of spray far less; spray must not make a spike). n is computed here at the current
+  // positions, only for the few particles from the top down to the first that passes: the stored number_density
+  // belongs to the predicted positions of the last step and is zero before the first one.
+  const WendlandKernel kernel{settings.effective_radius};
+  for (const auto& [z, j] : column)
+    if (number_density_at(particles, kernel, j) >= 0.5 * settings.reference_number_density)
+      return z + 0.5 * settings.spacing - tank.displacement.z();  // a particle stands for a cube of side l0
+  return kNaN;
 }
 
 double surge_front_position(const FluidParticles& particles, const FluidProbeSettings& settings,

@@ -76,7 +76,8 @@ double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettin
 
 /// [m] Height (tank-frame z) of the free surface above the gauge at `point` (x, y in the tank frame): the largest
 /// z_j + l0/2 of the fluid particles within horizontal distance `radius` of the gauge that are not isolated
-/// (n_j >= 0.5 n0: a drop of spray above the surface must not make a spike). NaN if there is none.
+/// (n_j >= 0.5 n0, n_j computed at the current positions over fluid, wall and dummy particles: a drop of spray
+/// above the surface must not make a spike). NaN if there is none.
 double wave_gauge_height(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
                          const Vec3& point, double radius);
 
