@@ -2,6 +2,7 @@
 // The immutable description of a run, parsed and validated from a scene file. Systems receive it as const; the
 // mutable state lives in the World. A checkpoint stores the scene text, so the model is rebuilt on resume.
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -143,14 +144,25 @@ struct SolidsModel {
 /// One [[output.probes]] entry: a CSV written while the run goes (engine/probes.hpp).
 struct ProbeModel {
   enum class Kind {
-    kGrains,     ///< chosen grains by id: position, velocity, angular velocity, contact force
-    kWallForces  ///< reaction force on each wall: minus the sum of its grain-wall contact forces
+    kGrains,         ///< chosen grains by id: position, velocity, angular velocity, contact force
+    kWallForces,     ///< reaction force on each wall: minus the sum of its grain-wall contact forces
+    kFluidPressure,  ///< pressure at sensors fixed to the tank (hydrostatically extrapolated Shepard average)
+    kWaveGauge,      ///< height of the free surface above horizontal points of the tank
+    kSurgeFront,     ///< furthest reach of the connected fluid along a horizontal direction
+    kFluidTotals     ///< the fluid's per-step summary (FluidSummary): count, volume, energy, PPE report
   };
   Kind kind = Kind::kGrains;
   std::string name;                 ///< unique among the probes
   std::string file;                 ///< file name inside the output directory
   double interval = 0.0;            ///< [s] between rows; 0 = every engine step
   std::vector<std::uint64_t> ids;   ///< grains: grain ids (stable, not slots), in the order of the columns
+  /// [m] fluid_pressure: sensor positions; wave_gauge: (x, y, 0) gauge positions. Tank frame (rest coordinates):
+  /// the lab position is point + tank displacement, so a sensor on a wall moves with it.
+  std::vector<Vec3> points;
+  double radius = 0.0;              ///< [m] wave_gauge: horizontal search radius around each gauge (default l0)
+  Vec3 direction = Vec3::UnitX();   ///< [1] surge_front: unit horizontal direction of the front
+  /// [m] surge_front: only particles less than this above the tank floor count (infinity = the whole depth)
+  double below = std::numeric_limits<double>::infinity();
 };
 
 struct OutputModel {

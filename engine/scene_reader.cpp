@@ -265,6 +265,52 @@ std::vector<std::int64_t> TableReader::integers(const std::string& key, bool req
   return values;
 }
 
+std::vector<Vec3> TableReader::points(const std::string& key, bool required, std::size_t width, const char* unit) {
+  std::vector<Vec3> values;
+  const toml::node* node = lookup(key);
+  const std::string point = "an array of " + std::to_string(width) + " numbers [" + unit + "]";
+  const std::string expected = "an array of points, each " + point;
+  if (!node) {
+    if (required) problem(key, "missing required key; expected " + expected);
+    return values;
+  }
+  const toml::array* array = node->as_array();
+  if (!array) {
+    problem(key, "expected " + expected + ", got " + toml_type_name(*node));
+    return values;
+  }
+  bool all_good = true;
+  for (std::size_t k = 0; k < array->size(); ++k) {
+    const toml::node& item = *array->get(k);
+    const std::string item_key = full_key(key) + "[" + std::to_string(k) + "]";
+    const toml::array* coordinates = item.as_array();
+    if (!coordinates || coordinates->size() != width) {
+      problems_->add(item.source(), item_key,
+                     "expected " + point + ", got " +
+                         (coordinates ? "an array of " + std::to_string(coordinates->size()) + " items"
+                                      : toml_type_name(item)));
+      all_good = false;
+      continue;
+    }
+    Vec3 value = Vec3::Zero();
+    for (std::size_t c = 0; c < width; ++c) {
+      const toml::node& coordinate = *coordinates->get(c);
+      const std::optional<double> number = as_double(coordinate);
+      if (!number || !std::isfinite(*number)) {
+        problems_->add(coordinate.source(), item_key + "[" + std::to_string(c) + "]",
+                       std::string("expected a finite number [") + unit + "], got " +
+                           (number ? format_number(*number) : toml_type_name(coordinate)));
+        all_good = false;
+        break;
+      }
+      value[static_cast<Eigen::Index>(c)] = *number;
+    }
+    values.push_back(value);
+  }
+  if (!all_good) values.clear();
+  return values;
+}
+
 void TableReader::item_problem(const std::string& key, std::size_t index, const std::string& message) {
   const toml::node* node = table_->get(key);
   const toml::array* array = node ? node->as_array() : nullptr;

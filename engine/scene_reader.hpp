@@ -71,6 +71,10 @@ class TableReader {
   /// An array of integers, each in [min, max]. Every bad item is reported at the item; then the result is empty,
   /// so a non-empty result has one value per item (item k is key[k] for item_problem).
   std::vector<std::int64_t> integers(const std::string& key, bool required, std::int64_t min, std::int64_t max);
+  /// An array of points, each an array of `width` (2 or 3) finite numbers [unit]; a 2-number point gets z = 0.
+  /// Every bad item is reported at the item (key[k], or key[k][c] for a component); then the result is empty, so a
+  /// non-empty result has one point per item.
+  std::vector<Vec3> points(const std::string& key, bool required, std::size_t width, const char* unit);
   /// Reports a problem at item `index` of the array `key` (named key[index]), or at the key if there is no such item.
   void item_problem(const std::string& key, std::size_t index, const std::string& message);
 

@@ -354,7 +354,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
     DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run);
     // Probes and the bed profile keep no state in checkpoints: their schedules depend on the time only.
     std::vector<ProbeWriter> probes;
-    for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(probe, out, world_, dt, fresh_run);
+    for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, world_, fresh_run);
     std::optional<BedProfileWriter> bed_profile;
     if (model_->output.bed_profile_interval > 0.0 && world_.solids)
       bed_profile.emplace(*model_, out, world_, fresh_run);

@@ -1,0 +1,415 @@
+// Fluid probes (engine/probes.*): the pressure sensor, wave gauge and surge front on a still water block on the MPS
+// lattice, with hand-set hydrostatic pressures; reading [[output.probes]] of the fluid kinds and its errors
+// (file:line:column: key); the CSV a ProbeWriter writes for each kind.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "engine/fluid_layout.hpp"
+#include "engine/probes.hpp"
+#include "engine/scene.hpp"
+#include "systems/mps_kernel.hpp"
+#include "tests/test_support.hpp"
+
+using namespace riffle;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kSpacing = 0.01;     // [m] l0
+constexpr double kRadiusRatio = 2.4;  // r_e / l0
+constexpr double kDensity = 1000.0;   // [kg/m^3]
+constexpr double kGravity = 9.81;     // [m/s^2]
+const Vec3 kTankSize(0.1, 0.06, 0.1);  // [m] open top, inner min corner at the origin
+const Vec3 kWater(0.06, 0.06, 0.05);   // [m] the water block from the origin: a dam-break column, H = 5 cm
+constexpr double kDepth = 0.05;        // [m] H
+
+FluidProbeSettings settings() {
+  FluidProbeSettings s;
+  s.spacing = kSpacing;
+  s.effective_radius = kRadiusRatio * kSpacing;
+  s.density = kDensity;
+  s.gravity = Vec3(0.0, 0.0, -kGravity);
+  s.reference_number_density = lattice_constants(3, kSpacing, s.effective_radius).number_density;
+  s.floor_height = 0.0;
+  return s;
+}
+
+/// The water block (fluid slots first) in the tank's wall and dummy particles, hydrostatic p = rho g (H - z);
+/// `extra` fluid particles (drops) are added after the block. Number densities are left at zero: no probe reads them.
+FluidParticles still_water(const std::vector<Vec3>& extra = {}) {
+  FluidParticles particles;
+  append_layout(particles, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), kWater, kSpacing));
+  for (const Vec3& drop : extra) particles.add(drop, Vec3::Zero(), FluidKind::kFluid);
+  append_layout(particles, tank_wall_layout(Vec3::Zero(), kTankSize, {"z_max"}, kSpacing, kRadiusRatio * kSpacing));
+  for (std::size_t j = 0; j < particles.size(); ++j)
+    if (particles.kind[j] == static_cast<std::int32_t>(FluidKind::kFluid))
+      particles.pressure[j] = kDensity * kGravity * (kDepth - particles.position[j].z());
+  return particles;
+}
+
+/// Moves every particle with the tank (the water at rest in the tank frame).
+void shift(FluidParticles& particles, const Vec3& displacement) {
+  for (Vec3& position : particles.position) position += displacement;
+}
+
+// Tolerance of the pressure sensor on a linear field: every term p_j + rho (g - a) . (x_s - x_j) equals the exact
+// value up to rounding, so the Shepard average does too: a few ulp of the largest term, rho g (H + r_e) ~ 700 Pa,
+// i.e. ~1e-13 Pa. 1e-9 of rho g H leaves room for any summation order and still catches a missing l0/2 or a wrong
+// sign (errors of order rho g l0 ~ 100 Pa).
+constexpr double kPressureTolerance = 1e-9 * kDensity * kGravity * kDepth;
+
+}  // namespace
+
+TEST_CASE("a pressure sensor reads the hydrostatic pressure inside the water and on the walls") {
+  const FluidParticles water = still_water();
+  const FluidProbeSettings s = settings();
+  const TankMotion at_rest;
+  struct Sensor {
+    Vec3 point;
+    const char* where;
+  };
+  const std::vector<Sensor> sensors = {
+      {{0.03, 0.03, 0.02}, "inside, between lattice sites"},
+      {{0.035, 0.025, 0.025}, "on a particle"},
+      {{0.03, 0.03, 0.0}, "on the floor (l0/2 below the first layer)"},
+      {{0.0, 0.03, 0.01}, "on the x_min wall"},
+      {{0.0, 0.0, 0.0}, "in the floor corner"},
+      {{0.06, 0.03, 0.03}, "on the water's free side face (dam-break front)"},
+      {{0.03, 0.03, kDepth}, "at the free surface"},
+  };
+  for (const Sensor& sensor : sensors) {
+    CAPTURE(sensor.where);
+    const double pressure = fluid_pressure_at(water, s, at_rest, sensor.point);
+    CHECK(std::abs(pressure - kDensity * kGravity * (kDepth - sensor.point.z())) <= kPressureTolerance);
+  }
+  // A sensor farther than r_e from every fluid particle is dry: no value, not zero.
+  CHECK(std::isnan(fluid_pressure_at(water, s, at_rest, Vec3(0.03, 0.03, 0.08))));   // 3.5 l0 above the top layer
+  CHECK(std::isnan(fluid_pressure_at(water, s, at_rest, Vec3(0.095, 0.03, 0.005))));  // 3 l0 ahead of the front
+}
+
+TEST_CASE("a pressure sensor moves with the tank and uses the tank's acceleration") {
+  const FluidProbeSettings s = settings();
+  SUBCASE("the sensor's lab position is its point plus the tank displacement") {
+    const FluidParticles water = still_water();  // left where it is: only the sensor moves
+    TankMotion tank;
+    tank.displacement = Vec3(0.0, 0.0, -0.01);
+    CHECK(std::abs(fluid_pressure_at(water, s, tank, Vec3(0.03, 0.03, 0.02)) -
+                   kDensity * kGravity * (kDepth - 0.01)) <= kPressureTolerance);
+    tank.displacement = Vec3(0.04, 0.0, 0.0);  // a sensor 1 l0 ahead of the front is carried 4 l0 further: dry
+    CHECK(!std::isnan(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.07, 0.03, 0.02))));
+    CHECK(std::isnan(fluid_pressure_at(water, s, tank, Vec3(0.07, 0.03, 0.02))));
+  }
+  SUBCASE("in an accelerated tank the pressure field tilts: grad p = rho (g - a)") {
+    FluidParticles water = still_water();
+    TankMotion tank;
+    tank.displacement = Vec3(0.007, -0.002, 0.0);
+    tank.acceleration = Vec3(3.0, -1.0, 0.0);
+    shift(water, tank.displacement);
+    const Vec3 body = s.gravity - tank.acceleration;
+    const Vec3 reference = Vec3(0.0, 0.0, kDepth) + tank.displacement;  // any point: the field is affine
+    for (std::size_t j = 0; j < water.size(); ++j)
+      water.pressure[j] = kDensity * body.dot(water.position[j] - reference);
+    for (const Vec3& point : {Vec3(0.0, 0.03, 0.02), Vec3(0.06, 0.01, 0.0), Vec3(0.031, 0.017, 0.033)}) {
+      CAPTURE(point.transpose());
+      const double expected = kDensity * body.dot(point + tank.displacement - reference);
+      CHECK(std::abs(fluid_pressure_at(water, s, tank, point) - expected) <= kPressureTolerance);
+    }
+  }
+}
+
+TEST_CASE("a wave gauge reads the top of the water and ignores isolated spray") {
+  const FluidProbeSettings s = settings();
+  // A lone particle 4 l0 above the surface over the middle gauge: n = 0 (nothing within r_e = 2.4 l0).
+  const FluidParticles water = still_water({Vec3(0.035, 0.035, 0.085)});
+  for (const Vec3& gauge : {Vec3(0.035, 0.035, 0.0), Vec3(0.03, 0.03, 0.0), Vec3(0.005, 0.03, 0.0)}) {
+    CAPTURE(gauge.transpose());
+    // The top layer's centres are at H - l0/2; the surface is l0/2 higher, exactly H (to rounding).
+    CHECK(wave_gauge_height(water, s, TankMotion{}, gauge, kSpacing) == doctest::Approx(kDepth).epsilon(1e-12));
+  }
+  // Beyond the front no particle is within the radius: no value.
+  CHECK(std::isnan(wave_gauge_height(water, s, TankMotion{}, Vec3(0.08, 0.03, 0.0), kSpacing)));
+  // A radius of 3 l0 reaches the front column from there (its nearest centres are 2.55 l0 away); its top edge
+  // particle has n = 0.55 n0 (a quarter space of support), just above the threshold.
+  CHECK(wave_gauge_height(water, s, TankMotion{}, Vec3(0.08, 0.03, 0.0), 3.0 * kSpacing) ==
+        doctest::Approx(kDepth).epsilon(1e-12));
+
+  // Two drops l0 apart are still spray: n = w(l0) = 0.31 < 0.5 n0 = 1.6 for r_e = 2.4 l0.
+  const FluidParticles pair = still_water({Vec3(0.035, 0.035, 0.085), Vec3(0.035, 0.045, 0.085)});
+  CHECK(wave_gauge_height(pair, s, TankMotion{}, Vec3(0.035, 0.035, 0.0), kSpacing) ==
+        doctest::Approx(kDepth).epsilon(1e-12));
+
+  SUBCASE("in the tank frame") {
+    FluidParticles moved = still_water();
+    TankMotion tank;
+    tank.displacement = Vec3(0.013, 0.004, 0.002);
+    shift(moved, tank.displacement);
+    CHECK(wave_gauge_height(moved, s, tank, Vec3(0.005, 0.03, 0.0), kSpacing) ==
+          doctest::Approx(kDepth).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("the surge front is the far face of the water and ignores lone drops") {
+  const FluidProbeSettings s = settings();
+  const double inf = std::numeric_limits<double>::infinity();
+  const FluidParticles water = still_water();
+  CHECK(surge_front_position(water, s, TankMotion{}, Vec3::UnitX(), inf) == doctest::Approx(kWater.x()));
+  CHECK(surge_front_position(water, s, TankMotion{}, -Vec3::UnitX(), inf) == doctest::Approx(0.0));
+  CHECK(surge_front_position(water, s, TankMotion{}, Vec3::UnitY(), inf) == doctest::Approx(kWater.y()));
+
+  SUBCASE("a lone drop ahead does not count, two drops together do") {
+    const FluidParticles one_drop = still_water({Vec3(0.085, 0.03, 0.005)});
+    CHECK(surge_front_position(one_drop, s, TankMotion{}, Vec3::UnitX(), inf) == doctest::Approx(kWater.x()));
+    const FluidParticles two_drops = still_water({Vec3(0.08, 0.03, 0.045), Vec3(0.09, 0.03, 0.045)});
+    CHECK(surge_front_position(two_drops, s, TankMotion{}, Vec3::UnitX(), inf) == doctest::Approx(0.095));
+    // ... unless they are higher than `below` above the floor.
+    CHECK(surge_front_position(two_drops, s, TankMotion{}, Vec3::UnitX(), 0.03) == doctest::Approx(kWater.x()));
+  }
+  SUBCASE("in the tank frame") {
+    FluidParticles moved = still_water();
+    TankMotion tank;
+    tank.displacement = Vec3(-0.008, 0.001, 0.0);
+    shift(moved, tank.displacement);
+    CHECK(surge_front_position(moved, s, tank, Vec3::UnitX(), inf) == doctest::Approx(kWater.x()));
+  }
+  SUBCASE("no fluid: no value") {
+    CHECK(std::isnan(surge_front_position(FluidParticles{}, s, TankMotion{}, Vec3::UnitX(), inf)));
+  }
+}
+
+namespace {
+
+/// The fluid-free model of the reading tests with [fluid] switched on by hand (the [fluid] table is read
+/// elsewhere): the tank above, l0 = 1 cm.
+Model fluid_model() {
+  Model model;
+  model.dt = 1e-3;
+  model.tank.size = kTankSize;
+  model.fluid.enabled = true;
+  model.fluid.spacing = kSpacing;
+  model.fluid.effective_radius_ratio = kRadiusRatio;
+  return model;
+}
+
+/// Reads the [output] table of `text` into `model`; returns the problems.
+std::vector<std::string> read_output_probes(const std::string& text, Model& model) {
+  SceneProblems problems{"fluid.toml", {}};
+  const std::optional<toml::table> root = parse_toml(text, problems);
+  REQUIRE(root);
+  TableReader scene(*root, "", problems);
+  std::optional<TableReader> output = scene.table("output", true);
+  REQUIRE(output);
+  read_probes(*output, model);
+  output->finish();
+  return problems.lines;
+}
+
+/// "file:line:column: " of the first `needle` in `text` ('^' in the needle marks the character meant).
+std::string location(const std::string& file, const std::string& text, std::string needle) {
+  std::size_t mark = needle.find('^');
+  if (mark == std::string::npos)
+    mark = 0;
+  else
+    needle.erase(mark, 1);
+  const std::size_t found = text.find(needle);
+  REQUIRE_MESSAGE(found != std::string::npos, needle);
+  const std::size_t at = found + mark;
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n');
+  const std::size_t line_start = at == 0 ? std::string::npos : text.rfind('\n', at - 1);
+  const std::size_t column = line_start == std::string::npos ? at + 1 : at - line_start;
+  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+}
+
+std::vector<std::string> lines_of(const fs::path& path) {
+  std::ifstream file(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(file, line);) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace
+
+TEST_CASE("fluid probes are read with their defaults") {
+  Model model = fluid_model();
+  const std::vector<std::string> problems = read_output_probes(R"(
+[output]
+[[output.probes]]
+kind = "fluid_pressure"
+points = [[0.0, 0.03, 0.01], [0.1, 0.06, 0]]
+interval = 0.005
+
+[[output.probes]]
+kind = "wave_gauge"
+points = [[0.005, 0.03], [0.05, 0.03]]
+
+[[output.probes]]
+kind = "wave_gauge"
+name = "wide"
+points = [[0.05, 0.03]]
+radius = 0.02
+
+[[output.probes]]
+kind = "surge_front"
+
+[[output.probes]]
+kind = "surge_front"
+name = "low_front"
+direction = [0, -2, 0]
+below = 0.01
+
+[[output.probes]]
+kind = "fluid_totals"
+)",
+                                                               model);
+  CHECK(problems.empty());
+  REQUIRE(model.output.probes.size() == 6);
+  const std::vector<ProbeModel>& probes = model.output.probes;
+  CHECK(probes[0].kind == ProbeModel::Kind::kFluidPressure);
+  CHECK(probes[0].file == "probe_fluid_pressure.csv");
+  CHECK(probes[0].points == std::vector<Vec3>{Vec3(0.0, 0.03, 0.01), Vec3(0.1, 0.06, 0.0)});
+  CHECK(probes[1].kind == ProbeModel::Kind::kWaveGauge);
+  CHECK(probes[1].points == std::vector<Vec3>{Vec3(0.005, 0.03, 0.0), Vec3(0.05, 0.03, 0.0)});
+  CHECK(probes[1].radius == kSpacing);  // default: l0
+  CHECK(probes[2].radius == 0.02);
+  CHECK(probes[3].kind == ProbeModel::Kind::kSurgeFront);
+  CHECK(probes[3].direction == Vec3::UnitX());
+  CHECK(probes[3].below == std::numeric_limits<double>::infinity());
+  CHECK(probes[4].direction == -Vec3::UnitY());  // normalised
+  CHECK(probes[4].below == 0.01);
+  CHECK(probes[5].kind == ProbeModel::Kind::kFluidTotals);
+  CHECK(probes[5].file == "probe_fluid_totals.csv");
+}
+
+TEST_CASE("bad fluid probes are reported as file:line:column: key: message") {
+  struct Bad {
+    const char* probe;    // the [[output.probes]] table
+    const char* at;       // where the problem is reported ('^' = the column)
+    const char* key;
+    const char* message;  // fragment
+  };
+  const std::vector<Bad> cases = {
+      {"kind = \"fluid_pressure\"\n", "^[[output.probes]]", "output.probes[0].points", "missing required key"},
+      {"kind = \"fluid_pressure\"\npoints = []\n", "points = ^[]", "output.probes[0].points",
+       "expected at least one point"},
+      {"kind = \"fluid_pressure\"\npoints = 1\n", "points = ^1", "output.probes[0].points",
+       "expected an array of points, each an array of 3 numbers [m], got an integer"},
+      {"kind = \"fluid_pressure\"\npoints = [[0.01, 0.02]]\n", "points = [^[0.01", "output.probes[0].points[0]",
+       "expected an array of 3 numbers [m], got an array of 2 items"},
+      {"kind = \"fluid_pressure\"\npoints = [[0.01, 0.02, 0.03], 4]\n", "0.03], ^4", "output.probes[0].points[1]",
+       "got an integer"},
+      {"kind = \"fluid_pressure\"\npoints = [[0.01, \"a\", 0.03]]\n", "0.01, ^\"a\"",
+       "output.probes[0].points[0][1]", "expected a finite number [m], got a string"},
+      {"kind = \"fluid_pressure\"\npoints = [[0.01, 0.02, 0.03], [0.01, 0.02, 0.3]]\n", "0.03], ^[0.01",
+       "output.probes[0].points[1]", "the point lies outside the tank"},
+      {"kind = \"wave_gauge\"\npoints = [[0.01, 0.02, 0.03]]\n", "points = [^[", "output.probes[0].points[0]",
+       "expected an array of 2 numbers [m], got an array of 3 items"},
+      {"kind = \"wave_gauge\"\npoints = [[-0.01, 0.02]]\n", "points = [^[", "output.probes[0].points[0]",
+       "the point lies outside the tank"},
+      {"kind = \"wave_gauge\"\npoints = [[0.01, 0.02]]\nradius = 0\n", "radius = ^0", "output.probes[0].radius",
+       "expected a number > 0 [m], got 0"},
+      {"kind = \"fluid_pressure\"\npoints = [[0.01, 0.02, 0.03]]\nradius = 0.01\n", "^radius",
+       "output.probes[0].radius", "unknown key"},
+      {"kind = \"surge_front\"\ndirection = [1, 0, 1]\n", "direction = ^[", "output.probes[0].direction",
+       "expected a horizontal direction"},
+      {"kind = \"surge_front\"\ndirection = [0, 0, 0]\n", "direction = ^[", "output.probes[0].direction",
+       "expected a non-zero direction"},
+      {"kind = \"surge_front\"\nbelow = -0.1\n", "below = ^-0.1", "output.probes[0].below",
+       "expected a number > 0 [m], got -0.1"},
+      {"kind = \"fluid_totals\"\npoints = [[0.01, 0.02, 0.03]]\n", "^points", "output.probes[0].points",
+       "unknown key"},
+      {"kind = \"surge_frnt\"\npoints = [[0.01, 0.02, 0.03]]\n", "kind = ^\"surge_frnt\"", "output.probes[0].kind",
+       "expected one of"},
+  };
+  for (const Bad& bad : cases) {
+    const std::string text = std::string("[output]\n[[output.probes]]\n") + bad.probe;
+    CAPTURE(text);
+    Model model = fluid_model();
+    const std::vector<std::string> problems = read_output_probes(text, model);
+    std::string all_problems;
+    for (const std::string& problem : problems) all_problems += problem + "\n";
+    CAPTURE(all_problems);
+    REQUIRE(problems.size() == 1);
+    const std::string expected_start = location("fluid.toml", text, bad.at) + bad.key + ": ";
+    CHECK_MESSAGE(problems[0].rfind(expected_start, 0) == 0, problems[0], " should start with ", expected_start);
+    CHECK_MESSAGE(problems[0].find(bad.message) != std::string::npos, problems[0]);
+  }
+}
+
+TEST_CASE("a fluid probe in a scene without [fluid] is an error at its kind") {
+  for (const char* kind : {"fluid_pressure", "wave_gauge", "surge_front", "fluid_totals"}) {
+    CAPTURE(kind);
+    std::string probe = std::string("[[output.probes]]\nkind = \"") + kind + "\"\n";
+    if (std::string(kind) == "fluid_pressure") probe += "points = [[0.1, 0.1, 0.1]]\n";
+    if (std::string(kind) == "wave_gauge") probe += "points = [[0.1, 0.1]]\n";
+    const std::string text = test::small_scene_text("\n[output]\n" + probe);
+    try {
+      parse_scene(text, "dry.toml");
+      FAIL_CHECK("the scene was accepted");
+    } catch (const SceneError& error) {
+      REQUIRE(error.problems().size() == 1);
+      const std::string expected = location("dry.toml", text, std::string("kind = ^\"") + kind) +
+                                   "output.probes[0].kind: \"" + kind + "\" probes need a [fluid] table";
+      CHECK_MESSAGE(error.problems()[0].rfind(expected, 0) == 0, error.problems()[0]);
+    }
+  }
+}
+
+TEST_CASE("ProbeWriter writes one column per sensor, empty fields where nothing is measured") {
+  Model model = fluid_model();
+  read_output_probes(R"([output]
+[[output.probes]]
+kind = "fluid_pressure"
+points = [[0.03, 0.03, 0.0], [0.03, 0.03, 0.09]]
+[[output.probes]]
+kind = "wave_gauge"
+points = [[0.005, 0.03], [0.09, 0.03]]
+[[output.probes]]
+kind = "surge_front"
+[[output.probes]]
+kind = "fluid_totals"
+)",
+                     model);
+  REQUIRE(model.output.probes.size() == 4);
+  const fs::path directory = test::scratch_dir("fluid_probes_writer");
+  World world;
+  world.tank_motion.emplace();
+  world.fluid = still_water();
+  world.fluid_summary.emplace();
+  world.fluid_summary->fluid_count = 180;
+  world.fluid_summary->volume = 1.8e-4;
+  world.fluid_summary->solver_iterations = 42;
+  world.fluid_summary->solver_residual = 5e-9;
+  for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, world, true).write(world);
+
+  // 6 x 6 x 5 fluid particles; the floor sensor reads rho g H (to the rounding of %.9g), the one above is dry.
+  const std::vector<std::string> pressure = lines_of(directory / "probe_fluid_pressure.csv");
+  REQUIRE(pressure.size() == 2);
+  CHECK(pressure[0] == "time_s,step,p0_Pa,p1_Pa");
+  CHECK(pressure[1] == "0,0,490.5,");
+  const std::vector<std::string> gauges = lines_of(directory / "probe_wave_gauge.csv");
+  REQUIRE(gauges.size() == 2);
+  CHECK(gauges[0] == "time_s,step,gauge0_z_m,gauge1_z_m");
+  CHECK(gauges[1] == "0,0,0.05,");
+  const std::vector<std::string> front = lines_of(directory / "probe_surge_front.csv");
+  REQUIRE(front.size() == 2);
+  CHECK(front[0] == "time_s,step,front_m");
+  CHECK(front[1] == "0,0,0.06");
+  const std::vector<std::string> totals = lines_of(directory / "probe_fluid_totals.csv");
+  REQUIRE(totals.size() == 2);
+  CHECK(totals[0] == "time_s,step,fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,"
+                     "surface_particles,ppe_iterations,ppe_residual");
+  CHECK(totals[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09");
+
+  SUBCASE("without fluid particles or summary (yet) every field is empty") {
+    World empty;
+    for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, empty, true).write(empty);
+    CHECK(lines_of(directory / "probe_fluid_pressure.csv")[1] == "0,0,,");
+    CHECK(lines_of(directory / "probe_surge_front.csv")[1] == "0,0,");
+    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,");
+  }
+}
