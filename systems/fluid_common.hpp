@@ -55,6 +55,12 @@ inline NeighbourRange neighbours_of(const FluidNeighbours& neighbours, std::size
   return {neighbours.slots.data() + neighbours.offsets[i], neighbours.slots.data() + neighbours.offsets[i + 1]};
 }
 
+/// Neighbours of fluid particle i within r_e at r* (recorded by fluid_free_surface).
+inline NeighbourRange near_neighbours_of(const FluidNeighbours& neighbours, std::size_t i) {
+  const std::uint32_t* first = neighbours.near_slots.data() + neighbours.offsets[i];
+  return {first, first + neighbours.near_count[i]};
+}
+
 /// Runs body(i) for i in [0, count) in parallel (gather loops: each i writes only its own slot).
 template <class Body>
 void for_each_particle(std::size_t count, Body&& body) {

@@ -50,34 +50,45 @@ void FluidCorrect::run(SystemContext& context) {
     // Classic gradient (GC off): p_j - min p over the support, which keeps the pressure force repulsive.
     double base_pressure = pressure;
     if (!schemes.gradient_correction) {
-      for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+      for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
         const Vec3 offset = particles.predicted_position[j] - position;
         if (offset.squaredNorm() < radius_squared) base_pressure = std::min(base_pressure, partner_pressure(j, offset));
       }
     }
     Vec3 gradient_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
-    Eigen::Matrix3d moment = Eigen::Matrix3d::Zero();
+    double moment_xx = 0.0, moment_xy = 0.0, moment_xz = 0.0, moment_yy = 0.0, moment_yz = 0.0, moment_zz = 0.0;
     double density = 0.0;
-    for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+    for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
       const Vec3 offset = particles.predicted_position[j] - position;
       const double distance_squared = offset.squaredNorm();
       if (distance_squared >= radius_squared || distance_squared == 0.0) continue;
       const double distance = std::sqrt(distance_squared);
       const double weight = kernel.weight(distance);
-      gradient_sum += ((partner_pressure(j, offset) - base_pressure) * weight / distance_squared) * offset;
+      const double weight_over_squared = weight / distance_squared;
+      gradient_sum += ((partner_pressure(j, offset) - base_pressure) * weight_over_squared) * offset;
       if (schemes.gradient_correction) {
-        moment += (weight / distance_squared) * offset * offset.transpose();
+        const Vec3 scaled = weight_over_squared * offset;
+        moment_xx += scaled[0] * offset[0];
+        moment_xy += scaled[0] * offset[1];
+        moment_xz += scaled[0] * offset[2];
+        moment_yy += scaled[1] * offset[1];
+        moment_yz += scaled[1] * offset[2];
+        moment_zz += scaled[2] * offset[2];
         density += weight;
       }
       if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
         // rho_j / (rho_i + rho_j): 1/2 between fluid particles, 1 against an (infinitely heavy) wall.
         const double partner_share = particles.kind[j] == kFluidKind ? 0.5 : 1.0;
-        stabilisation -= (partner_share * (stabilisation_distance - distance) / dt * weight / distance) * offset;
+        stabilisation -= (partner_share * (stabilisation_distance - distance) * weight_over_squared * distance) * offset;
       }
     }
     Vec3 gradient = (3.0 / n0) * gradient_sum;
-    if (schemes.gradient_correction) gradient = gradient_correction_matrix(moment, density, n0) * gradient;
-    const Vec3 change = -dt / rho * gradient + stabilisation / n0;
+    if (schemes.gradient_correction) {
+      Eigen::Matrix3d moment;
+      moment << moment_xx, moment_xy, moment_xz, moment_xy, moment_yy, moment_yz, moment_xz, moment_yz, moment_zz;
+      gradient = gradient_correction_matrix(moment, density, n0) * gradient;
+    }
+    const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;
     particles.position[i] = position + dt * change;
   });

@@ -6,7 +6,9 @@ namespace riffle {
 
 void FluidFreeSurface::run(SystemContext& context) {
   FluidParticles& particles = context.write<FluidParticles>();
-  const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
+  FluidNeighbours& neighbours = context.write<FluidNeighbours>();
+  neighbours.near_count.resize(neighbours.particle_count());
+  neighbours.near_slots.resize(neighbours.slots.size());
   const std::size_t fluid_count = fluid_slot_count(particles);
   const WendlandKernel kernel = constants_.kernel;
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
@@ -14,10 +16,15 @@ void FluidFreeSurface::run(SystemContext& context) {
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = particles.predicted_position[i];
     double density = 0.0;
+    std::uint32_t* near = neighbours.near_slots.data() + neighbours.offsets[i];
+    std::uint32_t near_count = 0;
     for (const std::uint32_t j : neighbours_of(neighbours, i)) {
       const double distance_squared = (particles.predicted_position[j] - position).squaredNorm();
-      if (distance_squared < radius_squared) density += kernel.weight(std::sqrt(distance_squared));
+      if (distance_squared >= radius_squared) continue;
+      density += kernel.weight(std::sqrt(distance_squared));
+      near[near_count++] = j;
     }
+    neighbours.near_count[i] = near_count;
     particles.number_density[i] = density;
     particles.free_surface[i] = density < surface_below ? 1 : 0;
   });

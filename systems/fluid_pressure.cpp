@@ -42,7 +42,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     const std::uint32_t first_entry = neighbours.offsets[i];
     std::uint32_t entries = 0, fluid_neighbours = 0;
     double diagonal = compressibility_diagonal, rate = 0.0;
-    for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+    for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
       const Vec3 offset = particles.predicted_position[j] - position;
       const double distance_squared = offset.squaredNorm();
       if (distance_squared >= radius_squared) continue;

@@ -10,19 +10,24 @@ namespace riffle {
 
 struct WendlandKernel {
   double effective_radius = 0.0;  ///< [m] r_e
+  double inverse_radius = 0.0;    ///< [1/m] 1 / r_e: the pair loops multiply instead of dividing
+
+  WendlandKernel() = default;
+  explicit WendlandKernel(double radius) : effective_radius(radius), inverse_radius(radius > 0.0 ? 1.0 / radius : 0.0) {}
 
   /// w(r) [1]
   double weight(double distance) const {
     if (distance >= effective_radius) return 0.0;
-    const double q = distance / effective_radius;
+    const double q = distance * inverse_radius;
     const double one_minus = 1.0 - q;
-    return one_minus * one_minus * one_minus * one_minus * (1.0 + 4.0 * q);
+    const double squared = one_minus * one_minus;
+    return squared * squared * (1.0 + 4.0 * q);
   }
   /// w'(r) / r = -20 / r_e^2 (1 - q)^3 [1/m^2], finite at r = 0 (used by the HS source and the HL Laplacian).
   double derivative_over_distance(double distance) const {
     if (distance >= effective_radius) return 0.0;
-    const double one_minus = 1.0 - distance / effective_radius;
-    return -20.0 / (effective_radius * effective_radius) * one_minus * one_minus * one_minus;
+    const double one_minus = 1.0 - distance * inverse_radius;
+    return -20.0 * inverse_radius * inverse_radius * one_minus * one_minus * one_minus;
   }
   /// w'(r) [1/m]
   double derivative(double distance) const { return distance * derivative_over_distance(distance); }
