@@ -465,5 +465,23 @@ riffle_as unstable_resume resume "U/checkpoints/$(ckpt_name 10)" --out U2 --unti
 expect_rc "the last good checkpoint resumes (to step 13, before the failure)" unstable_resume 0
 
 # ---------------------------------------------------------------------------------------------------------------
+# 8. The fluid: a shipped scene runs and writes its outputs; a bad key is named; a blow-up stops with a diagnosis.
+riffle_as dam run "$SRC/scenes/dam_break.toml" --out D --until 0.02 --threads 2
+expect_rc "the dam-break scene runs" dam 0
+check "it writes fluid frames" test -f D/fluid.pvd
+check "diagnostics.csv reports the PPE iterations and residual" contains D/diagnostics.csv "ppe_iterations,ppe_relative_residual"
+check "the surge-front probe has rows" test "$(data_rows D/probe_front.csv)" -ge 5
+check "the timing table lists the pressure solve" contains dam.err "fluid_pressure"
+sed 's/^spacing = 0.005 .*/spacing = 0.005\nsurface_treshold = 0.9/' "$SRC/scenes/dam_break.toml" > bad_fluid.toml
+riffle_as bad_fluid check bad_fluid.toml
+expect_rc "a misspelt [fluid] key exits 2" bad_fluid 2
+check "the error names the file, line and key" contains bad_fluid.err "bad_fluid.toml:" "fluid.surface_treshold"
+sed -e 's/^high = \[0.1, 0.02, 0.2\]/high = [0.1, 0.02, 0.2]\nvelocity = [20.0, 0.0, 0.0]/' \
+    -e 's/^spacing = 0.005 .*/spacing = 0.005\nmin_dt = 1.0e-4/' "$SRC/scenes/dam_break.toml" > fast_fluid.toml
+riffle_as fast_fluid run fast_fluid.toml --out F --threads 2
+expect_rc "a fluid whose Courant step falls below min_dt stops with exit 3" fast_fluid 3
+check "the diagnosis names the time-step collapse" contains fast_fluid.err "below fluid.min_dt"
+
+# ---------------------------------------------------------------------------------------------------------------
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
