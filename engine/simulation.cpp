@@ -199,8 +199,9 @@ std::string diagnosis(const World& world, const Model& model) {
   const std::string when = "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) + " s): ";
   if (status.problem == StepProblem::kTimeStepCollapse)
     return when + "the fluid's Courant limit gave dt = " + std::to_string(world.last_dt) + " s, below fluid.min_dt = " +
-           std::to_string(model.fluid.min_dt) + " s: the flow blew up (max fluid speed " +
-           (world.fluid_summary ? std::to_string(world.fluid_summary->max_speed) : std::string("?")) + " m/s)";
+           std::to_string(model.fluid.min_dt) + " s: the flow blew up; fastest fluid particle id " +
+           std::to_string(status.entity) + " at position " + format_vec(status.position) + " m with velocity " +
+           format_vec(status.velocity) + " m/s";
   if (status.problem == StepProblem::kSolverFailed)
     return when + "the pressure solve diverged (non-finite residual after " +
            std::to_string(world.fluid_summary ? world.fluid_summary->solver_iterations : 0) + " iterations)";

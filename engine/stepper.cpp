@@ -24,8 +24,16 @@ void Stepper::step() {
   if (world_.fluid) {
     dt = fluid_time_step(model_.fluid, *world_.fluid, model_.dt);
     if (dt < model_.fluid.min_dt) {
+      // Name the fastest fluid particle: that is where the flow blew up.
+      const FluidParticles& fluid = *world_.fluid;
+      std::size_t fastest = 0;
+      for (std::size_t i = 1; i < fluid_slot_count(fluid); ++i)
+        if (fluid.velocity[i].squaredNorm() > fluid.velocity[fastest].squaredNorm()) fastest = i;
       world_.step_status.problem = StepProblem::kTimeStepCollapse;
       world_.step_status.phase = "fluid";
+      world_.step_status.entity = fluid.id[fastest];
+      world_.step_status.position = fluid.position[fastest];
+      world_.step_status.velocity = fluid.velocity[fastest];
       world_.last_dt = dt;
       return;
     }
