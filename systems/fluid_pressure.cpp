@@ -28,7 +28,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   entry_count_.assign(unknowns, 0);
   columns_.resize(neighbours.slots.size());
   values_.resize(neighbours.slots.size());
-  for (auto* vector : {&diagonal_, &rhs_, &solution_, &residual_, &direction_, &product_, &preconditioned_})
+  for (auto* vector : {&diagonal_, &inverse_diagonal_, &rhs_, &solution_, &residual_, &direction_, &product_, &preconditioned_})
     vector->resize(unknowns);
 
   // Density term gamma (n* - n0)/(n0 dt^2) with gamma = rate dt (amendment 2); the classic source is gamma = 1.
@@ -78,12 +78,24 @@ void FluidPressureSolve::run(SystemContext& context) {
     solution_[row] = std::max(0.0, 2.0 * particles.pressure[i] - particles.previous_pressure[i]);
   });
 
+  // Compact the rows (the assembly wrote them into the neighbour lists' gaps) so the products stream through memory.
+  row_start_.resize(unknowns + 1);
+  row_start_[0] = 0;
+  for (std::size_t row = 0; row < unknowns; ++row) row_start_[row + 1] = row_start_[row] + entry_count_[row];
+  compact_columns_.resize(row_start_[unknowns]);
+  compact_values_.resize(row_start_[unknowns]);
+  for_each_particle(unknowns, [&](std::size_t row) {
+    const std::size_t from = neighbours.offsets[slot_of_[row]];
+    std::copy_n(columns_.begin() + static_cast<std::ptrdiff_t>(from), entry_count_[row],
+                compact_columns_.begin() + static_cast<std::ptrdiff_t>(row_start_[row]));
+    std::copy_n(values_.begin() + static_cast<std::ptrdiff_t>(from), entry_count_[row],
+                compact_values_.begin() + static_cast<std::ptrdiff_t>(row_start_[row]));
+    inverse_diagonal_[row] = 1.0 / diagonal_[row];
+  });
   const auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
     for_each_particle(unknowns, [&](std::size_t row) {
-      const std::size_t first = neighbours.offsets[slot_of_[row]];
-      const std::size_t last = first + entry_count_[row];
       double sum = diagonal_[row] * x[row];
-      for (std::size_t k = first; k < last; ++k) sum += values_[k] * x[columns_[k]];
+      for (std::size_t k = row_start_[row]; k < row_start_[row + 1]; ++k) sum += compact_values_[k] * x[compact_columns_[k]];
       y[row] = sum;
     });
   };
@@ -99,7 +111,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     multiply(solution_, product_);
     double residual_dot = deterministic_sum(unknowns, [&](std::size_t k) {
       residual_[k] = rhs_[k] - product_[k];
-      preconditioned_[k] = residual_[k] / diagonal_[k];
+      preconditioned_[k] = residual_[k] * inverse_diagonal_[k];
       direction_[k] = preconditioned_[k];
       return residual_[k] * preconditioned_[k];
     });
@@ -116,7 +128,7 @@ void FluidPressureSolve::run(SystemContext& context) {
       ++iterations;
       if (residual_norm <= target) break;
       const double next_dot = deterministic_sum(unknowns, [&](std::size_t k) {
-        preconditioned_[k] = residual_[k] / diagonal_[k];
+        preconditioned_[k] = residual_[k] * inverse_diagonal_[k];
         return residual_[k] * preconditioned_[k];
       });
       const double beta = next_dot / residual_dot;

@@ -29,7 +29,10 @@ class FluidPressureSolve final : public System {
   std::vector<std::uint32_t> entry_count_;  ///< off-diagonal entries of each unknown
   std::vector<std::uint32_t> columns_;    ///< unknown indices
   std::vector<double> values_;            ///< M_ij
-  std::vector<double> diagonal_;
+  std::vector<double> diagonal_, inverse_diagonal_;
+  std::vector<std::size_t> row_start_;          ///< compact CSR of the off-diagonal entries for the solve
+  std::vector<std::uint32_t> compact_columns_;
+  std::vector<double> compact_values_;
   std::vector<double> rhs_, solution_, residual_, direction_, product_, preconditioned_;
 };
 
