@@ -60,7 +60,8 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius) {
         return a;
       });
   CellGrid grid;
-  grid.cell_size = radius;
+  // Cells of half a radius: a query scans 5^3 small cells, about 40 % fewer candidates than 3^3 cells of a radius.
+  grid.cell_size = 0.5 * radius;
   if (box.low[0] <= box.high[0]) {
     grid.origin = box.low;
     // Cells at least one radius wide; wider if a stray particle would make the grid much larger than the
@@ -126,13 +127,19 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
   const std::size_t count = std::min(query_count, positions.size());
   const CellGrid grid = build_grid(positions, radius);
 
-  // Count, scan, fill, sort: each task writes only its own particles' ranges.
+  // One scan per query into per-chunk buffers (each list sorted there), then a prefix sum and a copy: each task
+  // writes only its own chunk, and the sorted lists do not depend on the chunking or the thread count.
+  const std::size_t chunks = (count + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::uint32_t>> chunk_lists(chunks);
   neighbours.offsets.assign(count + 1, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      std::uint32_t found = 0;
-      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t) { ++found; });
-      neighbours.offsets[i + 1] = found;
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    std::vector<std::uint32_t>& list = chunk_lists[chunk];
+    const std::size_t last = std::min(count, (chunk + 1) * kGrain);
+    for (std::size_t i = chunk * kGrain; i < last; ++i) {
+      const std::size_t first = list.size();
+      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t j) { list.push_back(j); });
+      std::sort(list.begin() + static_cast<std::ptrdiff_t>(first), list.end());
+      neighbours.offsets[i + 1] = static_cast<std::uint32_t>(list.size() - first);
     }
   });
   std::uint64_t total = 0;
@@ -143,12 +150,9 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
     neighbours.offsets[i + 1] = static_cast<std::uint32_t>(total);
   }
   neighbours.slots.resize(total);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      std::uint32_t next = neighbours.offsets[i];
-      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t j) { neighbours.slots[next++] = j; });
-      std::sort(neighbours.slots.begin() + neighbours.offsets[i], neighbours.slots.begin() + next);
-    }
+  tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
+    std::copy(chunk_lists[chunk].begin(), chunk_lists[chunk].end(),
+              neighbours.slots.begin() + neighbours.offsets[chunk * kGrain]);
   });
   neighbours.radius = radius;
   ++neighbours.builds;
