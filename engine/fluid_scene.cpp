@@ -139,6 +139,9 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.min_dt = fluid.number("min_dt", 1.0e-6, "s", Bounds::positive());
   out.solver_tolerance = fluid.number("solver_tolerance", 1.0e-8, "1", Bounds{0.0, 1.0, false, false});
   out.solver_max_iterations = fluid.integer("solver_max_iterations", 2000, 1, 100000000);
+  out.preconditioner = fluid.choice("preconditioner", "two_level", {"two_level", "jacobi"}) == "jacobi"
+                           ? FluidModel::Preconditioner::kJacobi
+                           : FluidModel::Preconditioner::kTwoLevel;
   out.neighbour_skin_ratio = fluid.number("neighbour_skin", 0.3, "1", Bounds::closed(0.0, 2.0));
   if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes);
 

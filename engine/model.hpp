@@ -119,6 +119,8 @@ struct FluidModel {
   double min_dt = 1.0e-6;                ///< [s] a step below this stops the run as unstable
   double solver_tolerance = 1.0e-8;      ///< [1] PCG stops at |r| <= tol |b|
   std::int64_t solver_max_iterations = 2000;
+  enum class Preconditioner { kJacobi, kTwoLevel };
+  Preconditioner preconditioner = Preconditioner::kTwoLevel;  ///< Jacobi, or Jacobi plus an aggregation coarse solve
   double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
 
   double effective_radius() const { return spacing * effective_radius_ratio; }

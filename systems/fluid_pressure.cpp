@@ -1,5 +1,6 @@
 #include "systems/fluid_pressure.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace riffle {
@@ -92,6 +93,22 @@ void FluidPressureSolve::run(SystemContext& context) {
                 compact_values_.begin() + static_cast<std::ptrdiff_t>(row_start_[row]));
     inverse_diagonal_[row] = 1.0 / diagonal_[row];
   });
+  const bool two_level = fluid_.preconditioner == FluidModel::Preconditioner::kTwoLevel;
+  if (two_level) {
+    row_positions_.resize(unknowns);
+    for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = particles.predicted_position[slot_of_[row]]; });
+    // Coarse cells of at least 4 l0, wider for big problems so the dense coarse factorisation stays small.
+    const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
+    const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
+                                compact_values_.data()};
+    preconditioner_.setup(matrix, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
+  }
+  const auto apply_preconditioner = [&](bool coarse) {
+    if (coarse)
+      preconditioner_.apply(residual_, preconditioned_);
+    else
+      for_each_particle(unknowns, [&](std::size_t k) { preconditioned_[k] = residual_[k] * inverse_diagonal_[k]; });
+  };
   const auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
     for_each_particle(unknowns, [&](std::size_t row) {
       double sum = diagonal_[row] * x[row];
@@ -109,9 +126,9 @@ void FluidPressureSolve::run(SystemContext& context) {
     std::fill(solution_.begin(), solution_.end(), 0.0);
   } else {
     multiply(solution_, product_);
+    for_each_particle(unknowns, [&](std::size_t k) { residual_[k] = rhs_[k] - product_[k]; });
+    apply_preconditioner(two_level);
     double residual_dot = deterministic_sum(unknowns, [&](std::size_t k) {
-      residual_[k] = rhs_[k] - product_[k];
-      preconditioned_[k] = residual_[k] * inverse_diagonal_[k];
       direction_[k] = preconditioned_[k];
       return residual_[k] * preconditioned_[k];
     });
@@ -127,10 +144,9 @@ void FluidPressureSolve::run(SystemContext& context) {
       }));
       ++iterations;
       if (residual_norm <= target) break;
-      const double next_dot = deterministic_sum(unknowns, [&](std::size_t k) {
-        preconditioned_[k] = residual_[k] * inverse_diagonal_[k];
-        return residual_[k] * preconditioned_[k];
-      });
+      apply_preconditioner(two_level);
+      const double next_dot =
+          deterministic_sum(unknowns, [&](std::size_t k) { return residual_[k] * preconditioned_[k]; });
       const double beta = next_dot / residual_dot;
       residual_dot = next_dot;
       for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned_[k] + beta * direction_[k]; });

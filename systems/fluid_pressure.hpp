@@ -1,10 +1,12 @@
 #pragma once
 // The pressure Poisson equation (seed 000 Eqs. 4-7; numerics 2.2-2.5, 3.5 and amendments 1-2), assembled over the
-// fluid particles only (Neumann walls) and solved by Jacobi-preconditioned CG warm-started from p^k.
+// fluid particles only (Neumann walls) and solved by CG warm-started from p^k, preconditioned by Jacobi or (default) Jacobi plus
+// an aggregation coarse solve (systems/pressure_preconditioner.hpp).
 #include <vector>
 
 #include "engine/system.hpp"
 #include "systems/fluid_common.hpp"
+#include "systems/pressure_preconditioner.hpp"
 
 namespace riffle {
 
@@ -33,6 +35,8 @@ class FluidPressureSolve final : public System {
   std::vector<std::size_t> row_start_;          ///< compact CSR of the off-diagonal entries for the solve
   std::vector<std::uint32_t> compact_columns_;
   std::vector<double> compact_values_;
+  std::vector<Vec3> row_positions_;
+  TwoLevelPreconditioner preconditioner_;
   std::vector<double> rhs_, solution_, residual_, direction_, product_, preconditioned_;
 };
 
