@@ -33,6 +33,8 @@ struct FluidParticles {
   std::vector<double> density_rate;         ///< [1/s] ECS input: (Dn/Dt)^k of fluid particles at the step start
   std::vector<double> pressure;             ///< [Pa] gauge pressure (0 at the free surface)
   std::vector<double> previous_pressure;    ///< [Pa] pressure of the step before (the PPE's warm start extrapolates)
+  std::vector<Vec3> pressure_gradient;      ///< [Pa/m] fluid: the GC gradient of p^{k+1} (without DS), sampled by grains
+  std::vector<Vec3> drag_reaction;          ///< [N s/m^3] fluid: impulse per volume the grains' drag gives back, applied in the next prediction
   std::vector<double> number_density;       ///< [1] n_i = sum_j w(r_ij) over fluid, wall and dummy neighbours
   std::vector<std::int32_t> free_surface;   ///< [1] 1 if n_i < beta n0 (fluid particles only), else 0
 
@@ -49,6 +51,8 @@ struct FluidParticles {
     visit(FieldInfo{"density_rate", "1/s", false}, self.density_rate);
     visit(FieldInfo{"pressure", "Pa", true}, self.pressure);
     visit(FieldInfo{"previous_pressure", "Pa", false}, self.previous_pressure);
+    visit(FieldInfo{"pressure_gradient", "Pa/m", false}, self.pressure_gradient);
+    visit(FieldInfo{"drag_reaction", "N s/m^3", false}, self.drag_reaction);
     visit(FieldInfo{"number_density", "1", true}, self.number_density);
     visit(FieldInfo{"free_surface", "1", true}, self.free_surface);
   }
@@ -69,6 +73,8 @@ struct FluidParticles {
     pressure[slot] = 0.0;
     previous_pressure[slot] = 0.0;
     number_density[slot] = 0.0;
+    pressure_gradient[slot] = Vec3::Zero();
+    drag_reaction[slot] = Vec3::Zero();
     free_surface[slot] = 0;
     return slot;
   }

@@ -25,6 +25,13 @@ struct Solids {
   std::vector<Vec3> torque;            ///< [N m] sum of the torque sources below
   std::vector<Vec3> contact_force;     ///< [N] from grain-grain and grain-wall contacts (solid_contact_gather)
   std::vector<Vec3> contact_torque;    ///< [N m] from contacts, rolling friction included
+  // Fluid coupling (seed 000 Sec. 3.2-3.3): fields sampled from the fluid once per fluid step, and the drag.
+  std::vector<Vec3> drag_force;        ///< [N] drag of the fluid on the grain, recomputed every sub-step (solid_drag)
+  std::vector<Vec3> drag_impulse;      ///< [N s] drag integrated over the sub-steps since the fluid last took it back
+  std::vector<Vec3> pressure_force;    ///< [N] -V <grad p>, held over the fluid step (solid_fluid_sampling)
+  std::vector<Vec3> fluid_velocity;    ///< [m/s] locally averaged fluid velocity (seed Eq. 23)
+  std::vector<double> voidage;         ///< [1] local fluid volume fraction epsilon, 1 for a grain out of the water
+  std::vector<double> fluid_weight;    ///< [1] sum of the sampling weights of the fluid around the grain; 0 = dry
   std::vector<std::int32_t> material;  ///< [1] index into the scene's material table
   std::vector<std::int32_t> size_class;  ///< [1] index into the scene's size classes (for per-class output)
 
@@ -43,6 +50,12 @@ struct Solids {
     visit(FieldInfo{"torque", "N m", true}, self.torque);
     visit(FieldInfo{"contact_force", "N", true}, self.contact_force);
     visit(FieldInfo{"contact_torque", "N m", false}, self.contact_torque);
+    visit(FieldInfo{"drag_force", "N", true}, self.drag_force);
+    visit(FieldInfo{"drag_impulse", "N s", false}, self.drag_impulse);
+    visit(FieldInfo{"pressure_force", "N", true}, self.pressure_force);
+    visit(FieldInfo{"fluid_velocity", "m/s", true}, self.fluid_velocity);
+    visit(FieldInfo{"voidage", "1", true}, self.voidage);
+    visit(FieldInfo{"fluid_weight", "1", false}, self.fluid_weight);
     visit(FieldInfo{"material", "1", true}, self.material);
     visit(FieldInfo{"size_class", "1", true}, self.size_class);
   }
@@ -66,6 +79,12 @@ struct Solids {
     torque[slot] = Vec3::Zero();
     contact_force[slot] = Vec3::Zero();
     contact_torque[slot] = Vec3::Zero();
+    drag_force[slot] = Vec3::Zero();
+    drag_impulse[slot] = Vec3::Zero();
+    pressure_force[slot] = Vec3::Zero();
+    fluid_velocity[slot] = Vec3::Zero();
+    voidage[slot] = 1.0;
+    fluid_weight[slot] = 0.0;
     material[slot] = material_index;
     size_class[slot] = size_class_index;
     return slot;

@@ -19,7 +19,7 @@
 
 namespace riffle {
 
-inline constexpr std::uint32_t kCheckpointVersion = 3;  // 2: contacts component; 3: fluid and fluid summary
+inline constexpr std::uint32_t kCheckpointVersion = 4;  // 2: contacts; 3: fluid and fluid summary; 4: coupling fields
 
 /// Output bookkeeping that must survive a resume so the frame series and diagnostics continue seamlessly.
 struct OutputState {

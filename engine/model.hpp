@@ -127,6 +127,18 @@ struct FluidModel {
   double stabilisation_distance() const { return (1.0 - courant) * spacing; }  ///< d_ij = alpha_DS l0
 };
 
+/// Unresolved fluid-grain coupling (seed 000 Secs. 3.2-3.3; numerics.md 5). On whenever a scene has both grains and
+/// a fluid; [coupling] tunes it.
+struct CouplingModel {
+  bool enabled = false;
+  bool drag = true;                      ///< Ergun / Wen-Yu drag and its reaction on the fluid (Eqs. 20-26)
+  bool pressure_gradient = true;         ///< -V <grad p> on each grain (Eq. 13): buoyancy and pressure forces
+  double voidage_radius = 0.0;           ///< [m] R_eps of the voidage kernel; 0 = max(3 l0, 2 d_max) (numerics 5.3)
+  double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
+  double ergun_inertial_exponent = 1.5;  ///< [1] n in F_ch = 1.75 / (sqrt(150) eps^n): 1.5 = Ergun/Gidaspow; the seed prints 3 (numerics 5.1)
+  double newton_drag_coefficient = 0.44; ///< [1] C_D above Re_p = 1000 (the seed prints 0.4)
+};
+
 struct SphereSpec {
   Vec3 position = Vec3::Zero();          ///< [m]
   Vec3 velocity = Vec3::Zero();          ///< [m/s]
@@ -192,6 +204,7 @@ struct Model {
   SolidsModel solids;
   ContactModel contact;
   FluidModel fluid;
+  CouplingModel coupling;
   OutputModel output;
 
   double solid_dt() const { return dt / static_cast<double>(solid_substeps); }

@@ -333,6 +333,19 @@ StableStep stable_solid_step(const Model& model) {
 
 }  // namespace
 
+/// [coupling]: grains and fluid together (seed 000 Secs. 3.2-3.3; numerics.md 5).
+void read_coupling(TableReader& coupling, Model& model) {
+  CouplingModel& out = model.coupling;
+  out.drag = coupling.boolean("drag", true);
+  out.pressure_gradient = coupling.boolean("pressure_gradient", true);
+  out.voidage_radius = coupling.number("voidage_radius", 0.0, "m", Bounds::non_negative());
+  out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
+  out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
+  out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
+  if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
+  coupling.finish();
+}
+
 Model parse_scene(const std::string& text, const std::string& file_name) {
   SceneProblems problems{file_name, {}};
   std::optional<toml::table> root = parse_toml(text, problems);
@@ -350,6 +363,8 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   if (auto contact = scene.table("contact", false)) read_contact(*contact, model);
   if (auto solids = scene.table("solids", false)) read_solids(*solids, model);
   if (auto fluid = scene.table("fluid", false)) read_fluid(*fluid, model);  // engine/fluid_scene.cpp
+  model.coupling.enabled = model.solids.enabled && model.fluid.enabled;
+  if (auto coupling = scene.table("coupling", false)) read_coupling(*coupling, model);
   if (auto output = scene.table("output", false)) read_output(*output, model);
   scene.finish();
   if (!problems.lines.empty()) throw SceneError(problems.lines);

@@ -88,6 +88,7 @@ void FluidCorrect::run(SystemContext& context) {
       moment << moment_xx, moment_xy, moment_xz, moment_xy, moment_yy, moment_yz, moment_xz, moment_yz, moment_zz;
       gradient = gradient_correction_matrix(moment, density, n0) * gradient;
     }
+    particles.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
     const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;
     particles.position[i] = position + dt * change;

@@ -29,8 +29,11 @@ void FluidPredict::run(SystemContext& context) {
     acceleration_[i] = viscous_factor * viscous + gravity;
   });
   const double dt = context.dt;
+  const double inverse_density = 1.0 / fluid_.density;
   for_each_particle(fluid_count, [&](std::size_t i) {
-    particles.velocity[i] += dt * acceleration_[i];
+    // The grains' drag from the last step comes back as an impulse per volume (fluid_drag_reaction).
+    particles.velocity[i] += dt * acceleration_[i] + inverse_density * particles.drag_reaction[i];
+    particles.drag_reaction[i] = Vec3::Zero();
     particles.predicted_position[i] = particles.position[i] + dt * particles.velocity[i];
   });
   context.count_items(fluid_count);

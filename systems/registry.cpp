@@ -2,6 +2,9 @@
 
 #include "systems/fluid_checks.hpp"
 #include "systems/fluid_correct.hpp"
+#include "systems/fluid_drag_reaction.hpp"
+#include "systems/solid_drag.hpp"
+#include "systems/solid_fluid_sampling.hpp"
 #include "systems/fluid_ecs_source.hpp"
 #include "systems/fluid_free_surface.hpp"
 #include "systems/fluid_neighbours.hpp"
@@ -33,17 +36,25 @@ Pipeline build_pipeline(const Model& model) {
     pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid));
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
     pipeline.end_of_step.push_back(std::make_unique<FluidChecks>(fluid));
+    if (model.coupling.enabled) {
+      pipeline.step.push_back(std::make_unique<SolidFluidSampling>(model));
+      pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model));
+    }
   }
   // Order matters only where systems share a component: the scheduler derives the edges from it.
   if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>());
   // The walls move once per sub-step when grains feel them, otherwise once per engine step.
   (model.solids.enabled ? pipeline.substep : pipeline.step).push_back(std::make_unique<WallMotion>());
   const bool contacts = model.solids.enabled && model.contact.enabled;
-  if (contacts) {
+  const bool coupled = model.coupling.enabled;
+  if (contacts || coupled) {
     for (auto* phase : {&pipeline.substep, &pipeline.initial_forces}) {
-      phase->push_back(std::make_unique<SolidNeighbours>());
-      phase->push_back(std::make_unique<SolidContactForces>());
-      phase->push_back(std::make_unique<SolidContactGather>());
+      if (contacts) {
+        phase->push_back(std::make_unique<SolidNeighbours>());
+        phase->push_back(std::make_unique<SolidContactForces>());
+        phase->push_back(std::make_unique<SolidContactGather>());
+      }
+      if (coupled && model.coupling.drag && phase == &pipeline.substep) phase->push_back(std::make_unique<SolidDrag>(model));
       phase->push_back(std::make_unique<SolidForceSum>());
     }
   }

@@ -367,7 +367,7 @@ void SolidForceSum::run(SystemContext& context) {
   Solids& solids = context.write<Solids>();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, solids.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      solids.force[i] = solids.contact_force[i];
+      solids.force[i] = solids.contact_force[i] + solids.drag_force[i] + solids.pressure_force[i];
       solids.torque[i] = solids.contact_torque[i];
     }
   });

@@ -176,6 +176,6 @@ TEST_CASE("a checkpoint of the previous format version is refused") {
   std::memcpy(bytes.data() + 8, &previous, sizeof previous);
   const std::string expected = "x.ckpt: checkpoint format version " + std::to_string(previous) +
                                ", but this riffle reads version " + std::to_string(kCheckpointVersion);
-  CHECK(kCheckpointVersion == 3);
+  CHECK(kCheckpointVersion == 4);
   CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "x.ckpt"), doctest::Contains(expected.c_str()), CheckpointError);
 }

@@ -1,0 +1,82 @@
+#pragma once
+// A uniform cell grid over a set of points, for radius queries from other points (grains looking for fluid
+// particles, grains for grains). Members of a cell are in ascending index order, and cells are visited in a fixed
+// order, so a query visits candidates in an order that depends only on the positions.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "components/vec.hpp"
+
+namespace riffle {
+
+class CellGrid {
+ public:
+  /// Grid over points[first .. first + count) with cells of `cell_size` (at least the largest query radius).
+  void build(const std::vector<Vec3>& points, std::size_t first, std::size_t count, double cell_size) {
+    cell_size_ = cell_size;
+    low_ = Vec3::Constant(1e300);
+    Vec3 high = Vec3::Constant(-1e300);
+    for (std::size_t k = first; k < first + count; ++k) {
+      low_ = low_.cwiseMin(points[k]);
+      high = high.cwiseMax(points[k]);
+    }
+    if (count == 0) low_ = high = Vec3::Zero();
+    for (int axis = 0; axis < 3; ++axis)
+      cells_[static_cast<std::size_t>(axis)] =
+          std::min<std::int64_t>(static_cast<std::int64_t>((high[axis] - low_[axis]) / cell_size) + 1, 1 << 20);
+    const std::size_t total = static_cast<std::size_t>(cells_[0] * cells_[1] * cells_[2]);
+    start_.assign(total + 1, 0);
+    cell_of_.resize(count);
+    for (std::size_t k = 0; k < count; ++k) {
+      cell_of_[k] = linear(cell(points[first + k]));
+      ++start_[cell_of_[k] + 1];
+    }
+    for (std::size_t c = 0; c < total; ++c) start_[c + 1] += start_[c];
+    members_.resize(count);
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t k = 0; k < count; ++k) members_[fill[cell_of_[k]]++] = static_cast<std::uint32_t>(first + k);
+  }
+
+  /// Calls visit(index) for every grid point within `radius` of `centre` (radius <= cell size not required).
+  template <class Visit>
+  void for_each_within(const std::vector<Vec3>& points, const Vec3& centre, double radius, Visit&& visit) const {
+    if (members_.empty()) return;
+    const std::array<std::int64_t, 3> from = cell(centre - Vec3::Constant(radius));
+    const std::array<std::int64_t, 3> to = cell(centre + Vec3::Constant(radius));
+    const double radius_squared = radius * radius;
+    for (std::int64_t z = from[2]; z <= to[2]; ++z)
+      for (std::int64_t y = from[1]; y <= to[1]; ++y)
+        for (std::int64_t x = from[0]; x <= to[0]; ++x) {
+          const std::size_t c = linear({x, y, z});
+          for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
+            const std::uint32_t index = members_[k];
+            if ((points[index] - centre).squaredNorm() < radius_squared) visit(index);
+          }
+        }
+  }
+
+ private:
+  std::array<std::int64_t, 3> cell(const Vec3& point) const {
+    std::array<std::int64_t, 3> result{};
+    for (int axis = 0; axis < 3; ++axis) {
+      const double scaled = std::floor((point[axis] - low_[axis]) / cell_size_);
+      result[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(
+          std::clamp(scaled, 0.0, static_cast<double>(cells_[static_cast<std::size_t>(axis)] - 1)));
+    }
+    return result;
+  }
+  std::size_t linear(const std::array<std::int64_t, 3>& c) const {
+    return static_cast<std::size_t>((c[2] * cells_[1] + c[1]) * cells_[0] + c[0]);
+  }
+
+  double cell_size_ = 1.0;
+  Vec3 low_ = Vec3::Zero();
+  std::array<std::int64_t, 3> cells_{1, 1, 1};
+  std::vector<std::uint32_t> start_, members_;
+  std::vector<std::size_t> cell_of_;
+};
+
+}  // namespace riffle

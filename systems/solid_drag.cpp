@@ -1,0 +1,31 @@
+#include "systems/solid_drag.hpp"
+
+#include <cmath>
+
+#include "systems/drag_law.hpp"
+#include "systems/fluid_common.hpp"
+
+namespace riffle {
+
+void SolidDrag::run(SystemContext& context) {
+  Solids& solids = context.write<Solids>();
+  const double density = fluid_.density;
+  const double viscosity = fluid_.kinematic_viscosity * density;
+  const double dt = context.dt;
+  const double kPi = 3.14159265358979323846;
+  for_each_particle(solids.size(), [&](std::size_t grain) {
+    if (solids.fluid_weight[grain] <= 0.0) {
+      solids.drag_force[grain] = Vec3::Zero();
+      return;
+    }
+    const Vec3 slip = solids.fluid_velocity[grain] - solids.velocity[grain];
+    const double diameter = 2.0 * solids.radius[grain];
+    const double volume = kPi / 6.0 * diameter * diameter * diameter;
+    const double coefficient = drag_per_volume(solids.voidage[grain], diameter, slip.norm(), density, viscosity, model_);
+    solids.drag_force[grain] = coefficient * volume * slip;
+    solids.drag_impulse[grain] += dt * solids.drag_force[grain];
+  });
+  context.count_items(solids.size());
+}
+
+}  // namespace riffle
