@@ -16,7 +16,9 @@ double drag_per_volume(double voidage, double diameter, double slip, double dens
     // Ergun: beta = eps^2 mu / K + F_ch eps^3 rho |du| / sqrt(K), K = eps^3 d^2 / (150 (1 - eps)^2)
     const double solid = 1.0 - eps;
     const double permeability = eps * eps * eps * diameter * diameter / (150.0 * solid * solid);
-    const double forchheimer = 1.75 / (std::sqrt(150.0) * std::pow(eps, coupling.ergun_inertial_exponent));
+    const double eps_power = coupling.ergun_inertial_exponent == 1.5 ? eps * std::sqrt(eps)  // the default, cheaply
+                                                                     : std::pow(eps, coupling.ergun_inertial_exponent);
+    const double forchheimer = 1.75 / (std::sqrt(150.0) * eps_power);
     const double beta = eps * eps * viscosity / permeability +
                         forchheimer * eps * eps * eps * density * slip / std::sqrt(permeability);
     return beta / solid;

@@ -3,7 +3,8 @@
 // drag impulse over the fluid step is spread over the fluid particles within R_I = d_I/2 + r_e with weights
 // normalised per grain, as an impulse per volume (-J_I w_Ij / sum_k w_Ik / l0^3) that the next prediction applies.
 // The weights of each grain sum to one, so the fluid receives exactly minus what the grains received: momentum is
-// conserved to rounding. Grains are visited in slot order (a fixed order), so the sums do not depend on threads.
+// conserved to rounding. Each fluid particle gathers from the grains around it in grid order, so the sums do not
+// depend on the thread count.
 #include "engine/system.hpp"
 #include "systems/cell_grid.hpp"
 #include "systems/fluid_common.hpp"
@@ -19,9 +20,8 @@ class FluidDragReaction final : public System {
 
  private:
   MpsConstants constants_;
-  CellGrid fluid_grid_;
-  std::vector<std::uint32_t> partners_;
-  std::vector<double> weights_;
+  CellGrid fluid_grid_, grain_grid_;
+  std::vector<double> weight_sums_;  ///< per grain: sum of its kernel weights over the fluid
 };
 
 }  // namespace riffle

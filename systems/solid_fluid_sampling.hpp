@@ -1,12 +1,14 @@
 #pragma once
 // Samples the fluid at every grain once per fluid step, after the pressure correction (numerics.md 5.2-5.4, 5.6
 // step 7): the locally averaged fluid velocity (seed Eq. 23) and pressure gradient (Shepard averages with the
-// Wendland kernel on R_I = d_I/2 + r_e), the pressure force -V <grad p> (Eq. 13), and the voidage
-// eps = 1 - sum_J V_J w_IJ / sum_k l0^3 w_Ik on R_eps (the fluid particles are the space quadrature, so walls and
-// the free surface truncate both sums alike). The sub-steps then hold these fixed (solid_drag).
+// Wendland kernel on R_I = d_I/2 + r_e), the pressure force -V <grad p> (Eq. 13), and the voidage: solid volume
+// over the space the fluid particles fill, both deposited on a grid of cells 0.67 R_eps wide (systems/voidage_grid.hpp;
+// the fluid particles are the space quadrature, so walls and the free surface truncate both alike). The sub-steps
+// then hold these fixed (solid_drag).
 #include "engine/system.hpp"
 #include "systems/cell_grid.hpp"
 #include "systems/fluid_common.hpp"
+#include "systems/voidage_grid.hpp"
 
 namespace riffle {
 
@@ -21,7 +23,10 @@ class SolidFluidSampling final : public System {
   MpsConstants constants_;
   CouplingModel coupling_;
   double voidage_radius_;  ///< [m] R_eps
-  CellGrid fluid_grid_, grain_grid_;
+  double spacing_;         ///< [m] l0
+  CellGrid fluid_grid_;
+  VoidageGrid voidage_grid_;
+  std::vector<double> grain_volumes_;
 };
 
 }  // namespace riffle

@@ -1,0 +1,65 @@
+#include "systems/voidage_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace riffle {
+
+VoidageGrid::Stencil VoidageGrid::stencil(const Vec3& point) const {
+  Stencil result{};
+  std::array<std::int64_t, 3> base{};
+  std::array<double, 3> fraction{};
+  for (int axis = 0; axis < 3; ++axis) {
+    const double scaled = (point[axis] - origin_[axis]) / cell_size_;
+    const double clamped = std::clamp(scaled, 0.0, static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2));
+    base[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(clamped));
+    fraction[static_cast<std::size_t>(axis)] = clamped - std::floor(clamped);
+  }
+  for (int corner = 0; corner < 8; ++corner) {
+    const std::int64_t x = base[0] + (corner & 1), y = base[1] + ((corner >> 1) & 1), z = base[2] + ((corner >> 2) & 1);
+    result.node[static_cast<std::size_t>(corner)] = static_cast<std::size_t>((z * nodes_[1] + y) * nodes_[0] + x);
+    result.weight[static_cast<std::size_t>(corner)] = ((corner & 1) ? fraction[0] : 1.0 - fraction[0]) *
+                                                      (((corner >> 1) & 1) ? fraction[1] : 1.0 - fraction[1]) *
+                                                      (((corner >> 2) & 1) ? fraction[2] : 1.0 - fraction[2]);
+  }
+  return result;
+}
+
+void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
+                        const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+                        double cell_size) {
+  cell_size_ = cell_size;
+  Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
+  for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
+  for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
+  if (low[0] > high[0]) low = high = Vec3::Zero();
+  origin_ = low - Vec3::Constant(cell_size);
+  for (int axis = 0; axis < 3; ++axis)
+    nodes_[static_cast<std::size_t>(axis)] =
+        std::min<std::int64_t>(static_cast<std::int64_t>((high[axis] - origin_[axis]) / cell_size) + 3, 4096);
+  const std::size_t total = static_cast<std::size_t>(nodes_[0] * nodes_[1] * nodes_[2]);
+  solid_.assign(total, 0.0);
+  fluid_.assign(total, 0.0);
+  for (std::size_t grain = 0; grain < grain_positions.size(); ++grain) {
+    const Stencil s = stencil(grain_positions[grain]);
+    for (int c = 0; c < 8; ++c) solid_[s.node[static_cast<std::size_t>(c)]] += grain_volumes[grain] * s.weight[static_cast<std::size_t>(c)];
+  }
+  for (std::size_t k = 0; k < fluid_count; ++k) {
+    const Stencil s = stencil(fluid_positions[k]);
+    for (int c = 0; c < 8; ++c) fluid_[s.node[static_cast<std::size_t>(c)]] += fluid_particle_volume * s.weight[static_cast<std::size_t>(c)];
+  }
+}
+
+double VoidageGrid::solid_fraction(const Vec3& point) const {
+  const Stencil s = stencil(point);
+  double fraction = 0.0, weight = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const std::size_t node = s.node[static_cast<std::size_t>(c)];
+    if (fluid_[node] <= 0.0) continue;
+    fraction += s.weight[static_cast<std::size_t>(c)] * solid_[node] / fluid_[node];
+    weight += s.weight[static_cast<std::size_t>(c)];
+  }
+  return weight > 0.0 ? fraction / weight : 0.0;
+}
+
+}  // namespace riffle

@@ -1,0 +1,40 @@
+#pragma once
+// The local voidage field (numerics.md 5.3, in grid form): grain volumes and fluid-particle volumes (l0^3 each, the
+// quadrature of the space the water fills) are deposited on the nodes of a uniform grid with cloud-in-cell
+// (trilinear) weights; the solid fraction at a node is their ratio, and a grain reads it back by trilinear
+// interpolation over the nodes that hold water. The cost is linear in the particle counts (the kernel form of
+// numerics 5.3 costs hundreds of grain pairs per grain at R_eps = 2 d_max), walls and the free surface truncate
+// both deposits alike, and each grain sees a fraction averaged over about two cells in each direction.
+// Deposits run in slot order, so the field does not depend on the thread count.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "components/vec.hpp"
+
+namespace riffle {
+
+class VoidageGrid {
+ public:
+  /// Grid of nodes spaced `cell_size` covering every point given (grains and fluid).
+  void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
+             const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+             double cell_size);
+
+  /// Solid volume fraction at `point`: interpolated over the surrounding nodes that hold water; 0 if none does.
+  double solid_fraction(const Vec3& point) const;
+
+ private:
+  struct Stencil {
+    std::array<std::size_t, 8> node;
+    std::array<double, 8> weight;
+  };
+  Stencil stencil(const Vec3& point) const;
+
+  Vec3 origin_ = Vec3::Zero();
+  double cell_size_ = 1.0;
+  std::array<std::int64_t, 3> nodes_{1, 1, 1};
+  std::vector<double> solid_, fluid_;
+};
+
+}  // namespace riffle
