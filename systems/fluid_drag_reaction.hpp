@@ -1,12 +1,13 @@
 #pragma once
 // The grains' drag given back to the fluid (seed 000 Eq. 26; numerics.md 5.5): after the sub-steps, each grain's
-// drag impulse over the fluid step is spread over the fluid particles within R_I = d_I/2 + r_e with weights
-// normalised per grain, as an impulse per volume (-J_I w_Ij / sum_k w_Ik / l0^3) that the next prediction applies.
-// The weights of each grain sum to one, so the fluid receives exactly minus what the grains received: momentum is
-// conserved to rounding. Each fluid particle gathers from the grains around it in grid order, so the sums do not
-// depend on the thread count.
+// drag impulse over the fluid step is spread over the fluid around it as an impulse per volume that the next
+// prediction applies. The spreading goes through a cloud-in-cell grid (systems/voidage_grid.hpp) with cells sized
+// so one cell holds the volume of Eq. 26's influence domain: grain -> nodes -> fluid particles, with weights that
+// sum to one at each step, so the fluid receives exactly minus what the grains received (momentum conserved to
+// rounding) at a cost linear in the particle counts. Grains deposit in slot order and each fluid particle gathers
+// from its own nodes, so nothing depends on the thread count.
 #include "engine/system.hpp"
-#include "systems/cell_grid.hpp"
+#include "systems/voidage_grid.hpp"
 #include "systems/fluid_common.hpp"
 
 namespace riffle {
@@ -20,8 +21,9 @@ class FluidDragReaction final : public System {
 
  private:
   MpsConstants constants_;
-  CellGrid fluid_grid_, grain_grid_;
-  std::vector<double> weight_sums_;  ///< per grain: sum of its kernel weights over the fluid
+  VoidageGrid grid_;             ///< its fluid deposit is the normalisation; the solid deposit is unused (zero volumes)
+  std::vector<double> volumes_;
+  std::vector<Vec3> node_impulse_;
 };
 
 }  // namespace riffle

@@ -5,8 +5,8 @@
 
 namespace riffle {
 
-VoidageGrid::Stencil VoidageGrid::stencil(const Vec3& point) const {
-  Stencil result{};
+CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
+  CloudInCellStencil result{};
   std::array<std::int64_t, 3> base{};
   std::array<double, 3> fraction{};
   for (int axis = 0; axis < 3; ++axis) {
@@ -41,17 +41,17 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
   solid_.assign(total, 0.0);
   fluid_.assign(total, 0.0);
   for (std::size_t grain = 0; grain < grain_positions.size(); ++grain) {
-    const Stencil s = stencil(grain_positions[grain]);
+    const CloudInCellStencil s = stencil(grain_positions[grain]);
     for (int c = 0; c < 8; ++c) solid_[s.node[static_cast<std::size_t>(c)]] += grain_volumes[grain] * s.weight[static_cast<std::size_t>(c)];
   }
   for (std::size_t k = 0; k < fluid_count; ++k) {
-    const Stencil s = stencil(fluid_positions[k]);
+    const CloudInCellStencil s = stencil(fluid_positions[k]);
     for (int c = 0; c < 8; ++c) fluid_[s.node[static_cast<std::size_t>(c)]] += fluid_particle_volume * s.weight[static_cast<std::size_t>(c)];
   }
 }
 
 double VoidageGrid::solid_fraction(const Vec3& point) const {
-  const Stencil s = stencil(point);
+  const CloudInCellStencil s = stencil(point);
   double fraction = 0.0, weight = 0.0;
   for (int c = 0; c < 8; ++c) {
     const std::size_t node = s.node[static_cast<std::size_t>(c)];

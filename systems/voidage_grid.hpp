@@ -14,6 +14,12 @@
 
 namespace riffle {
 
+/// Cloud-in-cell (trilinear) weights of a point on a uniform grid of nodes: the 8 corners of its cell.
+struct CloudInCellStencil {
+  std::array<std::size_t, 8> node;
+  std::array<double, 8> weight;  ///< sum to 1
+};
+
 class VoidageGrid {
  public:
   /// Grid of nodes spaced `cell_size` covering every point given (grains and fluid).
@@ -24,13 +30,13 @@ class VoidageGrid {
   /// Solid volume fraction at `point`: interpolated over the surrounding nodes that hold water; 0 if none does.
   double solid_fraction(const Vec3& point) const;
 
- private:
-  struct Stencil {
-    std::array<std::size_t, 8> node;
-    std::array<double, 8> weight;
-  };
-  Stencil stencil(const Vec3& point) const;
+  /// The nodes and weights of `point` (clamped into the grid).
+  CloudInCellStencil stencil(const Vec3& point) const;
+  std::size_t node_count() const { return solid_.size(); }
+  /// Fluid volume deposited on `node` [m^3].
+  double fluid_volume(std::size_t node) const { return fluid_[node]; }
 
+ private:
   Vec3 origin_ = Vec3::Zero();
   double cell_size_ = 1.0;
   std::array<std::int64_t, 3> nodes_{1, 1, 1};
