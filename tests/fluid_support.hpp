@@ -1,11 +1,16 @@
 #pragma once
 // Fluid test scenes built in code: a box tank with fluid blocks, stepped by the engine's own pipeline.
+#include <algorithm>
+#include <cmath>
+#include <functional>
 #include <memory>
+#include <string>
 
 #include "engine/fluid_layout.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/model.hpp"
 #include "engine/stepper.hpp"
+#include "systems/fluid_common.hpp"
 #include "systems/registry.hpp"
 
 namespace riffle::test {
@@ -33,7 +38,9 @@ struct FluidRun {
   World world;
   std::unique_ptr<Stepper> stepper;
 
-  explicit FluidRun(Model fluid_scene) : model(std::move(fluid_scene)), world(initial_world(model)) {
+  /// `edit` may change the initial world (velocities, added particles) before the pipeline is built.
+  explicit FluidRun(Model fluid_scene, const std::function<void(World&)>& edit = {})
+      : model(std::move(fluid_scene)), world(initial_world(model)) {
     if (!world.fluid) {  // the initial state does not lay out the fluid yet: do it here
       world.fluid.emplace();
       for (const ParticleBoxModel& box : model.fluid.boxes) {
@@ -46,7 +53,44 @@ struct FluidRun {
       world.fluid_neighbours.emplace();
       world.fluid_summary.emplace();
     }
+    if (edit) edit(world);
     stepper = std::make_unique<Stepper>(build_pipeline(model), world, model);
+  }
+
+  /// Number of fluid particles (they hold slots [0, F)).
+  std::size_t fluid_count() const { return fluid_slot_count(*world.fluid); }
+
+  /// One step; false on failure.
+  bool step() {
+    stepper->step();
+    return world.step_status.ok();
+  }
+
+  /// A readable diagnosis of the step status (empty when fine).
+  std::string diagnosis() const {
+    const StepStatus& s = world.step_status;
+    if (s.ok()) return {};
+    return "problem " + std::to_string(static_cast<int>(s.problem)) + " in " + s.phase + ", particle " +
+           std::to_string(s.entity) + " at (" + std::to_string(s.position.x()) + ", " + std::to_string(s.position.y()) +
+           ", " + std::to_string(s.position.z()) + "), t = " + std::to_string(world.time);
+  }
+
+  /// Fluid particles outside the tank (tank frame) by more than `tolerance` on a closed face; an open z_max face
+  /// only bounds by the domain. Non-finite positions count as outside.
+  std::size_t count_outside_tank(double tolerance) const {
+    const FluidParticles& fluid = *world.fluid;
+    const Vec3 shift = world.tank_motion ? Vec3(world.tank_motion->displacement) : Vec3::Zero();
+    const Vec3 low = model.tank.origin - Vec3::Constant(tolerance);
+    Vec3 high = model.tank.origin + model.tank.size + Vec3::Constant(tolerance);
+    if (std::find(model.tank.open_faces.begin(), model.tank.open_faces.end(), "z_max") != model.tank.open_faces.end())
+      high.z() = model.tank.origin.z() + model.tank.size.z() + model.tank.domain_margin;
+    std::size_t outside = 0;
+    for (std::size_t i = 0; i < fluid_count(); ++i) {
+      const Vec3 r = fluid.position[i] - shift;
+      const bool finite = std::isfinite(r.x()) && std::isfinite(r.y()) && std::isfinite(r.z());
+      if (!finite || (r.array() < low.array()).any() || (r.array() > high.array()).any()) ++outside;
+    }
+    return outside;
   }
 
   /// Steps until `time` (or a failure); returns false on failure.
