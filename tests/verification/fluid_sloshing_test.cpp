@@ -204,11 +204,10 @@ TEST_CASE("shaken tank at the seed forcing stays stable and keeps its particles"
   CHECK(shaken.density_max < 1.07);
 }
 
-// KNOWN DISCREPANCY (see the report of branch fluid-verification): at the default density relaxation rate
-// (gamma/dt = 12 /s) the interior mean n/n0 reaches 1.018 in the third period (1.019 at l0 = 5 mm) and the particle
-// volume falls by 1.3 %; with 24 /s it stays within 0.7 %, with 48 /s within 0.3 %. should_fail keeps the strict
-// check visible: remove it when the default holds the density.
-TEST_CASE("KNOWN DISCREPANCY shaken tank holds mean n/n0 and volume within 1 percent" * doctest::should_fail()) {
+// At the prototype's density relaxation rate (gamma/dt = 12 /s) the interior mean n/n0 reached 1.018 in the third
+// period (1.019 at l0 = 5 mm) and the particle volume fell by 1.3 %; with 24 /s (now the default) it stays within
+// 0.7 %, with 48 /s within 0.3 %.
+TEST_CASE("shaken tank holds mean n/n0 and volume within 1 percent") {
   const Shaken shaken = shaken_tank();
   // Incompressibility: the brief's 1 % on the interior mean n/n0 and on the particle volume (numerics 6.2: 1 %).
   CHECK(shaken.density_min > 0.99);
