@@ -288,7 +288,7 @@ class Run:
     def stages(self, requested, times):
         """[(label, k_first, k_last)] for the stage specs; a period k is t/T in [k-1, k]."""
         last = times[-1] * self.frequency if len(times) else 0.0
-        first_after_ramp = int(math.floor(self.ramp_time * self.frequency + 1e-9)) + 1
+        first_after_ramp = int(math.floor(self.ramp_time * self.frequency + 1e-3)) + 1
         stages = []
         if requested:
             for spec in requested:
@@ -304,7 +304,8 @@ class Run:
                     stages.append((f"period {k}", k, k))
             if not stages:
                 k2 = max(first_after_ramp, int(math.ceil(last - 1e-9)))
-                stages.append((f"periods {first_after_ramp}-{k2} (all after the ramp)", first_after_ramp, k2))
+                span = f"period {k2}" if k2 == first_after_ramp else f"periods {first_after_ramp}-{k2}"
+                stages.append((f"{span} (all after the ramp)", first_after_ramp, k2))
         return stages
 
     def phase_frames(self, times, k1, k2, tolerance_deg):
@@ -524,6 +525,7 @@ def fig12(run, out, args):
                "mean_dimensionless_overlap"], out_rows)
     axes[0].set_xlabel("coordination number Z = 2 Nc / Np")
     axes[1].set_xlabel("mean dimensionless overlap δ*")
+    axes[1].ticklabel_format(axis="x", style="sci", scilimits=(-2, 2))
     axes[0].set_ylabel("z / d_s1 (layer mid-height, d_s1 = 5 mm)")
     for ax in axes:
         ax.grid(alpha=0.3)
@@ -584,17 +586,17 @@ def velocity_figure(run, out, args, name, title, times, load, select, count, gro
                 ax.plot((lab, rel)[key], z, marker=".", color=group_colour(group), label=group_label(group))
             ax.axvline(0, color="grey", lw=0.6)
             err = f", |Δphase| ≤ {np.max(np.abs(errors)):.0f}°" if len(errors) else ""
-            ax.set_title(f"{label}: {phase_label}\n{len(indices)} frames{err}", fontsize=8)
+            ax.set_title(f"{phase_label}\n{label}, {len(indices)} frames{err}", fontsize=8)
             ax.grid(alpha=0.3)
             if s == len(stages) - 1:
                 ax.set_xlabel("mean x-velocity " + ("(lab) [m/s]" if key == 0 else "relative to the tank [m/s]"))
             if p == 0:
-                ax.set_ylabel("z / d_s1 (5 mm sub-layers)")
+                ax.set_ylabel(f"z / d_s1 ({1e3 * run.layer:g} mm sub-layers, d_s1 = 5 mm)")
             if accumulated:
                 ax.legend(fontsize=7)
             else:
                 ax.text(0.5, 0.5, "no frame at this phase", transform=ax.transAxes, ha="center")
-    figure.suptitle(title, fontsize=9)
+    figure.suptitle(title.replace("; ", ";\n", 1), fontsize=9)
     write_csv(out / f"{name}.csv",
               ["stage", "period_first", "period_last", "phase_index", "tank_phase_rad", "seed_phi", "frames",
                "mean_abs_phase_error_deg", "group", "sublayer", "z_low_m", "z_high_m", "samples", "mean_vx_lab_m_s",
@@ -628,14 +630,26 @@ def fig15(run, out, args):
     times = run.fluid_times()
     if len(times) == 0:
         raise Skip("no fluid.pvd")
+    # The seed's 5 mm sub-layers, or l0 when coarser: thinner layers alias the particle lattice (at l0 = 10 mm
+    # every other 5 mm layer would hold the particles of a lattice plane and its neighbour almost none).
+    spacing = float(run.scene.get("fluid", {}).get("spacing", 0.005))
+    thickness = args.fluid_layer if args.fluid_layer else max(0.005, spacing)
+    saved, run.layer = run.layer, thickness
     count = int(math.ceil(0.12 / run.layer))
 
     def select(frame):
         return [("fluid", frame["kind"] == 0)]
 
+    try:
+        return _fig15(run, out, args, times, count, select)
+    finally:
+        run.layer = saved
+
+
+def _fig15(run, out, args, times, count, select):
     return velocity_figure(run, out, args, "fig15_fluid_velocity",
                            "Fig. 15 shape: horizontally averaged x-velocity of the MPS fluid particles (kind 0) "
-                           "per 5 mm sub-layer, averaged over the frames at each phase; "
+                           f"per {1e3 * run.layer:g} mm sub-layer, averaged over the frames at each phase; "
                            + ("lab frame" if args.frame == "lab" else "relative to the tank"),
                            times, lambda i: run.fluid(i, ("kind", "velocity")), select, count, lambda g: "fluid",
                            lambda g: "C0")
@@ -721,7 +735,7 @@ def fig20(run, out, args):
             ax.plot(profile, z, marker=".", color=f"C{j}", label=f"{label} ({used} frames)")
         ax.set_title("(b) " + PHASES[p][1], fontsize=8)
         ax.set_xlabel("granular temperature [m²/s²]")
-        ax.set_xscale("log")
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 2))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     axes[1].set_ylabel("z / d_s1")
@@ -737,7 +751,9 @@ def fig17_19(run, out, args):
     times = run.solid_times()
     if len(times) == 0:
         raise Skip("no solids.pvd")
-    fields = ("velocity", "mass", "size_class", "force", "contact_force", "drag_force", "pressure_force")
+    fields = ("velocity", "mass", "radius", "size_class", "force", "contact_force", "drag_force", "pressure_force")
+    water = float(run.scene.get("fluid", {}).get("density", 1000.0))
+    buoyancy = {}
     rows = []
     series = {}
     for index in range(len(times)):
@@ -746,6 +762,7 @@ def fig17_19(run, out, args):
         for k in sorted(set(frame["size_class"].tolist())):
             mask = frame["size_class"] == k
             m = frame["mass"][mask]
+            buoyancy[k] = water / float(np.mean(m / (4.0 / 3.0 * math.pi * frame["radius"][mask] ** 3)))
             per_mass = {name: frame[name][mask] / m[:, None] for name in ("pressure_force", "drag_force",
                                                                           "contact_force")}
             per_mass["gravity"] = np.tile([0.0, 0.0, -G], (int(mask.sum()), 1))
@@ -784,6 +801,7 @@ def fig17_19(run, out, args):
         tt = np.linspace(data[keep, 0].min(), data[keep, 0].max(), 400)
         axes[0][j].plot(tt, run.tank_acceleration(tt / run.frequency) / run.a_max, color="C1", ls="--", lw=0.8,
                         label="tank acceleration / a_max")
+        axes[1][j].axhline(buoyancy[k], color="C0", ls="--", lw=0.8, label=f"ρ_w/ρ_s = {buoyancy[k]:.3f}")
         axes[0][j].set_title(f"{class_name(k)}: x, force / (m a_max)", fontsize=9)
         axes[1][j].set_title(f"{class_name(k)}: z, force / (m g)", fontsize=9)
         axes[1][j].set_xlabel("t/T")
@@ -821,6 +839,8 @@ def main(argv=None):
                         help="largest phase difference [deg] of a frame used for a phase (default 20)")
     parser.add_argument("--frame", choices=["tank", "lab"], default="tank",
                         help="fig14/15 velocities relative to the tank (default) or in the lab frame")
+    parser.add_argument("--fluid-layer", type=float, metavar="METRES",
+                        help="fig15 sub-layer thickness (default max(5 mm, fluid.spacing))")
     parser.add_argument("--window", type=float, nargs=2, metavar=("T1", "T2"),
                         help="fig17_19 plot window in t/T (default the whole run; the CSV has every frame)")
     args = parser.parse_args(argv)
