@@ -368,7 +368,7 @@ def fig03(run, out, args):
         if fi is not None:
             water = run.fluid(fi, ("kind",))
             q = water["tank_frame_points"][water["kind"] == 0]
-            ax.scatter(q[:, 0], q[:, 2], s=2, color="#9ecae1", alpha=0.25, linewidths=0, zorder=0)
+            ax.scatter(q[:, 0], q[:, 2], s=4, color="#6baed6", alpha=0.35, linewidths=0, zorder=0)
         diameters = 2 * grains["radius"][order]
         colours = [class_colour(k) for k in grains["size_class"][order]]
         ax.add_collection(EllipseCollection(diameters, diameters, np.zeros_like(diameters), units="xy",
