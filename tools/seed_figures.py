@@ -1,0 +1,871 @@
+#!/usr/bin/python3
+"""Figures shaped like seed 000's (Tazaki, Harada & Gotoh), from one riffle run's output directory, as CSV + PNG,
+so that riffle's results can be put beside the paper's. Writes into OUT_DIR/figures/.
+
+Usage: /usr/bin/python3 tools/seed_figures.py OUT_DIR [--figures NAME ...] [options]
+
+Figures (NAME: files written):
+  fig03   fig03_snapshot_tT<k>.png     side view (x-z, tank frame) of the grains by size class at --times
+  fig06   fig06_centroids.csv/png      concentration centroid height per size class vs t/T
+  fig11   fig11_concentration.csv/png  volume concentration per class in four 15 mm sub-layers at --conc-times
+  fig12   fig12_coordination_overlap.csv/png  coordination number Z and mean overlap delta* (bed_profile.csv)
+  fig14   fig14_velocity_phases.csv/png  mean grain x-velocity per class per 5 mm sub-layer at four phases
+  fig15   fig15_fluid_velocity.csv/png   mean fluid x-velocity per 5 mm sub-layer at four phases
+  fig17_19  fig17_19_force_balance.csv/png  mean forces per grain of each class, x and z, vs t/T
+  fig20   fig20_granular_temperature.csv/png (+ _profiles.csv)  granular temperature vs t/T and profiles
+
+Conventions (docs/RESULTS.md has them in full):
+  - heights are above the tank floor (z minus the tank's vertical displacement, zero for the seed's motion);
+  - the phase is the tank's: phase = 2 pi f t mod 2 pi, with x_tank = -A r(t) sin(2 pi f t). Phase 0: tank
+    velocity most negative (the seed's phi = pi/2); pi/2: tank at -A, accelerating (seed phi = pi); pi: velocity
+    most positive (seed 3pi/2); 3pi/2: tank at +A, decelerating (seed 2pi). Frames are matched to a phase when
+    within --phase-tolerance degrees of it;
+  - velocities in fig14/fig15 are relative to the tank (lab velocity minus the analytic tank velocity, with the
+    quintic start-up ramp) unless --frame lab; both are in the CSV;
+  - a "stage" is a range of periods, the k-th period being t/T in [k-1, k] (seed numbering). --stages 10 85 is
+    the seed's developing and fully developed stage; 10-12 averages periods 10 to 12. By default the seed's
+    stages the run covers, else every period after the start-up ramp as one stage.
+
+Needs numpy and matplotlib (Debian's python3-numpy and python3-matplotlib, installed by tools/setup.sh): run it
+with /usr/bin/python3.
+"""
+import argparse
+import csv
+import math
+import pathlib
+import re
+import sys
+
+try:
+    import numpy as np
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import EllipseCollection
+except ImportError as _error:  # pragma: no cover - depends on the machine
+    sys.exit(f"seed_figures: {_error.name} is missing; install python3-numpy and python3-matplotlib "
+             "(tools/setup.sh does) and run this script with /usr/bin/python3")
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import vtp  # noqa: E402  (next to this file)
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11: the scene is then not read, the fall-backs are used
+    tomllib = None
+
+G = 9.81
+CLASS_NAMES = {0: "small (5 mm)", 1: "medium (10 mm)", 2: "large (15 mm)"}
+CLASS_COLOURS = {0: "#c8a24a", 1: "#222222", 2: "#d62728"}
+PHASES = [(0.0, "phase 0 (seed φ=π/2): tank velocity max −"),
+          (0.5 * math.pi, "phase π/2 (seed φ=π): accelerating"),
+          (math.pi, "phase π (seed φ=3π/2): tank velocity max +"),
+          (1.5 * math.pi, "phase 3π/2 (seed φ=2π): decelerating")]
+SEED_PHI = ["pi/2", "pi", "3pi/2", "2pi"]
+ALL_FIGURES = ["fig03", "fig06", "fig11", "fig12", "fig14", "fig15", "fig17_19", "fig20"]
+
+
+class Skip(Exception):
+    """A figure that cannot be made from this run (the message says why)."""
+
+
+def class_name(k):
+    return CLASS_NAMES.get(int(k), f"class {int(k)}")
+
+
+def class_colour(k):
+    return CLASS_COLOURS.get(int(k), f"C{int(k) % 10}")
+
+
+def write_csv(path, header, rows):
+    with open(path, "w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(header)
+        for row in rows:
+            writer.writerow([f"{v:.9g}" if isinstance(v, float) else v for v in row])
+
+
+def read_csv_rows(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def number(text):
+    return float(text) if text not in ("", None) else math.nan
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# The run: scene parameters, tank motion, frames
+
+
+class Run:
+    def __init__(self, out_dir, scene_path=None, layer=0.005, verbose=True):
+        self.out_dir = pathlib.Path(out_dir)
+        self.layer = layer
+        self.notes = []
+        self.scene = {}
+        self.scene_path = self._find_scene(scene_path)
+        if self.scene_path is not None and tomllib is not None:
+            with open(self.scene_path, "rb") as handle:
+                self.scene = tomllib.load(handle)
+        tank = self.scene.get("tank", {})
+        motion = tank.get("motion", {})
+        self.size = np.array(tank.get("size", [0.24, 0.16, 0.20]), dtype=float)
+        self.frequency = float(motion.get("frequency", math.nan))
+        self.amplitude = float(motion.get("amplitude", math.nan))
+        direction = np.array(motion.get("direction", [1.0, 0.0, 0.0]), dtype=float)
+        self.direction = direction / np.linalg.norm(direction)
+        self.ramp_time = motion.get("ramp_time")
+        if self.scene and motion.get("kind", "none") != "sinusoidal":
+            raise SystemExit(f"seed_figures: the scene {self.scene_path} has no sinusoidal tank motion")
+        if not math.isfinite(self.frequency):
+            self.frequency = self._frequency_from_outputs()
+        if not math.isfinite(self.amplitude):
+            self.amplitude = self._amplitude_from_diagnostics()
+        if self.ramp_time is None:
+            self.ramp_time = 0.0 if self.scene else 1.0 / self.frequency
+            if not self.scene:
+                self.notes.append(f"ramp_time taken as one period ({self.ramp_time:.6g} s): scene not found")
+        self.ramp_time = float(self.ramp_time)
+        self.period = 1.0 / self.frequency
+        self.omega = 2.0 * math.pi * self.frequency
+        self.a_max = self.amplitude * self.omega ** 2
+        self._solid_frames = self._frames("solids.pvd")
+        self._fluid_frames = self._frames("fluid.pvd")
+        self._cache = {}
+        self._check_against_diagnostics()
+        if verbose:
+            where = self.scene_path if self.scene_path else "fall-backs (no scene file found)"
+            print(f"seed_figures: {self.out_dir}: f = {self.frequency:g} Hz, A = {self.amplitude:g} m, "
+                  f"ramp {self.ramp_time:g} s, tank {self.size.tolist()} m (from {where}); "
+                  f"{len(self._solid_frames)} grain frames, {len(self._fluid_frames)} fluid frames")
+            for note in self.notes:
+                print("  note:", note)
+
+    # -- scene and motion --
+    def _find_scene(self, explicit):
+        if explicit:
+            path = pathlib.Path(explicit)
+            if not path.exists():
+                raise SystemExit(f"seed_figures: --scene {path} does not exist")
+            return path
+        log = self.out_dir / "riffle.log"
+        if not log.exists():
+            return None
+        match = None
+        for line in open(log, errors="replace"):
+            found = re.search(r"starting '[^']*' from (.+?\.toml):", line)
+            if found:
+                match = found.group(1)
+        if not match:
+            return None
+        candidates = [pathlib.Path(match), self.out_dir.resolve().parent.parent / match,
+                      pathlib.Path(__file__).resolve().parent.parent / match]
+        for candidate in candidates:
+            if candidate.exists():
+                return candidate
+        self.notes.append(f"the log names the scene {match}, which was not found; pass --scene")
+        return None
+
+    def _frequency_from_outputs(self):
+        path = self.out_dir / "class_centroids.csv"
+        if path.exists():
+            for row in read_csv_rows(path):
+                t, tt = number(row["time_s"]), number(row["t_over_T"])
+                if t > 0 and math.isfinite(tt):
+                    self.notes.append("frequency from class_centroids.csv (t/T over t)")
+                    return tt / t
+        self.notes.append("frequency not found: the seed's 1.7 Hz assumed")
+        return 1.7
+
+    def _amplitude_from_diagnostics(self):
+        path = self.out_dir / "diagnostics.csv"
+        if path.exists():
+            values = [abs(number(r["tank_displacement_m"])) for r in read_csv_rows(path)]
+            if values and max(values) > 0:
+                self.notes.append("amplitude = largest |tank_displacement_m| in diagnostics.csv")
+                return max(values)
+        self.notes.append("amplitude not found: the seed's 0.01 m assumed")
+        return 0.01
+
+    def ramp(self, t):
+        """Quintic start-up ramp r(t) and r'(t) (systems/wall_motion.cpp)."""
+        t = np.asarray(t, dtype=float)
+        if self.ramp_time <= 0:
+            return np.ones_like(t), np.zeros_like(t)
+        s = np.clip(t / self.ramp_time, 0.0, 1.0)
+        value = s ** 3 * (10.0 + s * (-15.0 + 6.0 * s))
+        rate = np.where((t > 0) & (t < self.ramp_time), 30.0 * s * s * (1 - s) ** 2 / self.ramp_time, 0.0)
+        return value, rate
+
+    def tank_displacement(self, t):
+        """Scalar displacement along the motion direction [m]."""
+        r, _ = self.ramp(t)
+        return -self.amplitude * r * np.sin(self.omega * np.asarray(t, dtype=float))
+
+    def tank_velocity(self, t):
+        """Scalar velocity along the motion direction [m/s]."""
+        t = np.asarray(t, dtype=float)
+        r, dr = self.ramp(t)
+        return -self.amplitude * (dr * np.sin(self.omega * t) + r * self.omega * np.cos(self.omega * t))
+
+    def tank_acceleration(self, t):
+        """Scalar acceleration along the motion direction [m/s^2]."""
+        t = np.asarray(t, dtype=float)
+        r, dr = self.ramp(t)
+        if self.ramp_time > 0:
+            s = np.clip(t / self.ramp_time, 0.0, 1.0)
+            ddr = np.where((t > 0) & (t < self.ramp_time),
+                           60.0 * s * (1 - s) * (1 - 2 * s) / self.ramp_time ** 2, 0.0)
+        else:
+            ddr = np.zeros_like(t)
+        w, sine, cosine = self.omega, np.sin(self.omega * t), np.cos(self.omega * t)
+        return -self.amplitude * (ddr * sine + 2 * dr * w * cosine - r * w * w * sine)
+
+    def phase(self, t):
+        return np.mod(self.omega * np.asarray(t, dtype=float), 2.0 * math.pi)
+
+    def _check_against_diagnostics(self):
+        path = self.out_dir / "diagnostics.csv"
+        if not path.exists():
+            return
+        rows = read_csv_rows(path)
+        if not rows or "tank_velocity_m_s" not in rows[0]:
+            return
+        t = np.array([number(r["time_s"]) for r in rows])
+        v = np.array([number(r["tank_velocity_m_s"]) for r in rows])
+        model = self.tank_velocity(t) * self.direction[0] if abs(self.direction[0]) > 0 else self.tank_velocity(t)
+        error = np.nanmax(np.abs(model - v)) if len(t) else 0.0
+        if error > 1e-3 * max(self.amplitude * self.omega, 1e-12):
+            self.notes.append(f"the analytic tank velocity differs from diagnostics.csv by up to {error:.3g} m/s: "
+                              "check --scene (frequency, amplitude, ramp_time)")
+
+    # -- frames --
+    def _frames(self, name):
+        path = self.out_dir / name
+        return vtp.read_pvd(path) if path.exists() else []
+
+    def solid_times(self):
+        return np.array([t for t, _ in self._solid_frames])
+
+    def fluid_times(self):
+        return np.array([t for t, _ in self._fluid_frames])
+
+    def solids(self, index, fields=("velocity", "radius", "mass", "size_class")):
+        return self._load("solids", self._solid_frames, index, fields)
+
+    def fluid(self, index, fields=("kind", "velocity")):
+        return self._load("fluid", self._fluid_frames, index, fields)
+
+    def _load(self, tag, frames, index, fields):
+        key = (tag, index)
+        cached = self._cache.get(key)
+        if cached is not None and all(f in cached for f in fields):
+            return cached
+        time, path = frames[index]
+        data = vtp.read_vtp(path, fields)
+        data["time"] = time
+        displacement = self.tank_displacement(time) * self.direction
+        data["tank_frame_points"] = data["points"] - displacement  # positions in the tank's frame
+        data["height"] = data["tank_frame_points"][:, 2]             # above the tank floor
+        if len(self._cache) > 64:
+            self._cache.clear()
+        self._cache[key] = data
+        return data
+
+    def nearest_frame(self, times, t_over_T):
+        """The index of the frame nearest to t/T, or None when t/T is beyond the run (by more than half a gap)."""
+        if len(times) == 0:
+            return None
+        target = t_over_T * self.period
+        index = int(np.argmin(np.abs(times - target)))
+        gap = np.median(np.diff(times)) if len(times) > 1 else 0.0
+        if target > times[-1] + 0.5 * gap + 1e-9 or target < times[0] - 0.5 * gap - 1e-9:
+            return None
+        return index
+
+    # -- stages and phases --
+    def stages(self, requested, times):
+        """[(label, k_first, k_last)] for the stage specs; a period k is t/T in [k-1, k]."""
+        last = times[-1] * self.frequency if len(times) else 0.0
+        first_after_ramp = int(math.floor(self.ramp_time * self.frequency + 1e-3)) + 1
+        stages = []
+        if requested:
+            for spec in requested:
+                parts = spec.split("-")
+                k1, k2 = int(parts[0]), int(parts[-1])
+                if k1 - 1 >= last - 1e-9:
+                    print(f"  stage {spec}: skipped, the run ends at t/T = {last:.3g}")
+                    continue
+                stages.append((f"period {k1}" if k1 == k2 else f"periods {k1}-{k2}", k1, k2))
+        else:
+            for k in (10, 85):
+                if k <= last + 1e-9:
+                    stages.append((f"period {k}", k, k))
+            if not stages:
+                k2 = max(first_after_ramp, int(math.ceil(last - 1e-9)))
+                span = f"period {k2}" if k2 == first_after_ramp else f"periods {first_after_ramp}-{k2}"
+                stages.append((f"{span} (all after the ramp)", first_after_ramp, k2))
+        return stages
+
+    def phase_frames(self, times, k1, k2, tolerance_deg):
+        """For each of the four PHASES, the frame indices in periods k1..k2 within the tolerance, after the ramp."""
+        t_over_T = times * self.frequency
+        inside = (t_over_T >= k1 - 1 - 1e-9) & (t_over_T <= k2 + 1e-9) & (times >= self.ramp_time - 1e-9)
+        phases = self.phase(times)
+        result = []
+        for target, _ in PHASES:
+            difference = np.angle(np.exp(1j * (phases - target)))
+            chosen = np.where(inside & (np.abs(difference) <= math.radians(tolerance_deg)))[0]
+            result.append((chosen, np.degrees(difference[chosen])))
+        return result
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Helpers
+
+
+def layer_index(height, thickness, count):
+    k = np.floor(height / thickness).astype(int)
+    return np.where((k >= 0) & (k < count), k, -1)
+
+
+def binned_mean(keys, values, count):
+    """Sum and count of values per key 0..count-1 (keys < 0 dropped)."""
+    valid = keys >= 0
+    sums = np.bincount(keys[valid], weights=values[valid], minlength=count)[:count]
+    counts = np.bincount(keys[valid], minlength=count)[:count]
+    return sums, counts
+
+
+def save(figure, path):
+    figure.savefig(path, dpi=130)
+    plt.close(figure)
+    return path
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# Figures
+
+
+def fig03(run, out, args):
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    targets = args.times if args.times else [t for t in (0, 5, 10, 30, 85, 100)]
+    written = []
+    fluid_times = run.fluid_times()
+    for target in targets:
+        index = run.nearest_frame(times, target)
+        if index is None:
+            print(f"  fig03: t/T = {target:g} is beyond the run (last frame t/T = {times[-1] * run.frequency:.3g})")
+            continue
+        grains = run.solids(index, ("radius", "size_class"))
+        p = grains["tank_frame_points"]
+        order = np.argsort(-p[:, 1])  # the viewer looks along +y from y < 0: far grains first
+        figure, ax = plt.subplots(figsize=(9, 4.2), constrained_layout=True)
+        fi = run.nearest_frame(fluid_times, target) if len(fluid_times) else None
+        if fi is not None:
+            water = run.fluid(fi, ("kind",))
+            q = water["tank_frame_points"][water["kind"] == 0]
+            ax.scatter(q[:, 0], q[:, 2], s=4, color="#6baed6", alpha=0.35, linewidths=0, zorder=0)
+        diameters = 2 * grains["radius"][order]
+        colours = [class_colour(k) for k in grains["size_class"][order]]
+        ax.add_collection(EllipseCollection(diameters, diameters, np.zeros_like(diameters), units="xy",
+                                            offsets=np.column_stack([p[order, 0], p[order, 2]]),
+                                            offset_transform=ax.transData, facecolors=colours,
+                                            edgecolors="#00000040", linewidths=0.2, zorder=1))
+        for k in sorted(set(grains["size_class"].tolist())):
+            ax.scatter([], [], color=class_colour(k), label=class_name(k))
+        ax.plot([0, 0, run.size[0], run.size[0]], [0.1, 0, 0, 0.1], color="k", lw=1)
+        ax.set_xlim(-0.005, run.size[0] + 0.005)
+        ax.set_ylim(-0.003, 0.10)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x in the tank frame [m]")
+        ax.set_ylabel("height above the floor [m]")
+        actual = grains["time"] * run.frequency
+        ax.set_title(f"side view (from y < 0, near grains in front), t/T = {actual:.2f}"
+                     + (" + water (kind 0) in blue" if fi is not None else ""))
+        ax.legend(loc="upper right", fontsize=8, ncol=3)
+        label = f"{target:g}".replace(".", "p")
+        written.append(save(figure, out / f"fig03_snapshot_tT{label}.png"))
+    if not written:
+        raise Skip("no requested time lies within the run")
+    return written
+
+
+def fig06(run, out, args):
+    path = run.out_dir / "class_centroids.csv"
+    rows = []
+    if path.exists():
+        data = read_csv_rows(path)
+        classes = sorted(int(m.group(1)) for key in data[0] for m in [re.match(r"class_(\d+)_centroid_m", key)] if m)
+        for row in data:
+            rows.append([number(row["t_over_T"]) if row["t_over_T"] else number(row["time_s"]) * run.frequency]
+                        + [number(row[f"class_{k}_centroid_m"]) for k in classes])
+        source = "class_centroids.csv"
+    else:
+        times = run.solid_times()
+        if len(times) == 0:
+            raise Skip("neither class_centroids.csv nor solids.pvd")
+        classes = None
+        for index in range(len(times)):
+            grains = run.solids(index, ("radius", "size_class"))
+            volume = grains["radius"] ** 3
+            if classes is None:
+                classes = sorted(set(grains["size_class"].tolist()))
+            rows.append([times[index] * run.frequency] + [
+                float(np.sum(volume[grains["size_class"] == k] * grains["height"][grains["size_class"] == k])
+                      / np.sum(volume[grains["size_class"] == k])) for k in classes])
+        source = "the grain frames (volume-weighted mean centre height)"
+    write_csv(out / "fig06_centroids.csv", ["t_over_T"] + [f"class_{k}_centroid_m" for k in classes], rows)
+    table = np.array(rows)
+    figure, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
+    for j, k in enumerate(classes):
+        ax.plot(table[:, 0], 1e3 * table[:, j + 1], color=class_colour(k), label=class_name(k))
+    ax.set_xlabel("t/T")
+    ax.set_ylabel("concentration centroid above the floor [mm]")
+    ax.set_title(f"Fig. 6 shape: centroid per size class (from {source})", fontsize=9)
+    ax.legend()
+    ax.grid(alpha=0.3)
+    return [out / "fig06_centroids.csv", save(figure, out / "fig06_centroids.png")]
+
+
+def fig11(run, out, args):
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    thickness, count = 0.015, 4
+    volume_layer = run.size[0] * run.size[1] * thickness
+    chosen = []
+    for target in args.conc_times:
+        index = run.nearest_frame(times, target)
+        if index is None:
+            print(f"  fig11: t/T = {target:g} skipped: beyond the run (last frame t/T = "
+                  f"{times[-1] * run.frequency:.3g})")
+        else:
+            chosen.append((target, index))
+    if all(target == 0 for target, _ in chosen) and len(times) > 1:
+        print(f"  fig11: none of the seed's times lies within the run; the last frame is used instead")
+        chosen.append((times[-1] * run.frequency, len(times) - 1))
+    rows = []
+    profiles = {}
+    for target, index in chosen:
+        grains = run.solids(index, ("radius", "size_class"))
+        keys = layer_index(grains["height"], thickness, count)
+        volume = 4.0 / 3.0 * math.pi * grains["radius"] ** 3
+        actual = grains["time"] * run.frequency
+        for k in sorted(set(grains["size_class"].tolist())):
+            mask = grains["size_class"] == k
+            sums, numbers = binned_mean(keys[mask], volume[mask], count)
+            profiles[(target, k)] = (actual, sums / volume_layer)
+            for layer in range(count):
+                rows.append([target, actual, k, layer, layer * thickness, (layer + 1) * thickness,
+                             int(numbers[layer]), float(sums[layer]), float(sums[layer] / volume_layer)])
+    write_csv(out / "fig11_concentration.csv",
+              ["target_t_over_T", "frame_t_over_T", "size_class", "sublayer", "z_low_m", "z_high_m", "grains",
+               "grain_volume_m3", "volume_concentration"], rows)
+    classes = sorted({k for _, k in profiles})
+    figure, axes = plt.subplots(1, len(classes), figsize=(4 * len(classes), 4.2), sharey=True,
+                                constrained_layout=True, squeeze=False)
+    mids = 1e3 * (np.arange(count) + 0.5) * thickness
+    for ax, k in zip(axes[0], classes):
+        for j, (target, _) in enumerate(chosen):
+            actual, concentration = profiles[(target, k)]
+            ax.plot(concentration, mids, marker="o", color=f"C{j}", label=f"t/T = {actual:.3g}")
+        ax.set_title(class_name(k))
+        ax.set_xlabel("volume concentration [-]")
+        ax.set_yticks(1e3 * np.arange(count + 1) * thickness)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    axes[0][0].set_ylabel("height above the floor [mm] (15 mm sub-layers)")
+    figure.suptitle("Fig. 11 shape: volume concentration (grain assigned to the sub-layer of its centre; "
+                    "sub-layer volume = tank area x 15 mm)", fontsize=9)
+    return [out / "fig11_concentration.csv", save(figure, out / "fig11_concentration.png")]
+
+
+def fig12(run, out, args):
+    path = run.out_dir / "bed_profile.csv"
+    if not path.exists():
+        raise Skip("no bed_profile.csv (set output.bed_profile_interval)")
+    rows = read_csv_rows(path)
+    times = sorted({number(r["time_s"]) for r in rows})
+    with_contacts = sorted({number(r["time_s"]) for r in rows if r["mean_dimensionless_overlap"] != ""})
+    series = np.array(times)
+    chosen = []
+    for target in args.profile_times:
+        index = run.nearest_frame(series, target)
+        if index is None:
+            print(f"  fig12: t/T = {target:g} skipped: beyond the run (last profile t/T = "
+                  f"{series[-1] * run.frequency:.3g})")
+        else:
+            chosen.append(series[index])
+    if not chosen:
+        if with_contacts:
+            chosen = sorted({with_contacts[0], with_contacts[-1]})
+            print("  fig12: none of the seed's times lies within the run; the first and last profiles with "
+                  "contacts are used")
+        else:
+            raise Skip("bed_profile.csv has no contacts yet")
+    figure, axes = plt.subplots(1, 2, figsize=(9, 4.8), sharey=True, constrained_layout=True)
+    out_rows = []
+    for j, t in enumerate(chosen):
+        selected = [r for r in rows if number(r["time_s"]) == t and int(r["grains"]) > 0]
+        z = np.array([0.5 * (number(r["z_low_m"]) + number(r["z_high_m"])) for r in selected]) / 0.005
+        Z = np.array([number(r["coordination_number"]) for r in selected])
+        delta = np.array([number(r["mean_dimensionless_overlap"]) for r in selected])
+        label = f"t/T = {t * run.frequency:.3g}"
+        axes[0].plot(Z, z, marker="o", color=f"C{j}", label=label)
+        axes[1].plot(delta, z, marker="o", color=f"C{j}", label=label)
+        out_rows += [[t, t * run.frequency, r["layer"], number(r["z_low_m"]), number(r["z_high_m"]), r["grains"],
+                      r["contacts"], number(r["coordination_number"]), number(r["mean_dimensionless_overlap"])]
+                     for r in selected]
+    write_csv(out / "fig12_coordination_overlap.csv",
+              ["time_s", "t_over_T", "layer", "z_low_m", "z_high_m", "grains", "contacts", "coordination_number",
+               "mean_dimensionless_overlap"], out_rows)
+    axes[0].set_xlabel("coordination number Z = 2 Nc / Np")
+    axes[1].set_xlabel("mean dimensionless overlap δ*")
+    axes[1].ticklabel_format(axis="x", style="sci", scilimits=(-2, 2))
+    axes[0].set_ylabel("z / d_s1 (layer mid-height, d_s1 = 5 mm)")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    figure.suptitle("Fig. 12 shape (from bed_profile.csv)", fontsize=9)
+    return [out / "fig12_coordination_overlap.csv", save(figure, out / "fig12_coordination_overlap.png")]
+
+
+def phase_profiles(run, times, stages, load, select, tolerance, count):
+    """Per stage and phase: per-layer sums of lab x-velocity, tank-relative x-velocity and counts, per group.
+
+    load(index) -> frame dict; select(frame) -> [(group, mask)]. Returns a list of rows and a nested dict."""
+    results = {}
+    for label, k1, k2 in stages:
+        for p, (indices, errors) in enumerate(run.phase_frames(times, k1, k2, tolerance)):
+            accumulated = {}
+            for index in indices:
+                frame = load(index)
+                v_tank = float(run.tank_velocity(frame["time"])) * run.direction[0]
+                keys_all = layer_index(frame["height"], run.layer, count)
+                for group, mask in select(frame):
+                    vx = frame["velocity"][mask, 0]
+                    keys = keys_all[mask]
+                    sums, numbers = binned_mean(keys, vx, count)
+                    relative, _ = binned_mean(keys, vx - v_tank, count)
+                    old = accumulated.get(group, (0, 0, 0))
+                    accumulated[group] = (old[0] + sums, old[1] + relative, old[2] + numbers)
+            results[(label, p)] = (indices, errors, accumulated)
+    return results
+
+
+def velocity_figure(run, out, args, name, title, times, load, select, count, group_label, group_colour):
+    stages = run.stages(args.stages, times)
+    if not stages:
+        raise Skip("no stage lies within the run")
+    results = phase_profiles(run, times, stages, load, select, args.phase_tolerance, count)
+    rows = []
+    figure, axes = plt.subplots(len(stages), 4, figsize=(15, 3.8 * len(stages)), sharey=True, squeeze=False,
+                                constrained_layout=True)
+    key = 0 if args.frame == "lab" else 1
+    for s, (label, k1, k2) in enumerate(stages):
+        for p, (target, phase_label) in enumerate(PHASES):
+            indices, errors, accumulated = results[(label, p)]
+            ax = axes[s][p]
+            for group in sorted(accumulated):
+                sums = accumulated[group]
+                numbers = sums[2]
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    lab = np.where(numbers > 0, sums[0] / np.maximum(numbers, 1), np.nan)
+                    rel = np.where(numbers > 0, sums[1] / np.maximum(numbers, 1), np.nan)
+                for layer in range(count):
+                    if numbers[layer]:
+                        rows.append([label, k1, k2, p, target, SEED_PHI[p], len(indices),
+                                     float(np.mean(np.abs(errors))) if len(errors) else math.nan, group, layer,
+                                     layer * run.layer, (layer + 1) * run.layer, int(numbers[layer]),
+                                     float(lab[layer]), float(rel[layer])])
+                z = (np.arange(count) + 0.5) * run.layer / 0.005
+                ax.plot((lab, rel)[key], z, marker=".", color=group_colour(group), label=group_label(group))
+            ax.axvline(0, color="grey", lw=0.6)
+            err = f", |Δphase| ≤ {np.max(np.abs(errors)):.0f}°" if len(errors) else ""
+            ax.set_title(f"{phase_label}\n{label}, {len(indices)} frames{err}", fontsize=8)
+            ax.grid(alpha=0.3)
+            if s == len(stages) - 1:
+                ax.set_xlabel("mean x-velocity " + ("(lab) [m/s]" if key == 0 else "relative to the tank [m/s]"))
+            if p == 0:
+                ax.set_ylabel(f"z / d_s1 ({1e3 * run.layer:g} mm sub-layers, d_s1 = 5 mm)")
+            if accumulated:
+                ax.legend(fontsize=7)
+            else:
+                ax.text(0.5, 0.5, "no frame at this phase", transform=ax.transAxes, ha="center")
+    figure.suptitle(title.replace("; ", ";\n", 1), fontsize=9)
+    write_csv(out / f"{name}.csv",
+              ["stage", "period_first", "period_last", "phase_index", "tank_phase_rad", "seed_phi", "frames",
+               "mean_abs_phase_error_deg", "group", "sublayer", "z_low_m", "z_high_m", "samples", "mean_vx_lab_m_s",
+               "mean_vx_relative_to_tank_m_s"], rows)
+    missing = sum(1 for v in results.values() if len(v[0]) == 0)
+    if missing:
+        print(f"  {name}: {missing} stage-phase panels have no frame within {args.phase_tolerance:g}° "
+              "(write frames more often: output.vtk_interval = T/8 hits the four phases exactly)")
+    return [out / f"{name}.csv", save(figure, out / f"{name}.png")]
+
+
+def fig14(run, out, args):
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    count = int(math.ceil(0.08 / run.layer))  # 16 sub-layers of 5 mm: the bed stays below 8 cm
+
+    def select(frame):
+        return [(int(k), frame["size_class"] == k) for k in sorted(set(frame["size_class"].tolist()))]
+
+    return velocity_figure(run, out, args, "fig14_velocity_phases",
+                           "Fig. 14 shape: mean grain x-velocity per size class per 5 mm sub-layer (grain in the "
+                           "sub-layer of its centre), averaged over the frames at each phase of the stage; "
+                           + ("lab frame" if args.frame == "lab" else "relative to the tank (v - v_tank(t), "
+                              "analytic with the ramp)"),
+                           times, lambda i: run.solids(i, ("velocity", "size_class")), select, count, class_name,
+                           class_colour)
+
+
+def fig15(run, out, args):
+    times = run.fluid_times()
+    if len(times) == 0:
+        raise Skip("no fluid.pvd")
+    # The seed's 5 mm sub-layers, or l0 when coarser: thinner layers alias the particle lattice (at l0 = 10 mm
+    # every other 5 mm layer would hold the particles of a lattice plane and its neighbour almost none).
+    spacing = float(run.scene.get("fluid", {}).get("spacing", 0.005))
+    thickness = args.fluid_layer if args.fluid_layer else max(0.005, spacing)
+    saved, run.layer = run.layer, thickness
+    count = int(math.ceil(0.12 / run.layer))
+
+    def select(frame):
+        return [("fluid", frame["kind"] == 0)]
+
+    try:
+        return _fig15(run, out, args, times, count, select)
+    finally:
+        run.layer = saved
+
+
+def _fig15(run, out, args, times, count, select):
+    return velocity_figure(run, out, args, "fig15_fluid_velocity",
+                           "Fig. 15 shape: horizontally averaged x-velocity of the MPS fluid particles (kind 0) "
+                           f"per {1e3 * run.layer:g} mm sub-layer, averaged over the frames at each phase; "
+                           + ("lab frame" if args.frame == "lab" else "relative to the tank"),
+                           times, lambda i: run.fluid(i, ("kind", "velocity")), select, count, lambda g: "fluid",
+                           lambda g: "C0")
+
+
+def granular_temperature(run, frame, count):
+    """Per grain (1/3)|u - u_ave(layer)|^2, u_ave the mean velocity of all grains in its 5 mm sub-layer
+    (seed Eq. 31), and the layer index of each grain."""
+    keys = layer_index(frame["height"], run.layer, count)
+    keys = np.where(keys < 0, count, keys)  # grains outside: one extra bin
+    numbers = np.bincount(keys, minlength=count + 1)
+    mean = np.stack([np.bincount(keys, weights=frame["velocity"][:, c], minlength=count + 1) for c in range(3)], 1)
+    mean /= np.maximum(numbers, 1)[:, None]
+    fluctuation = frame["velocity"] - mean[keys]
+    return np.sum(fluctuation ** 2, axis=1) / 3.0, keys
+
+
+def fig20(run, out, args):
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    count = int(math.ceil(0.08 / run.layer))
+    rows = []
+    classes = None
+    series = {}
+    for index in range(len(times)):
+        frame = run.solids(index, ("velocity", "size_class"))
+        tg, _ = granular_temperature(run, frame, count)
+        if classes is None:
+            classes = sorted(set(frame["size_class"].tolist()))
+        t = frame["time"]
+        values = [float(np.mean(tg))] + [float(np.mean(tg[frame["size_class"] == k])) for k in classes]
+        rows.append([t, t * run.frequency, float(run.phase(t))] + values)
+    header = ["time_s", "t_over_T", "tank_phase_rad", "Tg_all_m2_s2"] + [f"Tg_class_{k}_m2_s2" for k in classes]
+    write_csv(out / "fig20_granular_temperature.csv", header, rows)
+    table = np.array(rows)
+
+    # (b) profiles (all classes, as the seed) at the acceleration (tank phase pi/2) and maximum-velocity
+    # (tank phase pi) phases, averaged over the frames of each stage at that phase
+    stages = run.stages(args.stages, times)
+    profile_rows = []
+    profiles = {}
+    for label, k1, k2 in stages:
+        matched = run.phase_frames(times, k1, k2, args.phase_tolerance)
+        for p in (1, 2):
+            indices, _ = matched[p]
+            sums = np.zeros(count)
+            numbers = np.zeros(count)
+            for index in indices:
+                frame = run.solids(index, ("velocity", "size_class"))
+                tg, keys = granular_temperature(run, frame, count)
+                s, n = binned_mean(np.where(keys < count, keys, -1), tg, count)
+                sums += s
+                numbers += n
+            with np.errstate(invalid="ignore", divide="ignore"):
+                profile = np.where(numbers > 0, sums / np.maximum(numbers, 1), np.nan)
+            profiles[(label, p)] = (profile, len(indices))
+            for layer in range(count):
+                if numbers[layer]:
+                    profile_rows.append([label, k1, k2, p, PHASES[p][0], SEED_PHI[p], len(indices), layer,
+                                         layer * run.layer, (layer + 1) * run.layer, int(numbers[layer]),
+                                         float(profile[layer])])
+    write_csv(out / "fig20_granular_temperature_profiles.csv",
+              ["stage", "period_first", "period_last", "phase_index", "tank_phase_rad", "seed_phi", "frames",
+               "sublayer", "z_low_m", "z_high_m", "samples", "Tg_m2_s2"], profile_rows)
+
+    figure, axes = plt.subplots(1, 3, figsize=(15, 4.2), constrained_layout=True,
+                                gridspec_kw={"width_ratios": [2, 1, 1]})
+    ax = axes[0]
+    ax.plot(table[:, 1], table[:, 3], color="C0", lw=1.6, label="all grains")
+    for j, k in enumerate(classes):
+        ax.plot(table[:, 1], table[:, 4 + j], color=class_colour(k), lw=0.9, label=class_name(k))
+    ax.set_yscale("log")
+    ax.set_xlabel("t/T")
+    ax.set_ylabel("granular temperature [m²/s²]")
+    ax.set_title("(a) bed-averaged, fluctuation about the sub-layer mean velocity (seed Eq. 31)", fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    z = (np.arange(count) + 0.5) * run.layer / 0.005
+    for ax, p in zip(axes[1:], (1, 2)):
+        for j, (label, _, _) in enumerate(stages):
+            profile, used = profiles[(label, p)]
+            ax.plot(profile, z, marker=".", color=f"C{j}", label=f"{label} ({used} frames)")
+        ax.set_title("(b) " + PHASES[p][1], fontsize=8)
+        ax.set_xlabel("granular temperature [m²/s²]")
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 2))
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[1].set_ylabel("z / d_s1")
+    figure.suptitle("Fig. 20 shape: granular temperature (sampled at the VTK frames only)", fontsize=9)
+    return [out / "fig20_granular_temperature.csv", out / "fig20_granular_temperature_profiles.csv",
+            save(figure, out / "fig20_granular_temperature.png")]
+
+
+FORCES = ["pressure_force", "drag_force", "contact_force", "gravity", "total"]
+
+
+def fig17_19(run, out, args):
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    fields = ("velocity", "mass", "radius", "size_class", "force", "contact_force", "drag_force", "pressure_force")
+    water = float(run.scene.get("fluid", {}).get("density", 1000.0))
+    buoyancy = {}
+    rows = []
+    series = {}
+    for index in range(len(times)):
+        frame = run.solids(index, fields)
+        t = frame["time"]
+        for k in sorted(set(frame["size_class"].tolist())):
+            mask = frame["size_class"] == k
+            m = frame["mass"][mask]
+            buoyancy[k] = water / float(np.mean(m / (4.0 / 3.0 * math.pi * frame["radius"][mask] ** 3)))
+            per_mass = {name: frame[name][mask] / m[:, None] for name in ("pressure_force", "drag_force",
+                                                                          "contact_force")}
+            per_mass["gravity"] = np.tile([0.0, 0.0, -G], (int(mask.sum()), 1))
+            per_mass["total"] = frame["force"][mask] / m[:, None] + per_mass["gravity"]
+            row = [t, t * run.frequency, float(run.phase(t)), k, int(mask.sum()), float(np.mean(m)),
+                   float(np.mean(frame["velocity"][mask, 0])), float(np.mean(frame["velocity"][mask, 2])),
+                   float(run.tank_velocity(t)), float(run.tank_acceleration(t))]
+            for name in FORCES:
+                mean = np.mean(per_mass[name], axis=0)  # mean acceleration from this force [m/s^2]
+                row += [float(mean[0] * np.mean(m)), float(mean[2] * np.mean(m)),
+                        float(mean[0] / run.a_max), float(mean[2] / G)]
+                series.setdefault((k, name), []).append((t * run.frequency, mean[0] / run.a_max, mean[2] / G))
+            rows.append(row)
+    header = ["time_s", "t_over_T", "tank_phase_rad", "size_class", "grains", "mean_mass_kg", "mean_vx_m_s",
+              "mean_vz_m_s", "tank_velocity_m_s", "tank_acceleration_m_s2"]
+    for name in FORCES:
+        header += [f"{name}_x_N", f"{name}_z_N", f"{name}_x_over_m_amax", f"{name}_z_over_m_g"]
+    write_csv(out / "fig17_19_force_balance.csv", header, rows)
+
+    classes = sorted({k for k, _ in series})
+    window = args.window if args.window else (None, None)
+    figure, axes = plt.subplots(2, len(classes), figsize=(5 * len(classes), 7), sharex=True, squeeze=False,
+                                constrained_layout=True)
+    styles = {"pressure_force": ("C0", "pressure gradient"), "drag_force": ("C2", "drag"),
+              "contact_force": ("C3", "contact"), "gravity": ("C7", "gravity"), "total": ("k", "total (m a)")}
+    for j, k in enumerate(classes):
+        for name in FORCES:
+            data = np.array(series[(k, name)])
+            keep = np.ones(len(data), bool)
+            if window[0] is not None:
+                keep = (data[:, 0] >= window[0]) & (data[:, 0] <= window[1])
+            colour, label = styles[name]
+            if name != "gravity":
+                axes[0][j].plot(data[keep, 0], data[keep, 1], color=colour, lw=1, label=label)
+            axes[1][j].plot(data[keep, 0], data[keep, 2], color=colour, lw=1, label=label)
+        tt = np.linspace(data[keep, 0].min(), data[keep, 0].max(), 400)
+        axes[0][j].plot(tt, run.tank_acceleration(tt / run.frequency) / run.a_max, color="C1", ls="--", lw=0.8,
+                        label="tank acceleration / a_max")
+        axes[1][j].axhline(buoyancy[k], color="C0", ls="--", lw=0.8, label=f"ρ_w/ρ_s = {buoyancy[k]:.3f}")
+        axes[0][j].set_title(f"{class_name(k)}: x, force / (m a_max)", fontsize=9)
+        axes[1][j].set_title(f"{class_name(k)}: z, force / (m g)", fontsize=9)
+        axes[1][j].set_xlabel("t/T")
+        for ax in axes[:, j]:
+            ax.grid(alpha=0.3)
+            ax.axhline(0, color="grey", lw=0.5)
+        axes[0][j].legend(fontsize=7)
+        axes[1][j].legend(fontsize=7)
+    figure.suptitle("Figs. 17-19 shape: mean force per grain of each class (class-averaged, per unit of the "
+                    "grain's own m a_max or m g), at the VTK frames", fontsize=9)
+    return [out / "fig17_19_force_balance.csv", save(figure, out / "fig17_19_force_balance.png")]
+
+
+FIGURES = {"fig03": fig03, "fig06": fig06, "fig11": fig11, "fig12": fig12, "fig14": fig14, "fig15": fig15,
+           "fig17_19": fig17_19, "fig20": fig20}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out_dir", type=pathlib.Path, help="a run's output directory")
+    parser.add_argument("--figures", nargs="+", choices=ALL_FIGURES, default=ALL_FIGURES, metavar="NAME",
+                        help="which figures (default all): " + " ".join(ALL_FIGURES))
+    parser.add_argument("--scene", type=pathlib.Path,
+                        help="the run's scene file (default: the one named in OUT_DIR/riffle.log)")
+    parser.add_argument("--times", type=float, nargs="+",
+                        help="fig03 snapshot times in t/T (default 0 5 10 30 85 100, those within the run)")
+    parser.add_argument("--conc-times", type=float, nargs="+", default=[0, 5, 10, 30, 85],
+                        help="fig11 times in t/T (default 0 5 10 30 85)")
+    parser.add_argument("--profile-times", type=float, nargs="+", default=[10, 85],
+                        help="fig12 times in t/T (default 10 85)")
+    parser.add_argument("--stages", nargs="+", metavar="K[-K2]",
+                        help="fig14/15/20 stages: period k or periods k-k2 (default 10 85 where run, else all "
+                             "periods after the ramp)")
+    parser.add_argument("--phase-tolerance", type=float, default=20.0,
+                        help="largest phase difference [deg] of a frame used for a phase (default 20)")
+    parser.add_argument("--frame", choices=["tank", "lab"], default="tank",
+                        help="fig14/15 velocities relative to the tank (default) or in the lab frame")
+    parser.add_argument("--fluid-layer", type=float, metavar="METRES",
+                        help="fig15 sub-layer thickness (default max(5 mm, fluid.spacing))")
+    parser.add_argument("--window", type=float, nargs=2, metavar=("T1", "T2"),
+                        help="fig17_19 plot window in t/T (default the whole run; the CSV has every frame)")
+    args = parser.parse_args(argv)
+
+    if not args.out_dir.is_dir():
+        sys.exit(f"seed_figures: {args.out_dir} is not a directory")
+    try:
+        run = Run(args.out_dir, args.scene)
+    except vtp.VtpError as error:
+        sys.exit(f"seed_figures: {error}")
+    out = args.out_dir / "figures"
+    out.mkdir(exist_ok=True)
+    failed = False
+    for name in args.figures:
+        try:
+            written = FIGURES[name](run, out, args)
+            print(f"{name}: " + ", ".join(str(p.name) for p in written))
+        except Skip as reason:
+            print(f"{name}: skipped: {reason}")
+        except vtp.VtpError as error:
+            print(f"{name}: failed: {error}")
+            failed = True
+    print(f"seed_figures: wrote into {out}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
