@@ -4,6 +4,7 @@
 //   riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap SECONDS] [--only hydro|dam|variants]
 //                                  [--hydro-time SECONDS] [--reference MARTIN_MOYCE.csv]
 //   riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]
+//   riffle_fluid_accuracy still L0 DT_CAP TIME EVERY [THREADS [jacobi|two_level [TOL]]]   (history of the still-water tank, for diagnosis)
 //
 // accuracy: (a) hydrostatic tank 0.06 x 0.03 m, H = 0.06 m of still water, open top, --hydro-time (1 s) simulated,
 //   at l0 = 10, 7.5, 5 mm (and 2.5 mm with --fine): RMS over particles at least 2 l0 below the surface of
@@ -18,7 +19,8 @@
 //   (c) both cases at the middle and the finest of the three resolutions (7.5 and 5 mm, a/15 and a/20) with each
 //   enhanced scheme off in turn (HS, ECS, HL, GC, DS) and the PPE tolerance 1e-6 and 1e-4 instead of 1e-8.
 //   One CSV row per run (rewritten after every run, so a partial sweep keeps its rows). A run whose step status is
-//   not ok, or that passes the wall-clock cap, is reported unstable with the simulated time it reached.
+//   not ok, or that passes the wall-clock cap, is reported unstable with the simulated time it reached; a still-water
+//   run in which a particle moved more than l0/2 is reported unstable ("drift") with its error metrics kept.
 // sloshing: the seed's tank 0.24 x 0.16 m (0.12 m high), 6 cm of water at l0 = 5 mm, x = -A sin(2 pi f t),
 //   A = 1 cm, f = 1.7 Hz, one period of ramp, for --time seconds at each thread count: the timing table per system
 //   (items per second from the timers) and the projected wall seconds per simulated second.
@@ -191,6 +193,12 @@ Row hydrostatic(double l0, const Variant* variant, double cap, double end_time) 
     if (fluid.kind[i] == static_cast<std::int32_t>(FluidKind::kFluid))
       drift = std::max(drift, (fluid.position[i] - start[fluid.id[i]]).norm());
   row.drift = drift / l0;
+  // The prototype's criterion for still water (REPORT.md Sec. 1): a particle that moved more than l0/2 means the
+  // column did not hold still, even if no step failed.
+  if (row.stable && row.drift > 0.5) {
+    row.stable = false;
+    row.status = "drift";
+  }
   return row;
 }
 
@@ -386,6 +394,52 @@ int accuracy(const std::string& out, int threads, bool fine, double cap, const s
   return 0;
 }
 
+// ---- still-water history (diagnosis) -------------------------------------------------------------------------
+
+/// The hydrostatic tank at one spacing and step cap, with a history row every `every` simulated seconds: kinetic
+/// energy, largest speed, largest displacement, surface count, mean n/n0, PPE iterations.
+int still_history(double l0, double dt, double end_time, double every, int threads, const std::string& preconditioner,
+                  double tolerance) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const double depth = 0.06;
+  const double height = l0 * (std::round(depth / l0) + std::ceil(0.02 / l0 - 1e-9));
+  Model model = test::fluid_model(Vec3(0.06, 0.03, height), l0, {ParticleBoxModel{Vec3::Zero(), Vec3(0.06, 0.03, depth)}});
+  model.dt = dt > 0.0 ? dt : 1.0e-3 * std::sqrt(l0 / 0.005);
+  if (preconditioner == "jacobi") model.fluid.preconditioner = FluidModel::Preconditioner::kJacobi;
+  if (tolerance > 0.0) model.fluid.solver_tolerance = tolerance;
+  auto run = std::make_unique<test::FluidRun>(std::move(model));
+  const FluidParticles& fluid = *run->world.fluid;
+  std::vector<Vec3> start(fluid.size());
+  for (std::size_t i = 0; i < fluid.size(); ++i) start[fluid.id[i]] = fluid.position[i];
+  std::printf("# %s preconditioner, tolerance %g\n", preconditioner.c_str(), run->model.fluid.solver_tolerance);
+  std::printf("# still water l0 = %g m, dt cap %g s, %zu fluid particles\n", l0, run->model.dt, fluid_count(run->world));
+  std::printf("%8s %8s %12s %12s %10s %8s %10s %8s\n", "t", "steps", "KE [J]", "max|u| [m/s]", "drift/l0", "surface",
+              "mean n/n0", "PPE it");
+  double next = every;
+  std::int64_t steps = 0;
+  while (run->world.time < end_time - 1e-12) {
+    run->stepper->step();
+    if (!run->world.step_status.ok()) {
+      std::printf("failed: %s at t = %.4f\n", problem_name(run->world.step_status.problem), run->world.time);
+      return 3;
+    }
+    ++steps;
+    if (run->world.time >= next - 1e-12) {
+      next += every;
+      double drift = 0.0;
+      for (std::size_t i = 0; i < fluid.size(); ++i)
+        if (fluid.kind[i] == static_cast<std::int32_t>(FluidKind::kFluid))
+          drift = std::max(drift, (fluid.position[i] - start[fluid.id[i]]).norm());
+      const FluidSummary& s = *run->world.fluid_summary;
+      std::printf("%8.3f %8ld %12.3e %12.3e %10.4f %8zu %10.5f %8ld\n", run->world.time, static_cast<long>(steps),
+                  s.kinetic_energy, s.max_speed, drift / l0, s.surface_count, s.mean_density_ratio,
+                  static_cast<long>(s.solver_iterations));
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
 // ---- sloshing-tank timing ------------------------------------------------------------------------------------
 
 int sloshing(const std::string& out, const std::vector<int>& thread_counts, double time) {
@@ -451,11 +505,18 @@ int sloshing(const std::string& out, const std::vector<int>& thread_counts, doub
 
 int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
+  if (argc >= 2 && !std::strcmp(argv[1], "still")) {  // still L0 DT|0 TIME EVERY [THREADS [PRECONDITIONER [TOL]]]
+    if (argc < 6) return 1;
+    return still_history(std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]),
+                         argc > 6 ? std::atoi(argv[6]) : 1, argc > 7 ? argv[7] : "two_level",
+                         argc > 8 ? std::atof(argv[8]) : 0.0);
+  }
   if (argc < 3 || (std::strcmp(argv[1], "accuracy") && std::strcmp(argv[1], "sloshing"))) {
     std::fprintf(stderr,
                  "usage: riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap S] [--only hydro|dam|variants]\n"
                  "                             [--hydro-time S] [--reference martin_moyce.csv]\n"
-                 "       riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]\n");
+                 "       riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]\n"
+                 "       riffle_fluid_accuracy still L0 DT_CAP(0 = 1 ms sqrt(l0/5 mm)) TIME EVERY [THREADS [jacobi|two_level [TOL]]]\n");
     return 1;
   }
   const std::string mode = argv[1], out = argv[2];

@@ -7,7 +7,8 @@ Left: hydrostatic tank, RMS pressure error over rho g H against the exact discre
 (filled) and against the continuum rho g (H - z) (hollow). Right: dam break, RMS of the surge front Z(T) against
 Martin & Moyce after the best time shift (filled) and raw (hollow). The x axis is the run's CPU time (the sweep
 runs on one thread, so that equals its wall time on an idle core and does not depend on the machine's load);
---wall plots the wall time instead. Unstable runs are drawn as crosses along the top of their panel.
+--wall plots the wall time instead. Runs that failed are drawn as crosses along the top of their panel; still-water
+runs that drifted more than l0/2 as crosses at their error.
 """
 import csv
 import math
@@ -51,7 +52,7 @@ def main(argv):
 
     panels = [
         ("hydrostatic", "rms_vs_rho_g_H_minus_l0half_minus_z", "rms_vs_rho_g_H_minus_z",
-         "hydrostatic tank, 1 s-scale still water",
+         "hydrostatic tank",
          "RMS(p - p_exact) / (rho g H)\nfilled: vs rho g (H - l0/2 - z); hollow: vs rho g (H - z)"),
         ("dam_break", "front_rms_shifted", "front_rms_raw", "dam break vs Martin & Moyce (T <= 3.33)",
          "RMS of front Z(T)\nfilled: after best time shift; hollow: raw"),
@@ -78,22 +79,46 @@ def main(argv):
             xs = [number(r[time_key]) for r in base]
             ys = [number(r[key]) for r in base]
             ax.plot(xs, ys, style, color="grey", lw=1, zorder=1)
+        # Variants whose error equals the full set's at the same resolution (within 0.5 %) are not labelled one by
+        # one: the full set's label lists them instead.
+        same = {}
+        for r in case_rows:
+            if r["variant"] == "all" or r["stable"] != "1":
+                continue
+            for b in case_rows:
+                if b["variant"] == "all" and b["l0"] == r["l0"] and b["stable"] == "1":
+                    y, y0 = number(r[main_key]), number(b[main_key])
+                    if math.isfinite(y) and math.isfinite(y0) and abs(y / y0 - 1.0) < 0.005:
+                        same.setdefault(r["l0"], []).append(r["variant"])
+                        r["_same"] = True
+        failed = 0
         for r in case_rows:
             x = max(number(r[time_key]), 1e-3)
             colour = colours.get(r["variant"], "grey")
             label = resolution_label(r) if r["variant"] == "all" else f"{r['variant']} {resolution_label(r)}"
+            if r["stable"] != "1" and math.isfinite(number(r[main_key])):  # drifted: keep its error, mark it
+                y1 = number(r[main_key])
+                ax.scatter([x], [y1], marker="x", s=60, color=colour, zorder=3)
+                ax.annotate(f"{label} ({r['status']} {number(r['drift_l0']):.0f} l0)", (x, y1),
+                            textcoords="offset points", xytext=(4, 3), fontsize=7, color=colour)
+                continue
             if r["stable"] != "1":
                 reached = number(r["reached_time"])
                 when = reached * math.sqrt(2 * 9.81 / 0.1) if case == "dam_break" else reached
                 ax.scatter([x], [top], marker="x", s=60, color=colour, zorder=3)
+                failed += 1
                 ax.annotate(f"{label}: {r['status']} at {'T' if case == 'dam_break' else 't'}={when:.2f}",
-                            (x, top), textcoords="offset points", xytext=(4, -10), fontsize=7, color=colour,
-                            rotation=-20)
+                            (x, top), textcoords="offset points", xytext=(-60, -12 * failed), fontsize=7,
+                            color=colour)
                 continue
             y1, y2 = number(r[main_key]), number(r[second_key])
             ax.scatter([x], [y1], marker="o", s=36, color=colour, zorder=3)
             if math.isfinite(y2):
                 ax.scatter([x], [y2], marker="o", s=36, facecolors="none", edgecolors=colour, zorder=3)
+            if r.get("_same"):
+                continue
+            if r["variant"] == "all" and r["l0"] in same:
+                label += " = " + ", ".join(same[r["l0"]])
             ax.annotate(label, (x, y1), textcoords="offset points", xytext=(4, 3), fontsize=7, color=colour)
         ax.set_xscale("log")
         ax.set_yscale("log")
