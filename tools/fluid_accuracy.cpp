@@ -4,7 +4,7 @@
 //   riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap SECONDS] [--only hydro|dam|variants]
 //                                  [--hydro-time SECONDS] [--reference MARTIN_MOYCE.csv]
 //   riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]
-//   riffle_fluid_accuracy still L0 DT_CAP TIME EVERY [THREADS [jacobi|two_level [TOL]]]   (history of the still-water tank, for diagnosis)
+//   riffle_fluid_accuracy still L0 DT_CAP TIME EVERY [THREADS [jacobi|two_level [TOL [DEPTH]]]]   (history of the still-water tank, for diagnosis)
 //
 // accuracy: (a) hydrostatic tank 0.06 x 0.03 m, H = 0.06 m of still water, open top, --hydro-time (1 s) simulated,
 //   at l0 = 10, 7.5, 5 mm (and 2.5 mm with --fine): RMS over particles at least 2 l0 below the surface of
@@ -399,9 +399,8 @@ int accuracy(const std::string& out, int threads, bool fine, double cap, const s
 /// The hydrostatic tank at one spacing and step cap, with a history row every `every` simulated seconds: kinetic
 /// energy, largest speed, largest displacement, surface count, mean n/n0, PPE iterations.
 int still_history(double l0, double dt, double end_time, double every, int threads, const std::string& preconditioner,
-                  double tolerance) {
+                  double tolerance, double depth) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  const double depth = 0.06;
   const double height = l0 * (std::round(depth / l0) + std::ceil(0.02 / l0 - 1e-9));
   Model model = test::fluid_model(Vec3(0.06, 0.03, height), l0, {ParticleBoxModel{Vec3::Zero(), Vec3(0.06, 0.03, depth)}});
   model.dt = dt > 0.0 ? dt : 1.0e-3 * std::sqrt(l0 / 0.005);
@@ -412,7 +411,8 @@ int still_history(double l0, double dt, double end_time, double every, int threa
   std::vector<Vec3> start(fluid.size());
   for (std::size_t i = 0; i < fluid.size(); ++i) start[fluid.id[i]] = fluid.position[i];
   std::printf("# %s preconditioner, tolerance %g\n", preconditioner.c_str(), run->model.fluid.solver_tolerance);
-  std::printf("# still water l0 = %g m, dt cap %g s, %zu fluid particles\n", l0, run->model.dt, fluid_count(run->world));
+  std::printf("# still water l0 = %g m, H = %g m, dt cap %g s, %zu fluid particles\n", l0, depth, run->model.dt,
+              fluid_count(run->world));
   std::printf("%8s %8s %12s %12s %10s %8s %10s %8s\n", "t", "steps", "KE [J]", "max|u| [m/s]", "drift/l0", "surface",
               "mean n/n0", "PPE it");
   double next = every;
@@ -505,18 +505,18 @@ int sloshing(const std::string& out, const std::vector<int>& thread_counts, doub
 
 int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
-  if (argc >= 2 && !std::strcmp(argv[1], "still")) {  // still L0 DT|0 TIME EVERY [THREADS [PRECONDITIONER [TOL]]]
+  if (argc >= 2 && !std::strcmp(argv[1], "still")) {  // still L0 DT|0 TIME EVERY [THREADS [PRECONDITIONER [TOL [DEPTH]]]]
     if (argc < 6) return 1;
     return still_history(std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]),
                          argc > 6 ? std::atoi(argv[6]) : 1, argc > 7 ? argv[7] : "two_level",
-                         argc > 8 ? std::atof(argv[8]) : 0.0);
+                         argc > 8 ? std::atof(argv[8]) : 0.0, argc > 9 ? std::atof(argv[9]) : 0.06);
   }
   if (argc < 3 || (std::strcmp(argv[1], "accuracy") && std::strcmp(argv[1], "sloshing"))) {
     std::fprintf(stderr,
                  "usage: riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap S] [--only hydro|dam|variants]\n"
                  "                             [--hydro-time S] [--reference martin_moyce.csv]\n"
                  "       riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]\n"
-                 "       riffle_fluid_accuracy still L0 DT_CAP(0 = 1 ms sqrt(l0/5 mm)) TIME EVERY [THREADS [jacobi|two_level [TOL]]]\n");
+                 "       riffle_fluid_accuracy still L0 DT_CAP(0 = 1 ms sqrt(l0/5 mm)) TIME EVERY [THREADS [jacobi|two_level [TOL [DEPTH]]]]\n");
     return 1;
   }
   const std::string mode = argv[1], out = argv[2];
