@@ -88,6 +88,7 @@ struct Row {
   double rms_exact = NAN, rms_offset = NAN, drift = NAN;
   // dam break
   double front_raw = NAN, front_shifted = NAN, front_shift = NAN, front_z3 = NAN;
+  double unstable_from = NAN;  ///< [s] the failed step's time, or when a still-water particle first moved > l0/2
   bool stable = true;
   std::string status = "ok";
   std::map<std::string, double> system_seconds;
@@ -121,6 +122,7 @@ void step_run(test::FluidRun& run, double end_time, double cap, Row& row, Observ
   row.wall = seconds_since(start);
   row.cpu = cpu_seconds() - cpu_start;
   row.reached_time = run.world.time;
+  if (!row.stable && std::isnan(row.unstable_from)) row.unstable_from = run.world.time;
   row.ppe_mean = row.steps > 0 ? iterations / static_cast<double>(row.steps) : 0.0;
   row.dt_mean = row.steps > 0 ? run.world.time / static_cast<double>(row.steps) : 0.0;
   row.particles = fluid_count(run.world);
@@ -168,6 +170,14 @@ Row hydrostatic(double l0, const Variant* variant, double cap, double end_time) 
   int samples = 0;
   const double scale = kRho * kG * depth;
   step_run(*run, end_time, cap, row, [&] {
+    if (std::isnan(row.unstable_from)) {
+      for (std::size_t i = 0; i < fluid.size(); ++i)
+        if (fluid.kind[i] == static_cast<std::int32_t>(FluidKind::kFluid) &&
+            (fluid.position[i] - start[fluid.id[i]]).squaredNorm() > 0.25 * l0 * l0) {
+          row.unstable_from = run->world.time;
+          break;
+        }
+    }
     if (run->world.time < average_from - 1e-12) return;
     double e2 = 0.0, o2 = 0.0;
     int n = 0;
@@ -199,6 +209,7 @@ Row hydrostatic(double l0, const Variant* variant, double cap, double end_time) 
     row.stable = false;
     row.status = "drift";
   }
+  if (row.stable) row.unstable_from = NAN;  // moved past l0/2 for a while but came back
   return row;
 }
 
@@ -323,7 +334,7 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, int thread
   out << "case,variant,l0,particles,all_particles,threads,steps,end_time,reached_time,dt_mean,wall_s,cpu_s,"
          "ppe_iterations_mean,ppe_iterations_max,ppe_unconverged_steps,rms_vs_rho_g_H_minus_z,"
          "rms_vs_rho_g_H_minus_l0half_minus_z,drift_l0,front_rms_raw,front_rms_shifted,front_shift_T,front_Z_at_T3,"
-         "stable,status";
+         "stable,status,unstable_from_t";
   for (const std::string& name : systems) out << ",s_" << name;
   out << "\n";
   for (const Row& r : rows) {
@@ -333,7 +344,7 @@ void write_csv(const std::string& path, const std::vector<Row>& rows, int thread
         << number(r.ppe_mean, "%.2f") << "," << r.ppe_max << "," << r.ppe_unconverged << "," << number(r.rms_exact)
         << "," << number(r.rms_offset) << "," << number(r.drift) << "," << number(r.front_raw) << ","
         << number(r.front_shifted) << "," << number(r.front_shift, "%.3f") << "," << number(r.front_z3) << ","
-        << (r.stable ? 1 : 0) << "," << r.status;
+        << (r.stable ? 1 : 0) << "," << r.status << "," << number(r.unstable_from);
     for (const std::string& name : systems) {
       const auto it = r.system_seconds.find(name);
       out << "," << (it == r.system_seconds.end() ? "" : number(it->second, "%.4f"));
@@ -354,7 +365,7 @@ void print_row(const Row& r) {
                 r.front_z3);
   if (!r.stable)
     std::printf("  UNSTABLE: %s at %s %.4g", r.status.c_str(), r.case_name == "dam_break" ? "T" : "t",
-                r.reached_time * time_scale);
+                r.unstable_from * time_scale);
   std::printf("\n");
   std::fflush(stdout);
 }

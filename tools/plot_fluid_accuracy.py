@@ -99,11 +99,11 @@ def main(argv):
             if r["stable"] != "1" and math.isfinite(number(r[main_key])):  # drifted: keep its error, mark it
                 y1 = number(r[main_key])
                 ax.scatter([x], [y1], marker="x", s=60, color=colour, zorder=3)
-                ax.annotate(f"{label} ({r['status']} {number(r['drift_l0']):.0f} l0)", (x, y1),
+                ax.annotate(f"{label} (drift {number(r['drift_l0']):.0f} l0, > l0/2 from t={number(r.get('unstable_from_t')):.2f})", (x, y1),
                             textcoords="offset points", xytext=(4, 3), fontsize=7, color=colour)
                 continue
             if r["stable"] != "1":
-                reached = number(r["reached_time"])
+                reached = number(r.get("unstable_from_t", r["reached_time"]))
                 when = reached * math.sqrt(2 * 9.81 / 0.1) if case == "dam_break" else reached
                 ax.scatter([x], [top], marker="x", s=60, color=colour, zorder=3)
                 failed += 1
