@@ -27,6 +27,7 @@
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
 #include <tbb/global_control.h>
+#include <tbb/info.h>
 
 #include <algorithm>
 #include <cmath>
@@ -484,8 +485,11 @@ int sloshing(const std::string& out, const std::vector<int>& thread_counts, doub
       iterations += static_cast<double>(run->world.fluid_summary->solver_iterations);
     }
     const double wall = seconds_since(start), cpu = cpu_seconds() - cpu_start;
-    std::printf("\n## sloshing tank, l0 = 5 mm, %zu fluid particles (%zu with walls and dummies), %d thread(s)\n",
-                fluid, run->world.fluid->size(), threads);
+    std::printf("\n## sloshing tank, l0 = 5 mm, %zu fluid particles (%zu with walls and dummies), %d thread(s) "
+                "(TBB allows %zu of %d)\n",
+                fluid, run->world.fluid->size(), threads,
+                tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
+                tbb::info::default_concurrency());
     std::printf("%ld steps to t = %.3f s, wall %.2f s (cpu %.2f s), %.2f ms/step, PPE iterations mean %.1f\n",
                 static_cast<long>(steps), run->world.time, wall, cpu, 1e3 * wall / steps, iterations / steps);
     std::printf("projected: %.1f wall s per simulated s; %.3g fluid particle-steps/s for the whole step\n",
