@@ -2,9 +2,9 @@
 // (tests/fluid_support.hpp), not read from scene files.
 //
 //   riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap SECONDS] [--only hydro|dam|variants]
-//                                  [--hydro-time SECONDS] [--reference MARTIN_MOYCE.csv]
+//                                  [--hydro-time SECONDS] [--rate DENSITY_RATE] [--reference MARTIN_MOYCE.csv]
 //   riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]
-//   riffle_fluid_accuracy still L0 DT_CAP TIME EVERY [THREADS [jacobi|two_level [TOL [DEPTH]]]]   (history of the still-water tank, for diagnosis)
+//   riffle_fluid_accuracy still L0 DT_CAP TIME EVERY [key=value ...]   (history of the still-water tank, for diagnosis)
 //
 // accuracy: (a) hydrostatic tank 0.06 x 0.03 m, H = 0.06 m of still water, open top, --hydro-time (1 s) simulated,
 //   at l0 = 10, 7.5, 5 mm (and 2.5 mm with --fine): RMS over particles at least 2 l0 below the surface of
@@ -131,6 +131,13 @@ void step_run(test::FluidRun& run, double end_time, double cap, Row& row, Observ
   for (const SystemTimer& timer : run.stepper->timers()) row.system_seconds[timer.name] += timer.total_seconds;
 }
 
+/// --rate: a density_relaxation_rate for every accuracy run instead of the model's default (0 = keep the default).
+double g_density_rate = 0.0;
+
+void apply_overrides(FluidModel& fluid) {
+  if (g_density_rate > 0.0) fluid.density_relaxation_rate = g_density_rate;
+}
+
 struct Variant {
   std::string name;
   void (*apply)(FluidModel&);
@@ -157,6 +164,7 @@ Row hydrostatic(double l0, const Variant* variant, double cap, double end_time) 
   Model model = test::fluid_model(Vec3(0.06, 0.03, height), l0,
                                   {ParticleBoxModel{Vec3::Zero(), Vec3(0.06, 0.03, depth)}});
   model.dt = 1.0e-3 * std::sqrt(l0 / 0.005);  // 1 ms at 5 mm (amendment 3), scaled with sqrt(l0 / g)
+  apply_overrides(model.fluid);
   if (variant) variant->apply(model.fluid);
   auto run = std::make_unique<test::FluidRun>(std::move(model));
   Row row;
@@ -264,6 +272,7 @@ Row dam_break(double a_over_l0, const Variant* variant, double cap, const std::v
                                   {ParticleBoxModel{Vec3::Zero(), Vec3(a, width, 2.0 * a)}});
   model.dt = 1.0e-3;  // the largest step; the Courant limit (C_r = 0.2) takes over once the front runs
   model.tank.domain_margin = 0.3;
+  apply_overrides(model.fluid);
   if (variant) variant->apply(model.fluid);
   auto run = std::make_unique<test::FluidRun>(std::move(model));
   Row row;
@@ -409,20 +418,44 @@ int accuracy(const std::string& out, int threads, bool fine, double cap, const s
 // ---- still-water history (diagnosis) -------------------------------------------------------------------------
 
 /// The hydrostatic tank at one spacing and step cap, with a history row every `every` simulated seconds: kinetic
-/// energy, largest speed, largest displacement, surface count, mean n/n0, PPE iterations.
-int still_history(double l0, double dt, double end_time, double every, int threads, const std::string& preconditioner,
-                  double tolerance, double depth) {
+/// energy, largest speed, largest displacement, surface count, mean n/n0, PPE iterations. Options (key=value):
+/// threads, depth [m] (0.06), preconditioner (jacobi|two_level), tol, rate (density_relaxation_rate [1/s]), re
+/// (r_e/l0), and hs, ecs, hl, gc, ds (0 or 1).
+int still_history(double l0, double dt, double end_time, double every, const std::map<std::string, std::string>& options) {
+  auto option = [&](const char* key, double fallback) {
+    const auto it = options.find(key);
+    return it == options.end() ? fallback : std::atof(it->second.c_str());
+  };
+  const int threads = static_cast<int>(option("threads", 1));
+  const double depth = option("depth", 0.06);
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   const double height = l0 * (std::round(depth / l0) + std::ceil(0.02 / l0 - 1e-9));
   Model model = test::fluid_model(Vec3(0.06, 0.03, height), l0, {ParticleBoxModel{Vec3::Zero(), Vec3(0.06, 0.03, depth)}});
   model.dt = dt > 0.0 ? dt : 1.0e-3 * std::sqrt(l0 / 0.005);
-  if (preconditioner == "jacobi") model.fluid.preconditioner = FluidModel::Preconditioner::kJacobi;
-  if (tolerance > 0.0) model.fluid.solver_tolerance = tolerance;
+  FluidModel& f = model.fluid;
+  const auto preconditioner = options.find("preconditioner");
+  if (preconditioner != options.end() && preconditioner->second == "jacobi")
+    f.preconditioner = FluidModel::Preconditioner::kJacobi;
+  f.solver_tolerance = option("tol", f.solver_tolerance);
+  f.density_relaxation_rate = option("rate", f.density_relaxation_rate);
+  f.effective_radius_ratio = option("re", f.effective_radius_ratio);
+  f.schemes.higher_order_source = option("hs", 1) != 0;
+  f.schemes.error_compensating_source = option("ecs", 1) != 0;
+  f.schemes.higher_order_laplacian = option("hl", 1) != 0;
+  f.schemes.gradient_correction = option("gc", 1) != 0;
+  f.schemes.dynamic_stabilisation = option("ds", 1) != 0;
   auto run = std::make_unique<test::FluidRun>(std::move(model));
   const FluidParticles& fluid = *run->world.fluid;
   std::vector<Vec3> start(fluid.size());
   for (std::size_t i = 0; i < fluid.size(); ++i) start[fluid.id[i]] = fluid.position[i];
-  std::printf("# %s preconditioner, tolerance %g\n", preconditioner.c_str(), run->model.fluid.solver_tolerance);
+  {
+    const FluidModel& m = run->model.fluid;
+    std::printf("# %s preconditioner, tolerance %g, r_e %g l0, density term %g /s, HS %d ECS %d HL %d GC %d DS %d, %d thread(s)\n",
+                m.preconditioner == FluidModel::Preconditioner::kJacobi ? "Jacobi" : "two-level", m.solver_tolerance,
+                m.effective_radius_ratio, m.density_relaxation_rate, m.schemes.higher_order_source,
+                m.schemes.error_compensating_source, m.schemes.higher_order_laplacian, m.schemes.gradient_correction,
+                m.schemes.dynamic_stabilisation, threads);
+  }
   std::printf("# still water l0 = %g m, H = %g m, dt cap %g s, %zu fluid particles\n", l0, depth, run->model.dt,
               fluid_count(run->world));
   std::printf("%8s %8s %12s %12s %10s %8s %10s %8s\n", "t", "steps", "KE [J]", "max|u| [m/s]", "drift/l0", "surface",
@@ -520,18 +553,27 @@ int sloshing(const std::string& out, const std::vector<int>& thread_counts, doub
 
 int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
-  if (argc >= 2 && !std::strcmp(argv[1], "still")) {  // still L0 DT|0 TIME EVERY [THREADS [PRECONDITIONER [TOL [DEPTH]]]]
+  if (argc >= 2 && !std::strcmp(argv[1], "still")) {  // still L0 DT|0 TIME EVERY [key=value ...]
     if (argc < 6) return 1;
-    return still_history(std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]),
-                         argc > 6 ? std::atoi(argv[6]) : 1, argc > 7 ? argv[7] : "two_level",
-                         argc > 8 ? std::atof(argv[8]) : 0.0, argc > 9 ? std::atof(argv[9]) : 0.06);
+    std::map<std::string, std::string> options;
+    for (int k = 6; k < argc; ++k) {
+      const std::string arg = argv[k];
+      const std::size_t eq = arg.find('=');
+      if (eq == std::string::npos) {
+        std::fprintf(stderr, "riffle_fluid_accuracy still: options are key=value, not %s\n", arg.c_str());
+        return 1;
+      }
+      options[arg.substr(0, eq)] = arg.substr(eq + 1);
+    }
+    return still_history(std::atof(argv[2]), std::atof(argv[3]), std::atof(argv[4]), std::atof(argv[5]), options);
   }
   if (argc < 3 || (std::strcmp(argv[1], "accuracy") && std::strcmp(argv[1], "sloshing"))) {
     std::fprintf(stderr,
                  "usage: riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap S] [--only hydro|dam|variants]\n"
-                 "                             [--hydro-time S] [--reference martin_moyce.csv]\n"
+                 "                             [--hydro-time S] [--rate R] [--reference martin_moyce.csv]\n"
                  "       riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]\n"
-                 "       riffle_fluid_accuracy still L0 DT_CAP(0 = 1 ms sqrt(l0/5 mm)) TIME EVERY [THREADS [jacobi|two_level [TOL [DEPTH]]]]\n");
+                 "       riffle_fluid_accuracy still L0 DT_CAP(0 = 1 ms sqrt(l0/5 mm)) TIME EVERY [threads=N depth=H preconditioner=jacobi\n"
+                 "                             tol=T rate=R re=R hs=0 ecs=0 hl=0 gc=0 ds=0]\n");
     return 1;
   }
   const std::string mode = argv[1], out = argv[2];
@@ -558,6 +600,8 @@ int main(int argc, char** argv) {
       only = argv[++k];
     } else if (arg == "--reference" && has_value) {
       reference = argv[++k];
+    } else if (arg == "--rate" && has_value) {
+      g_density_rate = std::atof(argv[++k]);
     } else if (arg == "--hydro-time" && has_value) {
       hydro_time = std::atof(argv[++k]);
     } else if (arg == "--time" && has_value) {
