@@ -3,7 +3,7 @@
 //
 //   riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap SECONDS] [--only hydro|dam|variants]
 //                                  [--hydro-time SECONDS] [--rate DENSITY_RATE] [--reference MARTIN_MOYCE.csv]
-//   riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]
+//   riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3] [--from 0] [--rate DENSITY_RATE]
 //   riffle_fluid_accuracy still L0 DT_CAP TIME EVERY [key=value ...]   (history of the still-water tank, for diagnosis)
 //
 // accuracy: (a) hydrostatic tank 0.06 x 0.03 m, H = 0.06 m of still water, open top, --hydro-time (1 s) simulated,
@@ -22,8 +22,9 @@
 //   not ok, or that passes the wall-clock cap, is reported unstable with the simulated time it reached; a still-water
 //   run in which a particle moved more than l0/2 is reported unstable ("drift") with its error metrics kept.
 // sloshing: the seed's tank 0.24 x 0.16 m (0.12 m high), 6 cm of water at l0 = 5 mm, x = -A sin(2 pi f t),
-//   A = 1 cm, f = 1.7 Hz, one period of ramp, for --time seconds at each thread count: the timing table per system
-//   (items per second from the timers) and the projected wall seconds per simulated second.
+//   A = 1 cm, f = 1.7 Hz, one period of ramp, for --time seconds from --from (an untimed lead-in) at each thread
+//   count: the timing table per system (items per second from the timers) and the projected wall seconds per
+//   simulated second.
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
 #include <tbb/global_control.h>
@@ -487,7 +488,7 @@ int still_history(double l0, double dt, double end_time, double every, const std
 
 // ---- sloshing-tank timing ------------------------------------------------------------------------------------
 
-int sloshing(const std::string& out, const std::vector<int>& thread_counts, double time) {
+int sloshing(const std::string& out, const std::vector<int>& thread_counts, double time, double from) {
   std::ofstream csv(out);
   csv << "threads,system,calls,seconds,items,items_per_s,fluid_particle_steps_per_s\n";
   for (int threads : thread_counts) {
@@ -501,13 +502,26 @@ int sloshing(const std::string& out, const std::vector<int>& thread_counts, doub
     model.tank.motion.amplitude = 0.01;
     model.tank.motion.frequency = 1.7;
     model.tank.motion.ramp_time = 1.0 / 1.7;
+    apply_overrides(model.fluid);
     auto run = std::make_unique<test::FluidRun>(std::move(model));
     const std::size_t fluid = fluid_count(run->world);
+    // Untimed lead-in to `from` (e.g. past the ramp, into the full-amplitude motion); the timers are read as
+    // differences from their values at `from`.
+    while (run->world.time < from - 1e-12) {
+      run->stepper->step();
+      if (!run->world.step_status.ok()) {
+        std::printf("sloshing: step failed (%s) at t = %.4f s\n", problem_name(run->world.step_status.problem),
+                    run->world.time);
+        return 3;
+      }
+    }
+    std::map<std::string, SystemTimer> before;
+    for (const SystemTimer& t : run->stepper->timers()) before[t.name] = t;
     std::int64_t steps = 0;
     double iterations = 0.0;
     const auto start = Clock::now();
     const double cpu_start = cpu_seconds();
-    while (run->world.time < time - 1e-12) {
+    while (run->world.time < from + time - 1e-12) {
       run->stepper->step();
       if (!run->world.step_status.ok()) {
         std::printf("sloshing: step failed (%s) at t = %.4f s\n", problem_name(run->world.step_status.problem),
@@ -518,19 +532,27 @@ int sloshing(const std::string& out, const std::vector<int>& thread_counts, doub
       iterations += static_cast<double>(run->world.fluid_summary->solver_iterations);
     }
     const double wall = seconds_since(start), cpu = cpu_seconds() - cpu_start;
+    std::vector<SystemTimer> timers = run->stepper->timers();
+    for (SystemTimer& t : timers) {
+      const SystemTimer& b = before[t.name];
+      t.calls -= b.calls;
+      t.total_seconds -= b.total_seconds;
+      t.items -= b.items;
+    }
     std::printf("\n## sloshing tank, l0 = 5 mm, %zu fluid particles (%zu with walls and dummies), %d thread(s) "
                 "(TBB allows %zu of %d)\n",
                 fluid, run->world.fluid->size(), threads,
                 tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism),
                 tbb::info::default_concurrency());
-    std::printf("%ld steps to t = %.3f s, wall %.2f s (cpu %.2f s), %.2f ms/step, PPE iterations mean %.1f\n",
-                static_cast<long>(steps), run->world.time, wall, cpu, 1e3 * wall / steps, iterations / steps);
+    const double simulated = run->world.time - from;
+    std::printf("%ld steps from t = %.3f to %.3f s, wall %.2f s (cpu %.2f s), %.2f ms/step, PPE iterations mean %.1f\n",
+                static_cast<long>(steps), from, run->world.time, wall, cpu, 1e3 * wall / steps, iterations / steps);
     std::printf("projected: %.1f wall s per simulated s; %.3g fluid particle-steps/s for the whole step\n",
-                wall / run->world.time, static_cast<double>(fluid) * steps / wall);
+                wall / simulated, static_cast<double>(fluid) * steps / wall);
     std::printf("%-28s %8s %10s %10s %14s %14s\n", "system", "calls", "seconds", "share", "items/s", "fluid p-steps/s");
     double total = 0.0;
-    for (const SystemTimer& t : run->stepper->timers()) total += t.total_seconds;
-    for (const SystemTimer& t : run->stepper->timers()) {
+    for (const SystemTimer& t : timers) total += t.total_seconds;
+    for (const SystemTimer& t : timers) {
       if (t.calls == 0) continue;
       const double items_rate = t.total_seconds > 0 ? static_cast<double>(t.items) / t.total_seconds : 0.0;
       const double fluid_rate =
@@ -571,7 +593,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap S] [--only hydro|dam|variants]\n"
                  "                             [--hydro-time S] [--rate R] [--reference martin_moyce.csv]\n"
-                 "       riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3]\n"
+                 "       riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3] [--from 0] [--rate R]\n"
                  "       riffle_fluid_accuracy still L0 DT_CAP(0 = 1 ms sqrt(l0/5 mm)) TIME EVERY [threads=N depth=H preconditioner=jacobi\n"
                  "                             tol=T rate=R re=R hs=0 ecs=0 hl=0 gc=0 ds=0]\n");
     return 1;
@@ -580,7 +602,7 @@ int main(int argc, char** argv) {
   int threads = 1;
   std::vector<int> thread_counts = {1, 2};
   bool fine = false;
-  double cap = 300.0, time = 0.3, hydro_time = 1.0;
+  double cap = 300.0, time = 0.3, hydro_time = 1.0, from = 0.0;
   std::string only, reference = "../shared/refdata/martin_moyce_1952_surge_front_n2_2.csv";
   for (int k = 3; k < argc; ++k) {
     const std::string arg = argv[k];
@@ -600,6 +622,8 @@ int main(int argc, char** argv) {
       only = argv[++k];
     } else if (arg == "--reference" && has_value) {
       reference = argv[++k];
+    } else if (arg == "--from" && has_value) {
+      from = std::atof(argv[++k]);
     } else if (arg == "--rate" && has_value) {
       g_density_rate = std::atof(argv[++k]);
     } else if (arg == "--hydro-time" && has_value) {
@@ -612,5 +636,5 @@ int main(int argc, char** argv) {
     }
   }
   if (mode == "accuracy") return accuracy(out, threads, fine, cap, only, reference, hydro_time);
-  return sloshing(out, thread_counts, time);
+  return sloshing(out, thread_counts, time, from);
 }
