@@ -121,6 +121,7 @@ struct FluidNeighbours {
   std::vector<std::uint32_t> slots;     ///< neighbour slots, ascending within each particle's list
   std::uint64_t builds = 0;             ///< number of builds so far
   std::vector<Vec3> built_positions;    ///< [m] every particle's position at the last build (skin check)
+  Vec3 built_tank_displacement = Vec3::Zero();  ///< [m] the tank's displacement at the last build
   /// The neighbours actually within r_e at the predicted positions r* (a subset of each Verlet list, ascending),
   /// recorded by fluid_free_surface for the pressure solve and the correction: particle i's are
   /// near_slots[offsets[i] .. offsets[i] + near_count[i]).

@@ -132,7 +132,7 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.clamp_negative_pressure = fluid.boolean("clamp_negative_pressure", true);
   // numerics.md amendments: beta = 0.93 (0.97 misflags the second layer).
   out.surface_threshold = fluid.number("surface_threshold", 0.93, "1", Bounds{0.5, 1.0, false, false});
-  out.density_relaxation_rate = fluid.number("density_relaxation_rate", 24.0, "1/s", Bounds::non_negative());
+  out.density_relaxation_rate = fluid.number("density_relaxation_rate", 48.0, "1/s", Bounds::non_negative());
   out.compressibility = fluid.number("compressibility", 1.0e-9, "1/Pa", Bounds::non_negative());
   out.courant = fluid.number("courant", 0.2, "1", Bounds{0.0, 0.5, false, true});
   out.diffusion_number = fluid.number("diffusion_number", 0.2, "1", Bounds{0.0, 1.0, false, true});

@@ -1,5 +1,7 @@
 #include "systems/fluid_neighbours.hpp"
 
+#include "systems/wall_motion.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -42,10 +44,12 @@ struct CellGrid {
   }
 };
 
-CellGrid build_grid(const std::vector<Vec3>& positions, double radius) {
+CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size_t query_count) {
   const std::size_t count = positions.size();
-  const Box box = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, count, 4096), Box{},
+  // The grid covers the queries' box widened by the radius: particles beyond it (walls far from the water) cannot be
+  // anyone's neighbour and stay out of the grid.
+  Box box = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, query_count, 4096), Box{},
       [&](const tbb::blocked_range<std::size_t>& range, Box box) {
         for (std::size_t i = range.begin(); i < range.end(); ++i) {
           if (!finite(positions[i])) continue;
@@ -59,6 +63,11 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius) {
         a.high = a.high.cwiseMax(b.high);
         return a;
       });
+  box.low -= Vec3::Constant(radius);
+  box.high += Vec3::Constant(radius);
+  const auto inside = [&](const Vec3& p) {
+    return finite(p) && (p.array() >= box.low.array()).all() && (p.array() <= box.high.array()).all();
+  };
   CellGrid grid;
   // Cells of half a radius: a query scans 5^3 small cells, about 40 % fewer candidates than 3^3 cells of a radius.
   grid.cell_size = 0.5 * radius;
@@ -79,7 +88,7 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius) {
   std::vector<std::uint32_t> cell_of(count, std::numeric_limits<std::uint32_t>::max());
   grid.cell_start.assign(cell_total + 1, 0);
   for (std::size_t i = 0; i < count; ++i) {
-    if (!finite(positions[i])) continue;
+    if (!inside(positions[i])) continue;
     cell_of[i] = static_cast<std::uint32_t>(grid.linear(grid.axis_cell(positions[i][0], 0),
                                                         grid.axis_cell(positions[i][1], 1),
                                                         grid.axis_cell(positions[i][2], 2)));
@@ -125,7 +134,7 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
   if (positions.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("build_fluid_neighbours: too many particles for 32-bit slots");
   const std::size_t count = std::min(query_count, positions.size());
-  const CellGrid grid = build_grid(positions, radius);
+  const CellGrid grid = build_grid(positions, radius, count);
 
   // One scan per query into per-chunk buffers (each list sorted there), then a prefix sum and a copy: each task
   // writes only its own chunk, and the sorted lists do not depend on the chunking or the thread count.
@@ -163,16 +172,22 @@ void FluidNeighbourSearch::run(SystemContext& context) {
   FluidNeighbours& neighbours = context.write<FluidNeighbours>();
   const std::vector<Vec3>& positions = at_ == Positions::kCurrent ? particles.position : particles.predicted_position;
   const std::size_t queries = fluid_slot_count(particles);
+  // Displacements are measured in the tank's frame: pair distances do not change under a common translation, and
+  // the walls, which ride with the tank, then never use up the skin (otherwise the tank alone forces a rebuild
+  // every few steps).
+  const double time = at_ == Positions::kCurrent ? context.time : context.time + context.dt;
+  const Vec3 tank_displacement = tank_kinematics(context.model.tank.motion, time).displacement;
   // Every pair within r_e now was within r_e + skin at the build if no particle has moved more than skin / 2.
   bool valid = neighbours.radius >= effective_radius_ + skin_ && neighbours.built_positions.size() == positions.size() &&
                neighbours.particle_count() == queries;
   if (valid) {
     const double limit = 0.25 * skin_ * skin_;
+    const Vec3 frame_shift = tank_displacement - neighbours.built_tank_displacement;
     valid = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, positions.size(), 4096), true,
         [&](const tbb::blocked_range<std::size_t>& range, bool ok) {
           for (std::size_t i = range.begin(); ok && i < range.end(); ++i)
-            ok = (positions[i] - neighbours.built_positions[i]).squaredNorm() <= limit;
+            ok = (positions[i] - neighbours.built_positions[i] - frame_shift).squaredNorm() <= limit;
           return ok;
         },
         [](bool a, bool b) { return a && b; });
@@ -181,6 +196,7 @@ void FluidNeighbourSearch::run(SystemContext& context) {
   context.count_items(positions.size());
   build_fluid_neighbours(positions, effective_radius_ + skin_, neighbours, queries);
   neighbours.built_positions = positions;
+  neighbours.built_tank_displacement = tank_displacement;
 }
 
 }  // namespace riffle

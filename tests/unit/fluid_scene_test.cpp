@@ -88,7 +88,7 @@ TEST_CASE("a minimal fluid table gets the documented defaults") {
   CHECK(fluid.tank_walls);
   CHECK(fluid.clamp_negative_pressure);
   CHECK(fluid.surface_threshold == 0.93);
-  CHECK(fluid.density_relaxation_rate == 24.0);
+  CHECK(fluid.density_relaxation_rate == 48.0);
   CHECK(fluid.compressibility == 1.0e-9);
   CHECK(fluid.courant == 0.2);
   CHECK(fluid.diffusion_number == 0.2);
