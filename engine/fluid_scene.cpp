@@ -143,6 +143,7 @@ void read_fluid(TableReader& fluid, Model& model) {
                            ? FluidModel::Preconditioner::kJacobi
                            : FluidModel::Preconditioner::kTwoLevel;
   out.neighbour_skin_ratio = fluid.number("neighbour_skin", 0.3, "1", Bounds::closed(0.0, 2.0));
+  out.sort_every = fluid.integer("sort_every", 20, 0, 1000000000);
   if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes);
 
   const double spacing = out.spacing;  // 0 if missing or invalid (reported)

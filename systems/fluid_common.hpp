@@ -11,6 +11,7 @@
 
 #include "components/fluid.hpp"
 #include "engine/model.hpp"
+#include "systems/deterministic_sum.hpp"
 #include "systems/mps_kernel.hpp"
 
 namespace riffle {
@@ -67,23 +68,6 @@ void for_each_particle(std::size_t count, Body&& body) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 256), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) body(i);
   });
-}
-
-/// Sum of term(i) over [0, count), identical for any thread count: fixed blocks summed in order.
-template <class Term>
-double deterministic_sum(std::size_t count, Term&& term) {
-  constexpr std::size_t kBlock = 2048;
-  const std::size_t blocks = (count + kBlock - 1) / kBlock;
-  std::vector<double> partial(blocks, 0.0);
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
-    double sum = 0.0;
-    const std::size_t end = std::min(count, (block + 1) * kBlock);
-    for (std::size_t i = block * kBlock; i < end; ++i) sum += term(i);
-    partial[block] = sum;
-  });
-  double total = 0.0;
-  for (double value : partial) total += value;
-  return total;
 }
 
 }  // namespace riffle

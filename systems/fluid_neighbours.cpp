@@ -26,13 +26,15 @@ struct Box {
 
 bool finite(const Vec3& position) { return std::isfinite(position[0]) && std::isfinite(position[1]) && std::isfinite(position[2]); }
 
-/// Uniform grid with the particles of each cell listed in slot order.
+/// Uniform grid on the lattice of `anchor` with the particles of each cell listed in slot order, and their
+/// positions copied in the same order, so that a query streams through a row of cells as one contiguous run.
 struct CellGrid {
   Vec3 origin = Vec3::Zero();
   double cell_size = 1.0;
   std::array<std::int64_t, 3> cells{1, 1, 1};
   std::vector<std::uint32_t> cell_start;  ///< cells + 1
   std::vector<std::uint32_t> members;     ///< finite particles grouped by cell, ascending slot within a cell
+  std::vector<Vec3> member_positions;     ///< positions[members[k]]
 
   std::int64_t axis_cell(double coordinate, int axis) const {
     const double scaled = std::floor((coordinate - origin[axis]) / cell_size);
@@ -44,7 +46,7 @@ struct CellGrid {
   }
 };
 
-CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size_t query_count) {
+CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size_t query_count, const Vec3& anchor) {
   const std::size_t count = positions.size();
   // The grid covers the queries' box widened by the radius: particles beyond it (walls far from the water) cannot be
   // anyone's neighbour and stay out of the grid.
@@ -69,85 +71,133 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
     return finite(p) && (p.array() >= box.low.array()).all() && (p.array() <= box.high.array()).all();
   };
   CellGrid grid;
-  // Cells of half a radius: a query scans 5^3 small cells, about 40 % fewer candidates than 3^3 cells of a radius.
-  grid.cell_size = 0.5 * radius;
+  grid.cell_size = fluid_search_cell_size(radius);
   if (box.low[0] <= box.high[0]) {
-    grid.origin = box.low;
-    // Cells at least one radius wide; wider if a stray particle would make the grid much larger than the
+    // Cells at least half a radius wide; wider if a stray particle would make the grid much larger than the
     // particle count (the lists are sorted, so the cell size changes no result).
-    const Vec3 extent = box.high - box.low;
     const double cell_limit = std::max(1.0e6, 8.0 * static_cast<double>(count));
     auto cell_count = [&](double size) {
-      return (std::floor(extent[0] / size) + 1) * (std::floor(extent[1] / size) + 1) * (std::floor(extent[2] / size) + 1);
+      double total = 1.0;
+      for (int axis = 0; axis < 3; ++axis)
+        total *= std::floor((box.high[axis] - anchor[axis]) / size) - std::floor((box.low[axis] - anchor[axis]) / size) + 1.0;
+      return total;
     };
     while (cell_count(grid.cell_size) > cell_limit) grid.cell_size *= 2.0;
-    for (int axis = 0; axis < 3; ++axis)
-      grid.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(extent[axis] / grid.cell_size)) + 1;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double first = std::floor((box.low[axis] - anchor[axis]) / grid.cell_size);
+      const double last = std::floor((box.high[axis] - anchor[axis]) / grid.cell_size);
+      grid.origin[axis] = anchor[axis] + first * grid.cell_size;
+      grid.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(last - first) + 1;
+    }
   }
   const std::size_t cell_total = static_cast<std::size_t>(grid.cells[0] * grid.cells[1] * grid.cells[2]);
   std::vector<std::uint32_t> cell_of(count, std::numeric_limits<std::uint32_t>::max());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i)
+      if (inside(positions[i]))
+        cell_of[i] = static_cast<std::uint32_t>(grid.linear(grid.axis_cell(positions[i][0], 0),
+                                                            grid.axis_cell(positions[i][1], 1),
+                                                            grid.axis_cell(positions[i][2], 2)));
+  });
   grid.cell_start.assign(cell_total + 1, 0);
-  for (std::size_t i = 0; i < count; ++i) {
-    if (!inside(positions[i])) continue;
-    cell_of[i] = static_cast<std::uint32_t>(grid.linear(grid.axis_cell(positions[i][0], 0),
-                                                        grid.axis_cell(positions[i][1], 1),
-                                                        grid.axis_cell(positions[i][2], 2)));
-    ++grid.cell_start[cell_of[i] + 1];
-  }
+  for (std::size_t i = 0; i < count; ++i)
+    if (cell_of[i] != std::numeric_limits<std::uint32_t>::max()) ++grid.cell_start[cell_of[i] + 1];
   for (std::size_t cell = 0; cell < cell_total; ++cell) grid.cell_start[cell + 1] += grid.cell_start[cell];
   grid.members.resize(grid.cell_start[cell_total]);
+  grid.member_positions.resize(grid.members.size());
   std::vector<std::uint32_t> fill(grid.cell_start.begin(), grid.cell_start.end() - 1);
   for (std::size_t i = 0; i < count; ++i)
-    if (cell_of[i] != std::numeric_limits<std::uint32_t>::max()) grid.members[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
+    if (cell_of[i] != std::numeric_limits<std::uint32_t>::max()) {
+      const std::uint32_t k = fill[cell_of[i]]++;
+      grid.members[k] = static_cast<std::uint32_t>(i);
+      grid.member_positions[k] = positions[i];
+    }
   return grid;
 }
 
-/// Calls visit(j) for every j != i within `radius` of particle i (cell order, not yet sorted).
+/// Calls visit(j) for every j != i within `radius` of particle i, in cell order: (z, y) rows of cells that the
+/// sphere reaches, each row one contiguous run of the grid's members, cut to the cells the sphere's chord spans.
 template <class Visit>
 void for_each_neighbour(const std::vector<Vec3>& positions, const CellGrid& grid, double radius, std::size_t i,
                         Visit&& visit) {
   const Vec3& position = positions[i];
   if (!finite(position)) return;
   const double squared_radius = radius * radius;
-  std::array<std::int64_t, 3> low{}, high{};
-  for (int axis = 0; axis < 3; ++axis) {
-    low[static_cast<std::size_t>(axis)] = grid.axis_cell(position[axis] - radius, axis);
-    high[static_cast<std::size_t>(axis)] = grid.axis_cell(position[axis] + radius, axis);
-  }
-  for (std::int64_t z = low[2]; z <= high[2]; ++z)
-    for (std::int64_t y = low[1]; y <= high[1]; ++y)
-      for (std::int64_t x = low[0]; x <= high[0]; ++x) {
-        const std::size_t cell = grid.linear(x, y, z);
-        for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
-          const std::uint32_t j = grid.members[k];
-          if (j != i && (positions[j] - position).squaredNorm() < squared_radius) visit(j);
-        }
+  const double cell = grid.cell_size;
+  const std::int64_t z_low = grid.axis_cell(position[2] - radius, 2), z_high = grid.axis_cell(position[2] + radius, 2);
+  const std::int64_t y_low = grid.axis_cell(position[1] - radius, 1), y_high = grid.axis_cell(position[1] + radius, 1);
+  // Distance from the query to the nearest point of cell index c along an axis (0 inside it).
+  const auto gap = [&](std::int64_t c, int axis) {
+    const double lower = grid.origin[axis] + static_cast<double>(c) * cell;
+    return std::max({0.0, lower - position[axis], position[axis] - (lower + cell)});
+  };
+  for (std::int64_t z = z_low; z <= z_high; ++z) {
+    const double dz = gap(z, 2);
+    for (std::int64_t y = y_low; y <= y_high; ++y) {
+      const double dy = gap(y, 1);
+      const double rest = squared_radius - dz * dz - dy * dy;
+      if (rest < 0.0) continue;  // the sphere misses this row of cells
+      const double half_chord = std::sqrt(rest);
+      const std::size_t first = grid.cell_start[grid.linear(grid.axis_cell(position[0] - half_chord, 0), y, z)];
+      const std::size_t last = grid.cell_start[grid.linear(grid.axis_cell(position[0] + half_chord, 0), y, z) + 1];
+      for (std::size_t k = first; k < last; ++k) {
+        const std::uint32_t j = grid.members[k];
+        if ((grid.member_positions[k] - position).squaredNorm() < squared_radius && j != i) visit(j);
       }
+    }
+  }
+}
+
+/// Sorts a short list that is nearly ascending already (the particles are kept in cell order, see FluidCellSort):
+/// insertion sort costs one comparison per entry plus one move per inversion.
+void sort_nearly_sorted(std::uint32_t* first, std::uint32_t* last) {
+  for (std::uint32_t* next = first + (first == last ? 0 : 1); next < last; ++next) {
+    const std::uint32_t value = *next;
+    std::uint32_t* hole = next;
+    while (hole > first && *(hole - 1) > value) {
+      *hole = *(hole - 1);
+      --hole;
+    }
+    *hole = value;
+  }
 }
 
 }  // namespace
 
 void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours,
-                            std::size_t query_count) {
+                            std::size_t query_count, const Vec3& grid_anchor) {
   if (!(radius > 0.0) || !std::isfinite(radius))
     throw std::invalid_argument("build_fluid_neighbours: the search radius must be positive and finite");
   if (positions.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("build_fluid_neighbours: too many particles for 32-bit slots");
   const std::size_t count = std::min(query_count, positions.size());
-  const CellGrid grid = build_grid(positions, radius, count);
+  const CellGrid grid = build_grid(positions, radius, count, grid_anchor);
 
   // One scan per query into per-chunk buffers (each list sorted there), then a prefix sum and a copy: each task
-  // writes only its own chunk, and the sorted lists do not depend on the chunking or the thread count.
+  // writes only its own chunk, and the sorted lists do not depend on the chunking or the thread count. Queries
+  // (slots below `count`) and the rest are gathered apart: each part comes out of the scan nearly ascending when
+  // the particles are in cell order, and all queries precede the rest.
   const std::size_t chunks = (count + kGrain - 1) / kGrain;
   std::vector<std::vector<std::uint32_t>> chunk_lists(chunks);
   neighbours.offsets.assign(count + 1, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
     std::vector<std::uint32_t>& list = chunk_lists[chunk];
+    std::vector<std::uint32_t> others;
     const std::size_t last = std::min(count, (chunk + 1) * kGrain);
+    list.reserve((last - chunk * kGrain) * 96);
     for (std::size_t i = chunk * kGrain; i < last; ++i) {
       const std::size_t first = list.size();
-      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t j) { list.push_back(j); });
-      std::sort(list.begin() + static_cast<std::ptrdiff_t>(first), list.end());
+      others.clear();
+      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t j) {
+        if (j < count)
+          list.push_back(j);
+        else
+          others.push_back(j);
+      });
+      const std::size_t queries_end = list.size();
+      list.insert(list.end(), others.begin(), others.end());
+      sort_nearly_sorted(list.data() + first, list.data() + queries_end);
+      sort_nearly_sorted(list.data() + queries_end, list.data() + list.size());
       neighbours.offsets[i + 1] = static_cast<std::uint32_t>(list.size() - first);
     }
   });
@@ -194,7 +244,9 @@ void FluidNeighbourSearch::run(SystemContext& context) {
   }
   if (valid) return;
   context.count_items(positions.size());
-  build_fluid_neighbours(positions, effective_radius_ + skin_, neighbours, queries);
+  // The grid rides with the tank, on the lattice FluidCellSort orders the particles by.
+  build_fluid_neighbours(positions, effective_radius_ + skin_, neighbours, queries,
+                         context.model.tank.origin + tank_displacement);
   neighbours.built_positions = positions;
   neighbours.built_tank_displacement = tank_displacement;
 }

@@ -16,11 +16,17 @@
 
 namespace riffle {
 
+/// Edge [m] of the search grid's cells for a search radius: a query scans about 5^3 cells of half a radius, about
+/// 40 % fewer candidates than 3^3 cells of a radius.
+inline double fluid_search_cell_size(double radius) { return 0.5 * radius; }
+
 /// Builds `neighbours` for the first `query_count` particles of `positions` (all by default): j is a neighbour of i
 /// (j != i) iff |r_j - r_i| < radius, j among all particles. Non-finite positions get no neighbours and are nobody's
-/// neighbour.
+/// neighbour. The grid's cells have a corner at `grid_anchor`; the result does not depend on it, the speed does:
+/// particles kept in the order of the same cells (FluidCellSort) come out of the scan nearly sorted.
 void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours,
-                            std::size_t query_count = static_cast<std::size_t>(-1));
+                            std::size_t query_count = static_cast<std::size_t>(-1),
+                            const Vec3& grid_anchor = Vec3::Zero());
 
 /// Verlet lists of the fluid particles (queries) among all MPS particles, built with radius r_e + skin and rebuilt
 /// only when some particle (walls included: they move with the tank) has moved more than skin / 2 since the build.

@@ -1,12 +1,15 @@
 #pragma once
 // Two-level additive preconditioner for the pressure equation (numerics.md 3.5 and amendment 5 ask for more than
 // Jacobi in 3D): M^-1 r = D^-1 r + P A_c^-1 P^T r, where P aggregates the unknowns by coarse cells of a few l0 and
-// A_c = P^T A P is the Galerkin coarse matrix, factorised densely (a few hundred aggregates). Jacobi alone damps
+// A_c = P^T A P is the Galerkin coarse matrix, factorised by a sparse Cholesky (each aggregate couples only to its
+// neighbours, so the factor stays small: the dense factor of a few hundred aggregates cost more than the whole
+// serial remainder of the solve). Jacobi alone damps
 // only the short waves of the error, so CG needs iterations in proportion to the domain size in particles; the
 // coarse solve removes the long waves. Symmetric positive definite whenever A is, so CG stays CG.
 // Every sum runs in a fixed order, so results do not depend on the thread count.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <cstdint>
 #include <vector>
 
@@ -31,6 +34,8 @@ class TwoLevelPreconditioner {
 
   /// z = D^-1 r + P A_c^-1 P^T r.
   void apply(const std::vector<double>& residual, std::vector<double>& result);
+  /// The same, returning r . z summed in fixed blocks (identical for any thread count).
+  double apply_and_dot(const std::vector<double>& residual, std::vector<double>& result);
 
   std::size_t coarse_size() const { return coarse_ready_ ? aggregate_count_ : 0; }
 
@@ -41,8 +46,9 @@ class TwoLevelPreconditioner {
   std::vector<std::uint32_t> member_start_;      ///< aggregate -> first index into members_
   std::vector<std::uint32_t> members_;           ///< rows grouped by aggregate, ascending
   std::size_t aggregate_count_ = 0;
-  Eigen::MatrixXd coarse_matrix_;
-  Eigen::LLT<Eigen::MatrixXd> coarse_factor_;
+  std::vector<std::int64_t> aggregate_of_cell_;  ///< scratch: cell of the aggregation grid -> aggregate, -1 if none
+  Eigen::SparseMatrix<double> coarse_matrix_;
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> coarse_factor_;
   Eigen::VectorXd coarse_vector_;
   bool coarse_ready_ = false;
 };

@@ -1,11 +1,11 @@
 #include "systems/registry.hpp"
 
+#include "systems/fluid_cell_sort.hpp"
 #include "systems/fluid_checks.hpp"
 #include "systems/fluid_correct.hpp"
 #include "systems/fluid_drag_reaction.hpp"
 #include "systems/solid_drag.hpp"
 #include "systems/solid_fluid_sampling.hpp"
-#include "systems/fluid_ecs_source.hpp"
 #include "systems/fluid_free_surface.hpp"
 #include "systems/fluid_neighbours.hpp"
 #include "systems/fluid_predict.hpp"
@@ -27,8 +27,9 @@ Pipeline build_pipeline(const Model& model) {
     const FluidModel& fluid = model.fluid;
     const double skin = fluid.neighbour_skin_ratio * fluid.spacing;
     using At = FluidNeighbourSearch::Positions;
+    if (fluid.sort_every > 0)
+      pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.effective_radius() + skin));
     pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, At::kCurrent));
-    if (fluid.schemes.error_compensating_source) pipeline.step.push_back(std::make_unique<FluidEcsSource>(fluid));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
     pipeline.step.push_back(std::make_unique<FluidWallMotion>());
     pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, At::kPredicted));

@@ -6,11 +6,14 @@
 #include <vector>
 
 #include "engine/system.hpp"
+#include "systems/cell_order.hpp"
 
 namespace riffle {
 
 /// Slot order that sorts grains by the linear index (z, y, x) of their cell; ties keep the current order.
-std::vector<std::size_t> cell_order(const Solids& solids, const Vec3& origin, double cell_size);
+inline std::vector<std::size_t> cell_order(const Solids& solids, const Vec3& origin, double cell_size) {
+  return cell_order(solids.position, solids.size(), origin, cell_size);
+}
 
 class SolidCellSort final : public System {
  public:

@@ -60,6 +60,20 @@ struct FluidRun {
   /// Number of fluid particles (they hold slots [0, F)).
   std::size_t fluid_count() const { return fluid_slot_count(*world.fluid); }
 
+  /// The current slot of the MPS particle with this id (fluid_cell_sort reorders slots; ids never change).
+  std::size_t slot_of(EntityId id) const {
+    const auto found = std::find(world.fluid->id.begin(), world.fluid->id.end(), id);
+    return static_cast<std::size_t>(found - world.fluid->id.begin());
+  }
+
+  /// Positions of the fluid particles indexed by id (fluid particles are laid out first: ids 0 .. F-1).
+  std::vector<Vec3> fluid_positions_by_id() const {
+    std::vector<Vec3> by_id(fluid_count(), Vec3::Constant(std::nan("")));
+    for (std::size_t i = 0; i < fluid_count(); ++i)
+      if (world.fluid->id[i] < by_id.size()) by_id[world.fluid->id[i]] = world.fluid->position[i];
+    return by_id;
+  }
+
   /// One step; false on failure.
   bool step() {
     stepper->step();

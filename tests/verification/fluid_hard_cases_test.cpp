@@ -161,12 +161,12 @@ TEST_CASE("a fluid particle 0.3 l0 from a tank corner next to still water") {
     world.fluid_summary->fluid_count = fluid + 1;
   });
   REQUIRE(run.fluid_count() == 6 * 3 * 6 + 1);
-  const std::size_t extra = run.fluid_count() - 1;
+  const EntityId extra = run.world.fluid->id[run.fluid_count() - 1];
   double ke_peak = 0.0;
   const Outcome o = survive(run, 1.0, [&](const test::FluidRun& r) {
     ke_peak = std::max(ke_peak, r.world.fluid_summary->kinetic_energy);
   });
-  const Vec3 where = run.world.fluid->position[extra];
+  const Vec3 where = run.world.fluid->position[run.slot_of(extra)];
   MESSAGE("corner particle ends at (" << where.x() / l0 << ", " << where.y() / l0 << ", " << where.z() / l0
                                       << ") l0, KE peak " << ke_peak << " J, final "
                                       << run.world.fluid_summary->kinetic_energy << " J");

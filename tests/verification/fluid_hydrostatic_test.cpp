@@ -51,10 +51,11 @@ PressureErrors pressure_errors(const test::FluidRun& run, double depth) {
   return e;
 }
 
+/// Largest displacement of a fluid particle from its start (`start` indexed by id: slots are reordered by cell).
 double max_drift(const test::FluidRun& run, const std::vector<Vec3>& start) {
+  const std::vector<Vec3> now = run.fluid_positions_by_id();
   double drift = 0.0;
-  for (std::size_t i = 0; i < start.size(); ++i)
-    drift = std::max(drift, (run.world.fluid->position[i] - start[i]).norm());
+  for (std::size_t id = 0; id < start.size(); ++id) drift = std::max(drift, (now[id] - start[id]).norm());
   return drift;
 }
 
@@ -68,7 +69,7 @@ TEST_CASE("hydrostatic column holds still for 5000 steps with the offset-line pr
   const std::size_t count = run.fluid_count();
   REQUIRE(count == 180);
   const std::size_t top_layer = 6 * 3;
-  std::vector<Vec3> start(run.world.fluid->position.begin(), run.world.fluid->position.begin() + count);
+  const std::vector<Vec3> start = run.fluid_positions_by_id();
 
   std::int64_t steps = 0;
   std::size_t spurious_flags = 0, missed_top = 0;
@@ -81,7 +82,7 @@ TEST_CASE("hydrostatic column holds still for 5000 steps with the offset-line pr
     density_error_max = std::max(density_error_max, std::abs(summary.mean_density_ratio - 1.0));
     if (steps % 50 == 0) {  // surface flags: exactly the top layer (initial z = H - l0/2)
       for (std::size_t i = 0; i < count; ++i) {
-        const bool top = start[i].z() > depth - l0;
+        const bool top = start[run.world.fluid->id[i]].z() > depth - l0;
         const bool flagged = run.world.fluid->free_surface[i] != 0;
         if (flagged && !top) ++spurious_flags;
         if (!flagged && top) ++missed_top;
