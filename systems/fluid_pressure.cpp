@@ -1,7 +1,6 @@
 #include "systems/fluid_pressure.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 
 namespace riffle {
@@ -99,7 +98,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     row_positions_.resize(unknowns);
     for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = particles.predicted_position[slot_of_[row]]; });
     // Coarse cells of at least 4 l0, wider for big problems so the dense coarse factorisation stays small.
-    const double cells_per_edge = std::getenv("RIFFLE_AGG") ? std::atof(std::getenv("RIFFLE_AGG")) : std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
+    const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
     const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
                                 compact_values_.data()};
     preconditioner_.setup(matrix, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
