@@ -141,4 +141,13 @@ std::string Scheduler::dot() const {
   return out + "}\n";
 }
 
+std::vector<ComponentId> Scheduler::components() const {
+  std::vector<ComponentId> used;
+  for (const Access& access : access_)
+    for (const auto* list : {&access.reads, &access.writes})
+      for (const ComponentId component : *list)
+        if (std::find(used.begin(), used.end(), component) == used.end()) used.push_back(component);
+  return used;
+}
+
 }  // namespace riffle

@@ -41,6 +41,9 @@ class Scheduler {
   /// Graphviz DOT text of the graph.
   std::string dot() const;
 
+  /// Every component some system of this graph reads or writes, each once.
+  std::vector<ComponentId> components() const;
+
   std::size_t size() const { return systems_.size(); }
   bool empty() const { return systems_.empty(); }
   const System& system(std::size_t index) const { return *systems_[index]; }

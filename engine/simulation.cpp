@@ -424,13 +424,17 @@ RunOutcome Simulation::run(const RunOptions& options) {
     outcome = {kExitIoError, std::string("final checkpoint failed: ") + error.what(), checkpoints.last_written()};
   }
 
-  const std::vector<SystemTimer> timers = stepper_->timers();
+  std::vector<SystemTimer> timers = stepper_->timers();
+  for (const SystemTimer& branch : stepper_->branch_timers())
+    if (branch.calls > 0) timers.push_back(branch);
   try {
     write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
   } catch (const std::exception& error) {
     spdlog::error("{}", error.what());
   }
-  spdlog::info("per-system timings ({} threads):\n{}", threads, format_timing_table(timers, stepping_seconds));
+  spdlog::info("per-system timings ({} threads{}):\n{}", threads,
+               stepper_->concurrent_branches() ? "; the fluid step graph runs beside the solid sub-steps" : "",
+               format_timing_table(timers, stepping_seconds));
   if (outcome.exit_code == kExitOk)
     spdlog::info("{}", outcome.message);
   else

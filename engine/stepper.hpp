@@ -1,7 +1,9 @@
 #pragma once
-// The stepper advances the World by one engine step: the step-phase graph (the fluid, later), then
-// solid_substeps runs of the sub-step graph (DEM), then the end-of-step graph (checks, reductions, reordering).
-// Each graph is built once.
+// The stepper advances the World by one engine step: the step-phase graph (the fluid) and solid_substeps runs of
+// the sub-step graph (DEM), then the end-of-step graph (checks, reductions, coupling, reordering). Each graph is
+// built once. When the step graph and the sub-step graph touch no common component (the coupled scenes exchange
+// their fields in the end-of-step graph), the two branches run side by side: on two cores the grains' many short
+// sub-step loops fill the gaps the fluid's serial parts leave, and the reverse.
 #include <memory>
 #include <vector>
 
@@ -23,6 +25,11 @@ class Stepper {
 
   /// Timers of every system, step phase first.
   std::vector<SystemTimer> timers() const;
+  /// Wall time of each branch of the step (phase "branch"): the step graph, the sub-steps, the end-of-step graph.
+  /// With concurrent branches the first two overlap, so they add up to more than the stepping time.
+  std::vector<SystemTimer> branch_timers() const { return {step_branch_, substep_branch_, end_of_step_branch_}; }
+  /// True if the step graph runs beside the sub-steps.
+  bool concurrent_branches() const { return concurrent_; }
   const Scheduler& step_graph() const { return step_; }
   const Scheduler& substep_graph() const { return substep_; }
   const Scheduler& end_of_step_graph() const { return end_of_step_; }
@@ -34,6 +41,10 @@ class Stepper {
   Scheduler substep_;
   Scheduler end_of_step_;
   Scheduler initial_forces_;
+  bool concurrent_ = false;
+  SystemTimer step_branch_{"fluid step graph", "branch"};
+  SystemTimer substep_branch_{"solid sub-steps", "branch"};
+  SystemTimer end_of_step_branch_{"end-of-step graph", "branch"};
 };
 
 }  // namespace riffle

@@ -97,7 +97,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   if (two_level) {
     row_positions_.resize(unknowns);
     for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = particles.predicted_position[slot_of_[row]]; });
-    // Coarse cells of at least 4 l0, wider for big problems so the dense coarse factorisation stays small.
+    // Coarse cells of at least 4 l0, wider for big problems so the coarse factorisation stays small.
     const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
     const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
                                 compact_values_.data()};

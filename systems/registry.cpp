@@ -38,7 +38,10 @@ Pipeline build_pipeline(const Model& model) {
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
     pipeline.end_of_step.push_back(std::make_unique<FluidChecks>(fluid));
     if (model.coupling.enabled) {
-      pipeline.step.push_back(std::make_unique<SolidFluidSampling>(model));
+      // Staggered by one fluid step (docs/COUPLING.md): the grains' sub-steps of step k+1 use the water sampled at
+      // the end of step k, so the fluid's step graph and the grains' sub-steps share no component and the stepper
+      // runs them side by side.
+      pipeline.end_of_step.push_back(std::make_unique<SolidFluidSampling>(model));
       pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model));
     }
   }
@@ -56,6 +59,9 @@ Pipeline build_pipeline(const Model& model) {
         phase->push_back(std::make_unique<SolidContactGather>());
       }
       if (coupled && model.coupling.drag && phase == &pipeline.substep) phase->push_back(std::make_unique<SolidDrag>(model));
+      // A new run's first sub-steps use the water as laid out (hydrostatic, engine/initial_state.cpp): buoyancy
+      // from the first sub-step on.
+      if (coupled && phase == &pipeline.initial_forces) phase->push_back(std::make_unique<SolidFluidSampling>(model));
       phase->push_back(std::make_unique<SolidForceSum>());
     }
   }

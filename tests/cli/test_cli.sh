@@ -307,9 +307,10 @@ diagnostics_ok() {
 }
 check "diagnostics.csv has a header and one row per step (1..50)" diagnostics_ok
 timings_ok() {
-  # The systems in timings.csv are exactly the wall_<system>_s columns of diagnostics.csv, once each.
+  # The systems in timings.csv are exactly the wall_<system>_s columns of diagnostics.csv, once each (the rows of
+  # phase "branch" are the wall times of the step's branches, not systems).
   local from_timings from_diagnostics
-  from_timings=$(tail -n +2 A/timings.csv | cut -d, -f1 | grep -v '^stepping$' | sort)
+  from_timings=$(tail -n +2 A/timings.csv | grep -v '^[^,]*,branch,' | cut -d, -f1 | grep -v '^stepping$' | sort)
   from_diagnostics=$(head -n 1 A/diagnostics.csv | tr ',' '\n' | sed -n 's/^wall_\(.*\)_s$/\1/p' | sort)
   [ -n "$from_timings" ] && [ "$from_timings" = "$from_diagnostics" ] &&
     [ "$(printf '%s\n' "$from_timings" | uniq -d)" = "" ] &&

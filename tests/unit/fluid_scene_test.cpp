@@ -295,6 +295,8 @@ TEST_CASE("the initial fluid follows the closed forms with fluid in the first sl
     CHECK(particles.rest_position[i] == particles.position[i]);  // the tank starts at its rest position
     CHECK(particles.predicted_position[i] == particles.position[i]);
     CHECK(particles.pressure[i] == 0.0);
+    // Water at rest: the gradient coupled grains sample before the first solve (buoyancy from the first sub-step).
+    CHECK(particles.pressure_gradient[i] == (i < fluid_count ? Vec3(model.fluid.density * model.gravity) : Vec3::Zero()));
   }
   CHECK(particles.next_id == particles.size());
   const Vec3 half_cell(0.0025, 0.0025, 0.0025);
