@@ -51,8 +51,8 @@ struct FluidParticles {
     visit(FieldInfo{"density_rate", "1/s", false}, self.density_rate);
     visit(FieldInfo{"pressure", "Pa", true}, self.pressure);
     visit(FieldInfo{"previous_pressure", "Pa", false}, self.previous_pressure);
-    visit(FieldInfo{"pressure_gradient", "Pa/m", false}, self.pressure_gradient);
-    visit(FieldInfo{"drag_reaction", "N s/m^3", false}, self.drag_reaction);
+    visit(FieldInfo{"pressure_gradient", "Pa/m", true}, self.pressure_gradient);
+    visit(FieldInfo{"drag_reaction", "N s/m^3", true}, self.drag_reaction);
     visit(FieldInfo{"number_density", "1", true}, self.number_density);
     visit(FieldInfo{"free_surface", "1", true}, self.free_surface);
   }

@@ -55,7 +55,7 @@ struct Solids {
     visit(FieldInfo{"pressure_force", "N", true}, self.pressure_force);
     visit(FieldInfo{"fluid_velocity", "m/s", true}, self.fluid_velocity);
     visit(FieldInfo{"voidage", "1", true}, self.voidage);
-    visit(FieldInfo{"fluid_weight", "1", false}, self.fluid_weight);
+    visit(FieldInfo{"fluid_weight", "1", true}, self.fluid_weight);
     visit(FieldInfo{"material", "1", true}, self.material);
     visit(FieldInfo{"size_class", "1", true}, self.size_class);
   }
