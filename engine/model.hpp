@@ -141,6 +141,15 @@ struct CouplingModel {
   double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
   double ergun_inertial_exponent = 1.5;  ///< [1] n in F_ch = 1.75 / (sqrt(150) eps^n): 1.5 = Ergun/Gidaspow; the seed prints 3 (numerics 5.1)
   double newton_drag_coefficient = 0.44; ///< [1] C_D above Re_p = 1000 (the seed prints 0.4)
+  /// What the MPS velocity u stands for inside the bed (docs/COUPLING.md, "The water inside the bed").
+  /// false ("pore", the seed): the pore water's velocity; the water filling all space then passes 1/eps^2 too much
+  /// Darcy flux for a pressure gradient and loads the grains with (2 - eps) times the seepage force.
+  /// true ("mixture"): the volume flux of the mixture, eps u_pore + (1 - eps) u_s, which is what an incompressible
+  /// fluid filling all space (div u = 0, wall velocity at the walls) can carry exactly. The pore water moves
+  /// relative to a grain at (u - u_s) / eps (the drag's slip), and the water receives the drag per volume over eps,
+  /// so steady Darcy-Forchheimer flow and the seepage force are right; the pore water's relative inertia is eps
+  /// too small.
+  bool mixture_velocity = false;
 };
 
 struct SphereSpec {

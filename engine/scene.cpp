@@ -342,6 +342,7 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
+  out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

@@ -25,9 +25,12 @@ void FluidDragReaction::run(SystemContext& context) {
     double wet = 0.0;  // weight of the nodes that hold water: a grain at the water's edge gives all to those
     for (std::size_t c = 0; c < 8; ++c) wet += grid_.fluid_volume(stencil.node[c]) > 0.0 ? stencil.weight[c] : 0.0;
     if (wet <= 0.0) continue;  // out of the water since the sampling: its drag was zero while dry
+    // Mixture reading: the pore water's relative momentum balance, divided by eps, has -grad p + rho g and the
+    // drag per volume over eps (docs/COUPLING.md).
+    const double share = mixture_velocity_ ? 1.0 / (wet * solids.voidage[grain]) : 1.0 / wet;
     for (std::size_t c = 0; c < 8; ++c)
       if (grid_.fluid_volume(stencil.node[c]) > 0.0)
-        node_impulse_[stencil.node[c]] -= (stencil.weight[c] / wet) * solids.drag_impulse[grain];
+        node_impulse_[stencil.node[c]] -= (stencil.weight[c] * share) * solids.drag_impulse[grain];
     solids.drag_impulse[grain] = Vec3::Zero();
   }
   for_each_particle(fluid_count, [&](std::size_t j) {

@@ -14,13 +14,15 @@ namespace riffle {
 
 class FluidDragReaction final : public System {
  public:
-  explicit FluidDragReaction(const Model& model) : constants_(MpsConstants::from(model.fluid)) {}
+  explicit FluidDragReaction(const Model& model)
+      : constants_(MpsConstants::from(model.fluid)), mixture_velocity_(model.coupling.mixture_velocity) {}
   std::string_view name() const override { return "fluid_drag_reaction"; }
   Access access() const override { return {{}, {ComponentId::kSolids, ComponentId::kFluid}}; }
   void run(SystemContext& context) override;
 
  private:
   MpsConstants constants_;
+  bool mixture_velocity_ = false;  ///< the water takes the drag per volume over eps (CouplingModel)
   VoidageGrid grid_;             ///< its fluid deposit is the normalisation; the solid deposit is unused (zero volumes)
   std::vector<double> volumes_;
   std::vector<Vec3> node_impulse_;

@@ -18,7 +18,10 @@ void SolidDrag::run(SystemContext& context) {
       solids.drag_force[grain] = Vec3::Zero();
       return;
     }
-    const Vec3 slip = solids.fluid_velocity[grain] - solids.velocity[grain];
+    // Mixture reading (docs/COUPLING.md): the sampled MPS velocity is the mixture's volume flux, so the pore water
+    // passes the grain at (u - u_s) / eps; the seed's reading takes u as the pore velocity itself.
+    const Vec3 relative = solids.fluid_velocity[grain] - solids.velocity[grain];
+    const Vec3 slip = model_.mixture_velocity ? Vec3(relative / solids.voidage[grain]) : relative;
     const double diameter = 2.0 * solids.radius[grain];
     const double volume = kPi / 6.0 * diameter * diameter * diameter;
     const double coefficient = drag_per_volume(solids.voidage[grain], diameter, slip.norm(), density, viscosity, model_);

@@ -8,6 +8,7 @@
 #include "engine/simulation.hpp"
 #include "systems/drag_law.hpp"
 #include "systems/fluid_drag_reaction.hpp"
+#include "systems/solid_drag.hpp"
 #include "systems/voidage_grid.hpp"
 #include "tests/test_support.hpp"
 
@@ -141,6 +142,51 @@ TEST_CASE("the fluid receives exactly minus the drag impulse of the grains") {
   // Each grain's weights are normalised to one: equal to rounding (a few ulps of the largest impulse).
   CHECK((received + given).norm() < 1e-15);
   for (const Vec3& impulse : world.solids->drag_impulse) CHECK(impulse.isZero(0.0));
+}
+
+TEST_CASE("mixture reading: the pore water passes a grain at (u - u_s) / eps and the water takes the drag over eps") {
+  // docs/COUPLING.md "The water inside the bed": with fluid_velocity = "mixture" the sampled MPS velocity u is the
+  // mixture's volume flux, so the slip in the drag law is (u - u_s) / eps, and the water's share of each grain's
+  // impulse is divided by eps. Steady Darcy flow through a fixed bed then balances -grad p with beta q / eps^2
+  // per volume (q = u the flux), which is Ergun's permeability, and the grains take -eps grad p as drag.
+  Model model = test::small_model();
+  model.fluid.enabled = true;
+  model.fluid.spacing = 0.01;
+  model.fluid.density = kWaterDensity;
+  model.fluid.kinematic_viscosity = kViscosity / kWaterDensity;
+  model.coupling.enabled = true;
+  const double eps = 0.4, d = 0.005;
+  const Vec3 flux(0.004, 0.0, -0.001), grain_velocity(0.001, 0.002, 0.0);
+  for (const bool mixture : {false, true}) {
+    CAPTURE(mixture);
+    model.coupling.mixture_velocity = mixture;
+    World world;
+    world.fluid.emplace();
+    append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), 0.01));
+    world.solids.emplace();
+    const std::size_t slot = world.solids->add(Vec3(0.05, 0.05, 0.05), grain_velocity, 0.5 * d, 1318.0, 0, 0);
+    world.solids->fluid_velocity[slot] = flux;
+    world.solids->voidage[slot] = eps;
+    world.solids->fluid_weight[slot] = 1.0;
+    SolidDrag drag(model);
+    const Access drag_access = drag.access();
+    SystemContext drag_context(world, model, drag, drag_access, 0.0, 1.0e-3);
+    drag.run(drag_context);
+    const Vec3 slip = mixture ? Vec3((flux - grain_velocity) / eps) : Vec3(flux - grain_velocity);
+    const double volume = kPi / 6.0 * d * d * d;
+    const Vec3 expected = drag_per_volume(eps, d, slip.norm(), kWaterDensity, kViscosity, model.coupling) * volume * slip;
+    CHECK((world.solids->drag_force[slot] - expected).norm() < 1e-12 * expected.norm());
+    const Vec3 impulse = world.solids->drag_impulse[slot];
+    CHECK((impulse - 1.0e-3 * expected).norm() < 1e-12 * impulse.norm());
+    FluidDragReaction reaction(model);
+    const Access access = reaction.access();
+    SystemContext context(world, model, reaction, access, 0.0, 1.0e-3);
+    reaction.run(context);
+    Vec3 received = Vec3::Zero();
+    for (const Vec3& per_volume : world.fluid->drag_reaction) received += per_volume * 1.0e-6;
+    const Vec3 expected_received = -(mixture ? 1.0 / eps : 1.0) * impulse;
+    CHECK((received - expected_received).norm() < 1e-12 * impulse.norm());
+  }
 }
 
 TEST_CASE("the voidage of a submerged simple cubic packing is 1 - pi/6") {
