@@ -166,6 +166,9 @@ struct SolidsModel {
   std::string initial_state;           ///< checkpoint whose grains start this run (resolved path), or empty
   std::vector<SphereSpec> spheres;     ///< initial spheres, explicit and generated from blocks, in scene order
   std::int64_t sort_every = 0;         ///< [steps] reorder grains by grid cell this often; 0 = never
+  /// Grains carried rigidly with the tank (a fixed bed: forces are still computed and written, the grains do not
+  /// respond). For fixed-bed flows and for separating what the water does from what the bed does (docs/RESULTS.md).
+  bool fixed_to_tank = false;
 };
 
 /// One [[output.probes]] entry: a CSV written while the run goes (engine/probes.hpp).

@@ -120,6 +120,7 @@ void read_solids(TableReader& solids, Model& model) {
   // Without a valid tank size every grain would also be reported as outside the tank, burying the real problem.
   const bool tank_known = (model.tank.size.array() > 0.0).all();
   model.solids.sort_every = solids.integer("sort_every", 0, 0, 1000000000);
+  model.solids.fixed_to_tank = solids.boolean("fixed_to_tank", false);
   if (solids.has("initial_state")) {
     // Relative to the scene file, so a scene and the run it continues can move together.
     std::filesystem::path path = solids.text("initial_state", "");

@@ -3,20 +3,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <cstdlib>
-
 #include "systems/wall_motion.hpp"
 
 namespace riffle {
 
 namespace {
 constexpr std::size_t kGrain = 1024;
-
-// DEBUG (issue 5): RIFFLE_DEBUG_RIGID_BED=1 moves every grain rigidly with the tank (forces still computed).
-bool rigid_bed() {
-  static const bool rigid = [] { const char* v = std::getenv("RIFFLE_DEBUG_RIGID_BED"); return v && v[0] == '1'; }();
-  return rigid;
-}
 
 void half_kick(Solids& solids, const Vec3& gravity, double half_dt, std::size_t begin, std::size_t end) {
   for (std::size_t i = begin; i < end; ++i) {
@@ -30,7 +22,7 @@ void SolidKickDrift::run(SystemContext& context) {
   Solids& solids = context.write<Solids>();
   const Vec3 gravity = context.model.gravity;
   const double dt = context.dt;
-  if (rigid_bed()) {
+  if (context.model.solids.fixed_to_tank) {  // a fixed bed: the tank's displacement over the sub-step, exactly
     const TankMotion start = tank_kinematics(context.model.tank.motion, context.time);
     const TankMotion end = tank_kinematics(context.model.tank.motion, context.time + dt);
     for (std::size_t i = 0; i < solids.size(); ++i) {
@@ -54,7 +46,7 @@ void SolidKick::run(SystemContext& context) {
   Solids& solids = context.write<Solids>();
   const Vec3 gravity = context.model.gravity;
   const double half_dt = 0.5 * context.dt;
-  if (rigid_bed()) return;
+  if (context.model.solids.fixed_to_tank) return;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, solids.size(), kGrain),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       half_kick(solids, gravity, half_dt, range.begin(), range.end());

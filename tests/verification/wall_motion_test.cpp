@@ -91,3 +91,27 @@ TEST_CASE("walls that follow the tank are where the motion says after a run") {
     CHECK((walls.velocity[wall] - expected.velocity).norm() < 1e-15);
   }
 }
+
+TEST_CASE("a bed fixed to the tank moves rigidly with it, whatever the forces on it") {
+  // [solids] fixed_to_tank: every grain takes the tank's displacement over each sub-step and its velocity, exactly
+  // (the tank's motion is analytic), and does not fall under gravity or respond to contacts.
+  std::string scene = test::small_scene_text();
+  scene.replace(scene.find("[solids]"), 8, "[solids]\nfixed_to_tank = true");
+  auto simulation = Simulation::from_model(parse_scene(scene, "fixed.toml"));
+  const std::vector<Vec3> start = simulation->world().solids->position;
+  const std::vector<EntityId> ids = simulation->world().solids->id;
+  REQUIRE(start.size() > 1);
+  for (int step = 0; step < 37; ++step) simulation->step();
+  const World& world = simulation->world();
+  REQUIRE(world.step_status.ok());
+  const TankMotion expected = tank_kinematics(simulation->model().tank.motion, world.time);
+  REQUIRE(expected.displacement.norm() > 1e-4);  // the tank has moved: the check means something
+  const Solids& solids = *world.solids;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    CHECK(solids.id[i] == ids[i]);
+    // Sums of sub-step displacements: rounding only.
+    CHECK((solids.position[i] - (start[i] + expected.displacement)).norm() < 1e-12);
+    CHECK((solids.velocity[i] - expected.velocity).norm() < 1e-15);
+    CHECK(solids.angular_velocity[i].norm() == 0.0);
+  }
+}
