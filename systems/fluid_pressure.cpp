@@ -12,7 +12,6 @@ void FluidPressureSolve::run(SystemContext& context) {
   const std::size_t fluid_count = fluid_slot_count(particles);
   const FluidSchemes& schemes = fluid_.schemes;
   const WendlandKernel kernel = constants_.kernel;
-  const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants_.reference_density;
   const double dt = context.dt;
   const double rho = fluid_.density;
@@ -26,9 +25,19 @@ void FluidPressureSolve::run(SystemContext& context) {
     slot_of_.push_back(static_cast<std::uint32_t>(i));
   }
   const std::size_t unknowns = slot_of_.size();
-  entry_count_.assign(unknowns, 0);
-  columns_.resize(neighbours.slots.size());
-  values_.resize(neighbours.slots.size());
+  // Off-diagonal entries per row: the near neighbours (within r_e at r*) that are unknowns. Counting them first lets
+  // the assembly write the compact rows in place.
+  row_start_.resize(unknowns + 1);
+  row_start_[0] = 0;
+  for_each_particle(unknowns, [&](std::size_t row) {
+    std::size_t entries = 0;
+    for (const std::uint32_t j : near_neighbours_of(neighbours, slot_of_[row]))
+      entries += particles.kind[j] == kFluidKind && row_of_[j] >= 0 ? 1 : 0;
+    row_start_[row + 1] = entries;
+  });
+  for (std::size_t row = 0; row < unknowns; ++row) row_start_[row + 1] += row_start_[row];
+  compact_columns_.resize(row_start_[unknowns]);
+  compact_values_.resize(row_start_[unknowns]);
   for (auto* vector : {&diagonal_, &inverse_diagonal_, &rhs_, &solution_, &residual_, &direction_, &product_, &preconditioned_})
     vector->resize(unknowns);
 
@@ -40,14 +49,13 @@ void FluidPressureSolve::run(SystemContext& context) {
     const std::size_t i = slot_of_[row];
     const Vec3 position = particles.predicted_position[i];
     const Vec3 velocity = particles.velocity[i];
-    const std::uint32_t first_entry = neighbours.offsets[i];
-    std::uint32_t entries = 0, fluid_neighbours = 0;
+    const std::size_t first_entry = row_start_[row];
+    std::size_t entries = 0;
+    std::uint32_t fluid_neighbours = 0;
     double diagonal = compressibility_diagonal, rate = 0.0;
-    for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
+    for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {  // all within r_e at r* (fluid_free_surface)
       const Vec3 offset = particles.predicted_position[j] - position;
-      const double distance_squared = offset.squaredNorm();
-      if (distance_squared >= radius_squared) continue;
-      const double distance = std::sqrt(distance_squared);
+      const double distance = std::sqrt(offset.squaredNorm());
       const double derivative_over_distance = kernel.derivative_over_distance(distance);
       const bool fluid = particles.kind[j] == kFluidKind;
       if (fluid) {
@@ -57,8 +65,8 @@ void FluidPressureSolve::run(SystemContext& context) {
         diagonal += coefficient;
         ++fluid_neighbours;
         if (row_of_[j] >= 0) {  // surface neighbours hold p = 0: their term drops, the diagonal keeps it
-          columns_[first_entry + entries] = static_cast<std::uint32_t>(row_of_[j]);
-          values_[first_entry + entries] = -coefficient;
+          compact_columns_[first_entry + entries] = static_cast<std::uint32_t>(row_of_[j]);
+          compact_values_[first_entry + entries] = -coefficient;
           ++entries;
         }
       }
@@ -73,26 +81,12 @@ void FluidPressureSolve::run(SystemContext& context) {
       rhs = 0.0;
     }
     diagonal_[row] = diagonal;
-    entry_count_[row] = entries;
+    inverse_diagonal_[row] = 1.0 / diagonal;
     rhs_[row] = rhs;
     // Warm start: p^k extrapolated linearly in time (p^{k-1} is kept per particle), clamped at zero like p.
     solution_[row] = std::max(0.0, 2.0 * particles.pressure[i] - particles.previous_pressure[i]);
   });
 
-  // Compact the rows (the assembly wrote them into the neighbour lists' gaps) so the products stream through memory.
-  row_start_.resize(unknowns + 1);
-  row_start_[0] = 0;
-  for (std::size_t row = 0; row < unknowns; ++row) row_start_[row + 1] = row_start_[row] + entry_count_[row];
-  compact_columns_.resize(row_start_[unknowns]);
-  compact_values_.resize(row_start_[unknowns]);
-  for_each_particle(unknowns, [&](std::size_t row) {
-    const std::size_t from = neighbours.offsets[slot_of_[row]];
-    std::copy_n(columns_.begin() + static_cast<std::ptrdiff_t>(from), entry_count_[row],
-                compact_columns_.begin() + static_cast<std::ptrdiff_t>(row_start_[row]));
-    std::copy_n(values_.begin() + static_cast<std::ptrdiff_t>(from), entry_count_[row],
-                compact_values_.begin() + static_cast<std::ptrdiff_t>(row_start_[row]));
-    inverse_diagonal_[row] = 1.0 / diagonal_[row];
-  });
   const bool two_level = fluid_.preconditioner == FluidModel::Preconditioner::kTwoLevel;
   if (two_level) {
     row_positions_.resize(unknowns);

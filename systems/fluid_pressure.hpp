@@ -25,16 +25,13 @@ class FluidPressureSolve final : public System {
  private:
   FluidModel fluid_;
   MpsConstants constants_;
-  // The matrix in padded CSR on the neighbour offsets: row i's entries start at neighbour offset of i.
   std::vector<std::int32_t> row_of_;      ///< fluid slot -> unknown index, -1 on the surface
   std::vector<std::uint32_t> slot_of_;    ///< unknown index -> fluid slot
-  std::vector<std::uint32_t> entry_count_;  ///< off-diagonal entries of each unknown
-  std::vector<std::uint32_t> columns_;    ///< unknown indices
-  std::vector<double> values_;            ///< M_ij
   std::vector<double> diagonal_, inverse_diagonal_;
-  std::vector<std::size_t> row_start_;          ///< compact CSR of the off-diagonal entries for the solve
-  std::vector<std::uint32_t> compact_columns_;
-  std::vector<double> compact_values_;
+  // The off-diagonal entries M_ij in CSR, counted first (from the near lists) so the assembly writes them in place.
+  std::vector<std::size_t> row_start_;          ///< unknowns + 1
+  std::vector<std::uint32_t> compact_columns_;  ///< unknown indices
+  std::vector<double> compact_values_;          ///< M_ij
   std::vector<Vec3> row_positions_;
   TwoLevelPreconditioner preconditioner_;
   std::vector<double> rhs_, solution_, residual_, direction_, product_, preconditioned_;

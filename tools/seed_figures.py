@@ -394,6 +394,19 @@ def fig03(run, out, args):
     return written
 
 
+def segregation_index(volumes, start_centroids, centroids):
+    """How far the gap between the largest and the smallest class's centroid heights has gone from its start
+    towards that of a bed of the same height fully sorted in layers (smallest class at the bottom, largest on top):
+    0 at the start, 1 fully sorted. Classes in size order; `volumes` their total grain volumes (any common unit).
+    The bed height is taken as twice the volume-weighted mean centroid (uniform packing)."""
+    total = sum(volumes)
+    mean_height = sum(v * z for v, z in zip(volumes, centroids)) / total
+    full_gap = 2.0 * mean_height * (0.5 * volumes[0] + sum(volumes[1:-1]) + 0.5 * volumes[-1]) / total
+    start_gap = start_centroids[-1] - start_centroids[0]
+    gap = centroids[-1] - centroids[0]
+    return (gap - start_gap) / (full_gap - start_gap) if full_gap != start_gap else float("nan")
+
+
 def fig06(run, out, args):
     path = run.out_dir / "class_centroids.csv"
     rows = []
@@ -418,7 +431,14 @@ def fig06(run, out, args):
                 float(np.sum(volume[grains["size_class"] == k] * grains["height"][grains["size_class"] == k])
                       / np.sum(volume[grains["size_class"] == k])) for k in classes])
         source = "the grain frames (volume-weighted mean centre height)"
-    write_csv(out / "fig06_centroids.csv", ["t_over_T"] + [f"class_{k}_centroid_m" for k in classes], rows)
+    header = ["t_over_T"] + [f"class_{k}_centroid_m" for k in classes]
+    if len(run.solid_times()) > 0 and len(classes) >= 2:
+        grains = run.solids(0, ("radius", "size_class"))
+        volumes = [float(np.sum(grains["radius"][grains["size_class"] == k] ** 3)) for k in classes]
+        for row in rows:
+            row.append(segregation_index(volumes, rows[0][1:1 + len(classes)], row[1:1 + len(classes)]))
+        header.append("segregation_index")
+    write_csv(out / "fig06_centroids.csv", header, rows)
     table = np.array(rows)
     figure, ax = plt.subplots(figsize=(7, 4.2), constrained_layout=True)
     for j, k in enumerate(classes):
