@@ -2,8 +2,9 @@
 # The fluid's speed-against-error benchmark (docs/BENCHMARKS.md, "Fluid (MPS)"): builds riffle_fluid_accuracy,
 # runs the accuracy sweep (hydrostatic tank and dam break at several resolutions, each enhanced scheme off in turn,
 # three PPE tolerances; one thread, under nice: its errors do not depend on the load and its CPU times hardly do),
-# then the sloshing-tank timing at 1 and 2 threads over the first SLOSH_TIME s (inside the ramp) and over SLOSH_TIME s
-# from t = 0.6 s (full amplitude) (not niced: run it on a quiet machine; the load is printed),
+# then the sloshing-tank timing at 1 and 2 threads over the first SLOSH_TIME s (inside the ramp), over SLOSH_TIME s
+# from t = 0.6 s (full amplitude) and from t = 1.2 s (violent: spray) (not niced: run it on a quiet machine; the
+# load is printed),
 # then plots docs/fluid_speed_vs_error.png.
 #   tools/bench_fluid.sh [build-dir] [out-dir]
 # Environment: FINE=0 leaves out l0 = 2.5 mm and a/25, a/30; HYDRO_TIME (default 3) simulated seconds of still
@@ -40,6 +41,9 @@ if [ "${SKIP_SLOSHING:-0}" != 1 ]; then
   "$build/riffle_fluid_accuracy" sloshing "$out/fluid_sloshing_timing.csv" --threads 1,2 --time "${SLOSH_TIME:-0.3}"
   echo "### ${SLOSH_TIME:-0.3} s from t = 0.6 s (full amplitude; the lead-in is not timed)"
   "$build/riffle_fluid_accuracy" sloshing "$out/fluid_sloshing_timing_full.csv" --threads 1,2 --from 0.6 \
+    --time "${SLOSH_TIME:-0.3}"
+  echo "### ${SLOSH_TIME:-0.3} s from t = 1.2 s (the violent stage: spray, neighbour rebuilds every step)"
+  "$build/riffle_fluid_accuracy" sloshing "$out/fluid_sloshing_timing_violent.csv" --threads 1,2 --from 1.2 \
     --time "${SLOSH_TIME:-0.3}"
   echo "## load after: $(uptime)"
 fi
