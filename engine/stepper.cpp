@@ -68,7 +68,12 @@ void Stepper::step() {
   if (concurrent_) {
     tbb::task_group fluid_branch;
     fluid_branch.run(run_step_graph);
-    run_substeps();
+    try {
+      run_substeps();
+    } catch (...) {
+      fluid_branch.wait();  // never leave the fluid branch running on a world that is being unwound
+      throw;
+    }
     fluid_branch.wait();  // rethrows what a fluid system threw
   } else {
     run_step_graph();
