@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace riffle {
 
@@ -18,15 +19,18 @@ void SolidFluidSampling::run(SystemContext& context) {
   const std::size_t fluid_count = fluid_slot_count(fluid);
   const double effective_radius = constants_.kernel.effective_radius;
   const double kPi = 3.14159265358979323846;
-  double largest_radius = 0.0;
+  double largest_radius = 0.0, smallest_radius = std::numeric_limits<double>::infinity();
   grain_volumes_.resize(solids.size());
   for (std::size_t grain = 0; grain < solids.size(); ++grain) {
     largest_radius = std::max(largest_radius, solids.radius[grain]);
+    smallest_radius = std::min(smallest_radius, solids.radius[grain]);
     grain_volumes_[grain] = 4.0 / 3.0 * kPi * std::pow(solids.radius[grain], 3);
   }
   // numerics 5.3: R_eps >= max(3 l0, d_max); twice d_max keeps a lone grain's own volume from dominating its voidage.
   if (voidage_radius_ <= 0.0) voidage_radius_ = std::max(3.0 * spacing_, 4.0 * largest_radius);
-  fluid_grid_.build(fluid.position, 0, fluid_count, largest_radius + effective_radius);
+  // Cells of half the smallest sampling radius: a query scans about 5^3 cells holding about twice the sphere's
+  // volume; cells of the largest radius made every small grain test ten times the particles it keeps.
+  if (!solids.radius.empty()) fluid_grid_.build(fluid.position, 0, fluid_count, 0.5 * (smallest_radius + effective_radius));
   // Cells of (2 pi / 21)^(1/3) R_eps: one cell holds the volume of the Wendland kernel on R_eps (numerics 1.2),
   // so the grid averages over the same volume as the kernel form of numerics 5.3.
   voidage_grid_.build(solids.position, grain_volumes_, fluid.position, fluid_count, constants_.particle_volume,
