@@ -371,6 +371,20 @@ TEST_CASE("valid edge values are accepted") {
       CHECK(unit.norm() == doctest::Approx(1.0).epsilon(1e-12));
     }
   }
+  SUBCASE("a block row whose spheres touch a wall is kept, one that overlaps it is skipped") {
+    // 0.0025 + 7 x 0.005 lands one ulp past 0.04 - 0.0025: touching within rounding still fits.
+    const std::string block = "min = [0.02, 0.02, 0.02]\nmax = [0.08, 0.08, 0.04]\nspacing = 0.01\nradius = 0.004\n";
+    std::string touching = replace_once(kBaseScene, "size = [0.2, 0.1, 0.1]", "size = [0.2, 0.04, 0.1]");
+    touching = replace_once(touching, "position = [0.1, 0.05, 0.05]", "position = [0.1, 0.02, 0.05]");
+    touching = replace_once(touching, block,
+                            "min = [0.0825, 0.0025, 0.0025]\nmax = [0.1575, 0.0375, 0.0375]\nspacing = 0.005\n"
+                            "radius = 0.0025\n");
+    CHECK(riffle::parse_scene(touching, "edge.toml").solids.spheres.size() == 16 * 8 * 8 + 1);
+    // Shifted by 10 nm across y, the last row overlaps the wall by far more than rounding.
+    std::string overlapping = replace_once(touching, "min = [0.0825, 0.0025,", "min = [0.0825, 0.00250001,");
+    overlapping = replace_once(overlapping, "max = [0.1575, 0.0375,", "max = [0.1575, 0.03750001,");
+    CHECK(riffle::parse_scene(overlapping, "edge.toml").solids.spheres.size() == 16 * 7 * 8 + 1);
+  }
   SUBCASE("kind = \"none\" needs no amplitude or frequency") {
     const std::string text = replace_once(kBaseScene,
                                           "kind = \"sinusoidal\"\ndirection = [1.0, 0.0, 0.0]\namplitude = 0.01\n"
