@@ -12,6 +12,7 @@ Figures (NAME: files written):
   fig14   fig14_velocity_phases.csv/png  mean grain x-velocity per class per 5 mm sub-layer at four phases
   fig15   fig15_fluid_velocity.csv/png   mean fluid x-velocity per 5 mm sub-layer at four phases
   fig17_19  fig17_19_force_balance.csv/png  mean forces per grain of each class, x and z, vs t/T
+  fig19   fig19_z_force_profiles.csv/png  z forces per class per 5 mm sub-layer at four phases (periods 10-12)
   fig20   fig20_granular_temperature.csv/png (+ _profiles.csv)  granular temperature vs t/T and profiles
 
 Conventions (docs/RESULTS.md has them in full):
@@ -62,7 +63,7 @@ PHASES = [(0.0, "phase 0 (seed φ=π/2): tank velocity max −"),
           (math.pi, "phase π (seed φ=3π/2): tank velocity max +"),
           (1.5 * math.pi, "phase 3π/2 (seed φ=2π): decelerating")]
 SEED_PHI = ["pi/2", "pi", "3pi/2", "2pi"]
-ALL_FIGURES = ["fig03", "fig06", "fig11", "fig12", "fig14", "fig15", "fig17_19", "fig20"]
+ALL_FIGURES = ["fig03", "fig06", "fig11", "fig12", "fig14", "fig15", "fig17_19", "fig19", "fig20"]
 
 
 class Skip(Exception):
@@ -835,8 +836,97 @@ def fig17_19(run, out, args):
     return [out / "fig17_19_force_balance.csv", save(figure, out / "fig17_19_force_balance.png")]
 
 
+Z_FORCES = ["pressure_force", "drag_force", "contact_force", "total"]
+
+
+def fig19(run, out, args):
+    """Vertical profiles of the z forces per class per 5 mm sub-layer at the four phases (seed Fig. 19: periods
+    10-12, forces over m g, stacked: pressure gradient, + drag, + contact = total fluid + contact; the total
+    including gravity is m a / m g + 1 - 1)."""
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    stages = run.stages(args.stages if args.stages else ["10-12"], times)
+    if not stages:
+        stages = run.stages(None, times)
+    count = int(math.ceil(0.08 / run.layer))
+    fields = ("mass", "size_class", "force", "contact_force", "drag_force", "pressure_force")
+    rows = []
+    classes = set()
+    profiles = {}  # (stage, phase, class) -> (sums per force [count], numbers [count])
+    for label, k1, k2 in stages:
+        for p, (indices, errors) in enumerate(run.phase_frames(times, k1, k2, args.phase_tolerance)):
+            for index in indices:
+                frame = run.solids(index, fields)
+                keys_all = layer_index(frame["height"], run.layer, count)
+                weight = frame["mass"] * G
+                per_weight = {name: frame[name][:, 2] / weight for name in ("pressure_force", "drag_force",
+                                                                             "contact_force")}
+                # force is contact + drag + pressure (solid_force_sum); gravity is added by the integrator
+                per_weight["total"] = frame["force"][:, 2] / weight
+                for k in sorted(set(frame["size_class"].tolist())):
+                    classes.add(k)
+                    mask = frame["size_class"] == k
+                    sums, numbers = profiles.get((label, p, k), ({n: np.zeros(count) for n in Z_FORCES},
+                                                                 np.zeros(count, int)))
+                    for name in Z_FORCES:
+                        part, counted = binned_mean(keys_all[mask], per_weight[name][mask], count)
+                        sums[name] = sums[name] + part
+                    profiles[(label, p, k)] = (sums, numbers + counted)
+            for k in sorted(classes):
+                if (label, p, k) not in profiles:
+                    continue
+                sums, numbers = profiles[(label, p, k)]
+                for layer in range(count):
+                    if numbers[layer]:
+                        rows.append([label, k1, k2, p, PHASES[p][0], SEED_PHI[p], len(indices),
+                                     float(np.mean(np.abs(errors))) if len(errors) else math.nan, k, layer,
+                                     layer * run.layer, (layer + 1) * run.layer, int(numbers[layer])]
+                                    + [float(sums[name][layer] / numbers[layer]) for name in Z_FORCES])
+    if not rows:
+        raise Skip("no frame at any phase of the stages (write frames more often: vtk_interval = T/8)")
+    write_csv(out / "fig19_z_force_profiles.csv",
+              ["stage", "period_first", "period_last", "phase_index", "tank_phase_rad", "seed_phi", "frames",
+               "mean_abs_phase_error_deg", "size_class", "sublayer", "z_low_m", "z_high_m", "samples"]
+              + [f"{name}_z_over_m_g" for name in Z_FORCES], rows)
+    water = float(run.scene.get("fluid", {}).get("density", 1000.0))
+    density = float(run.scene.get("materials", {}).get("grain", {}).get("density", 1318.0))
+    classes = sorted(classes)
+    label = stages[0][0]
+    figure, axes = plt.subplots(len(classes), 4, figsize=(15, 3.6 * len(classes)), sharey=True, squeeze=False,
+                                constrained_layout=True)
+    z = (np.arange(count) + 0.5) * run.layer / 0.005
+    for j, k in enumerate(classes):
+        for p, (_, phase_label) in enumerate(PHASES):
+            ax = axes[j][p]
+            if (label, p, k) in profiles:
+                sums, numbers = profiles[(label, p, k)]
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    mean = {n: np.where(numbers > 0, sums[n] / np.maximum(numbers, 1), np.nan) for n in Z_FORCES}
+                stacked = mean["pressure_force"]
+                ax.plot(stacked, z, color="C0", marker=".", label="pressure gradient")
+                stacked = stacked + mean["drag_force"]
+                ax.plot(stacked, z, color="C2", marker=".", label="+ drag")
+                stacked = stacked + mean["contact_force"]
+                ax.plot(stacked, z, color="C3", marker=".", label="+ contact")
+                ax.plot(mean["total"], z, color="k", lw=0.8, ls=":", label="force / m g (the sum, as written)")
+            ax.axvline(water / density, color="C0", ls="--", lw=0.8, label=f"ρ_w/ρ_s = {water / density:.3f}")
+            ax.axvline(1.0, color="grey", lw=0.6, label="balances gravity")
+            ax.set_title(f"{class_name(k)}, {phase_label}", fontsize=8)
+            ax.grid(alpha=0.3)
+            if j == len(classes) - 1:
+                ax.set_xlabel("z force / (m g), cumulative")
+            if p == 0:
+                ax.set_ylabel("z / d_s1 (5 mm sub-layers)")
+            if j == 0 and p == 0:
+                ax.legend(fontsize=6)
+    figure.suptitle(f"Fig. 19 shape: z forces per class per sub-layer at the four phases, {label} (grain in the "
+                    "sub-layer of its centre; stacked: pressure gradient, + drag, + contact)", fontsize=9)
+    return [out / "fig19_z_force_profiles.csv", save(figure, out / "fig19_z_force_profiles.png")]
+
+
 FIGURES = {"fig03": fig03, "fig06": fig06, "fig11": fig11, "fig12": fig12, "fig14": fig14, "fig15": fig15,
-           "fig17_19": fig17_19, "fig20": fig20}
+           "fig17_19": fig17_19, "fig19": fig19, "fig20": fig20}
 
 
 def main(argv=None):
@@ -853,8 +943,8 @@ def main(argv=None):
     parser.add_argument("--profile-times", type=float, nargs="+", default=[10, 85],
                         help="fig12 times in t/T (default 10 85)")
     parser.add_argument("--stages", nargs="+", metavar="K[-K2]",
-                        help="fig14/15/20 stages: period k or periods k-k2 (default 10 85 where run, else all "
-                             "periods after the ramp)")
+                        help="fig14/15/19/20 stages (fig19 plots the first): period k or periods k-k2 (default 10 85 where run, else all "
+                             "periods after the ramp; fig19: 10-12)")
     parser.add_argument("--phase-tolerance", type=float, default=20.0,
                         help="largest phase difference [deg] of a frame used for a phase (default 20)")
     parser.add_argument("--frame", choices=["tank", "lab"], default="tank",

@@ -105,13 +105,23 @@ def main():
     forces = rows("fig17_19_force_balance.csv")
     for row in forces:
         assert abs(float(row["total_z_over_m_g"])) < 1e-9 and abs(float(row["pressure_force_z_over_m_g"]) - 0.75) < 1e-9
+    # Fig. 19: pressure 0.75 m g and contact 0.25 m g upward on every grain, no drag, at all four phases; the
+    # small grain (10 mm) is in sub-layer 2, the medium ones (20 mm) in 4, the large one (50 mm) in 10.
+    profiles = rows("fig19_z_force_profiles.csv")
+    assert len({r["phase_index"] for r in profiles}) == 4, profiles
+    assert {(int(r["size_class"]), int(r["sublayer"])) for r in profiles} == {(0, 2), (1, 4), (2, 10)}, profiles
+    for row in profiles:
+        assert abs(float(row["pressure_force_z_over_m_g"]) - 0.75) < 1e-9, row
+        assert abs(float(row["contact_force_z_over_m_g"]) - 0.25) < 1e-9, row
+        assert abs(float(row["drag_force_z_over_m_g"])) < 1e-12 and abs(float(row["total_z_over_m_g"]) - 1) < 1e-9
+    assert int([r for r in profiles if r["size_class"] == "1"][0]["samples"]) == 2 * int(profiles[0]["frames"])
     # The grains never move vertically here: no segregation. A bed of height 60 mm in three layers of volumes
     # 1 : 2 : 1 (centroids 7.5, 30, 52.5 mm) is fully sorted from a mixed start (all at 30 mm): index 1.
     assert all(abs(float(row["segregation_index"])) < 1e-12 for row in rows("fig06_centroids.csv"))
     assert math.isclose(seed_figures.segregation_index([1, 2, 1], [0.03, 0.03, 0.03], [0.0075, 0.03, 0.0525]), 1.0)
     assert math.isclose(seed_figures.segregation_index([1, 2, 1], [0.03, 0.03, 0.03], [0.01875, 0.03, 0.04125]), 0.5)
     for name in ("fig03_snapshot_tT0.png", "fig06_centroids.png", "fig11_concentration.png", "fig14_velocity_phases.png",
-                 "fig15_fluid_velocity.png", "fig17_19_force_balance.png", "fig20_granular_temperature.png"):
+                 "fig15_fluid_velocity.png", "fig17_19_force_balance.png", "fig19_z_force_profiles.png", "fig20_granular_temperature.png"):
         assert (out / name).stat().st_size > 1000, name
     print(f"test_seed_figures: passed ({work})")
     return 0
