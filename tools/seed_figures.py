@@ -14,6 +14,7 @@ Figures (NAME: files written):
   fig17_19  fig17_19_force_balance.csv/png  mean forces per grain of each class, x and z, vs t/T
   fig19   fig19_z_force_profiles.csv/png  z forces per class per 5 mm sub-layer at four phases (periods 10-12)
   fig20   fig20_granular_temperature.csv/png (+ _profiles.csv)  granular temperature vs t/T and profiles
+  drift   drift.csv/png                 grains' mean displacement per start cell over --drift-windows (circulation)
 
 Conventions (docs/RESULTS.md has them in full):
   - heights are above the tank floor (z minus the tank's vertical displacement, zero for the seed's motion);
@@ -63,7 +64,7 @@ PHASES = [(0.0, "phase 0 (seed φ=π/2): tank velocity max −"),
           (math.pi, "phase π (seed φ=3π/2): tank velocity max +"),
           (1.5 * math.pi, "phase 3π/2 (seed φ=2π): decelerating")]
 SEED_PHI = ["pi/2", "pi", "3pi/2", "2pi"]
-ALL_FIGURES = ["fig03", "fig06", "fig11", "fig12", "fig14", "fig15", "fig17_19", "fig19", "fig20"]
+ALL_FIGURES = ["fig03", "fig06", "fig11", "fig12", "fig14", "fig15", "fig17_19", "fig19", "fig20", "drift"]
 
 
 class Skip(Exception):
@@ -925,8 +926,81 @@ def fig19(run, out, args):
     return [out / "fig19_z_force_profiles.csv", save(figure, out / "fig19_z_force_profiles.png")]
 
 
+DRIFT_COLUMNS = 10   # x bins across the tank
+DRIFT_LAYER = 0.015  # [m] z bins, the seed's Fig. 11 sub-layers
+
+
+def drift(run, out, args):
+    """Lagrangian mean drift of the grains over windows of periods: each grain followed by id from the frame
+    nearest t/T = k1 to the one nearest k2, its displacement in the tank frame binned by where it started (ten
+    columns across the tank, 15 mm layers). Not a seed figure: it shows the bed's circulation (convection rolls)
+    that carries grains up and down besides the sorting."""
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    windows = []
+    for spec in args.drift_windows:
+        first, last = (float(v) for v in spec.split("-"))
+        a, b = run.nearest_frame(times, first), run.nearest_frame(times, last)
+        if a is None or b is None or a == b:
+            print(f"  drift: window {spec} is not within the run's frames; skipped")
+            continue
+        windows.append((spec, a, b))
+    if not windows:
+        raise Skip("no drift window lies within the run")
+    length = float(run.size[0])
+    count_z = 4
+    rows = []
+    figure, axes = plt.subplots(len(windows), 1, figsize=(9, 2.6 * len(windows)), squeeze=False,
+                                constrained_layout=True)
+    for w, (spec, a, b) in enumerate(windows):
+        start, end = run.solids(a, ("id", "size_class")), run.solids(b, ("id",))
+        order_a, order_b = np.argsort(start["id"]), np.argsort(end["id"])
+        if not np.array_equal(start["id"][order_a], end["id"][order_b]):
+            raise Skip(f"the grains of t/T = {times[a] * run.frequency:.3g} and {times[b] * run.frequency:.3g} "
+                       "differ (ids)")
+        p0 = start["tank_frame_points"][order_a]
+        displacement = end["tank_frame_points"][order_b] - p0
+        classes = start["size_class"][order_a]
+        column = np.clip((p0[:, 0] / length * DRIFT_COLUMNS).astype(int), 0, DRIFT_COLUMNS - 1)
+        layer = np.clip((p0[:, 2] / DRIFT_LAYER).astype(int), 0, count_z - 1)
+        periods = (times[b] - times[a]) * run.frequency
+        ax = axes[w][0]
+        centres_x, centres_z, mean_dx, mean_dz = [], [], [], []
+        for group, mask_group in [("all", np.ones(len(classes), bool))] + \
+                [(str(k), classes == k) for k in sorted(set(classes.tolist()))]:
+            for i in range(DRIFT_COLUMNS):
+                for j in range(count_z):
+                    mask = mask_group & (column == i) & (layer == j)
+                    if not mask.any():
+                        continue
+                    dx, dz = displacement[mask, 0].mean(), displacement[mask, 2].mean()
+                    rows.append([spec, times[a] * run.frequency, times[b] * run.frequency, group, i,
+                                 i * length / DRIFT_COLUMNS, (i + 1) * length / DRIFT_COLUMNS, j, j * DRIFT_LAYER,
+                                 (j + 1) * DRIFT_LAYER, int(mask.sum()), float(dx), float(dz)])
+                    if group == "all" and mask.sum() >= 5:
+                        centres_x.append(p0[mask, 0].mean())
+                        centres_z.append(p0[mask, 2].mean())
+                        mean_dx.append(dx)
+                        mean_dz.append(dz)
+        ax.quiver(centres_x, centres_z, mean_dx, mean_dz, angles="xy", scale_units="xy", scale=1, width=0.003)
+        ax.plot([0, 0, length, length], [0.07, 0, 0, 0.07], color="k", lw=1)
+        ax.set_xlim(-0.005, length + 0.005)
+        ax.set_ylim(-0.005, 0.07)
+        ax.set_aspect("equal")
+        ax.set_title(f"mean displacement of the grains starting in each cell, t/T = {times[a] * run.frequency:.3g}"
+                     f" to {times[b] * run.frequency:.3g} ({periods:.3g} periods; arrows to scale)", fontsize=8)
+        ax.set_ylabel("z [m]")
+    axes[-1][0].set_xlabel("x in the tank frame [m]")
+    write_csv(out / "drift.csv", ["window", "t_over_T_start", "t_over_T_end", "group", "column", "x_low_m",
+                                  "x_high_m", "layer", "z_low_m", "z_high_m", "grains", "mean_dx_m", "mean_dz_m"],
+              rows)
+    return [out / "drift.csv", save(figure, out / "drift.png")]
+
+
 FIGURES = {"fig03": fig03, "fig06": fig06, "fig11": fig11, "fig12": fig12, "fig14": fig14, "fig15": fig15,
-           "fig17_19": fig17_19, "fig19": fig19, "fig20": fig20}
+           "fig17_19": fig17_19, "fig19": fig19, "fig20": fig20,
+           "drift": drift}
 
 
 def main(argv=None):
@@ -951,6 +1025,8 @@ def main(argv=None):
                         help="fig14/15 velocities relative to the tank (default) or in the lab frame")
     parser.add_argument("--fluid-layer", type=float, metavar="METRES",
                         help="fig15 sub-layer thickness (default max(5 mm, fluid.spacing))")
+    parser.add_argument("--drift-windows", nargs="+", metavar="K1-K2", default=["10-20", "40-50", "70-80", "90-100"],
+                        help="drift windows in t/T (default 10-20 40-50 70-80 90-100, those within the run)")
     parser.add_argument("--window", type=float, nargs=2, metavar=("T1", "T2"),
                         help="fig17_19 plot window in t/T (default the whole run; the CSV has every frame)")
     args = parser.parse_args(argv)

@@ -59,7 +59,11 @@ def main():
         mass = 1318.0 * 4 / 3 * math.pi * radius ** 3
         force = np.zeros((4, 3))
         force[:, 2] = mass * 9.81  # balanced
-        write_vtp(run / "vtk" / f"solids_{k:06d}.vtp", points + shift, {
+        # The small grain drifts +10 mm along x over the two periods (in the tank's frame): the drift analysis
+        # must find it; nothing else depends on x.
+        drifted = points.copy()
+        drifted[0, 0] += 0.01 * k / 16
+        write_vtp(run / "vtk" / f"solids_{k:06d}.vtp", drifted + shift, {
             "id": (np.arange(4), "UInt64"), "velocity": (velocity, "Float64"), "radius": (radius, "Float64"),
             "mass": (mass, "Float64"), "force": (force, "Float64"), "contact_force": (force * 0.25, "Float64"),
             "drag_force": (np.zeros((4, 3)), "Float64"), "pressure_force": (force * 0.75, "Float64"),
@@ -75,10 +79,11 @@ def main():
                                 + "\n".join(entries) + "\n</Collection>\n</VTKFile>\n")
 
     frame = vtp.read_vtp(run / "vtk" / "solids_000000.vtp")
-    assert np.allclose(frame["points"], points) and frame["size_class"].tolist() == [0, 1, 1, 2]
+    assert np.allclose(frame["points"], points) and frame["size_class"].tolist() == [0, 1, 1, 2]  # k = 0: no drift
     assert frame["id"].dtype == np.uint64 and frame["velocity"].shape == (4, 3)
 
-    code = seed_figures.main([str(run), "--scene", str(scene), "--stages", "2", "--conc-times", "0", "1"])
+    code = seed_figures.main([str(run), "--scene", str(scene), "--stages", "2", "--conc-times", "0", "1",
+                               "--drift-windows", "0-2"])
     assert code == 0, code
     out = run / "figures"
 
@@ -115,13 +120,20 @@ def main():
         assert abs(float(row["contact_force_z_over_m_g"]) - 0.25) < 1e-9, row
         assert abs(float(row["drag_force_z_over_m_g"])) < 1e-12 and abs(float(row["total_z_over_m_g"]) - 1) < 1e-9
     assert int([r for r in profiles if r["size_class"] == "1"][0]["samples"]) == 2 * int(profiles[0]["frames"])
+    # Drift over t/T 0-2: the small grain (x = 50 mm: column 2 of ten 24 mm columns, z = 10 mm: layer 0) moved
+    # +10 mm in x; the large one (x = 200 mm, z = 50 mm: column 8, layer 3) did not move.
+    moved = {(r["group"], int(r["column"]), int(r["layer"])): (float(r["mean_dx_m"]), float(r["mean_dz_m"]))
+             for r in rows("drift.csv")}
+    assert np.allclose(moved[("0", 2, 0)], (0.01, 0.0), atol=1e-12) and moved[("all", 2, 0)] == moved[("0", 2, 0)]
+    assert np.allclose(moved[("2", 8, 3)], (0.0, 0.0), atol=1e-12), moved
+    assert len([key for key in moved if key[0] == "all"]) == 4  # one cell per grain
     # The grains never move vertically here: no segregation. A bed of height 60 mm in three layers of volumes
     # 1 : 2 : 1 (centroids 7.5, 30, 52.5 mm) is fully sorted from a mixed start (all at 30 mm): index 1.
     assert all(abs(float(row["segregation_index"])) < 1e-12 for row in rows("fig06_centroids.csv"))
     assert math.isclose(seed_figures.segregation_index([1, 2, 1], [0.03, 0.03, 0.03], [0.0075, 0.03, 0.0525]), 1.0)
     assert math.isclose(seed_figures.segregation_index([1, 2, 1], [0.03, 0.03, 0.03], [0.01875, 0.03, 0.04125]), 0.5)
     for name in ("fig03_snapshot_tT0.png", "fig06_centroids.png", "fig11_concentration.png", "fig14_velocity_phases.png",
-                 "fig15_fluid_velocity.png", "fig17_19_force_balance.png", "fig19_z_force_profiles.png", "fig20_granular_temperature.png"):
+                 "fig15_fluid_velocity.png", "fig17_19_force_balance.png", "fig19_z_force_profiles.png", "fig20_granular_temperature.png", "drift.png"):
         assert (out / name).stat().st_size > 1000, name
     print(f"test_seed_figures: passed ({work})")
     return 0
