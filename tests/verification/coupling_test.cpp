@@ -2,7 +2,10 @@
 // single grain, a neutrally buoyant grain, and exact momentum exchange between grains and fluid.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "engine/fluid_layout.hpp"
 #include "engine/simulation.hpp"
@@ -114,6 +117,99 @@ TEST_CASE("a neutrally buoyant grain stays where it is") {
   // drag of a 10 mm sphere at 1 mm/s is 3 pi mu d u = 1e-7 N against a weight of 5e-3 N), and less than d/10 moved.
   CHECK(std::abs(solids.position[0][2] - 0.15) < 1e-3);
   CHECK(solids.velocity[0].norm() < 1e-3);
+}
+
+TEST_CASE("a submerged settled bed leaves the hydrostatic pressure unchanged") {
+  // docs/COUPLING.md: the water fills all space, grains included, so a bed at rest changes neither the water's
+  // volume nor its pressure; the grains take their buoyancy from the water's pressure gradient. Two runs of 10 cm of
+  // still water, one with three layers of 10 mm grains (300, touching, on the floor) left to settle: the mean
+  // pressure of every 1 cm layer must agree within the still-water error of MPS itself (0.1 % of rho g H RMS,
+  // fluid_hydrostatic_test), and the bed must have come to rest. A water that made room for the grains would rise
+  // by the bed's volume over the tank's area, 16 mm, and change the pressure by 16 % of rho g H.
+  const std::string water = R"(
+[run]
+end_time = 1.0
+dt = 1.0e-3
+[materials.grain]
+density = 1318.0
+young_modulus = 1.0e7
+poisson_ratio = 0.3
+[materials.glass]
+density = 2500.0
+young_modulus = 1.0e8
+poisson_ratio = 0.3
+[contact]
+law = "hertz_mindlin"
+restitution = 0.5
+friction = 0.4
+max_impact_speed = 0.5
+[tank]
+size = [0.1, 0.1, 0.15]
+open_faces = ["z_max"]
+wall_material = "glass"
+[fluid]
+spacing = 0.01
+[[fluid.boxes]]
+low = [0.0, 0.0, 0.0]
+high = [0.1, 0.1, 0.1]
+[coupling]
+fluid_velocity = "mixture"
+)";
+  const std::string bed = R"(
+[solids]
+[[solids.blocks]]
+min = [0.005, 0.005, 0.005]
+max = [0.095, 0.095, 0.025]
+spacing = 0.01
+radius = 0.005
+material = "grain"
+)";
+  auto with_bed = Simulation::from_model(parse_scene(water + bed, "bed.toml"));
+  // The same water with one grain far above it (a scene with [contact] needs grains): dry, so it touches nothing.
+  auto clear = Simulation::from_model(parse_scene(water + R"(
+[solids]
+[[solids.spheres]]
+position = [0.05, 0.05, 0.14]
+radius = 0.005
+material = "grain"
+)", "clear.toml"));
+  REQUIRE(with_bed->world().solids->size() == 300);
+  for (int step = 0; step < 300; ++step) {
+    with_bed->step();
+    clear->step();
+  }
+  REQUIRE(with_bed->world().step_status.ok());
+  REQUIRE(clear->world().step_status.ok());
+  // Hydrostatics is a statement about the pressure against depth: compare the mean pressure of each 1 cm layer
+  // of water (particle by particle the two runs drift apart like any two MPS runs a rounding apart).
+  const double rho_g_h = kWaterDensity * kGravity * 0.1;
+  const auto layer_means = [](const FluidParticles& fluid) {
+    std::vector<double> sums(10, 0.0), counts(10, 0.0);
+    for (std::size_t i = 0; i < fluid.size(); ++i) {
+      if (fluid.kind[i] != static_cast<std::int32_t>(FluidKind::kFluid)) continue;
+      const int layer = std::clamp(static_cast<int>(fluid.position[i].z() / 0.01), 0, 9);
+      sums[layer] += fluid.pressure[i];
+      counts[layer] += 1.0;
+    }
+    for (int layer = 0; layer < 10; ++layer) sums[layer] /= std::max(counts[layer], 1.0);
+    return sums;
+  };
+  const std::vector<double> bed_layers = layer_means(*with_bed->world().fluid);
+  const std::vector<double> clear_layers = layer_means(*clear->world().fluid);
+  double largest = 0.0;
+  for (int layer = 0; layer < 10; ++layer)
+    largest = std::max(largest, std::abs(bed_layers[layer] - clear_layers[layer]) / rho_g_h);
+  MESSAGE("largest difference of a layer's mean pressure with and without the bed: " << largest << " rho g H");
+  CHECK(largest < 1e-3);
+  // The bed has settled: every grain slower than 1 mm/s, and it has sunk by less than a tenth of its diameter.
+  const Solids& solids = *with_bed->world().solids;
+  double fastest = 0.0, lowest = 1.0;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    fastest = std::max(fastest, solids.velocity[i].norm());
+    lowest = std::min(lowest, solids.position[i].z());
+  }
+  CHECK(fastest < 1e-3);
+  CHECK(lowest > 0.005 - 0.001);
 }
 
 TEST_CASE("the fluid receives exactly minus the drag impulse of the grains") {
