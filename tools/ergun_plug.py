@@ -25,7 +25,6 @@ tolerance (a fraction; docs/COUPLING.md derives 0.2). Needs numpy (Debian's pyth
 import argparse
 import math
 import pathlib
-import re
 import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
@@ -47,19 +46,10 @@ def ergun_gradient(q, eps, mu, rho, diameter):
 def scene_of(out_dir, explicit):
     if explicit:
         return pathlib.Path(explicit)
-    log = out_dir / "riffle.log"
-    named = None
-    if log.exists():
-        for line in open(log, errors="replace"):
-            found = re.search(r"(?:starting|resuming) '[^']*' from (.+?\.toml):", line)
-            if found:
-                named = found.group(1)
-    if named is None:
-        sys.exit(f"ergun_plug: {log} names no scene; pass --scene")
-    for candidate in (pathlib.Path(named), pathlib.Path(__file__).resolve().parent.parent / named):
-        if candidate.exists():
-            return candidate
-    sys.exit(f"ergun_plug: the scene {named} named in {log} was not found; pass --scene")
+    path, named = vtp.run_scene(out_dir)
+    if path is None:
+        sys.exit(f"ergun_plug: {out_dir / 'riffle.log'} names no scene that exists ({named}); pass --scene")
+    return path
 
 
 def main(argv=None):

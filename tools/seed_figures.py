@@ -151,23 +151,10 @@ class Run:
             if not path.exists():
                 raise SystemExit(f"seed_figures: --scene {path} does not exist")
             return path
-        log = self.out_dir / "riffle.log"
-        if not log.exists():
-            return None
-        match = None
-        for line in open(log, errors="replace"):
-            found = re.search(r"starting '[^']*' from (.+?\.toml):", line)
-            if found:
-                match = found.group(1)
-        if not match:
-            return None
-        candidates = [pathlib.Path(match), self.out_dir.resolve().parent.parent / match,
-                      pathlib.Path(__file__).resolve().parent.parent / match]
-        for candidate in candidates:
-            if candidate.exists():
-                return candidate
-        self.notes.append(f"the log names the scene {match}, which was not found; pass --scene")
-        return None
+        path, named = vtp.run_scene(self.out_dir)
+        if path is None and named is not None:
+            self.notes.append(f"the log names the scene {named}, which was not found; pass --scene")
+        return path
 
     def _frequency_from_outputs(self):
         path = self.out_dir / "class_centroids.csv"

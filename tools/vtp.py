@@ -8,9 +8,11 @@ particle centres; point data are the component's output fields. A .pvd collectio
     import vtp
     frames = vtp.read_pvd("out/run/solids.pvd")    # [(time_s, Path), ...] sorted by time
     frame = vtp.read_vtp(frames[0][1])              # {"points": (N, 3), "velocity": (N, 3), "radius": (N,), ...}
+    scene, named = vtp.run_scene("out/run")         # the scene file riffle.log names (None if not found)
 """
 import base64
 import pathlib
+import re
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
@@ -102,3 +104,25 @@ def read_pvd(path):
     for element in root.iter("DataSet"):
         frames[float(element.get("timestep"))] = path.parent / element.get("file")
     return sorted(frames.items())
+
+
+def run_scene(out_dir):
+    """The scene a run used, from the last 'starting' or 'resuming' line of OUT_DIR/riffle.log: (path, named),
+    path the first existing of the name as written, relative to the run's grandparent (out/<run> lies in the
+    repository) and relative to the repository holding this file; path None when none exists, named None when the
+    log names no scene."""
+    out_dir = pathlib.Path(out_dir)
+    log = out_dir / "riffle.log"
+    named = None
+    if log.exists():
+        for line in open(log, errors="replace"):
+            found = re.search(r"(?:starting|resuming) '[^']*' from (.+?\.toml):", line)
+            if found:
+                named = found.group(1)
+    if named is None:
+        return None, None
+    for candidate in (pathlib.Path(named), out_dir.resolve().parent.parent / named,
+                      pathlib.Path(__file__).resolve().parent.parent / named):
+        if candidate.exists():
+            return candidate, named
+    return None, named
