@@ -543,34 +543,42 @@ def fig12(run, out, args):
     return [out / "fig12_coordination_overlap.csv", save(figure, out / "fig12_coordination_overlap.png")]
 
 
-def phase_profiles(run, times, stages, load, select, tolerance, count):
-    """Per stage and phase: per-layer sums of lab x-velocity, tank-relative x-velocity and counts, per group.
+def phase_profiles(run, times, stages, load, select, values, tolerance, count):
+    """Per stage and phase, per group: per-layer sums of each named per-particle value, and counts.
 
-    load(index) -> frame dict; select(frame) -> [(group, mask)]. Returns a list of rows and a nested dict."""
+    load(index) -> frame dict; select(frame) -> [(group, mask)]; values(frame) -> {name: per-particle array}.
+    Returns {(stage label, phase index): (frame indices, phase errors, {group: ({name: sums}, counts)})}."""
     results = {}
     for label, k1, k2 in stages:
         for p, (indices, errors) in enumerate(run.phase_frames(times, k1, k2, tolerance)):
             accumulated = {}
             for index in indices:
                 frame = load(index)
-                v_tank = float(run.tank_velocity(frame["time"])) * run.direction[0]
+                per_particle = values(frame)
                 keys_all = layer_index(frame["height"], run.layer, count)
                 for group, mask in select(frame):
-                    vx = frame["velocity"][mask, 0]
-                    keys = keys_all[mask]
-                    sums, numbers = binned_mean(keys, vx, count)
-                    relative, _ = binned_mean(keys, vx - v_tank, count)
-                    old = accumulated.get(group, (0, 0, 0))
-                    accumulated[group] = (old[0] + sums, old[1] + relative, old[2] + numbers)
+                    sums, numbers = accumulated.get(group, ({name: 0 for name in per_particle}, 0))
+                    for name, value in per_particle.items():
+                        part, counted = binned_mean(keys_all[mask], value[mask], count)
+                        sums[name] = sums[name] + part
+                    accumulated[group] = (sums, numbers + counted)
             results[(label, p)] = (indices, errors, accumulated)
     return results
+
+
+def x_velocities(run):
+    """values() for phase_profiles: lab x-velocity and x-velocity relative to the tank at the frame's time."""
+    def values(frame):
+        vx = frame["velocity"][:, 0]
+        return {"lab": vx, "relative": vx - float(run.tank_velocity(frame["time"])) * run.direction[0]}
+    return values
 
 
 def velocity_figure(run, out, args, name, title, times, load, select, count, group_label, group_colour):
     stages = run.stages(args.stages, times)
     if not stages:
         raise Skip("no stage lies within the run")
-    results = phase_profiles(run, times, stages, load, select, args.phase_tolerance, count)
+    results = phase_profiles(run, times, stages, load, select, x_velocities(run), args.phase_tolerance, count)
     rows = []
     figure, axes = plt.subplots(len(stages), 4, figsize=(15, 3.8 * len(stages)), sharey=True, squeeze=False,
                                 constrained_layout=True)
@@ -580,11 +588,10 @@ def velocity_figure(run, out, args, name, title, times, load, select, count, gro
             indices, errors, accumulated = results[(label, p)]
             ax = axes[s][p]
             for group in sorted(accumulated):
-                sums = accumulated[group]
-                numbers = sums[2]
+                sums, numbers = accumulated[group]
                 with np.errstate(invalid="ignore", divide="ignore"):
-                    lab = np.where(numbers > 0, sums[0] / np.maximum(numbers, 1), np.nan)
-                    rel = np.where(numbers > 0, sums[1] / np.maximum(numbers, 1), np.nan)
+                    lab = np.where(numbers > 0, sums["lab"] / np.maximum(numbers, 1), np.nan)
+                    rel = np.where(numbers > 0, sums["relative"] / np.maximum(numbers, 1), np.nan)
                 for layer in range(count):
                     if numbers[layer]:
                         rows.append([label, k1, k2, p, target, SEED_PHI[p], len(indices),
@@ -839,32 +846,27 @@ def fig19(run, out, args):
         stages = run.stages(None, times)
     count = int(math.ceil(0.08 / run.layer))
     fields = ("mass", "size_class", "force", "contact_force", "drag_force", "pressure_force")
+
+    def select(frame):
+        return [(int(k), frame["size_class"] == k) for k in sorted(set(frame["size_class"].tolist()))]
+
+    def values(frame):
+        weight = frame["mass"] * G
+        per_weight = {name: frame[name][:, 2] / weight for name in ("pressure_force", "drag_force", "contact_force")}
+        # force is contact + drag + pressure (solid_force_sum); gravity is added by the integrator
+        per_weight["total"] = frame["force"][:, 2] / weight
+        return per_weight
+
+    results = phase_profiles(run, times, stages, lambda i: run.solids(i, fields), select, values,
+                             args.phase_tolerance, count)
     rows = []
-    classes = set()
-    profiles = {}  # (stage, phase, class) -> (sums per force [count], numbers [count])
+    classes = sorted({k for _, _, accumulated in results.values() for k in accumulated})
+    profiles = {}  # (stage, phase, class) -> ({force: sums per layer}, counts per layer)
     for label, k1, k2 in stages:
-        for p, (indices, errors) in enumerate(run.phase_frames(times, k1, k2, args.phase_tolerance)):
-            for index in indices:
-                frame = run.solids(index, fields)
-                keys_all = layer_index(frame["height"], run.layer, count)
-                weight = frame["mass"] * G
-                per_weight = {name: frame[name][:, 2] / weight for name in ("pressure_force", "drag_force",
-                                                                             "contact_force")}
-                # force is contact + drag + pressure (solid_force_sum); gravity is added by the integrator
-                per_weight["total"] = frame["force"][:, 2] / weight
-                for k in sorted(set(frame["size_class"].tolist())):
-                    classes.add(k)
-                    mask = frame["size_class"] == k
-                    sums, numbers = profiles.get((label, p, k), ({n: np.zeros(count) for n in Z_FORCES},
-                                                                 np.zeros(count, int)))
-                    for name in Z_FORCES:
-                        part, counted = binned_mean(keys_all[mask], per_weight[name][mask], count)
-                        sums[name] = sums[name] + part
-                    profiles[(label, p, k)] = (sums, numbers + counted)
-            for k in sorted(classes):
-                if (label, p, k) not in profiles:
-                    continue
-                sums, numbers = profiles[(label, p, k)]
+        for p in range(len(PHASES)):
+            indices, errors, accumulated = results[(label, p)]
+            for k in sorted(accumulated):
+                sums, numbers = profiles[(label, p, k)] = accumulated[k]
                 for layer in range(count):
                     if numbers[layer]:
                         rows.append([label, k1, k2, p, PHASES[p][0], SEED_PHI[p], len(indices),
@@ -879,7 +881,6 @@ def fig19(run, out, args):
               + [f"{name}_z_over_m_g" for name in Z_FORCES], rows)
     water = float(run.scene.get("fluid", {}).get("density", 1000.0))
     density = float(run.scene.get("materials", {}).get("grain", {}).get("density", 1318.0))
-    classes = sorted(classes)
     label = stages[0][0]
     figure, axes = plt.subplots(len(classes), 4, figsize=(15, 3.6 * len(classes)), sharey=True, squeeze=False,
                                 constrained_layout=True)
