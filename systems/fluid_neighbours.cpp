@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 namespace riffle {
 
@@ -31,13 +32,14 @@ bool finite(const Vec3& position) { return std::isfinite(position[0]) && std::is
 struct CellGrid {
   Vec3 origin = Vec3::Zero();
   double cell_size = 1.0;
+  double inverse_cell_size = 1.0;  ///< the queries multiply: a division per row bound costs more than the test
   std::array<std::int64_t, 3> cells{1, 1, 1};
   std::vector<std::uint32_t> cell_start;  ///< cells + 1
   std::vector<std::uint32_t> members;     ///< finite particles grouped by cell, ascending slot within a cell
   std::vector<Vec3> member_positions;     ///< positions[members[k]]
 
   std::int64_t axis_cell(double coordinate, int axis) const {
-    const double scaled = std::floor((coordinate - origin[axis]) / cell_size);
+    const double scaled = std::floor((coordinate - origin[axis]) * inverse_cell_size);
     const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
     return static_cast<std::int64_t>(std::clamp(scaled, 0.0, top));
   }
@@ -90,6 +92,7 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
       grid.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(last - first) + 1;
     }
   }
+  grid.inverse_cell_size = 1.0 / grid.cell_size;
   const std::size_t cell_total = static_cast<std::size_t>(grid.cells[0] * grid.cells[1] * grid.cells[2]);
   std::vector<std::uint32_t> cell_of(count, std::numeric_limits<std::uint32_t>::max());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -115,13 +118,20 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
   return grid;
 }
 
-/// Calls visit(j) for every j != i within `radius` of particle i, in cell order: (z, y) rows of cells that the
-/// sphere reaches, each row one contiguous run of the grid's members, cut to the cells the sphere's chord spans.
-template <class Visit>
-void for_each_neighbour(const std::vector<Vec3>& positions, const CellGrid& grid, double radius, std::size_t i,
-                        Visit&& visit) {
-  const Vec3& position = positions[i];
-  if (!finite(position)) return;
+/// The candidates of one query: the (z, y) rows of cells that its sphere reaches, each row one contiguous run of the
+/// grid's members, cut to the cells the sphere's chord spans (at most 5 x 5 rows: cells are at least radius / 2).
+struct CandidateRuns {
+  struct Run {
+    std::uint32_t first, last;
+  };
+  std::array<Run, 36> runs;
+  std::size_t count = 0;
+  std::size_t candidates = 0;
+};
+
+CandidateRuns candidate_runs(const Vec3& position, const CellGrid& grid, double radius) {
+  CandidateRuns result;
+  if (!finite(position)) return result;
   const double squared_radius = radius * radius;
   const double cell = grid.cell_size;
   const std::int64_t z_low = grid.axis_cell(position[2] - radius, 2), z_high = grid.axis_cell(position[2] + radius, 2);
@@ -138,14 +148,36 @@ void for_each_neighbour(const std::vector<Vec3>& positions, const CellGrid& grid
       const double rest = squared_radius - dz * dz - dy * dy;
       if (rest < 0.0) continue;  // the sphere misses this row of cells
       const double half_chord = std::sqrt(rest);
-      const std::size_t first = grid.cell_start[grid.linear(grid.axis_cell(position[0] - half_chord, 0), y, z)];
-      const std::size_t last = grid.cell_start[grid.linear(grid.axis_cell(position[0] + half_chord, 0), y, z) + 1];
-      for (std::size_t k = first; k < last; ++k) {
-        const std::uint32_t j = grid.members[k];
-        if ((grid.member_positions[k] - position).squaredNorm() < squared_radius && j != i) visit(j);
-      }
+      const std::uint32_t first = grid.cell_start[grid.linear(grid.axis_cell(position[0] - half_chord, 0), y, z)];
+      const std::uint32_t last = grid.cell_start[grid.linear(grid.axis_cell(position[0] + half_chord, 0), y, z) + 1];
+      result.runs[result.count++] = {first, last};
+      result.candidates += last - first;
     }
   }
+  return result;
+}
+
+/// Writes every j != i within `radius` of particle i (at `position`) among `runs`, in cell order, to `queries`
+/// (j < query_count) or `others` (each with room for all candidates); returns how many went to each. About half the
+/// candidates are kept, at random to a branch predictor, so each candidate is written to both and the ends advance
+/// by the test's outcome instead of branching on it.
+std::pair<std::size_t, std::size_t> gather_neighbours(const CandidateRuns& runs, const CellGrid& grid, double radius,
+                                                      std::size_t i, const Vec3& position, std::size_t query_count,
+                                                      std::uint32_t* queries, std::uint32_t* others) {
+  const double squared_radius = radius * radius;
+  const std::uint32_t self = static_cast<std::uint32_t>(i);
+  std::size_t query_end = 0, other_end = 0;
+  for (std::size_t r = 0; r < runs.count; ++r)
+    for (std::size_t k = runs.runs[r].first; k < runs.runs[r].last; ++k) {
+      const std::uint32_t j = grid.members[k];
+      const bool near = (grid.member_positions[k] - position).squaredNorm() < squared_radius && j != self;
+      const bool query = j < query_count;
+      queries[query_end] = j;
+      others[other_end] = j;
+      query_end += near & query;
+      other_end += near & !query;
+    }
+  return {query_end, other_end};
 }
 
 /// Sorts a short list that is nearly ascending already (the particles are kept in cell order, see FluidCellSort):
@@ -184,22 +216,22 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
     std::vector<std::uint32_t>& list = chunk_lists[chunk];
     std::vector<std::uint32_t> others;
     const std::size_t last = std::min(count, (chunk + 1) * kGrain);
-    list.reserve((last - chunk * kGrain) * 96);
+    list.resize((last - chunk * kGrain) * 128);
+    std::size_t list_end = 0;
     for (std::size_t i = chunk * kGrain; i < last; ++i) {
-      const std::size_t first = list.size();
-      others.clear();
-      for_each_neighbour(positions, grid, radius, i, [&](std::uint32_t j) {
-        if (j < count)
-          list.push_back(j);
-        else
-          others.push_back(j);
-      });
-      const std::size_t queries_end = list.size();
-      list.insert(list.end(), others.begin(), others.end());
-      sort_nearly_sorted(list.data() + first, list.data() + queries_end);
-      sort_nearly_sorted(list.data() + queries_end, list.data() + list.size());
-      neighbours.offsets[i + 1] = static_cast<std::uint32_t>(list.size() - first);
+      const CandidateRuns runs = candidate_runs(positions[i], grid, radius);
+      if (list.size() < list_end + runs.candidates) list.resize(2 * (list_end + runs.candidates));
+      if (others.size() < runs.candidates) others.resize(runs.candidates);
+      std::uint32_t* first = list.data() + list_end;
+      const auto [query_neighbours, other_neighbours] =
+          gather_neighbours(runs, grid, radius, i, positions[i], count, first, others.data());
+      std::copy(others.begin(), others.begin() + static_cast<std::ptrdiff_t>(other_neighbours), first + query_neighbours);
+      sort_nearly_sorted(first, first + query_neighbours);
+      sort_nearly_sorted(first + query_neighbours, first + query_neighbours + other_neighbours);
+      list_end += query_neighbours + other_neighbours;
+      neighbours.offsets[i + 1] = static_cast<std::uint32_t>(query_neighbours + other_neighbours);
     }
+    list.resize(list_end);
   });
   std::uint64_t total = 0;
   for (std::size_t i = 0; i < count; ++i) {
