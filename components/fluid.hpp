@@ -120,6 +120,7 @@ struct FluidNeighbours {
   std::vector<std::uint32_t> offsets;   ///< particles + 1: neighbours of i are slots[offsets[i] .. offsets[i+1])
   std::vector<std::uint32_t> slots;     ///< neighbour slots, ascending within each particle's list
   std::uint64_t builds = 0;             ///< number of builds so far
+  std::uint64_t built_step = 0;         ///< engine step of the last build (how long a list lasts picks the skin)
   std::vector<Vec3> built_positions;    ///< [m] every particle's position at the last build (skin check)
   Vec3 built_tank_displacement = Vec3::Zero();  ///< [m] the tank's displacement at the last build
   /// The neighbours actually within r_e at the predicted positions r* (a subset of each Verlet list, ascending),

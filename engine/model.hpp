@@ -125,6 +125,7 @@ struct FluidModel {
   enum class Preconditioner { kJacobi, kTwoLevel };
   Preconditioner preconditioner = Preconditioner::kTwoLevel;  ///< Jacobi, or Jacobi plus an aggregation coarse solve
   double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
+  double narrow_neighbour_skin_ratio = 0.1;  ///< [1] the skin / l0 when the last lists lasted one step (<= the skin)
   std::int64_t sort_every = 20;          ///< [steps] reorder fluid particles by cell this often (memory locality); 0 = never
 
   double effective_radius() const { return spacing * effective_radius_ratio; }

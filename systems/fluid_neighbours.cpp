@@ -48,7 +48,8 @@ struct CellGrid {
   }
 };
 
-CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size_t query_count, const Vec3& anchor) {
+CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size_t query_count, const Vec3& anchor,
+                    double cell_radius) {
   const std::size_t count = positions.size();
   // The grid covers the queries' box widened by the radius: particles beyond it (walls far from the water) cannot be
   // anyone's neighbour and stay out of the grid.
@@ -73,7 +74,7 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
     return finite(p) && (p.array() >= box.low.array()).all() && (p.array() <= box.high.array()).all();
   };
   CellGrid grid;
-  grid.cell_size = fluid_search_cell_size(radius);
+  grid.cell_size = fluid_search_cell_size(std::max(radius, cell_radius));
   if (box.low[0] <= box.high[0]) {
     // Cells at least half a radius wide; wider if a stray particle would make the grid much larger than the
     // particle count (the lists are sorted, so the cell size changes no result).
@@ -197,13 +198,13 @@ void sort_nearly_sorted(std::uint32_t* first, std::uint32_t* last) {
 }  // namespace
 
 void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours,
-                            std::size_t query_count, const Vec3& grid_anchor) {
+                            std::size_t query_count, const Vec3& grid_anchor, double cell_radius) {
   if (!(radius > 0.0) || !std::isfinite(radius))
     throw std::invalid_argument("build_fluid_neighbours: the search radius must be positive and finite");
   if (positions.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("build_fluid_neighbours: too many particles for 32-bit slots");
   const std::size_t count = std::min(query_count, positions.size());
-  const CellGrid grid = build_grid(positions, radius, count, grid_anchor);
+  const CellGrid grid = build_grid(positions, radius, count, grid_anchor, cell_radius);
 
   // One scan per query into per-chunk buffers (each list sorted there), then a prefix sum and a copy: each task
   // writes only its own chunk, and the sorted lists do not depend on the chunking or the thread count. Queries
@@ -260,10 +261,11 @@ void FluidNeighbourSearch::run(SystemContext& context) {
   const double time = at_ == Positions::kCurrent ? context.time : context.time + context.dt;
   const Vec3 tank_displacement = tank_kinematics(context.model.tank.motion, time).displacement;
   // Every pair within r_e now was within r_e + skin at the build if no particle has moved more than skin / 2.
-  bool valid = neighbours.radius >= effective_radius_ + skin_ && neighbours.built_positions.size() == positions.size() &&
+  const double built_skin = neighbours.radius - effective_radius_;
+  bool valid = built_skin >= 0.0 && neighbours.built_positions.size() == positions.size() &&
                neighbours.particle_count() == queries;
   if (valid) {
-    const double limit = 0.25 * skin_ * skin_;
+    const double limit = 0.25 * built_skin * built_skin;
     const Vec3 frame_shift = tank_displacement - neighbours.built_tank_displacement;
     valid = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, positions.size(), 4096), true,
@@ -276,9 +278,16 @@ void FluidNeighbourSearch::run(SystemContext& context) {
   }
   if (valid) return;
   context.count_items(positions.size());
-  // The grid rides with the tank, on the lattice FluidCellSort orders the particles by.
-  build_fluid_neighbours(positions, effective_radius_ + skin_, neighbours, queries,
-                         context.model.tank.origin + tank_displacement);
+  // A rebuild forced by a reordering (FluidCellSort clears the built positions) says nothing about the flow: it
+  // keeps the last skin.
+  const bool reordered = neighbours.builds > 0 && neighbours.built_positions.empty() && built_skin >= 0.0;
+  const bool lasted_one_step = neighbours.builds > 0 && context.step() <= neighbours.built_step + 1;
+  const double skin = reordered ? std::clamp(built_skin, narrow_skin_, skin_) : lasted_one_step ? narrow_skin_ : skin_;
+  // The grid rides with the tank, on the lattice (cells of the wide skin's radius) FluidCellSort orders the
+  // particles by.
+  build_fluid_neighbours(positions, effective_radius_ + skin, neighbours, queries,
+                         context.model.tank.origin + tank_displacement, effective_radius_ + skin_);
+  neighbours.built_step = context.step();
   neighbours.built_positions = positions;
   neighbours.built_tank_displacement = tank_displacement;
 }

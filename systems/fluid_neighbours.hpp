@@ -9,6 +9,7 @@
 // every operator that reads the lists and writes the particles. The lists are rebuilt from positions every step
 // (the fluid moves less than l0 per step; a skin, as in OpenMps' r_e (1 + 2 Cr), can be had by passing a larger
 // radius: the operators cut at r_e themselves).
+#include <algorithm>
 #include <vector>
 
 #include "engine/system.hpp"
@@ -22,21 +23,27 @@ inline double fluid_search_cell_size(double radius) { return 0.5 * radius; }
 
 /// Builds `neighbours` for the first `query_count` particles of `positions` (all by default): j is a neighbour of i
 /// (j != i) iff |r_j - r_i| < radius, j among all particles. Non-finite positions get no neighbours and are nobody's
-/// neighbour. The grid's cells have a corner at `grid_anchor`; the result does not depend on it, the speed does:
-/// particles kept in the order of the same cells (FluidCellSort) come out of the scan nearly sorted.
+/// neighbour. The grid's cells have a corner at `grid_anchor` and are fluid_search_cell_size(cell_radius) wide
+/// (cell_radius >= radius; 0: radius); the result depends on neither, the speed does: particles kept in the order
+/// of the same cells (FluidCellSort) come out of the scan nearly sorted.
 void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours,
                             std::size_t query_count = static_cast<std::size_t>(-1),
-                            const Vec3& grid_anchor = Vec3::Zero());
+                            const Vec3& grid_anchor = Vec3::Zero(), double cell_radius = 0.0);
 
 /// Verlet lists of the fluid particles (queries) among all MPS particles, built with radius r_e + skin and rebuilt
 /// only when some particle (walls included: they move with the tank) has moved more than skin / 2 since the build.
-/// The operators cut at r_e and the lists are ascending, so when a rebuild happens changes no result.
-/// Two instances run per step: at the step start (current positions) and after the prediction (r*).
+/// The operators cut at r_e and the lists are ascending, so when a rebuild happens, and with which skin, changes
+/// no result. Two instances run per step: at the step start (current positions) and after the prediction (r*).
+///
+/// The skin adapts: when the last lists lasted a single step (in violent flow the fastest particles use up any
+/// skin of a few tenths of l0 every step), a wide skin buys no reuse and only lengthens every pass over the lists
+/// (r_e + 0.3 l0 holds 42 % more candidates than r_e), so the next build takes `narrow_skin`; once a list lasts
+/// longer, the build goes back to `skin` (docs/BENCHMARKS.md, "Fluid speed work").
 class FluidNeighbourSearch final : public System {
  public:
   enum class Positions { kCurrent, kPredicted };
-  FluidNeighbourSearch(double effective_radius, double skin, Positions at)
-      : effective_radius_(effective_radius), skin_(skin), at_(at) {}
+  FluidNeighbourSearch(double effective_radius, double skin, double narrow_skin, Positions at)
+      : effective_radius_(effective_radius), skin_(skin), narrow_skin_(std::min(narrow_skin, skin)), at_(at) {}
   std::string_view name() const override {
     return at_ == Positions::kCurrent ? "fluid_neighbours" : "fluid_neighbours_predicted";
   }
@@ -46,6 +53,7 @@ class FluidNeighbourSearch final : public System {
  private:
   double effective_radius_;
   double skin_;
+  double narrow_skin_;
   Positions at_;
 };
 

@@ -26,13 +26,14 @@ Pipeline build_pipeline(const Model& model) {
     // numerics.md 2.1 and 5.6; the scheduler chains these through the fluid component in this order.
     const FluidModel& fluid = model.fluid;
     const double skin = fluid.neighbour_skin_ratio * fluid.spacing;
+    const double narrow_skin = fluid.narrow_neighbour_skin_ratio * fluid.spacing;
     using At = FluidNeighbourSearch::Positions;
     if (fluid.sort_every > 0)
       pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.effective_radius() + skin));
-    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, At::kCurrent));
+    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
     pipeline.step.push_back(std::make_unique<FluidWallMotion>());
-    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, At::kPredicted));
+    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted));
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
     pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid));
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));

@@ -5,6 +5,7 @@
 //                                  [--hydro-time SECONDS] [--rate DENSITY_RATE] [--reference MARTIN_MOYCE.csv]
 //   riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3] [--from 0] [--rate DENSITY_RATE]
 //                                  [--sort STEPS (fluid.sort_every)] [--skin RATIO (fluid.neighbour_skin)]
+//                                  [--narrow-skin RATIO (fluid.neighbour_skin_narrow)]
 //   riffle_fluid_accuracy still L0 DT_CAP TIME EVERY [key=value ...]   (history of the still-water tank, for diagnosis)
 //
 // accuracy: (a) hydrostatic tank 0.06 x 0.03 m, H = 0.06 m of still water, open top, --hydro-time (1 s) simulated,
@@ -137,11 +138,13 @@ void step_run(test::FluidRun& run, double end_time, double cap, Row& row, Observ
 double g_density_rate = 0.0;
 std::int64_t g_sort_every = -1;  // < 0: the model's default
 double g_skin = -1.0;            // < 0: the model's default
+double g_narrow_skin = -1.0;     // < 0: the model's default
 
 void apply_overrides(FluidModel& fluid) {
   if (g_density_rate > 0.0) fluid.density_relaxation_rate = g_density_rate;
   if (g_sort_every >= 0) fluid.sort_every = g_sort_every;
   if (g_skin >= 0.0) fluid.neighbour_skin_ratio = g_skin;
+  if (g_narrow_skin >= 0.0) fluid.narrow_neighbour_skin_ratio = g_narrow_skin;
 }
 
 struct Variant {
@@ -599,6 +602,7 @@ int main(int argc, char** argv) {
                  "usage: riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap S] [--only hydro|dam|variants]\n"
                  "                             [--hydro-time S] [--rate R] [--reference martin_moyce.csv]\n"
                  "       riffle_fluid_accuracy sloshing OUT.csv [--threads 1,2] [--time 0.3] [--from 0] [--rate R] [--sort N] [--skin S]\n"
+                 "                             [--narrow-skin S]\n"
                  "       riffle_fluid_accuracy still L0 DT_CAP(0 = 1 ms sqrt(l0/5 mm)) TIME EVERY [threads=N depth=H preconditioner=jacobi\n"
                  "                             tol=T rate=R re=R hs=0 ecs=0 hl=0 gc=0 ds=0]\n");
     return 1;
@@ -635,6 +639,8 @@ int main(int argc, char** argv) {
       g_sort_every = std::atoll(argv[++k]);
     } else if (arg == "--skin" && has_value) {
       g_skin = std::atof(argv[++k]);
+    } else if (arg == "--narrow-skin" && has_value) {
+      g_narrow_skin = std::atof(argv[++k]);
     } else if (arg == "--hydro-time" && has_value) {
       hydro_time = std::atof(argv[++k]);
     } else if (arg == "--time" && has_value) {

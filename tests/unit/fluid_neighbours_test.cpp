@@ -71,6 +71,23 @@ TEST_CASE("fluid neighbour lists equal a brute-force search, in ascending slot o
   }
 }
 
+TEST_CASE("fluid neighbour lists do not depend on the grid's cells: a narrow search on the wide skin's cells") {
+  // The adaptive skin (FluidNeighbourSearch) searches r_e + 0.1 l0 on the cells of r_e + 0.3 l0.
+  const std::vector<Vec3> positions = jittered_block();
+  const double radius = 2.5 * kSpacing;
+  const auto expected = brute_force(positions, radius);
+  for (const double cell_ratio : {0.0, 2.7, 6.0}) {
+    CAPTURE(cell_ratio);
+    FluidNeighbours neighbours;
+    build_fluid_neighbours(positions, radius, neighbours, static_cast<std::size_t>(-1), Vec3(0.001, -0.002, 0.0),
+                           cell_ratio * kSpacing);
+    CHECK(neighbours.radius == radius);
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      CHECK(std::vector<std::uint32_t>(neighbours.slots.begin() + neighbours.offsets[i],
+                                       neighbours.slots.begin() + neighbours.offsets[i + 1]) == expected[i]);
+  }
+}
+
 TEST_CASE("fluid neighbour lists do not depend on the thread count and rebuild in place") {
   const std::vector<Vec3> positions = jittered_block();
   FluidNeighbours serial, parallel;

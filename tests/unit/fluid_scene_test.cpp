@@ -96,6 +96,7 @@ TEST_CASE("a minimal fluid table gets the documented defaults") {
   CHECK(fluid.solver_tolerance == 1.0e-8);
   CHECK(fluid.solver_max_iterations == 2000);
   CHECK(fluid.neighbour_skin_ratio == 0.3);
+  CHECK(fluid.narrow_neighbour_skin_ratio == 0.1);
   CHECK(fluid.schemes.higher_order_source);
   CHECK(fluid.schemes.error_compensating_source);
   CHECK(fluid.schemes.higher_order_laplacian);
@@ -149,6 +150,7 @@ ds = false
   CHECK(fluid.solver_tolerance == 1e-10);
   CHECK(fluid.solver_max_iterations == 500);
   CHECK(fluid.neighbour_skin_ratio == 0.0);
+  CHECK(fluid.narrow_neighbour_skin_ratio == 0.0);  // the narrow skin's default never exceeds the skin
   CHECK_FALSE(fluid.schemes.higher_order_source);
   CHECK(fluid.schemes.error_compensating_source);
   CHECK_FALSE(fluid.schemes.higher_order_laplacian);
@@ -186,6 +188,8 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
        "fluid.solver_max_iterations", "expected an integer in [1, 100000000]"},
       {"spacing = 0.005", "spacing = 0.005\nneighbour_skin = 2.5", "neighbour_skin = ^2.5", "fluid.neighbour_skin",
        "expected a number in [0, 2] [1]"},
+      {"spacing = 0.005", "spacing = 0.005\nneighbour_skin = 0.2\nneighbour_skin_narrow = 0.25",
+       "neighbour_skin_narrow = ^0.25", "fluid.neighbour_skin_narrow", "must not exceed neighbour_skin (0.2)"},
       {"spacing = 0.005", "spacing = 0.005\ntank_walls = 1", "tank_walls = ^1", "fluid.tank_walls",
        "expected true or false, got an integer"},
       {"spacing = 0.005", "spacing = 0.005\nspcing = 0.005", "^spcing", "fluid.spcing", "unknown key"},
