@@ -1,8 +1,9 @@
 #pragma once
 // Neighbour lists of all MPS particles (fluid, wall, dummy) within a search radius (>= r_e; numerics 1.1, 1.3):
 // a uniform cell grid over the particles' bounding box with cells half a radius wide (or half a wider cell radius),
-// counted, scanned and filled in parallel (oneTBB). Each particle's list is its neighbours' slots in ascending order, self excluded, so
-// the lists (and every sum over them) do not depend on the thread count, the grid or the cell size.
+// counted, scanned and filled in parallel (oneTBB). Each particle's list is its neighbours' slots in ascending
+// order, self excluded, so the lists (and every sum over them) do not depend on the thread count, the grid or the
+// cell size.
 //
 // Choice: the lists live in their own component, FluidNeighbours (like Contacts for the grains), not in
 // FluidParticles: the build reads the particles and writes only the lists, so the scheduler can order it before
