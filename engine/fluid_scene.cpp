@@ -147,7 +147,8 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.narrow_neighbour_skin_ratio = fluid.number("neighbour_skin_narrow", std::min(0.1, out.neighbour_skin_ratio), "1",
                                                  Bounds::closed(0.0, 2.0));
   if (out.narrow_neighbour_skin_ratio > out.neighbour_skin_ratio)
-    fluid.problem("neighbour_skin_narrow", "must not exceed neighbour_skin (" + format_number(out.neighbour_skin_ratio) + ")");
+    fluid.problem("neighbour_skin_narrow",
+                  "must not exceed neighbour_skin (" + format_number(out.neighbour_skin_ratio) + ")");
   out.sort_every = fluid.integer("sort_every", 20, 0, 1000000000);
   if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes);
 

@@ -120,7 +120,8 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
 }
 
 /// The candidates of one query: the (z, y) rows of cells that its sphere reaches, each row one contiguous run of the
-/// grid's members, cut to the cells the sphere's chord spans (at most 5 x 5 rows: cells are at least radius / 2).
+/// grid's members, cut to the cells the sphere's chord spans (cells are at least radius / 2 wide, so at most 5 x 5
+/// rows; the array leaves a margin).
 struct CandidateRuns {
   struct Run {
     std::uint32_t first, last;
@@ -226,7 +227,7 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
       std::uint32_t* first = list.data() + list_end;
       const auto [query_neighbours, other_neighbours] =
           gather_neighbours(runs, grid, radius, i, positions[i], count, first, others.data());
-      std::copy(others.begin(), others.begin() + static_cast<std::ptrdiff_t>(other_neighbours), first + query_neighbours);
+      std::copy_n(others.begin(), other_neighbours, first + query_neighbours);
       sort_nearly_sorted(first, first + query_neighbours);
       sort_nearly_sorted(first + query_neighbours, first + query_neighbours + other_neighbours);
       list_end += query_neighbours + other_neighbours;

@@ -30,10 +30,12 @@ Pipeline build_pipeline(const Model& model) {
     using At = FluidNeighbourSearch::Positions;
     if (fluid.sort_every > 0)
       pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.effective_radius() + skin));
-    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent));
+    pipeline.step.push_back(
+        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
     pipeline.step.push_back(std::make_unique<FluidWallMotion>());
-    pipeline.step.push_back(std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted));
+    pipeline.step.push_back(
+        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted));
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
     pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid));
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));

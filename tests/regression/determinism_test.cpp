@@ -275,7 +275,8 @@ TEST_CASE("the neighbour skin, fixed or narrowed in fast flow, changes no result
   };
   double narrowest = 0.0;
   std::uint64_t adaptive_builds = 0, wide_builds = 0;
-  const FluidParticles adaptive = run("neighbour_skin = 0.3\nneighbour_skin_narrow = 0.1", &narrowest, &adaptive_builds);
+  const FluidParticles adaptive =
+      run("neighbour_skin = 0.3\nneighbour_skin_narrow = 0.1", &narrowest, &adaptive_builds);
   const FluidParticles wide = run("neighbour_skin = 0.3\nneighbour_skin_narrow = 0.3", nullptr, &wide_builds);
   // Without a skin the cell sort's cells change too, and with them the order of the terms: compare unsorted runs.
   const FluidParticles adaptive_unsorted =
