@@ -123,6 +123,9 @@ struct FluidNeighbours {
   std::uint64_t built_step = 0;         ///< engine step of the last build (how long a list lasts picks the skin)
   std::vector<Vec3> built_positions;    ///< [m] every particle's position at the last build (skin check)
   Vec3 built_tank_displacement = Vec3::Zero();  ///< [m] the tank's displacement at the last build
+  /// The particles were reordered since the build (fluid_cell_sort): the lists hold old slots and must be rebuilt,
+  /// while built_positions, reordered with the particles, still tell how far each particle has moved.
+  bool reordered = false;
   /// The neighbours actually within r_e at the predicted positions r* (a subset of each Verlet list, ascending),
   /// recorded by fluid_free_surface for the pressure solve and the correction: particle i's are
   /// near_slots[offsets[i] .. offsets[i] + near_count[i]).

@@ -150,6 +150,7 @@ void read_fluid(TableReader& fluid, Model& model) {
     fluid.problem("neighbour_skin_narrow",
                   "must not exceed neighbour_skin (" + format_number(out.neighbour_skin_ratio) + ")");
   out.sort_every = fluid.integer("sort_every", 20, 0, 1000000000);
+  out.sort_every_fast = fluid.integer("sort_every_fast", 5, 0, 1000000000);
   if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes);
 
   const double spacing = out.spacing;  // 0 if missing or invalid (reported)

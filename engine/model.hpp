@@ -127,6 +127,9 @@ struct FluidModel {
   double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
   double narrow_neighbour_skin_ratio = 0.1;  ///< [1] the skin / l0 when the last lists lasted one step (<= the skin)
   std::int64_t sort_every = 20;          ///< [steps] reorder fluid particles by cell this often (memory locality); 0 = never
+  /// [steps] ... and this often while the fastest particle moves more than l0/20 in a step: the lists (narrow skin
+  /// 0.1 l0) are then rebuilt every step anyway, so a sort costs no extra rebuild; 0 = only sort_every
+  std::int64_t sort_every_fast = 5;
 
   double effective_radius() const { return spacing * effective_radius_ratio; }
   double stabilisation_distance() const { return (1.0 - courant) * spacing; }  ///< d_ij = alpha_DS l0

@@ -1,34 +1,79 @@
 #include "systems/fluid_cell_sort.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 
+#include "components/soa.hpp"
 #include "systems/cell_order.hpp"
 #include "systems/fluid_neighbours.hpp"
 #include "systems/wall_motion.hpp"
 
 namespace riffle {
 
+namespace {
+
+/// new[k] = old[order[k]] for k < order.size(); the slots after the order's end stay as they are.
+template <class Field, class Order>
+void permute_head(Field& field, const Order& order) {
+  Field head(order.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 2048), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) head[k] = field[order[k]];
+  });
+  std::copy(head.begin(), head.end(), field.begin());
+}
+
+}  // namespace
+
+bool FluidCellSort::due(const SystemContext& context, const FluidParticles& particles, std::size_t fluid_count) const {
+  const auto every = [&](std::int64_t period) {
+    return period > 0 && context.step() % static_cast<std::uint64_t>(period) == 0;
+  };
+  if (every(every_)) return true;
+  if (!every(every_fast_)) return false;
+  const double limit = fast_displacement_ * fast_displacement_;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, fluid_count, 4096), false,
+      [&](const tbb::blocked_range<std::size_t>& range, bool fast) {
+        for (std::size_t i = range.begin(); !fast && i < range.end(); ++i)
+          fast = (particles.predicted_position[i] - particles.position[i]).squaredNorm() > limit;
+        return fast;
+      },
+      [](bool a, bool b) { return a || b; });
+}
+
 void FluidCellSort::run(SystemContext& context) {
-  if (every_ <= 0 || context.step() % static_cast<std::uint64_t>(every_) != 0) return;
   FluidParticles& particles = context.write<FluidParticles>();
   const std::size_t fluid_count = fluid_slot_count(particles);
+  if (!due(context, particles, fluid_count)) return;
   const double cell_size = fluid_search_cell_size(search_radius_);
-  // The search grid's lattice (anchored at the tank's moving origin), shifted by whole cells so that the dummy
-  // layers below and beside the tank get non-negative cell indices.
+  // The search grid's lattice at the predicted positions (anchored at the tank's moving origin at t + dt), shifted by
+  // whole cells so that the dummy layers below and beside the tank get non-negative cell indices.
   const Vec3 anchor = context.model.tank.origin +
-                      tank_kinematics(context.model.tank.motion, context.time).displacement -
+                      tank_kinematics(context.model.tank.motion, context.time + context.dt).displacement -
                       Vec3::Constant(64.0 * cell_size);
-  std::vector<std::size_t> order = cell_order(particles.position, fluid_count, anchor, cell_size);
-  // Walls and dummies: the same key over slots [F, N).
-  std::vector<Vec3> boundary(particles.position.begin() + static_cast<std::ptrdiff_t>(fluid_count), particles.position.end());
+  std::vector<std::size_t> order = cell_order(particles.predicted_position, fluid_count, anchor, cell_size);
+  // Walls and dummies: the same key over slots [F, N). They ride with the tank, and so does the lattice, so after the
+  // first sort they stay in order and only the fluid slots move.
+  std::vector<Vec3> boundary(particles.predicted_position.begin() + static_cast<std::ptrdiff_t>(fluid_count),
+                             particles.predicted_position.end());
   const std::vector<std::size_t> boundary_order = cell_order(boundary, boundary.size(), anchor, cell_size);
-  order.reserve(particles.size());
-  for (const std::size_t k : boundary_order) order.push_back(fluid_count + k);
-  if (std::is_sorted(order.begin(), order.end())) return;
-  permute_fields(particles, order);
-  // The lists hold slots of the old order: an empty record of built positions fails the next skin check.
-  context.write<FluidNeighbours>().built_positions.clear();
-  context.count_items(particles.size());
+  const bool boundary_sorted = std::is_sorted(boundary_order.begin(), boundary_order.end());
+  if (boundary_sorted && std::is_sorted(order.begin(), order.end())) return;
+  FluidNeighbours& neighbours = context.write<FluidNeighbours>();
+  const bool keep_built = neighbours.built_positions.size() == particles.size();
+  if (!boundary_sorted) {
+    order.reserve(particles.size());
+    for (const std::size_t k : boundary_order) order.push_back(fluid_count + k);
+  }
+  FluidParticles::for_each_field(particles, [&](const FieldInfo&, auto& field) { permute_head(field, order); });
+  // The lists hold slots of the old order. The built positions travel with the particles, so that the search still
+  // knows whether the skin was used up and picks the next skin as if no sort had happened.
+  if (keep_built) permute_head(neighbours.built_positions, order);
+  neighbours.reordered = true;
+  context.count_items(order.size());
 }
 
 }  // namespace riffle

@@ -62,9 +62,11 @@ void FluidCorrect::run(SystemContext& context) {
       const Vec3 offset = particles.predicted_position[j] - position;
       const double distance_squared = offset.squaredNorm();
       if (distance_squared >= radius_squared || distance_squared == 0.0) continue;
+      // The reciprocal does not wait for the square root and the kernel: the two long-latency operations overlap.
+      const double inverse_squared = 1.0 / distance_squared;
       const double distance = std::sqrt(distance_squared);
       const double weight = kernel.weight(distance);
-      const double weight_over_squared = weight / distance_squared;
+      const double weight_over_squared = weight * inverse_squared;
       gradient_sum += ((partner_pressure(j, offset) - base_pressure) * weight_over_squared) * offset;
       if (schemes.gradient_correction) {
         const Vec3 scaled = weight_over_squared * offset;

@@ -277,19 +277,20 @@ void FluidNeighbourSearch::run(SystemContext& context) {
         },
         [](bool a, bool b) { return a && b; });
   }
-  if (valid) return;
+  if (valid && !neighbours.reordered) return;
   context.count_items(positions.size());
-  // A rebuild forced by a reordering (FluidCellSort clears the built positions) says nothing about the flow: it
-  // keeps the last skin.
-  const bool reordered = neighbours.builds > 0 && neighbours.built_positions.empty() && built_skin >= 0.0;
+  // A rebuild forced only by a reordering (FluidCellSort) says nothing about the flow: it keeps the last skin.
+  const bool reordered_only = valid && neighbours.builds > 0;
   const bool lasted_one_step = neighbours.builds > 0 && context.step() <= neighbours.built_step + 1;
-  const double skin = reordered ? std::clamp(built_skin, narrow_skin_, skin_) : lasted_one_step ? narrow_skin_ : skin_;
+  const double skin =
+      reordered_only ? std::clamp(built_skin, narrow_skin_, skin_) : lasted_one_step ? narrow_skin_ : skin_;
   // The grid rides with the tank, on the lattice (cells of the wide skin's radius) FluidCellSort orders the
   // particles by.
   build_fluid_neighbours(positions, effective_radius_ + skin, neighbours, queries,
                          context.model.tank.origin + tank_displacement, effective_radius_ + skin_);
   neighbours.built_step = context.step();
   neighbours.built_positions = positions;
+  neighbours.reordered = false;
   neighbours.built_tank_displacement = tank_displacement;
 }
 

@@ -28,12 +28,14 @@ Pipeline build_pipeline(const Model& model) {
     const double skin = fluid.neighbour_skin_ratio * fluid.spacing;
     const double narrow_skin = fluid.narrow_neighbour_skin_ratio * fluid.spacing;
     using At = FluidNeighbourSearch::Positions;
-    if (fluid.sort_every > 0)
-      pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.effective_radius() + skin));
     pipeline.step.push_back(
         std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
     pipeline.step.push_back(std::make_unique<FluidWallMotion>());
+    // After the prediction, right before the search at r*: in fast flow that search rebuilds anyway.
+    if (fluid.sort_every > 0 || fluid.sort_every_fast > 0)
+      pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.sort_every_fast,
+                                                              fluid.effective_radius() + skin, 0.05 * fluid.spacing));
     pipeline.step.push_back(
         std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted));
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));

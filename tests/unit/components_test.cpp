@@ -1,9 +1,13 @@
 // Structure-of-arrays invariants and the cell reorder.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <map>
+#include <numeric>
+#include <tuple>
 
 #include "engine/initial_state.hpp"
+#include "systems/cell_order.hpp"
 #include "systems/solid_cell_sort.hpp"
 #include "tests/test_support.hpp"
 
@@ -62,6 +66,41 @@ TEST_CASE("cell_order sorts grains by (z, y, x) cell and is a permutation") {
   };
   for (std::size_t k = 1; k < solids.size(); ++k) CHECK(key(k - 1) <= key(k));
   for (std::size_t k = 0; k < solids.size(); ++k) CHECK(before.at(solids.id[k]) == solids.position[k]);
+}
+
+TEST_CASE("cell_order orders by (z, y, x) cell, then slot, whether it counts cells or falls back to sorting") {
+  // Points on a jittered lattice with many per cell (ties), in scrambled slots.
+  std::vector<Vec3> positions;
+  for (int k = 0; k < 3000; ++k) {
+    const int scrambled = (k * 7919) % 3000;
+    positions.emplace_back(0.001 * (scrambled % 17) + 1.0e-5 * (k % 3), 0.0013 * ((scrambled / 17) % 13),
+                           0.0011 * (scrambled / 221));
+  }
+  const double cell = 0.004;
+  // The expected order, by brute force: (z, y, x) cell, ties by slot.
+  const auto expected_order = [&](const std::vector<Vec3>& points) {
+    std::vector<std::tuple<double, double, double, std::size_t>> keys;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const Eigen::Array3d c = (points[k] / cell).array().floor().max(0.0);
+      keys.emplace_back(c[2], c[1], c[0], k);
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<std::size_t> order;
+    for (const auto& key : keys) order.push_back(std::get<3>(key));
+    return order;
+  };
+  CHECK(cell_order(positions, positions.size(), Vec3::Zero(), cell) == expected_order(positions));
+  // One stray point 10 km away: the box of cells would be huge, so the comparison sort takes over; same answer.
+  std::vector<Vec3> with_stray = positions;
+  with_stray.emplace_back(1.0e4, 0.0, 0.0);
+  CHECK(cell_order(with_stray, with_stray.size(), Vec3::Zero(), cell) == expected_order(with_stray));
+  // Points already in order keep their slots; only the first `count` take part.
+  std::vector<Vec3> in_order;
+  for (const std::size_t k : expected_order(positions)) in_order.push_back(positions[k]);
+  std::vector<std::size_t> identity(in_order.size());
+  std::iota(identity.begin(), identity.end(), std::size_t{0});
+  CHECK(cell_order(in_order, in_order.size(), Vec3::Zero(), cell) == identity);
+  CHECK(cell_order(positions, 100, Vec3::Zero(), cell).size() == 100);
 }
 
 TEST_CASE("tank_walls builds one inward-facing plane per closed face") {

@@ -144,9 +144,10 @@ high = [0.05, 0.05, 0.03]
   };
   // The grains sample the water, then hand their drag impulse back (both read and write the grains).
   CHECK(has("solid_fluid_sampling -> fluid_drag_reaction"));
-  // The step graph opens with the cell sort, then the neighbour search.
-  CHECK(stepper.step_graph().system(0).name() == "fluid_cell_sort");
-  CHECK(stepper.step_graph().system(1).name() == "fluid_neighbours");
+  // The step graph opens with the neighbour search; the cell sort runs right before the search at r*.
+  CHECK(stepper.step_graph().system(0).name() == "fluid_neighbours");
+  CHECK(stepper.step_graph().system(3).name() == "fluid_cell_sort");
+  CHECK(stepper.step_graph().system(4).name() == "fluid_neighbours_predicted");
   for (int step = 0; step < 3; ++step) stepper.step();
   CHECK(world.step_status.ok());
   for (const SystemTimer& branch : stepper.branch_timers()) CHECK(branch.calls == 3);
