@@ -127,8 +127,8 @@ struct FluidModel {
   double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
   double narrow_neighbour_skin_ratio = 0.1;  ///< [1] the skin / l0 when the last lists lasted one step (<= the skin)
   std::int64_t sort_every = 20;          ///< [steps] reorder fluid particles by cell this often (memory locality); 0 = never
-  /// [steps] ... and this often while the fastest particle moves more than l0/20 in a step: the lists (narrow skin
-  /// 0.1 l0) are then rebuilt every step anyway, so a sort costs no extra rebuild; 0 = only sort_every
+  /// [steps] ... and this often while the fastest particle moves more than 0.15 l0 in a step: then no list outlives a
+  /// step (half the default skin of 0.3 l0), so a sort costs no extra rebuild; 0 = only sort_every
   std::int64_t sort_every_fast = 5;
 
   double effective_radius() const { return spacing * effective_radius_ratio; }

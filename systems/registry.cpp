@@ -35,7 +35,7 @@ Pipeline build_pipeline(const Model& model) {
     // After the prediction, right before the search at r*: in fast flow that search rebuilds anyway.
     if (fluid.sort_every > 0 || fluid.sort_every_fast > 0)
       pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.sort_every_fast,
-                                                              fluid.effective_radius() + skin, 0.05 * fluid.spacing));
+                                                              fluid.effective_radius() + skin, 0.15 * fluid.spacing));
     pipeline.step.push_back(
         std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted));
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
