@@ -48,15 +48,21 @@ void resize_fields(Component& component, std::size_t count) {
   Component::for_each_field(component, [&](const FieldInfo&, auto& field) { field.resize(count); });
 }
 
+/// New slot k of `values` holds what slot order[k] held, for k < order.size(); `order` is a permutation of
+/// 0..order.size()-1 and the slots after it stay as they are.
+template <class Value>
+void permute_prefix(std::vector<Value>& values, const std::vector<std::size_t>& order) {
+  std::vector<Value> head(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) head[k] = values[order[k]];
+  std::copy(head.begin(), head.end(), values.begin());
+}
+
 /// Reorders every field so that new slot k holds the entity that was in slot order[k].
-/// `order` must be a permutation of 0..n-1. Ids travel with their data, so state keyed by id stays valid.
+/// `order` must be a permutation of 0..m-1 with m <= n; slots m..n-1 stay where they are. Ids travel with their data,
+/// so state keyed by id stays valid.
 template <class Component>
 void permute_fields(Component& component, const std::vector<std::size_t>& order) {
-  Component::for_each_field(component, [&](const FieldInfo&, auto& field) {
-    auto reordered = field;
-    for (std::size_t k = 0; k < order.size(); ++k) reordered[k] = field[order[k]];
-    field.swap(reordered);
-  });
+  Component::for_each_field(component, [&](const FieldInfo&, auto& field) { permute_prefix(field, order); });
 }
 
 /// True if `order` is a permutation of 0..n-1.

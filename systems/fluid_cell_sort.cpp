@@ -1,7 +1,6 @@
 #include "systems/fluid_cell_sort.hpp"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -12,20 +11,6 @@
 #include "systems/wall_motion.hpp"
 
 namespace riffle {
-
-namespace {
-
-/// new[k] = old[order[k]] for k < order.size(); the slots after the order's end stay as they are.
-template <class Field, class Order>
-void permute_head(Field& field, const Order& order) {
-  Field head(order.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 2048), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) head[k] = field[order[k]];
-  });
-  std::copy(head.begin(), head.end(), field.begin());
-}
-
-}  // namespace
 
 bool FluidCellSort::due(const SystemContext& context, const FluidParticles& particles, std::size_t fluid_count) const {
   const auto every = [&](std::int64_t period) {
@@ -68,10 +53,10 @@ void FluidCellSort::run(SystemContext& context) {
     order.reserve(particles.size());
     for (const std::size_t k : boundary_order) order.push_back(fluid_count + k);
   }
-  FluidParticles::for_each_field(particles, [&](const FieldInfo&, auto& field) { permute_head(field, order); });
+  permute_fields(particles, order);
   // The lists hold slots of the old order. The built positions travel with the particles, so that the search still
   // knows whether the skin was used up and picks the next skin as if no sort had happened.
-  if (keep_built) permute_head(neighbours.built_positions, order);
+  if (keep_built) permute_prefix(neighbours.built_positions, order);
   neighbours.reordered = true;
   context.count_items(order.size());
 }
