@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "systems/fluid_pair_batch.hpp"
 #include "systems/wall_motion.hpp"
 
 namespace riffle {
@@ -58,32 +59,36 @@ void FluidCorrect::run(SystemContext& context) {
     Vec3 gradient_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
     double moment_xx = 0.0, moment_xy = 0.0, moment_xz = 0.0, moment_yy = 0.0, moment_yz = 0.0, moment_zz = 0.0;
     double density = 0.0;
-    for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
-      const Vec3 offset = particles.predicted_position[j] - position;
-      const double distance_squared = offset.squaredNorm();
-      if (distance_squared >= radius_squared || distance_squared == 0.0) continue;
-      // The reciprocal does not wait for the square root and the kernel: the two long-latency operations overlap.
-      const double inverse_squared = 1.0 / distance_squared;
-      const double distance = std::sqrt(distance_squared);
-      const double weight = kernel.weight(distance);
-      const double weight_over_squared = weight * inverse_squared;
-      gradient_sum += ((partner_pressure(j, offset) - base_pressure) * weight_over_squared) * offset;
-      if (schemes.gradient_correction) {
-        const Vec3 scaled = weight_over_squared * offset;
-        moment_xx += scaled[0] * offset[0];
-        moment_xy += scaled[0] * offset[1];
-        moment_xz += scaled[0] * offset[2];
-        moment_yy += scaled[1] * offset[1];
-        moment_yz += scaled[1] * offset[2];
-        moment_zz += scaled[2] * offset[2];
-        density += weight;
-      }
-      if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
-        // rho_j / (rho_i + rho_j): 1/2 between fluid particles, 1 against an (infinitely heavy) wall.
-        const double partner_share = particles.kind[j] == kFluidKind ? 0.5 : 1.0;
-        stabilisation -= (partner_share * (stabilisation_distance - distance) * weight_over_squared * distance) * offset;
-      }
-    }
+    const NeighbourRange near = near_neighbours_of(neighbours, i);
+    FluidPairBatch batch;
+    for_each_pair_within(
+        near.begin(), near.end(), radius_squared, kernel, batch,
+        [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
+        [&](const FluidPairBatch& pair, std::size_t k) {
+          if (pair.distance_squared[k] == 0.0) return;
+          const std::uint32_t j = pair.slot[k];
+          const Vec3 offset = pair.offset(k);
+          const double distance = pair.distance[k];
+          const double weight = pair.weight[k];
+          const double weight_over_squared = weight * pair.inverse_squared[k];
+          gradient_sum += ((partner_pressure(j, offset) - base_pressure) * weight_over_squared) * offset;
+          if (schemes.gradient_correction) {
+            const Vec3 scaled = weight_over_squared * offset;
+            moment_xx += scaled[0] * offset[0];
+            moment_xy += scaled[0] * offset[1];
+            moment_xz += scaled[0] * offset[2];
+            moment_yy += scaled[1] * offset[1];
+            moment_yz += scaled[1] * offset[2];
+            moment_zz += scaled[2] * offset[2];
+            density += weight;
+          }
+          if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
+            // rho_j / (rho_i + rho_j): 1/2 between fluid particles, 1 against an (infinitely heavy) wall.
+            const double partner_share = particles.kind[j] == kFluidKind ? 0.5 : 1.0;
+            stabilisation -=
+                (partner_share * (stabilisation_distance - distance) * weight_over_squared * distance) * offset;
+          }
+        });
     Vec3 gradient = (3.0 / n0) * gradient_sum;
     if (schemes.gradient_correction) {
       Eigen::Matrix3d moment;

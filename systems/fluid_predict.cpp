@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "systems/fluid_pair_batch.hpp"
+
 namespace riffle {
 
 void FluidPredict::run(SystemContext& context) {
@@ -23,20 +25,23 @@ void FluidPredict::run(SystemContext& context) {
     if (viscous_factor > 0.0 || error_compensation) {
       const Vec3 position = particles.position[i];
       const Vec3 velocity = particles.velocity[i];
-      for (const std::uint32_t j : neighbours_of(neighbours, i)) {
-        const Vec3 offset = particles.position[j] - position;
-        const double distance_squared = offset.squaredNorm();
-        if (distance_squared >= radius_squared) continue;
-        const double distance = std::sqrt(distance_squared);
-        const double weight = kernel.weight(distance);
-        const Vec3 relative_velocity = particles.velocity[j] - velocity;
-        viscous += weight * relative_velocity;
-        if (error_compensation) {
-          density += weight;
-          const double pair_share = particles.kind[j] == kFluidKind ? 1.0 : 2.0;
-          rate += pair_share * kernel.derivative_over_distance(distance) * offset.dot(relative_velocity);
-        }
-      }
+      const NeighbourRange candidates = neighbours_of(neighbours, i);
+      FluidPairBatch batch;
+      for_each_pair_within(
+          candidates.begin(), candidates.end(), radius_squared, kernel, batch,
+          [&](std::uint32_t j) -> Vec3 { return particles.position[j] - position; },
+          [&](const FluidPairBatch& pair, std::size_t k) {
+            const std::uint32_t j = pair.slot[k];
+            const double weight = pair.weight[k];
+            const Vec3 relative_velocity = particles.velocity[j] - velocity;
+            viscous += weight * relative_velocity;
+            if (error_compensation) {
+              density += weight;
+              const double pair_share = particles.kind[j] == kFluidKind ? 1.0 : 2.0;
+              rate += pair_share * kernel.derivative_over_distance(pair.distance[k]) *
+                      pair.offset(k).dot(relative_velocity);
+            }
+          });
     }
     acceleration_[i] = viscous_factor * viscous + gravity;
     if (error_compensation) {
