@@ -1,6 +1,7 @@
 #include "systems/fluid_pressure.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace riffle {
@@ -38,7 +39,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   for (std::size_t row = 0; row < unknowns; ++row) row_start_[row + 1] += row_start_[row];
   compact_columns_.resize(row_start_[unknowns]);
   compact_values_.resize(row_start_[unknowns]);
-  for (auto* vector : {&diagonal_, &inverse_diagonal_, &rhs_, &solution_, &residual_, &direction_, &product_, &preconditioned_})
+  for (auto* vector : {&diagonal_, &inverse_diagonal_, &rhs_, &solution_, &residual_, &direction_, &product_})
     vector->resize(unknowns);
 
   // Density term gamma (n* - n0)/(n0 dt^2) with gamma = rate dt (amendment 2); the classic source is gamma = 1.
@@ -97,13 +98,11 @@ void FluidPressureSolve::run(SystemContext& context) {
                                 compact_values_.data()};
     preconditioner_.setup(matrix, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
   }
-  // z = M^-1 r, returning r . z (one pass: the Jacobi part and the dot product share it).
-  const auto precondition = [&]() {
-    if (two_level) return preconditioner_.apply_and_dot(residual_, preconditioned_);
-    return deterministic_sum(unknowns, [&](std::size_t k) {
-      preconditioned_[k] = residual_[k] * inverse_diagonal_[k];
-      return residual_[k] * preconditioned_[k];
-    });
+  // z = M^-1 r = D^-1 r + P c with c = A_c^-1 P^T r is never stored: r . z = sum r^2 / diag + (P^T r) . c, the
+  // first sum taken in the pass that updates r, and z is formed where the direction update needs it.
+  const auto coarse_dot = [&]() { return two_level ? preconditioner_.solve_coarse(residual_) : 0.0; };
+  const auto preconditioned = [&](std::size_t k) {
+    return residual_[k] * inverse_diagonal_[k] + (two_level ? preconditioner_.coarse_correction(k) : 0.0);
   };
   // y = M x, returning x . y (CG needs the curvature d . M d right after the product).
   const auto multiply_and_dot = [&](const std::vector<double>& x, std::vector<double>& y) {
@@ -116,7 +115,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   };
 
   // Preconditioned conjugate gradients (numerics 3.5), |r| <= tol |b|, with the vector updates fused into the
-  // passes that need them (five passes over the unknowns per iteration).
+  // passes that need them (three passes over the unknowns per iteration, plus the restriction to the coarse level).
   const double rhs_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t k) { return rhs_[k] * rhs_[k]; }));
   const double target = fluid_.solver_tolerance * rhs_norm;
   std::int64_t iterations = 0;
@@ -124,31 +123,36 @@ void FluidPressureSolve::run(SystemContext& context) {
   if (rhs_norm == 0.0) {
     std::fill(solution_.begin(), solution_.end(), 0.0);
   } else {
-    residual_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t row) {
+    // Each pass returns |r|^2 and r . D^-1 r.
+    const auto initial = deterministic_sums<2>(unknowns, [&](std::size_t row) {
       double sum = diagonal_[row] * solution_[row];
       for (std::size_t k = row_start_[row]; k < row_start_[row + 1]; ++k) sum += compact_values_[k] * solution_[compact_columns_[k]];
-      residual_[row] = rhs_[row] - sum;
-      return residual_[row] * residual_[row];
-    }));
+      const double residual = rhs_[row] - sum;
+      residual_[row] = residual;
+      return std::array<double, 2>{residual * residual, residual * residual * inverse_diagonal_[row]};
+    });
+    residual_norm = std::sqrt(initial[0]);
     double residual_dot = 0.0;
     if (residual_norm > target) {
-      residual_dot = precondition();
-      std::copy(preconditioned_.begin(), preconditioned_.end(), direction_.begin());
+      residual_dot = initial[1] + coarse_dot();
+      for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned(k); });
     }
     while (residual_norm > target && iterations < fluid_.solver_max_iterations && std::isfinite(residual_norm)) {
       const double curvature = multiply_and_dot(direction_, product_);
       const double step = residual_dot / curvature;
-      residual_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t k) {
+      const auto updated = deterministic_sums<2>(unknowns, [&](std::size_t k) {
         solution_[k] += step * direction_[k];
-        residual_[k] -= step * product_[k];
-        return residual_[k] * residual_[k];
-      }));
+        const double residual = residual_[k] - step * product_[k];
+        residual_[k] = residual;
+        return std::array<double, 2>{residual * residual, residual * residual * inverse_diagonal_[k]};
+      });
+      residual_norm = std::sqrt(updated[0]);
       ++iterations;
       if (residual_norm <= target) break;
-      const double next_dot = precondition();
+      const double next_dot = updated[1] + coarse_dot();
       const double beta = next_dot / residual_dot;
       residual_dot = next_dot;
-      for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned_[k] + beta * direction_[k]; });
+      for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned(k) + beta * direction_[k]; });
     }
   }
 

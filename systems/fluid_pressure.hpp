@@ -34,7 +34,7 @@ class FluidPressureSolve final : public System {
   std::vector<double> compact_values_;          ///< M_ij
   std::vector<Vec3> row_positions_;
   TwoLevelPreconditioner preconditioner_;
-  std::vector<double> rhs_, solution_, residual_, direction_, product_, preconditioned_;
+  std::vector<double> rhs_, solution_, residual_, direction_, product_;
 };
 
 }  // namespace riffle

@@ -37,6 +37,14 @@ class TwoLevelPreconditioner {
   /// The same, returning r . z summed in fixed blocks (identical for any thread count).
   double apply_and_dot(const std::vector<double>& residual, std::vector<double>& result);
 
+  /// The coarse half on its own, for a CG that never stores z: solves c = A_c^-1 P^T r and returns
+  /// (P^T r) . c = r . (P c), so that r . z = sum of r^2 / diag + that (0 without a coarse level).
+  double solve_coarse(const std::vector<double>& residual);
+  /// (P c)[row] after solve_coarse (0 without a coarse level).
+  double coarse_correction(std::size_t row) const {
+    return coarse_ready_ ? coarse_vector_[static_cast<Eigen::Index>(aggregate_of_[row])] : 0.0;
+  }
+
   std::size_t coarse_size() const { return coarse_ready_ ? aggregate_count_ : 0; }
 
  private:
@@ -50,6 +58,7 @@ class TwoLevelPreconditioner {
   Eigen::SparseMatrix<double> coarse_matrix_;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>> coarse_factor_;
   Eigen::VectorXd coarse_vector_;
+  Eigen::VectorXd restricted_;  ///< P^T r of the last solve_coarse
   bool coarse_ready_ = false;
 };
 
