@@ -138,20 +138,39 @@ CandidateRuns candidate_runs(const Vec3& position, const CellGrid& grid, double 
   const double cell = grid.cell_size;
   const std::int64_t z_low = grid.axis_cell(position[2] - radius, 2), z_high = grid.axis_cell(position[2] + radius, 2);
   const std::int64_t y_low = grid.axis_cell(position[1] - radius, 1), y_high = grid.axis_cell(position[1] + radius, 1);
+  const std::int64_t x_low = grid.axis_cell(position[0] - radius, 0), x_high = grid.axis_cell(position[0] + radius, 0);
   // Distance from the query to the nearest point of cell index c along an axis (0 inside it).
   const auto gap = [&](std::int64_t c, int axis) {
     const double lower = grid.origin[axis] + static_cast<double>(c) * cell;
     return std::max({0.0, lower - position[axis], position[axis] - (lower + cell)});
   };
+  // A row of cells (y, z) is cut to the cells its chord of the sphere reaches: those below the query's cell whose
+  // squared gap is below the rest of the squared radius, those above it up to it (the cells that contain x -/+ the
+  // half chord, without a square root or a floor per row).
+  constexpr std::size_t kMaxAxisCells = 8;
+  const std::int64_t x_centre = std::clamp(grid.axis_cell(position[0], 0), x_low, x_high);
+  std::array<double, kMaxAxisCells> x_gap_squared{};
+  const bool short_x = x_high - x_low < static_cast<std::int64_t>(kMaxAxisCells);
+  if (short_x)
+    for (std::int64_t x = x_low; x <= x_high; ++x) {
+      const double g = gap(x, 0);
+      x_gap_squared[static_cast<std::size_t>(x - x_low)] = g * g;
+    }
   for (std::int64_t z = z_low; z <= z_high; ++z) {
     const double dz = gap(z, 2);
     for (std::int64_t y = y_low; y <= y_high; ++y) {
       const double dy = gap(y, 1);
       const double rest = squared_radius - dz * dz - dy * dy;
       if (rest < 0.0) continue;  // the sphere misses this row of cells
-      const double half_chord = std::sqrt(rest);
-      const std::uint32_t first = grid.cell_start[grid.linear(grid.axis_cell(position[0] - half_chord, 0), y, z)];
-      const std::uint32_t last = grid.cell_start[grid.linear(grid.axis_cell(position[0] + half_chord, 0), y, z) + 1];
+      std::int64_t first_x = x_low, last_x = x_high;
+      if (short_x) {
+        first_x = x_centre;
+        while (first_x > x_low && x_gap_squared[static_cast<std::size_t>(first_x - 1 - x_low)] < rest) --first_x;
+        last_x = x_centre;
+        while (last_x < x_high && x_gap_squared[static_cast<std::size_t>(last_x + 1 - x_low)] <= rest) ++last_x;
+      }
+      const std::uint32_t first = grid.cell_start[grid.linear(first_x, y, z)];
+      const std::uint32_t last = grid.cell_start[grid.linear(last_x, y, z) + 1];
       result.runs[result.count++] = {first, last};
       result.candidates += last - first;
     }
