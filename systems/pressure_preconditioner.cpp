@@ -1,7 +1,5 @@
 #include "systems/pressure_preconditioner.hpp"
 
-#include "systems/deterministic_sum.hpp"
-
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -121,24 +119,9 @@ double TwoLevelPreconditioner::solve_coarse(const std::vector<double>& residual)
 }
 
 void TwoLevelPreconditioner::apply(const std::vector<double>& residual, std::vector<double>& result) {
-  apply_and_dot(residual, result);
-}
-
-double TwoLevelPreconditioner::apply_and_dot(const std::vector<double>& residual, std::vector<double>& result) {
-  const std::size_t rows = matrix_.rows;
-  if (coarse_ready_) {
-    tbb::parallel_for(std::size_t{0}, aggregate_count_, [&](std::size_t a) {
-      double sum = 0.0;
-      for (std::uint32_t k = member_start_[a]; k < member_start_[a + 1]; ++k) sum += residual[members_[k]];
-      coarse_vector_[static_cast<Eigen::Index>(a)] = sum;
-    });
-    coarse_vector_ = coarse_factor_.solve(coarse_vector_);
-  }
-  return deterministic_sum(rows, [&](std::size_t row) {
-    result[row] = residual[row] * inverse_diagonal_[row] +
-                  (coarse_ready_ ? coarse_vector_[static_cast<Eigen::Index>(aggregate_of_[row])] : 0.0);
-    return residual[row] * result[row];
-  });
+  solve_coarse(residual);
+  tbb::parallel_for(std::size_t{0}, matrix_.rows,
+                    [&](std::size_t row) { result[row] = residual[row] * inverse_diagonal_[row] + coarse_correction(row); });
 }
 
 }  // namespace riffle

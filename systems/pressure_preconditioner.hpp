@@ -34,8 +34,6 @@ class TwoLevelPreconditioner {
 
   /// z = D^-1 r + P A_c^-1 P^T r.
   void apply(const std::vector<double>& residual, std::vector<double>& result);
-  /// The same, returning r . z summed in fixed blocks (identical for any thread count).
-  double apply_and_dot(const std::vector<double>& residual, std::vector<double>& result);
 
   /// The coarse half on its own, for a CG that never stores z: solves c = A_c^-1 P^T r and returns
   /// (P^T r) . c = r . (P c), so that r . z = sum of r^2 / diag + that (0 without a coarse level).
