@@ -61,8 +61,8 @@ void FluidCorrect::run(SystemContext& context) {
     double density = 0.0;
     const NeighbourRange near = near_neighbours_of(neighbours, i);
     FluidPairBatch batch;
-    for_each_pair_within(
-        near.begin(), near.end(), radius_squared, kernel, batch,
+    for_each_near_pair(
+        near, kernel, batch,
         [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           if (pair.distance_squared[k] == 0.0) return;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "systems/fluid_pair_batch.hpp"
+
 namespace riffle {
 
 void FluidFreeSurface::run(SystemContext& context) {
@@ -18,12 +20,15 @@ void FluidFreeSurface::run(SystemContext& context) {
     double density = 0.0;
     std::uint32_t* near = neighbours.near_slots.data() + neighbours.offsets[i];
     std::uint32_t near_count = 0;
-    for (const std::uint32_t j : neighbours_of(neighbours, i)) {
-      const double distance_squared = (particles.predicted_position[j] - position).squaredNorm();
-      if (distance_squared >= radius_squared) continue;
-      density += kernel.weight(std::sqrt(distance_squared));
-      near[near_count++] = j;
-    }
+    const NeighbourRange candidates = neighbours_of(neighbours, i);
+    FluidPairBatch batch;
+    for_each_pair_within(
+        candidates.begin(), candidates.end(), radius_squared, kernel, batch,
+        [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
+        [&](const FluidPairBatch& pair, std::size_t k) {
+          density += pair.weight[k];
+          near[near_count++] = pair.slot[k];
+        });
     neighbours.near_count[i] = near_count;
     particles.number_density[i] = density;
     particles.free_surface[i] = density < surface_below ? 1 : 0;

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "components/vec.hpp"
+#include "systems/fluid_common.hpp"
 #include "systems/mps_kernel.hpp"
 
 namespace riffle {
@@ -29,32 +30,51 @@ struct FluidPairBatch {
 /// Fills distance, inverse_squared and weight of pairs [0, batch.count) from distance_squared.
 void evaluate_pair_geometry(FluidPairBatch& batch, const WendlandKernel& kernel);
 
-/// Calls pair(batch, k) for every neighbour j in [first, last) with |offset_of(j)|^2 < radius_squared, in list
-/// order, with the batch's geometry of that pair evaluated: the scalar loop it replaces, with the divisions, square
-/// roots and kernels done a batch at a time.
-template <class OffsetOf, class Pair>
-void for_each_pair_within(const std::uint32_t* first, const std::uint32_t* last, double radius_squared,
-                          const WendlandKernel& kernel, FluidPairBatch& batch, OffsetOf&& offset_of, Pair&& pair) {
+/// Fills the batch from [first, last), evaluates each full batch and calls pair(batch, k) on its pairs in list order.
+/// With kCut, only the neighbours with |offset_of(j)|^2 < radius_squared enter the batch.
+template <bool kCut, class OffsetOf, class Pair>
+void for_each_batched_pair(const std::uint32_t* first, const std::uint32_t* last, double radius_squared,
+                           const WendlandKernel& kernel, FluidPairBatch& batch, OffsetOf&& offset_of, Pair&& pair) {
   const auto flush = [&] {
     evaluate_pair_geometry(batch, kernel);
-    for (std::size_t k = 0; k < batch.count; ++k) pair(batch, k);
+    for (std::size_t k = 0; k < batch.count; ++k) pair(static_cast<const FluidPairBatch&>(batch), k);
     batch.count = 0;
   };
   batch.count = 0;
   for (; first != last; ++first) {
     const std::uint32_t j = *first;
     const Vec3 offset = offset_of(j);
-    const double distance_squared = offset.squaredNorm();
-    if (distance_squared >= radius_squared) continue;
-    const std::size_t k = batch.count++;
+    const std::size_t k = batch.count;
     batch.slot[k] = j;
     batch.dx[k] = offset[0];
     batch.dy[k] = offset[1];
     batch.dz[k] = offset[2];
-    batch.distance_squared[k] = distance_squared;
+    batch.distance_squared[k] = offset.squaredNorm();
+    // The cut writes every entry and keeps it by advancing the end: whether a full-list entry lies within r_e is
+    // random to a branch predictor. Without the cut the end does not wait for the distance.
+    if constexpr (kCut)
+      batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
+    else
+      ++batch.count;
     if (batch.count == kPairBatch) flush();
   }
   if (batch.count > 0) flush();
+}
+
+/// Calls pair(batch, k) for every neighbour j in [first, last) with |offset_of(j)|^2 < radius_squared, in list
+/// order, with the batch's geometry of that pair evaluated: the scalar loop it replaces, with the divisions, square
+/// roots and kernels done a batch at a time. For the full (skin) lists.
+template <class OffsetOf, class Pair>
+void for_each_pair_within(const std::uint32_t* first, const std::uint32_t* last, double radius_squared,
+                          const WendlandKernel& kernel, FluidPairBatch& batch, OffsetOf&& offset_of, Pair&& pair) {
+  for_each_batched_pair<true>(first, last, radius_squared, kernel, batch, offset_of, pair);
+}
+
+/// The same for a near list (near_neighbours_of: already cut at r_e at the positions offset_of reads), every entry.
+template <class OffsetOf, class Pair>
+void for_each_near_pair(NeighbourRange near, const WendlandKernel& kernel, FluidPairBatch& batch, OffsetOf&& offset_of,
+                        Pair&& pair) {
+  for_each_batched_pair<false>(near.begin(), near.end(), 0.0, kernel, batch, offset_of, pair);
 }
 
 }  // namespace riffle
