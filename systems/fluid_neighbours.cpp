@@ -120,13 +120,13 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
 }
 
 /// The candidates of one query: the (z, y) rows of cells that its sphere reaches, each row one contiguous run of the
-/// grid's members, cut to the cells the sphere's chord spans (cells are at least radius / 2 wide, so at most 5 x 5
-/// rows; the array leaves a margin).
+/// grid's members, cut to the cells the sphere's chord spans (cells are at least radius / 2 wide, so 5 x 5 rows, 7 x 7
+/// at most where rounding puts a bound just across a cell face).
 struct CandidateRuns {
   struct Run {
     std::uint32_t first, last;
   };
-  std::array<Run, 36> runs;
+  std::array<Run, 49> runs;
   std::size_t count = 0;
   std::size_t candidates = 0;
 };
@@ -146,28 +146,34 @@ CandidateRuns candidate_runs(const Vec3& position, const CellGrid& grid, double 
   };
   // A row of cells (y, z) is cut to the cells its chord of the sphere reaches: those below the query's cell whose
   // squared gap is below the rest of the squared radius, those above it up to it (the cells that contain x -/+ the
-  // half chord, without a square root or a floor per row).
-  constexpr std::size_t kMaxAxisCells = 8;
+  // half chord). Cells are at least radius / 2 wide, so the sphere reaches two cells to either side of the query's
+  // own along an axis (three where rounding puts x -/+ radius just across a cell face); the squared gaps are computed
+  // once per query (infinite off the grid), and a row's cut is two counts, without a square root, a floor or a
+  // branch.
+  constexpr std::int64_t kReach = 3;
+  constexpr double kOff = std::numeric_limits<double>::infinity();
   const std::int64_t x_centre = std::clamp(grid.axis_cell(position[0], 0), x_low, x_high);
-  std::array<double, kMaxAxisCells> x_gap_squared{};
-  const bool short_x = x_high - x_low < static_cast<std::int64_t>(kMaxAxisCells);
-  if (short_x)
-    for (std::int64_t x = x_low; x <= x_high; ++x) {
-      const double g = gap(x, 0);
-      x_gap_squared[static_cast<std::size_t>(x - x_low)] = g * g;
-    }
+  std::array<double, 2 * kReach + 1> x_gap_squared;  // cells x_centre - kReach .. x_centre + kReach
+  for (std::int64_t offset = -kReach; offset <= kReach; ++offset) {
+    const std::int64_t x = x_centre + offset;
+    const double g = gap(x, 0);
+    x_gap_squared[static_cast<std::size_t>(offset + kReach)] = x < x_low || x > x_high ? kOff : g * g;
+  }
+  std::array<double, 2 * kReach + 1> y_gap_squared;
+  for (std::int64_t y = y_low; y <= y_high; ++y) {
+    const double g = gap(y, 1);
+    y_gap_squared[static_cast<std::size_t>(y - y_low)] = g * g;
+  }
   for (std::int64_t z = z_low; z <= z_high; ++z) {
     const double dz = gap(z, 2);
+    const double rest_z = squared_radius - dz * dz;
     for (std::int64_t y = y_low; y <= y_high; ++y) {
-      const double dy = gap(y, 1);
-      const double rest = squared_radius - dz * dz - dy * dy;
+      const double rest = rest_z - y_gap_squared[static_cast<std::size_t>(y - y_low)];
       if (rest < 0.0) continue;  // the sphere misses this row of cells
-      std::int64_t first_x = x_low, last_x = x_high;
-      if (short_x) {
-        first_x = x_centre;
-        while (first_x > x_low && x_gap_squared[static_cast<std::size_t>(first_x - 1 - x_low)] < rest) --first_x;
-        last_x = x_centre;
-        while (last_x < x_high && x_gap_squared[static_cast<std::size_t>(last_x + 1 - x_low)] <= rest) ++last_x;
+      std::int64_t first_x = x_centre, last_x = x_centre;
+      for (std::int64_t step = 1; step <= kReach; ++step) {
+        first_x -= x_gap_squared[static_cast<std::size_t>(kReach - step)] < rest ? 1 : 0;
+        last_x += x_gap_squared[static_cast<std::size_t>(kReach + step)] <= rest ? 1 : 0;
       }
       const std::uint32_t first = grid.cell_start[grid.linear(first_x, y, z)];
       const std::uint32_t last = grid.cell_start[grid.linear(last_x, y, z) + 1];
