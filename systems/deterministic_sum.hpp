@@ -11,30 +11,11 @@
 
 namespace riffle {
 
-inline constexpr std::size_t kDeterministicSumBlock = 512;  // enough blocks to balance two threads over ~10^4 terms
-
-/// Sum of term(i) over [0, count), identical for any thread count: fixed blocks summed in order.
-template <class Term>
-double deterministic_sum(std::size_t count, Term&& term) {
-  constexpr std::size_t kBlock = kDeterministicSumBlock;
-  const std::size_t blocks = (count + kBlock - 1) / kBlock;
-  std::vector<double> partial(blocks, 0.0);
-  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
-    double sum = 0.0;
-    const std::size_t end = std::min(count, (block + 1) * kBlock);
-    for (std::size_t i = block * kBlock; i < end; ++i) sum += term(i);
-    partial[block] = sum;
-  });
-  double total = 0.0;
-  for (double value : partial) total += value;
-  return total;
-}
-
-/// Several sums in one pass: terms(i) returns std::array<double, N>; each component is summed exactly as
-/// deterministic_sum would sum it alone.
+/// Sums of terms(i) over [0, count), terms(i) returning std::array<double, N>, identical for any thread count: each
+/// component is summed in fixed blocks of the terms, and the blocks' partial sums in order.
 template <std::size_t N, class Terms>
 std::array<double, N> deterministic_sums(std::size_t count, Terms&& terms) {
-  constexpr std::size_t kBlock = kDeterministicSumBlock;
+  constexpr std::size_t kBlock = 512;  // enough blocks to balance two threads over ~10^4 terms
   const std::size_t blocks = (count + kBlock - 1) / kBlock;
   std::vector<std::array<double, N>> partial(blocks);
   tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
@@ -50,6 +31,12 @@ std::array<double, N> deterministic_sums(std::size_t count, Terms&& terms) {
   for (const auto& value : partial)
     for (std::size_t n = 0; n < N; ++n) total[n] += value[n];
   return total;
+}
+
+/// Sum of term(i) over [0, count), identical for any thread count: fixed blocks summed in order.
+template <class Term>
+double deterministic_sum(std::size_t count, Term&& term) {
+  return deterministic_sums<1>(count, [&](std::size_t i) { return std::array<double, 1>{term(i)}; })[0];
 }
 
 }  // namespace riffle

@@ -59,10 +59,9 @@ void FluidCorrect::run(SystemContext& context) {
     Vec3 gradient_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
     double moment_xx = 0.0, moment_xy = 0.0, moment_xz = 0.0, moment_yy = 0.0, moment_yz = 0.0, moment_zz = 0.0;
     double density = 0.0;
-    const NeighbourRange near = near_neighbours_of(neighbours, i);
     FluidPairBatch batch;
     for_each_near_pair(
-        near, kernel, batch,
+        near_neighbours_of(neighbours, i), kernel, batch,
         [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           if (pair.distance_squared[k] == 0.0) return;

@@ -1,7 +1,5 @@
 #include "systems/fluid_free_surface.hpp"
 
-#include <cmath>
-
 #include "systems/fluid_pair_batch.hpp"
 
 namespace riffle {
@@ -20,10 +18,9 @@ void FluidFreeSurface::run(SystemContext& context) {
     double density = 0.0;
     std::uint32_t* near = neighbours.near_slots.data() + neighbours.offsets[i];
     std::uint32_t near_count = 0;
-    const NeighbourRange candidates = neighbours_of(neighbours, i);
     FluidPairBatch batch;
     for_each_pair_within(
-        candidates.begin(), candidates.end(), radius_squared, kernel, batch,
+        neighbours_of(neighbours, i), radius_squared, kernel, batch,
         [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           density += pair.weight[k];

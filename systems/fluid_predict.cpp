@@ -25,10 +25,9 @@ void FluidPredict::run(SystemContext& context) {
     if (viscous_factor > 0.0 || error_compensation) {
       const Vec3 position = particles.position[i];
       const Vec3 velocity = particles.velocity[i];
-      const NeighbourRange candidates = neighbours_of(neighbours, i);
       FluidPairBatch batch;
       for_each_pair_within(
-          candidates.begin(), candidates.end(), radius_squared, kernel, batch,
+          neighbours_of(neighbours, i), radius_squared, kernel, batch,
           [&](std::uint32_t j) -> Vec3 { return particles.position[j] - position; },
           [&](const FluidPairBatch& pair, std::size_t k) {
             const std::uint32_t j = pair.slot[k];

@@ -105,7 +105,7 @@ TEST_CASE("the batched pair loops see the scalar kernel's values bit for bit, an
     mismatches += pair.weight[k] != kernel.weight(distance);
     mismatches += pair.offset(k) != positions[j] - centre;
   };
-  for_each_pair_within(list.data(), list.data() + list.size(), radius_squared, kernel, batch, offset_of, check);
+  for_each_pair_within(NeighbourRange{list.data(), list.data() + list.size()}, radius_squared, kernel, batch, offset_of, check);
   CHECK(seen == expected);
   CHECK(mismatches == 0);
 
