@@ -104,11 +104,24 @@ void FluidPressureSolve::run(SystemContext& context) {
   const auto preconditioned = [&](std::size_t k) {
     return residual_[k] * inverse_diagonal_[k] + (two_level ? preconditioner_.coarse_correction(k) : 0.0);
   };
+  // (M x)[row] with four partial sums: one chain of dependent additions would hold the product to the add latency.
+  const auto row_product = [&](std::size_t row, const std::vector<double>& x) {
+    double sum0 = diagonal_[row] * x[row], sum1 = 0.0, sum2 = 0.0, sum3 = 0.0;
+    std::size_t k = row_start_[row];
+    const std::size_t end = row_start_[row + 1];
+    for (; k + 4 <= end; k += 4) {
+      sum0 += compact_values_[k] * x[compact_columns_[k]];
+      sum1 += compact_values_[k + 1] * x[compact_columns_[k + 1]];
+      sum2 += compact_values_[k + 2] * x[compact_columns_[k + 2]];
+      sum3 += compact_values_[k + 3] * x[compact_columns_[k + 3]];
+    }
+    for (; k < end; ++k) sum0 += compact_values_[k] * x[compact_columns_[k]];
+    return (sum0 + sum1) + (sum2 + sum3);
+  };
   // y = M x, returning x . y (CG needs the curvature d . M d right after the product).
   const auto multiply_and_dot = [&](const std::vector<double>& x, std::vector<double>& y) {
     return deterministic_sum(unknowns, [&](std::size_t row) {
-      double sum = diagonal_[row] * x[row];
-      for (std::size_t k = row_start_[row]; k < row_start_[row + 1]; ++k) sum += compact_values_[k] * x[compact_columns_[k]];
+      const double sum = row_product(row, x);
       y[row] = sum;
       return x[row] * sum;
     });
@@ -125,9 +138,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   } else {
     // Each pass returns |r|^2 and r . D^-1 r.
     const auto initial = deterministic_sums<2>(unknowns, [&](std::size_t row) {
-      double sum = diagonal_[row] * solution_[row];
-      for (std::size_t k = row_start_[row]; k < row_start_[row + 1]; ++k) sum += compact_values_[k] * solution_[compact_columns_[k]];
-      const double residual = rhs_[row] - sum;
+      const double residual = rhs_[row] - row_product(row, solution_);
       residual_[row] = residual;
       return std::array<double, 2>{residual * residual, residual * residual * inverse_diagonal_[row]};
     });
