@@ -8,13 +8,25 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <utility>
 
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 namespace riffle {
+
+namespace {
+std::atomic<bool> search_simd{true};
+}  // namespace
+
+void set_fluid_search_simd(bool enabled) { search_simd = enabled; }
+bool fluid_search_simd_enabled() { return search_simd; }
 
 namespace {
 
@@ -36,7 +48,8 @@ struct CellGrid {
   std::array<std::int64_t, 3> cells{1, 1, 1};
   std::vector<std::uint32_t> cell_start;  ///< cells + 1
   std::vector<std::uint32_t> members;     ///< finite particles grouped by cell, ascending slot within a cell
-  std::vector<Vec3> member_positions;     ///< positions[members[k]]
+  /// positions[members[k]], one array per axis: the candidate test runs 8 candidates at a time where AVX-512 is there
+  std::array<std::vector<double>, 3> member_coordinates;
 
   std::int64_t axis_cell(double coordinate, int axis) const {
     const double scaled = std::floor((coordinate - origin[axis]) * inverse_cell_size);
@@ -108,13 +121,13 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
     if (cell_of[i] != std::numeric_limits<std::uint32_t>::max()) ++grid.cell_start[cell_of[i] + 1];
   for (std::size_t cell = 0; cell < cell_total; ++cell) grid.cell_start[cell + 1] += grid.cell_start[cell];
   grid.members.resize(grid.cell_start[cell_total]);
-  grid.member_positions.resize(grid.members.size());
+  for (std::vector<double>& axis : grid.member_coordinates) axis.resize(grid.members.size());
   std::vector<std::uint32_t> fill(grid.cell_start.begin(), grid.cell_start.end() - 1);
   for (std::size_t i = 0; i < count; ++i)
     if (cell_of[i] != std::numeric_limits<std::uint32_t>::max()) {
       const std::uint32_t k = fill[cell_of[i]]++;
       grid.members[k] = static_cast<std::uint32_t>(i);
-      grid.member_positions[k] = positions[i];
+      for (int axis = 0; axis < 3; ++axis) grid.member_coordinates[axis][k] = positions[i][axis];
     }
   return grid;
 }
@@ -185,19 +198,28 @@ CandidateRuns candidate_runs(const Vec3& position, const CellGrid& grid, double 
 }
 
 /// Writes every j != i within `radius` of particle i (at `position`) among `runs`, in cell order, to `queries`
-/// (j < query_count) or `others` (each with room for all candidates); returns how many went to each. About half the
-/// candidates are kept, at random to a branch predictor, so each candidate is written to both and the ends advance
-/// by the test's outcome instead of branching on it.
-std::pair<std::size_t, std::size_t> gather_neighbours(const CandidateRuns& runs, const CellGrid& grid, double radius,
-                                                      std::size_t i, const Vec3& position, std::size_t query_count,
-                                                      std::uint32_t* queries, std::uint32_t* others) {
+/// (j < query_count) or `others` (each with room for all candidates plus kGatherSlack); returns how many went to
+/// each. About half the candidates are kept, at random to a branch predictor, so each candidate is written to both
+/// and the ends advance by the test's outcome instead of branching on it. The squared distance is summed as
+/// (dx^2 + dy^2) + dz^2 in both versions (no FMA: this file is compiled with -ffp-contract=off), so the AVX-512 one
+/// keeps exactly the pairs the portable one keeps.
+constexpr std::size_t kGatherSlack = 8;
+
+std::pair<std::size_t, std::size_t> gather_neighbours_portable(const CandidateRuns& runs, const CellGrid& grid,
+                                                               double radius, std::size_t i, const Vec3& position,
+                                                               std::size_t query_count, std::uint32_t* queries,
+                                                               std::uint32_t* others) {
   const double squared_radius = radius * radius;
   const std::uint32_t self = static_cast<std::uint32_t>(i);
+  const double* xs = grid.member_coordinates[0].data();
+  const double* ys = grid.member_coordinates[1].data();
+  const double* zs = grid.member_coordinates[2].data();
   std::size_t query_end = 0, other_end = 0;
   for (std::size_t r = 0; r < runs.count; ++r)
     for (std::size_t k = runs.runs[r].first; k < runs.runs[r].last; ++k) {
       const std::uint32_t j = grid.members[k];
-      const bool near = (grid.member_positions[k] - position).squaredNorm() < squared_radius && j != self;
+      const double dx = xs[k] - position[0], dy = ys[k] - position[1], dz = zs[k] - position[2];
+      const bool near = (dx * dx + dy * dy) + dz * dz < squared_radius && j != self;
       const bool query = j < query_count;
       queries[query_end] = j;
       others[other_end] = j;
@@ -205,6 +227,60 @@ std::pair<std::size_t, std::size_t> gather_neighbours(const CandidateRuns& runs,
       other_end += near & !query;
     }
   return {query_end, other_end};
+}
+
+#if defined(__GNUC__) && defined(__x86_64__)
+#define RIFFLE_SEARCH_AVX512 1
+/// The same test, 8 candidates at a time: masked loads cover a run's tail (runs hold 5-15 candidates), and the kept
+/// slots are compressed into place, 8 written and the end advanced by the count kept.
+__attribute__((target("avx512f,avx512vl,avx512bw,popcnt"))) std::pair<std::size_t, std::size_t>
+gather_neighbours_avx512(const CandidateRuns& runs, const CellGrid& grid, double radius, std::size_t i,
+                         const Vec3& position, std::size_t query_count, std::uint32_t* queries,
+                         std::uint32_t* others) {
+  const __m512d squared_radius = _mm512_set1_pd(radius * radius);
+  const __m512d px = _mm512_set1_pd(position[0]), py = _mm512_set1_pd(position[1]), pz = _mm512_set1_pd(position[2]);
+  const __m256i self = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(i)));
+  const __m256i query_limit = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(
+      std::min<std::size_t>(query_count, std::numeric_limits<std::uint32_t>::max()))));
+  const double* xs = grid.member_coordinates[0].data();
+  const double* ys = grid.member_coordinates[1].data();
+  const double* zs = grid.member_coordinates[2].data();
+  const std::uint32_t* members = grid.members.data();
+  std::size_t query_end = 0, other_end = 0;
+  for (std::size_t r = 0; r < runs.count; ++r)
+    for (std::size_t k = runs.runs[r].first; k < runs.runs[r].last; k += 8) {
+      const std::size_t left = runs.runs[r].last - k;
+      const __mmask8 lanes = left >= 8 ? __mmask8(0xFF) : static_cast<__mmask8>((1u << left) - 1u);
+      const __m256i j = _mm256_maskz_loadu_epi32(lanes, members + k);
+      const __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, xs + k), px);
+      const __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, ys + k), py);
+      const __m512d dz = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, zs + k), pz);
+      const __m512d squared =
+          _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)), _mm512_mul_pd(dz, dz));
+      const __mmask8 near = _mm512_mask_cmp_pd_mask(lanes, squared, squared_radius, _CMP_LT_OQ) &
+                            _mm256_cmpneq_epu32_mask(j, self);
+      const __mmask8 query = _mm256_cmplt_epu32_mask(j, query_limit);
+      const __mmask8 near_query = near & query, near_other = near & static_cast<__mmask8>(~query);
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(queries + query_end), _mm256_maskz_compress_epi32(near_query, j));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(others + other_end), _mm256_maskz_compress_epi32(near_other, j));
+      query_end += static_cast<std::size_t>(__builtin_popcount(near_query));
+      other_end += static_cast<std::size_t>(__builtin_popcount(near_other));
+    }
+  return {query_end, other_end};
+}
+#endif
+
+using GatherNeighbours = std::pair<std::size_t, std::size_t> (*)(const CandidateRuns&, const CellGrid&, double,
+                                                                 std::size_t, const Vec3&, std::size_t,
+                                                                 std::uint32_t*, std::uint32_t*);
+
+GatherNeighbours pick_gather_neighbours() {
+#ifdef RIFFLE_SEARCH_AVX512
+  if (fluid_search_simd_enabled() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+      __builtin_cpu_supports("avx512bw"))
+    return gather_neighbours_avx512;
+#endif
+  return gather_neighbours_portable;
 }
 
 /// Sorts a short list that is nearly ascending already (the particles are kept in cell order, see FluidCellSort):
@@ -237,6 +313,7 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
   // (slots below `count`) and the rest are gathered apart: each part comes out of the scan nearly ascending when
   // the particles are in cell order, and all queries precede the rest.
   const std::size_t chunks = (count + kGrain - 1) / kGrain;
+  const GatherNeighbours gather_neighbours = pick_gather_neighbours();
   std::vector<std::vector<std::uint32_t>> chunk_lists(chunks);
   neighbours.offsets.assign(count + 1, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
@@ -247,8 +324,9 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
     std::size_t list_end = 0;
     for (std::size_t i = chunk * kGrain; i < last; ++i) {
       const CandidateRuns runs = candidate_runs(positions[i], grid, radius);
-      if (list.size() < list_end + runs.candidates) list.resize(2 * (list_end + runs.candidates));
-      if (others.size() < runs.candidates) others.resize(runs.candidates);
+      const std::size_t room = runs.candidates + kGatherSlack;
+      if (list.size() < list_end + room) list.resize(2 * (list_end + room));
+      if (others.size() < room) others.resize(room);
       std::uint32_t* first = list.data() + list_end;
       const auto [query_neighbours, other_neighbours] =
           gather_neighbours(runs, grid, radius, i, positions[i], count, first, others.data());

@@ -30,6 +30,11 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
                             std::size_t query_count = static_cast<std::size_t>(-1),
                             const Vec3& grid_anchor = Vec3::Zero(), double cell_radius = 0.0);
 
+/// Whether build_fluid_neighbours may test 8 candidates at a time with AVX-512 where the CPU has it (the default).
+/// Both tests keep exactly the same pairs; the switch exists so that a test can compare them.
+void set_fluid_search_simd(bool enabled);
+bool fluid_search_simd_enabled();
+
 /// Verlet lists of the fluid particles (queries) among all MPS particles, built with radius r_e + skin and rebuilt
 /// only when some particle (walls included: they move with the tank) has moved more than skin / 2 since the build.
 /// The operators cut at r_e and the lists are ascending, so when a rebuild happens, and with which skin, changes
