@@ -22,11 +22,22 @@
 namespace riffle {
 
 namespace {
-std::atomic<bool> search_simd{true};
+std::atomic<FluidSearchSimd> search_simd_cap{FluidSearchSimd::kAvx512};
 }  // namespace
 
-void set_fluid_search_simd(bool enabled) { search_simd = enabled; }
-bool fluid_search_simd_enabled() { return search_simd; }
+void set_fluid_search_simd_cap(FluidSearchSimd cap) { search_simd_cap = cap; }
+
+FluidSearchSimd fluid_search_simd() {
+  const FluidSearchSimd cap = search_simd_cap;
+#if defined(__GNUC__) && defined(__x86_64__)
+  if (cap >= FluidSearchSimd::kAvx512 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+      __builtin_cpu_supports("avx512bw"))
+    return FluidSearchSimd::kAvx512;
+  if (cap >= FluidSearchSimd::kAvx2 && __builtin_cpu_supports("avx2")) return FluidSearchSimd::kAvx2;
+#endif
+  (void)cap;
+  return FluidSearchSimd::kPortable;
+}
 
 namespace {
 
@@ -230,7 +241,7 @@ std::pair<std::size_t, std::size_t> gather_neighbours_portable(const CandidateRu
 }
 
 #if defined(__GNUC__) && defined(__x86_64__)
-#define RIFFLE_SEARCH_AVX512 1
+#define RIFFLE_SEARCH_SIMD 1
 /// The same test, 8 candidates at a time: masked loads cover a run's tail (runs hold 5-15 candidates), and the kept
 /// slots are compressed into place, 8 written and the end advanced by the count kept.
 __attribute__((target("avx512f,avx512vl,avx512bw,popcnt"))) std::pair<std::size_t, std::size_t>
@@ -268,6 +279,70 @@ gather_neighbours_avx512(const CandidateRuns& runs, const CellGrid& grid, double
     }
   return {query_end, other_end};
 }
+
+/// The same test, 4 candidates at a time, for CPUs without AVX-512: the kept slots are compressed by a byte shuffle
+/// from a table indexed by the 4-bit mask.
+struct CompressTable {
+  std::array<std::array<std::uint8_t, 16>, 16> shuffles{};
+  constexpr CompressTable() {
+    for (std::size_t mask = 0; mask < 16; ++mask) {
+      std::size_t out = 0;
+      for (std::size_t lane = 0; lane < 4; ++lane)
+        if (mask & (std::size_t{1} << lane)) {
+          for (std::size_t byte = 0; byte < 4; ++byte) shuffles[mask][4 * out + byte] = static_cast<std::uint8_t>(4 * lane + byte);
+          ++out;
+        }
+      for (std::size_t byte = 4 * out; byte < 16; ++byte) shuffles[mask][byte] = 0x80;  // zero the rest
+    }
+  }
+};
+constexpr CompressTable kCompress4;
+
+__attribute__((target("avx2,popcnt"))) std::pair<std::size_t, std::size_t> gather_neighbours_avx2(
+    const CandidateRuns& runs, const CellGrid& grid, double radius, std::size_t i, const Vec3& position,
+    std::size_t query_count, std::uint32_t* queries, std::uint32_t* others) {
+  const __m256d squared_radius = _mm256_set1_pd(radius * radius);
+  const __m256d px = _mm256_set1_pd(position[0]), py = _mm256_set1_pd(position[1]), pz = _mm256_set1_pd(position[2]);
+  const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
+  const __m128i self = _mm_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(i)));
+  // Unsigned j < query_count as a signed comparison of both with the sign bit flipped.
+  const __m128i query_limit = _mm_xor_si128(
+      _mm_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(
+          std::min<std::size_t>(query_count, std::numeric_limits<std::uint32_t>::max())))),
+      sign);
+  const __m128i lane_index = _mm_setr_epi32(0, 1, 2, 3);
+  const double* xs = grid.member_coordinates[0].data();
+  const double* ys = grid.member_coordinates[1].data();
+  const double* zs = grid.member_coordinates[2].data();
+  const std::uint32_t* members = grid.members.data();
+  std::size_t query_end = 0, other_end = 0;
+  for (std::size_t r = 0; r < runs.count; ++r)
+    for (std::size_t k = runs.runs[r].first; k < runs.runs[r].last; k += 4) {
+      const std::size_t left = std::min<std::size_t>(runs.runs[r].last - k, 4);
+      const __m128i lanes = _mm_cmplt_epi32(lane_index, _mm_set1_epi32(static_cast<int>(left)));
+      const __m256i wide_lanes = _mm256_cvtepi32_epi64(lanes);
+      const __m128i j = _mm_maskload_epi32(reinterpret_cast<const int*>(members + k), lanes);
+      const __m256d dx = _mm256_sub_pd(_mm256_maskload_pd(xs + k, wide_lanes), px);
+      const __m256d dy = _mm256_sub_pd(_mm256_maskload_pd(ys + k, wide_lanes), py);
+      const __m256d dz = _mm256_sub_pd(_mm256_maskload_pd(zs + k, wide_lanes), pz);
+      const __m256d squared =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+      const int within = _mm256_movemask_pd(_mm256_cmp_pd(squared, squared_radius, _CMP_LT_OQ));
+      const int is_self = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(j, self)));
+      const int query = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmplt_epi32(_mm_xor_si128(j, sign), query_limit)));
+      const int near = within & ~is_self & ((1 << left) - 1);
+      const int near_query = near & query, near_other = near & ~query;
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(queries + query_end),
+                       _mm_shuffle_epi8(j, _mm_loadu_si128(reinterpret_cast<const __m128i*>(
+                                               kCompress4.shuffles[static_cast<std::size_t>(near_query)].data()))));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(others + other_end),
+                       _mm_shuffle_epi8(j, _mm_loadu_si128(reinterpret_cast<const __m128i*>(
+                                               kCompress4.shuffles[static_cast<std::size_t>(near_other)].data()))));
+      query_end += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(near_query)));
+      other_end += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(near_other)));
+    }
+  return {query_end, other_end};
+}
 #endif
 
 using GatherNeighbours = std::pair<std::size_t, std::size_t> (*)(const CandidateRuns&, const CellGrid&, double,
@@ -275,12 +350,13 @@ using GatherNeighbours = std::pair<std::size_t, std::size_t> (*)(const Candidate
                                                                  std::uint32_t*, std::uint32_t*);
 
 GatherNeighbours pick_gather_neighbours() {
-#ifdef RIFFLE_SEARCH_AVX512
-  if (fluid_search_simd_enabled() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
-      __builtin_cpu_supports("avx512bw"))
-    return gather_neighbours_avx512;
+  switch (fluid_search_simd()) {
+#ifdef RIFFLE_SEARCH_SIMD
+    case FluidSearchSimd::kAvx512: return gather_neighbours_avx512;
+    case FluidSearchSimd::kAvx2: return gather_neighbours_avx2;
 #endif
-  return gather_neighbours_portable;
+    default: return gather_neighbours_portable;
+  }
 }
 
 /// Sorts a short list that is nearly ascending already (the particles are kept in cell order, see FluidCellSort):

@@ -30,10 +30,12 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
                             std::size_t query_count = static_cast<std::size_t>(-1),
                             const Vec3& grid_anchor = Vec3::Zero(), double cell_radius = 0.0);
 
-/// Whether build_fluid_neighbours may test 8 candidates at a time with AVX-512 where the CPU has it (the default).
-/// Both tests keep exactly the same pairs; the switch exists so that a test can compare them.
-void set_fluid_search_simd(bool enabled);
-bool fluid_search_simd_enabled();
+/// The candidate test of build_fluid_neighbours: the portable one, or 4 (AVX2) or 8 (AVX-512) candidates at a time
+/// where the CPU has them. All keep exactly the same pairs; the cap (default: the widest) lets a test compare them.
+enum class FluidSearchSimd { kPortable, kAvx2, kAvx512 };
+void set_fluid_search_simd_cap(FluidSearchSimd cap);
+/// The test the next build takes: the widest the CPU has, up to the cap.
+FluidSearchSimd fluid_search_simd();
 
 /// Verlet lists of the fluid particles (queries) among all MPS particles, built with radius r_e + skin and rebuilt
 /// only when some particle (walls included: they move with the tank) has moved more than skin / 2 since the build.
