@@ -40,6 +40,18 @@ class CellGrid {
     for (std::size_t k = 0; k < count; ++k) members_[fill[cell_of_[k]]++] = static_cast<std::uint32_t>(first + k);
   }
 
+  /// Calls visit(first, last) for each row of cells (fixed y, z) that the box of `radius` around `centre` reaches:
+  /// [first, last) are the members of the row's cells in that box, in the order for_each_within visits them.
+  template <class Visit>
+  void for_each_candidate_run(const Vec3& centre, double radius, Visit&& visit) const {
+    if (members_.empty()) return;
+    const std::array<std::int64_t, 3> from = cell(centre - Vec3::Constant(radius));
+    const std::array<std::int64_t, 3> to = cell(centre + Vec3::Constant(radius));
+    for (std::int64_t z = from[2]; z <= to[2]; ++z)
+      for (std::int64_t y = from[1]; y <= to[1]; ++y)
+        visit(members_.data() + start_[linear({from[0], y, z})], members_.data() + start_[linear({to[0], y, z}) + 1]);
+  }
+
   /// Calls visit(index) for every grid point within `radius` of `centre` (radius <= cell size not required).
   template <class Visit>
   void for_each_within(const std::vector<Vec3>& points, const Vec3& centre, double radius, Visit&& visit) const {

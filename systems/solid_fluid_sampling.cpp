@@ -1,5 +1,7 @@
 #include "systems/solid_fluid_sampling.hpp"
 
+#include "systems/fluid_pair_batch.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -39,14 +41,36 @@ void SolidFluidSampling::run(SystemContext& context) {
   for_each_particle(solids.size(), [&](std::size_t grain) {
     const Vec3 centre = solids.position[grain];
     const WendlandKernel sampling_kernel(solids.radius[grain] + effective_radius);
+    const double radius_squared = sampling_kernel.effective_radius * sampling_kernel.effective_radius;
     double weight_sum = 0.0;
     Vec3 velocity = Vec3::Zero(), gradient = Vec3::Zero();
-    fluid_grid_.for_each_within(fluid.position, centre, sampling_kernel.effective_radius, [&](std::uint32_t j) {
-      const double weight = sampling_kernel.weight((fluid.position[j] - centre).norm());
-      weight_sum += weight;
-      velocity += weight * fluid.velocity[j];
-      gradient += weight * fluid.pressure_gradient[j];
-    });
+    // The fluid particles within the sampling radius, in grid order, a batch at a time: each candidate is written
+    // and kept by advancing the end (about half are kept, at random to a branch predictor), the distances and
+    // weights of a batch are evaluated in one vectorised pass (the same operations as WendlandKernel::weight of the
+    // norm), and the sums run in the same order as one candidate at a time.
+    FluidPairBatch batch;
+    batch.count = 0;
+    const auto flush = [&] {
+      evaluate_pair_geometry(batch, sampling_kernel);
+      for (std::size_t k = 0; k < batch.count; ++k) {
+        const double weight = batch.weight[k];
+        weight_sum += weight;
+        velocity += weight * fluid.velocity[batch.slot[k]];
+        gradient += weight * fluid.pressure_gradient[batch.slot[k]];
+      }
+      batch.count = 0;
+    };
+    fluid_grid_.for_each_candidate_run(centre, sampling_kernel.effective_radius,
+                                       [&](const std::uint32_t* first, const std::uint32_t* last) {
+                                         for (const std::uint32_t* member = first; member < last; ++member) {
+                                           const std::size_t k = batch.count;
+                                           batch.slot[k] = *member;
+                                           batch.distance_squared[k] = (fluid.position[*member] - centre).squaredNorm();
+                                           batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
+                                           if (batch.count == kPairBatch) flush();
+                                         }
+                                       });
+    if (batch.count > 0) flush();
     solids.fluid_weight[grain] = weight_sum;
     if (weight_sum <= 0.0) {  // out of the water: no fluid forces
       solids.fluid_velocity[grain] = Vec3::Zero();
