@@ -59,7 +59,7 @@ struct CellGrid {
   std::array<std::int64_t, 3> cells{1, 1, 1};
   std::vector<std::uint32_t> cell_start;  ///< cells + 1
   std::vector<std::uint32_t> members;     ///< finite particles grouped by cell, ascending slot within a cell
-  /// positions[members[k]], one array per axis: the candidate test runs 8 candidates at a time where AVX-512 is there
+  /// positions[members[k]], one array per axis: the candidate test loads 4 or 8 at a time where AVX2 or AVX-512 is there
   std::array<std::vector<double>, 3> member_coordinates;
 
   std::int64_t axis_cell(double coordinate, int axis) const {
@@ -209,11 +209,11 @@ CandidateRuns candidate_runs(const Vec3& position, const CellGrid& grid, double 
 }
 
 /// Writes every j != i within `radius` of particle i (at `position`) among `runs`, in cell order, to `queries`
-/// (j < query_count) or `others` (each with room for all candidates plus kGatherSlack); returns how many went to
-/// each. About half the candidates are kept, at random to a branch predictor, so each candidate is written to both
-/// and the ends advance by the test's outcome instead of branching on it. The squared distance is summed as
-/// (dx^2 + dy^2) + dz^2 in both versions (no FMA: this file is compiled with -ffp-contract=off), so the AVX-512 one
-/// keeps exactly the pairs the portable one keeps.
+/// (j < query_count, which build_fluid_neighbours keeps below 2^32) or `others` (each with room for all candidates
+/// plus kGatherSlack); returns how many went to each. About half the candidates are kept, at random to a branch
+/// predictor, so each candidate is written to both and the ends advance by the test's outcome instead of branching. The squared distance is summed as
+/// (dx^2 + dy^2) + dz^2 in every version (no FMA: this file is compiled with -ffp-contract=off), so the AVX2 and
+/// AVX-512 ones keep exactly the pairs the portable one keeps.
 constexpr std::size_t kGatherSlack = 8;
 
 std::pair<std::size_t, std::size_t> gather_neighbours_portable(const CandidateRuns& runs, const CellGrid& grid,
@@ -251,8 +251,7 @@ gather_neighbours_avx512(const CandidateRuns& runs, const CellGrid& grid, double
   const __m512d squared_radius = _mm512_set1_pd(radius * radius);
   const __m512d px = _mm512_set1_pd(position[0]), py = _mm512_set1_pd(position[1]), pz = _mm512_set1_pd(position[2]);
   const __m256i self = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(i)));
-  const __m256i query_limit = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(
-      std::min<std::size_t>(query_count, std::numeric_limits<std::uint32_t>::max()))));
+  const __m256i query_limit = _mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(query_count)));
   const double* xs = grid.member_coordinates[0].data();
   const double* ys = grid.member_coordinates[1].data();
   const double* zs = grid.member_coordinates[2].data();
@@ -306,10 +305,7 @@ __attribute__((target("avx2,popcnt"))) std::pair<std::size_t, std::size_t> gathe
   const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
   const __m128i self = _mm_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(i)));
   // Unsigned j < query_count as a signed comparison of both with the sign bit flipped.
-  const __m128i query_limit = _mm_xor_si128(
-      _mm_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(
-          std::min<std::size_t>(query_count, std::numeric_limits<std::uint32_t>::max())))),
-      sign);
+  const __m128i query_limit = _mm_xor_si128(_mm_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(query_count))), sign);
   const __m128i lane_index = _mm_setr_epi32(0, 1, 2, 3);
   const double* xs = grid.member_coordinates[0].data();
   const double* ys = grid.member_coordinates[1].data();
