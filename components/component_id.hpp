@@ -16,12 +16,13 @@ enum class ComponentId : std::uint8_t {
   kFluid,        ///< MPS fluid, wall and dummy particles (components/fluid.hpp)
   kFluidNeighbours, ///< MPS neighbour lists within r_e, rebuilt every step (components/fluid.hpp)
   kFluidSummary,    ///< per-step reductions over the fluid and the PPE solver report (components/fluid.hpp)
+  kFluidSample,     ///< the water at the step start as the grains sample it, a copy (components/fluid.hpp)
   kCount
 };
 
 inline constexpr std::array<std::string_view, static_cast<std::size_t>(ComponentId::kCount)> kComponentNames = {
     "solids", "walls", "tank_motion", "step_status", "solid_summary", "contacts", "fluid",
-    "fluid_neighbours", "fluid_summary"};
+    "fluid_neighbours", "fluid_summary", "fluid_sample"};
 
 constexpr std::string_view component_name(ComponentId id) { return kComponentNames[static_cast<std::size_t>(id)]; }
 

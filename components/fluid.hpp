@@ -111,6 +111,20 @@ struct FluidSummary {
   }
 };
 
+/// The water at the start of the engine step as the grains sample it (docs/COUPLING.md): the fluid particles'
+/// positions, velocities and pressure gradients, copied before the step's two branches start, so that the grains'
+/// branch samples them while the fluid's branch advances `FluidParticles` beside it. Slots [0, F) of the fluid
+/// particles at the copy; never persistent (copied again from `fluid` at every step).
+struct FluidSample {
+  static constexpr ComponentId kId = ComponentId::kFluidSample;
+
+  std::vector<Vec3> position;           ///< [m]
+  std::vector<Vec3> velocity;           ///< [m/s]
+  std::vector<Vec3> pressure_gradient;  ///< [Pa/m] the GC gradient of the last solve (without DS)
+
+  std::size_t size() const { return position.size(); }
+};
+
 /// Neighbours of the fluid particles (slots [0, F)) among all MPS particles within `radius` (self excluded), CSR by
 /// particle slot, each list ascending.
 struct FluidNeighbours {

@@ -121,6 +121,7 @@ World initial_world(const Model& model) {
     world.fluid = initial_fluid(model, *world.tank_motion);
     world.fluid_neighbours.emplace();  // built by the first fluid step
     world.fluid_summary.emplace();
+    if (model.coupling.enabled) world.fluid_sample.emplace();  // copied from `fluid` before every step
     world.fluid_summary->fluid_count = static_cast<std::size_t>(
         std::count(world.fluid->kind.begin(), world.fluid->kind.end(), static_cast<std::int32_t>(FluidKind::kFluid)));
   }

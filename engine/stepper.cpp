@@ -12,11 +12,15 @@ namespace riffle {
 Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
     : world_(world),
       model_(model),
+      step_start_("step_start", std::move(pipeline.step_start), world, model),
       step_("step", std::move(pipeline.step), world, model),
+      solid_step_("solid_step", std::move(pipeline.solid_step), world, model),
       substep_("substep", std::move(pipeline.substep), world, model),
       end_of_step_("end_of_step", std::move(pipeline.end_of_step), world, model),
       initial_forces_("initial_forces", std::move(pipeline.initial_forces), world, model) {
-  const std::vector<ComponentId> fluid_side = step_.components(), solid_side = substep_.components();
+  const std::vector<ComponentId> fluid_side = step_.components();
+  std::vector<ComponentId> solid_side = substep_.components();
+  for (const ComponentId component : solid_step_.components()) solid_side.push_back(component);
   concurrent_ = !step_.empty() && !substep_.empty() &&
                 std::none_of(fluid_side.begin(), fluid_side.end(), [&](ComponentId component) {
                   return std::find(solid_side.begin(), solid_side.end(), component) != solid_side.end();
@@ -48,6 +52,7 @@ void Stepper::step() {
     }
   }
   world_.last_dt = dt;
+  step_start_.run(start, dt);
   // Sub-steps no longer than the scene's solid_dt(); exactly solid_substeps of them at the full step.
   const std::int64_t substeps =
       dt == model_.dt ? model_.solid_substeps
@@ -62,6 +67,7 @@ void Stepper::step() {
   // sees exactly the same times as an uninterrupted one.
   const auto run_substeps = [&] {
     const auto begin = Clock::now();
+    solid_step_.run(start, dt);
     for (std::int64_t sub = 0; sub < substeps; ++sub) substep_.run(start + static_cast<double>(sub) * solid_dt, solid_dt);
     substep_branch_.add(seconds_since(begin), static_cast<std::uint64_t>(substeps));
   };
@@ -88,7 +94,7 @@ void Stepper::step() {
 
 std::vector<SystemTimer> Stepper::timers() const {
   std::vector<SystemTimer> all;
-  for (const Scheduler* graph : {&step_, &substep_, &end_of_step_})
+  for (const Scheduler* graph : {&step_start_, &step_, &solid_step_, &substep_, &end_of_step_})
     all.insert(all.end(), graph->timers().begin(), graph->timers().end());
   return all;
 }

@@ -1,9 +1,11 @@
 #pragma once
-// The stepper advances the World by one engine step: the step-phase graph (the fluid) and solid_substeps runs of
-// the sub-step graph (DEM), then the end-of-step graph (checks, reductions, coupling, reordering). Each graph is
-// built once. When the step graph and the sub-step graph touch no common component (the coupled scenes exchange
-// their fields in the end-of-step graph), the two branches run side by side: on two cores the grains' many short
-// sub-step loops fill the gaps the fluid's serial parts leave, and the reverse.
+// The stepper advances the World by one engine step: the step-start graph (copies one branch reads while the other
+// writes), then two branches: the step-phase graph (the fluid), and the solid-step graph followed by solid_substeps
+// runs of the sub-step graph (DEM); then the end-of-step graph (checks, reductions, coupling, reordering). Each
+// graph is built once. When the fluid's branch and the grains' branch touch no common component (the coupled
+// scenes exchange their fields through the step-start copy and the end-of-step graph), the two branches run side
+// by side: on two cores the grains' many short sub-step loops fill the gaps the fluid's serial parts leave, and
+// the reverse.
 #include <memory>
 #include <vector>
 
@@ -25,25 +27,30 @@ class Stepper {
 
   /// Timers of every system, step phase first.
   std::vector<SystemTimer> timers() const;
-  /// Wall time of each branch of the step (phase "branch"): the step graph, the sub-steps, the end-of-step graph.
-  /// With concurrent branches the first two overlap, so they add up to more than the stepping time.
+  /// Wall time of each branch of the step (phase "branch"): the step graph, the grains' branch (solid step and
+  /// sub-steps), the end-of-step graph. With concurrent branches the first two overlap, so they add up to more
+  /// than the stepping time.
   std::vector<SystemTimer> branch_timers() const { return {step_branch_, substep_branch_, end_of_step_branch_}; }
   /// True if the step graph runs beside the sub-steps.
   bool concurrent_branches() const { return concurrent_; }
   const Scheduler& step_graph() const { return step_; }
+  const Scheduler& step_start_graph() const { return step_start_; }
+  const Scheduler& solid_step_graph() const { return solid_step_; }
   const Scheduler& substep_graph() const { return substep_; }
   const Scheduler& end_of_step_graph() const { return end_of_step_; }
 
  private:
   World& world_;
   const Model& model_;
+  Scheduler step_start_;
   Scheduler step_;
+  Scheduler solid_step_;
   Scheduler substep_;
   Scheduler end_of_step_;
   Scheduler initial_forces_;
   bool concurrent_ = false;
   SystemTimer step_branch_{"fluid step graph", "branch"};
-  SystemTimer substep_branch_{"solid sub-steps", "branch"};
+  SystemTimer substep_branch_{"solid branch", "branch"};
   SystemTimer end_of_step_branch_{"end-of-step graph", "branch"};
 };
 

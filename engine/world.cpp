@@ -12,6 +12,7 @@ bool World::has(ComponentId id) const {
     case ComponentId::kFluid: return fluid.has_value();
     case ComponentId::kFluidNeighbours: return fluid_neighbours.has_value();
     case ComponentId::kFluidSummary: return fluid_summary.has_value();
+    case ComponentId::kFluidSample: return fluid_sample.has_value();
     case ComponentId::kStepStatus: return true;
     case ComponentId::kCount: break;
   }

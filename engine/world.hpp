@@ -30,6 +30,7 @@ class World {
   std::optional<FluidParticles> fluid;             ///< MPS fluid, wall and dummy particles
   std::optional<FluidSummary> fluid_summary;
   std::optional<FluidNeighbours> fluid_neighbours;  ///< rebuilt from `fluid`, never persistent
+  std::optional<FluidSample> fluid_sample;          ///< coupled scenes: copied from `fluid` every step, never persistent
   StepStatus step_status;  ///< always present: every run can fail
 
   /// The component of type C, or nullptr if the scene does not use it.
@@ -43,6 +44,7 @@ class World {
     else if constexpr (std::is_same_v<C, FluidParticles>) return fluid ? &*fluid : nullptr;
     else if constexpr (std::is_same_v<C, FluidSummary>) return fluid_summary ? &*fluid_summary : nullptr;
     else if constexpr (std::is_same_v<C, FluidNeighbours>) return fluid_neighbours ? &*fluid_neighbours : nullptr;
+    else if constexpr (std::is_same_v<C, FluidSample>) return fluid_sample ? &*fluid_sample : nullptr;
     else if constexpr (std::is_same_v<C, StepStatus>) return &step_status;
     else static_assert(sizeof(C) == 0, "unknown component type");
   }

@@ -7,6 +7,7 @@
 #include "systems/solid_drag.hpp"
 #include "systems/solid_fluid_sampling.hpp"
 #include "systems/fluid_free_surface.hpp"
+#include "systems/fluid_sample_copy.hpp"
 #include "systems/fluid_neighbours.hpp"
 #include "systems/fluid_predict.hpp"
 #include "systems/fluid_pressure.hpp"
@@ -15,6 +16,7 @@
 #include "systems/solid_checks.hpp"
 #include "systems/solid_contacts.hpp"
 #include "systems/solid_neighbours.hpp"
+#include "systems/solid_voidage.hpp"
 #include "systems/solid_integrate.hpp"
 #include "systems/wall_motion.hpp"
 
@@ -43,10 +45,13 @@ Pipeline build_pipeline(const Model& model) {
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
     pipeline.end_of_step.push_back(std::make_unique<FluidChecks>(fluid));
     if (model.coupling.enabled) {
-      // Staggered by one fluid step (docs/COUPLING.md): the grains' sub-steps of step k+1 use the water sampled at
-      // the end of step k, so the fluid's step graph and the grains' sub-steps share no component and the stepper
-      // runs them side by side.
-      pipeline.end_of_step.push_back(std::make_unique<SolidFluidSampling>(model));
+      // Staggered by one fluid step (docs/COUPLING.md): the grains' sub-steps of step k+1 use the water at the end
+      // of step k. The grains sample a copy of it, first in their own branch, so the fluid's step graph and the
+      // grains' branch share no component and the stepper runs them side by side; the voidage, which the drag
+      // reaction needs, is read at the end of the step.
+      pipeline.step_start.push_back(std::make_unique<FluidSampleCopy>());
+      pipeline.solid_step.push_back(std::make_unique<SolidFluidSampling>(model));
+      pipeline.end_of_step.push_back(std::make_unique<SolidVoidage>(model));
       pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model));
     }
   }
@@ -66,7 +71,11 @@ Pipeline build_pipeline(const Model& model) {
       if (coupled && model.coupling.drag && phase == &pipeline.substep) phase->push_back(std::make_unique<SolidDrag>(model));
       // A new run's first sub-steps use the water as laid out (hydrostatic, engine/initial_state.cpp): buoyancy
       // from the first sub-step on.
-      if (coupled && phase == &pipeline.initial_forces) phase->push_back(std::make_unique<SolidFluidSampling>(model));
+      if (coupled && phase == &pipeline.initial_forces) {
+        phase->push_back(std::make_unique<FluidSampleCopy>());
+        phase->push_back(std::make_unique<SolidVoidage>(model));
+        phase->push_back(std::make_unique<SolidFluidSampling>(model));
+      }
       phase->push_back(std::make_unique<SolidForceSum>());
     }
   }

@@ -1,14 +1,12 @@
 #pragma once
-// Samples the fluid at every grain once per fluid step, after the pressure correction (numerics.md 5.2-5.4, 5.6
-// step 7): the locally averaged fluid velocity (seed Eq. 23) and pressure gradient (Shepard averages with the
-// Wendland kernel on R_I = d_I/2 + r_e), the pressure force -V <grad p> (Eq. 13), and the voidage: solid volume
-// over the space the fluid particles fill, both deposited on a grid of cells 0.67 R_eps wide (systems/voidage_grid.hpp;
-// the fluid particles are the space quadrature, so walls and the free surface truncate both alike). The sub-steps
-// then hold these fixed (solid_drag).
+// Samples the water at every grain once per fluid step (numerics.md 5.2-5.4, 5.6 step 7): the locally averaged
+// fluid velocity (seed Eq. 23) and pressure gradient (Shepard averages with the Wendland kernel on
+// R_I = d_I/2 + r_e) and the pressure force -V <grad p> (Eq. 13). It reads the water of the step start from
+// FluidSample and runs first in the grains' branch (phase solid_step, docs/COUPLING.md), beside the fluid's step
+// graph; the sub-steps then hold these fixed (solid_drag). The voidage is solid_voidage's.
 #include "engine/system.hpp"
 #include "systems/cell_grid.hpp"
 #include "systems/fluid_common.hpp"
-#include "systems/voidage_grid.hpp"
 
 namespace riffle {
 
@@ -16,17 +14,13 @@ class SolidFluidSampling final : public System {
  public:
   explicit SolidFluidSampling(const Model& model);
   std::string_view name() const override { return "solid_fluid_sampling"; }
-  Access access() const override { return {{ComponentId::kFluid}, {ComponentId::kSolids}}; }
+  Access access() const override { return {{ComponentId::kFluidSample}, {ComponentId::kSolids}}; }
   void run(SystemContext& context) override;
 
  private:
   MpsConstants constants_;
-  CouplingModel coupling_;
-  double voidage_radius_;  ///< [m] R_eps
-  double spacing_;         ///< [m] l0
+  bool pressure_gradient_;  ///< the grains feel -V <grad p> (CouplingModel::pressure_gradient)
   CellGrid fluid_grid_;
-  VoidageGrid voidage_grid_;
-  std::vector<double> grain_volumes_;
 };
 
 }  // namespace riffle

@@ -106,7 +106,8 @@ TEST_CASE("a scene without solids schedules no solid system") {
 }
 
 TEST_CASE("a coupled scene's fluid step graph and grain sub-steps share no component and run side by side") {
-  // docs/COUPLING.md: the coupling is staggered by one fluid step, so the exchange happens in the end-of-step graph.
+  // docs/COUPLING.md: the coupling is staggered by one fluid step, so the exchange happens through the step-start
+  // copy and the end-of-step graph.
   const Model model = parse_scene(R"(
 [run]
 end_time = 0.01
@@ -134,16 +135,22 @@ high = [0.05, 0.05, 0.03]
   World world = initial_world(model);
   Stepper stepper(build_pipeline(model), world, model);
   CHECK(stepper.concurrent_branches());
-  for (const ComponentId component : stepper.step_graph().components()) {
-    const std::vector<ComponentId> solid_side = stepper.substep_graph().components();
+  // The grains' branch (its once-a-step graph, then the sub-steps) touches nothing the fluid's step graph touches.
+  std::vector<ComponentId> solid_side = stepper.substep_graph().components();
+  for (const ComponentId component : stepper.solid_step_graph().components()) solid_side.push_back(component);
+  for (const ComponentId component : stepper.step_graph().components())
     CHECK(std::find(solid_side.begin(), solid_side.end(), component) == solid_side.end());
-  }
+  // The grains sample a copy of the water taken before the branches start, first thing in their branch.
+  REQUIRE(stepper.step_start_graph().size() == 1);
+  CHECK(stepper.step_start_graph().system(0).name() == "fluid_sample_copy");
+  REQUIRE(stepper.solid_step_graph().size() == 1);
+  CHECK(stepper.solid_step_graph().system(0).name() == "solid_fluid_sampling");
   std::vector<std::string> end_edges = stepper.end_of_step_graph().edge_names();
   const auto has = [&](const std::string& edge) {
     return std::find(end_edges.begin(), end_edges.end(), edge) != end_edges.end();
   };
-  // The grains sample the water, then hand their drag impulse back (both read and write the grains).
-  CHECK(has("solid_fluid_sampling -> fluid_drag_reaction"));
+  // The voidage at the grains' new positions comes first, then the drag impulse goes back divided by it.
+  CHECK(has("solid_voidage -> fluid_drag_reaction"));
   // The step graph opens with the neighbour search; the cell sort runs right before the search at r*.
   CHECK(stepper.step_graph().system(0).name() == "fluid_neighbours");
   CHECK(stepper.step_graph().system(3).name() == "fluid_cell_sort");
