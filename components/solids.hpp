@@ -29,8 +29,8 @@ struct Solids {
   std::vector<Vec3> drag_force;        ///< [N] drag of the fluid on the grain, recomputed every sub-step (solid_drag)
   std::vector<Vec3> drag_impulse;      ///< [N s] drag integrated over the sub-steps since the fluid last took it back
   std::vector<Vec3> pressure_force;    ///< [N] -V <grad p>, held over the fluid step (solid_fluid_sampling)
-  std::vector<Vec3> fluid_velocity;    ///< [m/s] locally averaged fluid velocity (seed Eq. 23)
-  std::vector<double> voidage;         ///< [1] local fluid volume fraction epsilon, 1 for a grain out of the water
+  std::vector<Vec3> fluid_velocity;    ///< [m/s] averaged fluid velocity (seed Eq. 23) at the step start
+  std::vector<double> voidage;         ///< [1] fluid volume fraction epsilon at the step end; 1 if dry
   std::vector<double> fluid_weight;    ///< [1] sum of the sampling weights of the fluid around the grain; 0 = dry
   std::vector<std::int32_t> material;  ///< [1] index into the scene's material table
   std::vector<std::int32_t> size_class;  ///< [1] index into the scene's size classes (for per-class output)

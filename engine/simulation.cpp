@@ -433,7 +433,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
     spdlog::error("{}", error.what());
   }
   spdlog::info("per-system timings ({} threads{}):\n{}", threads,
-               stepper_->concurrent_branches() ? "; the fluid step graph runs beside the solid sub-steps" : "",
+               stepper_->concurrent_branches() ? "; the fluid step graph runs beside the grains' branch" : "",
                format_timing_table(timers, stepping_seconds));
   if (outcome.exit_code == kExitOk)
     spdlog::info("{}", outcome.message);

@@ -1,5 +1,6 @@
 #include "systems/solid_fluid_sampling.hpp"
 
+#include "systems/drag_law.hpp"
 #include "systems/fluid_pair_batch.hpp"
 
 #include <algorithm>
@@ -16,7 +17,6 @@ void SolidFluidSampling::run(SystemContext& context) {
   Solids& solids = context.write<Solids>();
   const std::size_t fluid_count = fluid.size();
   const double effective_radius = constants_.kernel.effective_radius;
-  const double kPi = 3.14159265358979323846;
   double smallest_radius = std::numeric_limits<double>::infinity();
   for (const double radius : solids.radius) smallest_radius = std::min(smallest_radius, radius);
   // Cells of half the smallest sampling radius: a query scans about 5^3 cells holding about twice the sphere's
@@ -63,8 +63,8 @@ void SolidFluidSampling::run(SystemContext& context) {
       return;
     }
     solids.fluid_velocity[grain] = velocity / weight_sum;
-    const double grain_volume = 4.0 / 3.0 * kPi * std::pow(solids.radius[grain], 3);
-    solids.pressure_force[grain] = pressure_gradient_ ? Vec3(-grain_volume * gradient / weight_sum) : Vec3::Zero();
+    solids.pressure_force[grain] =
+        pressure_gradient_ ? Vec3(-grain_volume(solids.radius[grain]) * gradient / weight_sum) : Vec3::Zero();
   });
   context.count_items(solids.size());
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "systems/drag_law.hpp"
 #include "systems/fluid_common.hpp"
 
 namespace riffle {
@@ -16,12 +17,11 @@ SolidVoidage::SolidVoidage(const Model& model)
 void SolidVoidage::run(SystemContext& context) {
   const FluidParticles& fluid = context.read<FluidParticles>();
   Solids& solids = context.write<Solids>();
-  const double kPi = 3.14159265358979323846;
   double largest_radius = 0.0;
   grain_volumes_.resize(solids.size());
   for (std::size_t grain = 0; grain < solids.size(); ++grain) {
     largest_radius = std::max(largest_radius, solids.radius[grain]);
-    grain_volumes_[grain] = 4.0 / 3.0 * kPi * std::pow(solids.radius[grain], 3);
+    grain_volumes_[grain] = grain_volume(solids.radius[grain]);
   }
   // numerics 5.3: R_eps >= max(3 l0, d_max); twice d_max keeps a lone grain's own volume from dominating its voidage.
   if (voidage_radius_ <= 0.0) voidage_radius_ = std::max(3.0 * spacing_, 4.0 * largest_radius);

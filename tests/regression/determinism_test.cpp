@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "engine/checkpoint.hpp"
+#include "engine/initial_state.hpp"
 #include "systems/fluid_common.hpp"
 #include "systems/solid_neighbours.hpp"
 #include "engine/simulation.hpp"
@@ -28,36 +29,43 @@ velocity = [0.3, 0.1, 1.0]
   return text;
 }
 
-std::string run_to_bytes(int threads, int steps) {
+/// Checkpoint bytes after `steps` steps of `scene_text` on `threads` threads.
+std::string checkpoint_bytes_after(const std::string& scene_text, const std::string& file, int threads, int steps) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  auto simulation = Simulation::from_model(parse_scene(busy_scene(), "busy.toml"));
+  auto simulation = Simulation::from_model(parse_scene(scene_text, file));
   for (int step = 0; step < steps; ++step) simulation->step();
   REQUIRE(simulation->world().step_status.ok());
   return encode_checkpoint(simulation->checkpoint_data());
 }
+
+/// Checkpoint bytes after `steps` steps of `scene_text`, written to a checkpoint after `split` and resumed from it.
+std::string resumed_checkpoint_bytes(const std::string& scene_text, const std::string& file, int split, int steps) {
+  const auto directory = test::scratch_dir("determinism_" + file);
+  auto first_part = Simulation::from_model(parse_scene(scene_text, file));
+  for (int step = 0; step < split; ++step) first_part->step();
+  REQUIRE(first_part->world().step_status.ok());
+  const std::string path = (directory / "part.ckpt").string();
+  write_checkpoint(path, first_part->checkpoint_data());
+  first_part.reset();
+  auto resumed = Simulation::from_checkpoint(path);
+  REQUIRE(resumed->world().step == static_cast<std::uint64_t>(split));
+  for (int step = split; step < steps; ++step) resumed->step();
+  REQUIRE(resumed->world().step_status.ok());
+  return encode_checkpoint(resumed->checkpoint_data());
+}
 }  // namespace
 
 TEST_CASE("one and two threads give byte-identical checkpoints") {
-  const std::string one = run_to_bytes(1, 40);
-  const std::string two = run_to_bytes(2, 40);
+  const std::string one = checkpoint_bytes_after(busy_scene(), "busy.toml", 1, 40);
+  const std::string two = checkpoint_bytes_after(busy_scene(), "busy.toml", 2, 40);
   CHECK(one.size() == two.size());
   CHECK(one == two);
 }
 
 TEST_CASE("resuming from a checkpoint equals the uninterrupted run byte for byte") {
-  const auto directory = test::scratch_dir("determinism_resume");
-  const std::string uninterrupted = run_to_bytes(2, 60);
-
-  auto first_half = Simulation::from_model(parse_scene(busy_scene(), "busy.toml"));
-  for (int step = 0; step < 23; ++step) first_half->step();  // not a multiple of sort_every = 7
-  const std::string path = (directory / "half.ckpt").string();
-  write_checkpoint(path, first_half->checkpoint_data());
-  first_half.reset();
-
-  auto resumed = Simulation::from_checkpoint(path);
-  CHECK(resumed->world().step == 23);
-  for (int step = 23; step < 60; ++step) resumed->step();
-  CHECK(encode_checkpoint(resumed->checkpoint_data()) == uninterrupted);
+  // 23 is not a multiple of sort_every = 7
+  CHECK(resumed_checkpoint_bytes(busy_scene(), "busy.toml", 23, 60) ==
+        checkpoint_bytes_after(busy_scene(), "busy.toml", 2, 60));
 }
 
 TEST_CASE("the grain count and summary are unchanged by reordering") {
@@ -105,19 +113,11 @@ material = "grain"
 velocity = [0.2, -0.1, 0.0]
 )";
 }
-
-std::string contact_run_bytes(int threads, int steps) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  auto simulation = Simulation::from_model(parse_scene(contact_scene(), "pile.toml"));
-  for (int step = 0; step < steps; ++step) simulation->step();
-  REQUIRE(simulation->world().step_status.ok());
-  return encode_checkpoint(simulation->checkpoint_data());
-}
 }  // namespace
 
 TEST_CASE("with contacts: one and two threads, and resumed runs, give byte-identical checkpoints") {
-  const std::string one = contact_run_bytes(1, 60);
-  const std::string two = contact_run_bytes(2, 60);
+  const std::string one = checkpoint_bytes_after(contact_scene(), "pile.toml", 1, 60);
+  const std::string two = checkpoint_bytes_after(contact_scene(), "pile.toml", 2, 60);
   CHECK(one == two);
 
   const auto directory = test::scratch_dir("determinism_contacts");
@@ -197,32 +197,16 @@ high = [0.04, 0.04, 0.06]
 velocity = [0.2, 0.0, 0.0]
 )";
 }
-
-std::string fluid_run_to_bytes(int threads, int steps) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  auto simulation = Simulation::from_model(parse_scene(fluid_scene(), "fluid.toml"));
-  for (int step = 0; step < steps; ++step) simulation->step();
-  REQUIRE(simulation->world().step_status.ok());
-  return encode_checkpoint(simulation->checkpoint_data());
-}
 }  // namespace
 
 TEST_CASE("a fluid run gives byte-identical checkpoints on one and two threads") {
-  CHECK(fluid_run_to_bytes(1, 60) == fluid_run_to_bytes(2, 60));
+  CHECK(checkpoint_bytes_after(fluid_scene(), "fluid.toml", 1, 60) ==
+        checkpoint_bytes_after(fluid_scene(), "fluid.toml", 2, 60));
 }
 
 TEST_CASE("a resumed fluid run equals the uninterrupted one byte for byte") {
-  const auto directory = test::scratch_dir("determinism_fluid_resume");
-  const std::string uninterrupted = fluid_run_to_bytes(2, 60);
-  auto first_half = Simulation::from_model(parse_scene(fluid_scene(), "fluid.toml"));
-  for (int step = 0; step < 27; ++step) first_half->step();
-  REQUIRE(first_half->world().step_status.ok());
-  const std::string path = (directory / "half.ckpt").string();
-  write_checkpoint(path, first_half->checkpoint_data());
-  first_half.reset();
-  auto resumed = Simulation::from_checkpoint(path);
-  for (int step = 27; step < 60; ++step) resumed->step();
-  CHECK(encode_checkpoint(resumed->checkpoint_data()) == uninterrupted);
+  CHECK(resumed_checkpoint_bytes(fluid_scene(), "fluid.toml", 27, 60) ==
+        checkpoint_bytes_after(fluid_scene(), "fluid.toml", 2, 60));
 }
 
 TEST_CASE("reordering the fluid by cell moves slots, not particles: results agree by id to rounding") {
@@ -349,28 +333,12 @@ high = [0.08, 0.04, 0.05]
 fluid_velocity = "mixture"
 )";
 }
-
-std::string coupled_run_to_bytes(int threads, int steps) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  auto simulation = Simulation::from_model(parse_scene(coupled_scene(), "coupled.toml"));
-  REQUIRE(simulation->world().solids->size() > 100);
-  for (int step = 0; step < steps; ++step) simulation->step();
-  REQUIRE(simulation->world().step_status.ok());
-  return encode_checkpoint(simulation->checkpoint_data());
-}
 }  // namespace
 
 TEST_CASE("grains in water: one and two threads, and a resumed run, give byte-identical checkpoints") {
-  const std::string uninterrupted = coupled_run_to_bytes(2, 30);
-  CHECK(coupled_run_to_bytes(1, 30) == uninterrupted);
-  const auto directory = test::scratch_dir("determinism_coupled_resume");
-  auto first_half = Simulation::from_model(parse_scene(coupled_scene(), "coupled.toml"));
-  for (int step = 0; step < 13; ++step) first_half->step();
-  REQUIRE(first_half->world().step_status.ok());
-  const std::string path = (directory / "half.ckpt").string();
-  write_checkpoint(path, first_half->checkpoint_data());
-  first_half.reset();
-  auto resumed = Simulation::from_checkpoint(path);
-  for (int step = 13; step < 30; ++step) resumed->step();
-  CHECK(encode_checkpoint(resumed->checkpoint_data()) == uninterrupted);
+  REQUIRE(initial_world(parse_scene(coupled_scene(), "coupled.toml")).solids->size() > 100);
+  const std::string uninterrupted = checkpoint_bytes_after(coupled_scene(), "coupled.toml", 2, 30);
+  CHECK(checkpoint_bytes_after(coupled_scene(), "coupled.toml", 1, 30) == uninterrupted);
+  // The grains sample a copy of the water taken at each step start: the resumed run takes it from the restored water.
+  CHECK(resumed_checkpoint_bytes(coupled_scene(), "coupled.toml", 13, 30) == uninterrupted);
 }
