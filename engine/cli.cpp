@@ -122,6 +122,14 @@ int cli_main(int argc, char** argv) {
                 simulation->world().solids ? simulation->world().solids->size() : 0,
                 simulation->world().walls ? simulation->world().walls->size() : 0, model.end_time, model.dt,
                 static_cast<long long>(model.solid_substeps));
+    if (model.contact.enabled && model.contact.stable_solid_dt > 0.0)
+      std::printf("  DEM sub-step %.4g s (%lld per step); stable estimate %.4g s, set by %s\n"
+                  "  restitution at this sub-step, head-on at max_impact_speed = %g m/s: within %.3g of the requested "
+                  "(tolerance %g; worst: %s)\n",
+                  model.solid_dt(), static_cast<long long>(model.solid_substeps), model.contact.stable_solid_dt,
+                  model.contact.stable_solid_dt_reason.c_str(), model.contact.max_impact_speed,
+                  model.contact.restitution_error, model.contact.restitution_tolerance,
+                  model.contact.restitution_error_pair.c_str());
     if (const FluidParticles* fluid = simulation->world().fluid ? &*simulation->world().fluid : nullptr)
       std::printf("  fluid: %zu MPS particles, %zu of them fluid, spacing %g m, r_e = %g spacing\n", fluid->size(),
                   simulation->world().fluid_summary->fluid_count, model.fluid.spacing,

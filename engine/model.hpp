@@ -25,7 +25,10 @@ enum class ContactLaw {
 
 /// Contact constants of one pair of materials, derived once when the scene is read.
 struct ContactPairParameters {
-  double restitution = 1.0;       ///< [1] requested normal coefficient of restitution e
+  double restitution = 1.0;       ///< [1] requested normal coefficient of restitution e, in [0, 1]
+  /// [1] the restitution the damping is calibrated to: e itself, or for e = 0 (perfectly plastic, which no finite
+  /// dashpot reaches) half the scene's restitution_tolerance, so that the achieved value is within the tolerance of 0.
+  double calibrated_restitution = 1.0;
   double friction = 0.0;          ///< [1] Coulomb sliding friction mu
   double rolling_friction = 0.0;  ///< [1] mu_r; rolling torque -mu_r R* F_n (direction of relative spin)
   double effective_young = 0.0;   ///< [Pa] E*: 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j
@@ -54,7 +57,14 @@ struct ContactModel {
   double steps_per_collision = 16; ///< sub-step <= contact time / this
   double skin = 0.0;               ///< [m] Verlet skin of the neighbour list
   std::int64_t sort_every_rebuild = 10;  ///< reorder grains by cell every this many neighbour rebuilds
+  /// [1] the achieved restitution of a head-on impact at max_impact_speed, integrated at the chosen sub-step, must be
+  /// within this of the requested one (absolute); the sub-step is shortened until it is (see stable_solid_step).
+  double restitution_tolerance = 0.02;
   double stable_solid_dt = 0.0;    ///< [s] largest sub-step allowed by the estimates (filled by the scene reader)
+  std::string stable_solid_dt_reason;  ///< which estimate sets stable_solid_dt (for `riffle check` and errors)
+  /// [1] worst |achieved - requested| restitution at the run's sub-step over the pairs in use (filled by the reader)
+  double restitution_error = 0.0;
+  std::string restitution_error_pair;  ///< the pair with that worst error
 
   const ContactPairParameters& pair(std::int32_t a, std::int32_t b) const {
     return pairs[static_cast<std::size_t>(a) * material_count + static_cast<std::size_t>(b)];

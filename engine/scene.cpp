@@ -211,7 +211,7 @@ void read_contact(TableReader& contact, Model& model) {
   const std::string law = contact.choice("law", "hertz_mindlin", {"hertz_mindlin", "linear_spring_dashpot"});
   out.law = law == "linear_spring_dashpot" ? ContactLaw::kLinearSpringDashpot : ContactLaw::kHertzMindlin;
   ContactPairParameters defaults;
-  defaults.restitution = contact.number("restitution", std::nullopt, "1", Bounds{0.0, 1.0, false, true});
+  defaults.restitution = contact.number("restitution", std::nullopt, "1", Bounds::closed(0.0, 1.0));
   defaults.friction = contact.number("friction", std::nullopt, "1", Bounds::non_negative());
   defaults.rolling_friction = contact.number("rolling_friction", 0.0, "1", Bounds::non_negative());
   if (out.law == ContactLaw::kLinearSpringDashpot)
@@ -219,6 +219,7 @@ void read_contact(TableReader& contact, Model& model) {
   out.max_impact_speed = contact.number("max_impact_speed", 1.0, "m/s", Bounds::positive());
   out.rayleigh_fraction = contact.number("rayleigh_fraction", 0.25, "1", Bounds{0.0, 1.0, false, true});
   out.steps_per_collision = contact.number("steps_per_collision", 16.0, "1", Bounds::closed(4.0, 1e6));
+  out.restitution_tolerance = contact.number("restitution_tolerance", 0.02, "1", Bounds{0.0, 0.5, false, true});
   out.skin = contact.number("skin", 0.0, "m", Bounds::non_negative());
   out.sort_every_rebuild = contact.integer("sort_every_rebuild", 10, 1, 1000000);
 
@@ -232,7 +233,7 @@ void read_contact(TableReader& contact, Model& model) {
       return known;
     }());
     ContactPairParameters pair = defaults;
-    pair.restitution = override_table.number("restitution", defaults.restitution, "1", Bounds{0.0, 1.0, false, true});
+    pair.restitution = override_table.number("restitution", defaults.restitution, "1", Bounds::closed(0.0, 1.0));
     pair.friction = override_table.number("friction", defaults.friction, "1", Bounds::non_negative());
     pair.rolling_friction =
         override_table.number("rolling_friction", defaults.rolling_friction, "1", Bounds::non_negative());
@@ -267,9 +268,12 @@ void read_contact(TableReader& contact, Model& model) {
                                     (1.0 - second.poisson_ratio * second.poisson_ratio) / second.young_modulus);
       pair.effective_shear =
           1.0 / ((2.0 - first.poisson_ratio) / shear_first + (2.0 - second.poisson_ratio) / shear_second);
-      if (pair.restitution > 0.0 && pair.restitution <= 1.0) {
-        auto [cached, inserted] = damping_for_restitution.emplace(pair.restitution, 0.0);
-        if (inserted) cached->second = calibrate_damping(out.law, pair.restitution);
+      if (pair.restitution >= 0.0 && pair.restitution <= 1.0) {
+        // Perfectly plastic (e = 0) needs an infinite dashpot: aim at half the tolerance instead, so that the
+        // achieved restitution, checked at the chosen sub-step, is within the tolerance of 0.
+        pair.calibrated_restitution = pair.restitution > 0.0 ? pair.restitution : 0.5 * out.restitution_tolerance;
+        auto [cached, inserted] = damping_for_restitution.emplace(pair.calibrated_restitution, 0.0);
+        if (inserted) cached->second = calibrate_damping(out.law, pair.calibrated_restitution);
         pair.damping = cached->second;
       }
       prepare_contact_pair(pair, out.law, out.collision_time);
@@ -278,12 +282,31 @@ void read_contact(TableReader& contact, Model& model) {
 
 /// The largest stable DEM sub-step: a fraction of the Rayleigh time of the smallest grain of each material, and the
 /// contact time (Hertz at max_impact_speed, or the linear law's collision time) divided by steps_per_collision, for
-/// the smallest grains of every pair of materials in use and for each of them against the walls.
+/// the smallest grains of every pair of materials in use and for each of them against the walls; then shortened
+/// until each of those impacts, integrated as the DEM integrates it, rebounds within restitution_tolerance of the
+/// requested restitution (a damping term beyond its explicit stability limit creates energy instead of removing it).
 struct StableStep {
   double solid_dt = 0.0;
   std::string reason;
 };
-StableStep stable_solid_step(const Model& model) {
+
+/// One head-on impact the sub-step must resolve: the smallest grains of two materials, or of one against a wall.
+struct DesignImpact {
+  const ContactPairParameters* pair;
+  double effective_radius, effective_mass, contact_time;
+  std::string name;
+};
+
+/// Worst |achieved - requested| restitution of `impact` at sub-step dt; 0 when the contact lasts over 1000
+/// sub-steps (resolved far beyond the tolerance, and too long to integrate cheaply).
+double restitution_error(ContactLaw law, const DesignImpact& impact, double speed, double dt) {
+  const double steps_per_contact = impact.contact_time / dt;
+  if (!(steps_per_contact < 1000.0)) return 0.0;
+  ContactPairParameters pair = *impact.pair;
+  return worst_restitution_error(law, pair, impact.effective_radius, impact.effective_mass, speed, dt);
+}
+
+StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impacts) {
   const ContactModel& contact = model.contact;
   std::map<std::int32_t, double> smallest_radius;
   auto note_grain = [&](std::int32_t material, double radius) {
@@ -322,6 +345,11 @@ StableStep stable_solid_step(const Model& model) {
       std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%s grains of %g and %g m)",
                     collision, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
       consider(collision / contact.steps_per_collision, text);
+      if (material <= other) {
+        std::snprintf(text, sizeof text, "a %g m grain of %s on a %g m grain of %s", radius, props.name.c_str(), other_radius,
+                      model.materials[static_cast<std::size_t>(other)].name.c_str());
+        impacts.push_back({&pair, effective_radius, effective_mass, collision, text});
+      }
     }
     const ContactPairParameters& wall = contact.pair(material, model.tank.wall_material);
     const double wall_collision = contact.law == ContactLaw::kHertzMindlin
@@ -331,10 +359,33 @@ StableStep stable_solid_step(const Model& model) {
     std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%g m grain of %s on a wall)",
                   wall_collision, contact.steps_per_collision, radius, props.name.c_str());
     consider(wall_collision / contact.steps_per_collision, text);
+    std::snprintf(text, sizeof text, "a %g m grain of %s on a wall", radius, props.name.c_str());
+    impacts.push_back({&wall, radius, mass_of(material, radius), wall_collision, text});
+  }
+  // The restitution at that sub-step: shorten it by 20 % at a time until every design impact is within tolerance.
+  if (std::isfinite(best.solid_dt) && best.solid_dt > 0.0) {
+    const double estimate = best.solid_dt;
+    for (const DesignImpact& impact : impacts) {
+      const double error_at_estimate = restitution_error(contact.law, impact, contact.max_impact_speed, estimate);
+      if (error_at_estimate <= contact.restitution_tolerance) continue;
+      double dt = std::min(best.solid_dt, estimate);
+      for (int shortening = 0; shortening < 60; ++shortening) {
+        if (restitution_error(contact.law, impact, contact.max_impact_speed, dt) <= contact.restitution_tolerance)
+          break;
+        dt *= 0.8;
+      }
+      if (dt < best.solid_dt) {
+        std::snprintf(text, sizeof text,
+                      "restitution %g within %g: %s at %g m/s rebounds at %.3g off it at the contact-time estimate "
+                      "%.3g s",
+                      impact.pair->restitution, contact.restitution_tolerance, impact.name.c_str(),
+                      contact.max_impact_speed, error_at_estimate, estimate);
+        best = {dt, text};
+      }
+    }
   }
   return best;
 }
-
 }  // namespace
 
 /// [coupling]: grains and fluid together (seed 000 Secs. 3.2-3.3; numerics.md 5).
@@ -377,21 +428,44 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
   if (model.contact.enabled && model.solids.enabled &&
       (!model.solids.spheres.empty() || !model.solids.initial_state.empty())) {
-    const StableStep stable = stable_solid_step(model);
+    std::vector<DesignImpact> impacts;
+    const StableStep stable = stable_solid_step(model, impacts);
     model.contact.stable_solid_dt = stable.solid_dt;
+    model.contact.stable_solid_dt_reason = stable.reason;
+    // In floating point first: an absurd material or grain (E = 1e308, a 1e-300 m grain) must not overflow the count.
+    const double needed = std::ceil(model.dt / stable.solid_dt * (1.0 - 1e-12));
+    constexpr double kMaxSubsteps = 1e6;  // the most run.solid_substeps accepts
+    const char* key = run && run->has("solid_substeps") ? "solid_substeps" : "dt";
+    char message[768];
+    if (!(stable.solid_dt > 0.0) || !(needed <= kMaxSubsteps)) {
+      std::snprintf(message, sizeof message,
+                    "the stable DEM sub-step %.4g s (%s) would need %.4g sub-steps per engine step of dt = %.4g s, "
+                    "more than %g: lower run.dt, or check the materials' young_modulus, the grain radii and "
+                    "contact.max_impact_speed",
+                    stable.solid_dt, stable.reason.c_str(), needed, model.dt, kMaxSubsteps);
+      if (run) run->problem(key, message);
+      throw SceneError(problems.lines);
+    }
     if (run && run->has("solid_substeps")) {
       if (model.solid_dt() > stable.solid_dt * (1.0 + 1e-12)) {
-        char message[512];
         std::snprintf(message, sizeof message,
                       "the sub-step dt / solid_substeps = %.4g s exceeds the stable estimate %.4g s (%s); use "
                       "solid_substeps >= %lld or leave it out to have it chosen",
-                      model.solid_dt(), stable.solid_dt, stable.reason.c_str(),
-                      static_cast<long long>(std::ceil(model.dt / stable.solid_dt)));
+                      model.solid_dt(), stable.solid_dt, stable.reason.c_str(), static_cast<long long>(needed));
         run->problem("solid_substeps", message);
         throw SceneError(problems.lines);
       }
     } else {
-      model.solid_substeps = static_cast<std::int64_t>(std::ceil(model.dt / stable.solid_dt * (1.0 - 1e-12)));
+      model.solid_substeps = std::max<std::int64_t>(1, static_cast<std::int64_t>(needed));
+    }
+    // What the run will achieve, for `riffle check` and the log.
+    for (const DesignImpact& impact : impacts) {
+      const double error = restitution_error(model.contact.law, impact, model.contact.max_impact_speed,
+                                             model.solid_dt());
+      if (error >= model.contact.restitution_error) {
+        model.contact.restitution_error = error;
+        model.contact.restitution_error_pair = impact.name;
+      }
     }
   }
   return model;

@@ -54,9 +54,12 @@ void Stepper::step() {
   world_.last_dt = dt;
   step_start_.run(start, dt);
   // Sub-steps no longer than the scene's solid_dt(); exactly solid_substeps of them at the full step.
+  // (dt < run.dt here, so the count stays within [1, solid_substeps]; clamped in floating point before the cast.)
   const std::int64_t substeps =
-      dt == model_.dt ? model_.solid_substeps
-                      : std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(dt / model_.solid_dt() - 1e-9)));
+      dt == model_.dt
+          ? model_.solid_substeps
+          : static_cast<std::int64_t>(std::clamp(std::ceil(dt / model_.solid_dt() - 1e-9), 1.0,
+                                                  static_cast<double>(model_.solid_substeps)));
   const double solid_dt = dt / static_cast<double>(substeps);
   const auto run_step_graph = [&] {
     const auto begin = Clock::now();

@@ -1,5 +1,6 @@
 #include "systems/contact_law.hpp"
 
+#include <limits>
 #include <stdexcept>
 
 namespace riffle {
@@ -54,7 +55,7 @@ void prepare_contact_pair(ContactPairParameters& pair, ContactLaw law, double co
     pair.tangential_damping_ratio =
         pair.effective_young > 0.0 ? std::sqrt(4.0 * pair.effective_shear / pair.effective_young) : 0.0;
   } else {
-    const double log_e = std::log(pair.restitution);
+    const double log_e = std::log(pair.calibrated_restitution);
     pair.normal_stiffness_coefficient =
         (3.14159265358979323846 * 3.14159265358979323846 + log_e * log_e) / (collision_time * collision_time);
     pair.normal_damping_coefficient = pair.damping * std::sqrt(pair.normal_stiffness_coefficient);
@@ -75,6 +76,47 @@ double calibrate_damping(ContactLaw law, double restitution) {
     (achieved_restitution(law, middle) > restitution ? low : high) = middle;
   }
   return 0.5 * (low + high);
+}
+
+double discrete_restitution(ContactLaw law, const ContactPairParameters& pair, double effective_radius,
+                            double effective_mass, double speed, double dt, double phase, std::int64_t max_substeps) {
+  // The grain moves along +x towards a wall whose surface it reaches `phase` of a sub-step after the start.
+  ContactGeometry geometry;
+  geometry.normal = Vec3::UnitX();  // from the grain (first body) towards the wall
+  geometry.relative_angular_velocity = Vec3::Zero();
+  geometry.effective_radius = effective_radius;
+  geometry.effective_mass = effective_mass;
+  Vec3 spring = Vec3::Zero();
+  double overlap = -(1.0 - phase) * speed * dt;  // after the first drift the overlap is phase * speed * dt
+  double velocity = speed;                       // towards the wall
+  double force = 0.0;                            // on the grain, along +x
+  bool touched = false;
+  for (std::int64_t k = 0; k < max_substeps; ++k) {
+    velocity += 0.5 * dt * force / effective_mass;  // solid_kick_drift: half kick, drift
+    overlap += dt * velocity;
+    force = 0.0;
+    if (overlap > 0.0) {  // solid_contact_forces: only touching pairs carry a force
+      touched = true;
+      geometry.overlap = overlap;
+      geometry.contact_velocity = Vec3(-velocity, 0.0, 0.0);  // the wall's surface point minus the grain's
+      force = evaluate_contact(law, pair, geometry, spring, dt).force_on_first.x();
+    }
+    velocity += 0.5 * dt * force / effective_mass;  // solid_kick
+    if (touched && overlap <= 0.0) return -velocity / speed;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+double worst_restitution_error(ContactLaw law, const ContactPairParameters& pair, double effective_radius,
+                               double effective_mass, double speed, double dt, int phases) {
+  double worst = 0.0;
+  for (int k = 0; k < phases; ++k) {
+    const double achieved = discrete_restitution(law, pair, effective_radius, effective_mass, speed, dt,
+                                                 (k + 0.5) / static_cast<double>(phases));
+    worst = std::max(worst, std::abs(achieved - pair.restitution));  // +inf (never ended) stays +inf
+    if (!std::isfinite(worst)) break;
+  }
+  return worst;
 }
 
 double hertz_max_overlap(double effective_young, double effective_radius, double effective_mass, double speed) {

@@ -18,6 +18,7 @@
 // (Cundall & Strack 1979). Rolling friction (seed 003 Eq. 20): T = -mu_r R* F_n (w_rel / |w_rel|).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "components/vec.hpp"
 #include "engine/model.hpp"
@@ -104,6 +105,20 @@ void prepare_contact_pair(ContactPairParameters& pair, ContactLaw law, double co
 double achieved_restitution(ContactLaw law, double damping);
 /// The damping c for which achieved_restitution(law, c) == restitution (restitution in (0, 1]).
 double calibrate_damping(ContactLaw law, double restitution);
+
+/// Restitution that riffle's DEM actually achieves for a head-on impact at `speed` on a wall (or, in relative
+/// coordinates, of two grains) integrated at sub-step `dt`: velocity Verlet as the sub-step graph runs it (half kick,
+/// drift, the force from evaluate_contact at the drifted overlap and the half-step velocity, half kick), until the
+/// overlap opens again. The contact starts at `phase` in [0, 1) of a sub-step (the discrete answer depends on where
+/// the first touch falls). Returns +inf if the impact has not ended after `max_substeps` (an unstable damping term can
+/// keep a grain inside its wall for ever). No gravity: the estimate is about the contact alone.
+double discrete_restitution(ContactLaw law, const ContactPairParameters& pair, double effective_radius,
+                            double effective_mass, double speed, double dt, double phase,
+                            std::int64_t max_substeps = 100000);
+
+/// The largest deviation |e_discrete - e| over `phases` evenly spread first-touch phases (see discrete_restitution).
+double worst_restitution_error(ContactLaw law, const ContactPairParameters& pair, double effective_radius,
+                               double effective_mass, double speed, double dt, int phases = 8);
 
 /// Hertz: duration of an elastic impact at speed v, t_c = 2.9432 d_max / v, d_max = (15 m* v^2/(16 E* sqrt R*))^0.4.
 double hertz_contact_time(double effective_young, double effective_radius, double effective_mass, double speed);
