@@ -1,0 +1,84 @@
+#include "engine/replace_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace riffle {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<unsigned long long> g_temporary_counter{0};
+
+std::runtime_error io_error(const fs::path& path, const std::string& what, int error_number) {
+  return std::runtime_error(path.string() + ": " + what + ": " + std::strerror(error_number));
+}
+
+/// Writes all of `bytes`; a signal (SIGINT, SIGTERM) may interrupt a write part way.
+bool write_all(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t written = ::write(fd, bytes.data(), bytes.size());
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    bytes.remove_prefix(static_cast<std::size_t>(written));
+  }
+  return true;
+}
+
+/// Makes the rename itself durable: the new directory entry is on disk once the directory is synced.
+void sync_directory(const fs::path& directory) {
+  const int fd = ::open(directory.empty() ? "." : directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // some file systems refuse to open directories; the data itself was synced
+  ::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+fs::path unique_temporary_path(const fs::path& path) {
+  const unsigned long long counter = g_temporary_counter.fetch_add(1);
+  return path.string() + "." + std::to_string(::getpid()) + "." + std::to_string(counter) + ".tmp";
+}
+
+void replace_file(const fs::path& path, std::string_view bytes, Durability durability) {
+  fs::path temporary;
+  int fd = -1;
+  // O_EXCL: a stale temporary file of a dead process that had the same pid is never written into or renamed.
+  for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+    temporary = unique_temporary_path(path);
+    fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0 && errno != EEXIST) throw io_error(temporary, "cannot create a temporary file", errno);
+  }
+  if (fd < 0) throw io_error(temporary, "cannot create a temporary file", EEXIST);
+  const auto fail = [&](const std::string& what) {
+    const int error_number = errno;
+    ::close(fd);
+    ::unlink(temporary.c_str());
+    return io_error(temporary, what, error_number);
+  };
+  if (!write_all(fd, bytes)) throw fail("write failed (disk full?)");
+  if (durability == Durability::kSync && ::fsync(fd) != 0) throw fail("cannot flush to disk");
+  if (::close(fd) != 0) {
+    const int error_number = errno;
+    ::unlink(temporary.c_str());
+    throw io_error(temporary, "write failed (disk full?)", error_number);
+  }
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    const int error_number = errno;
+    ::unlink(temporary.c_str());
+    throw io_error(path, "cannot rename the temporary file " + temporary.filename().string() + " into place",
+                   error_number);
+  }
+  if (durability == Durability::kSync) sync_directory(path.parent_path());
+}
+
+}  // namespace riffle
