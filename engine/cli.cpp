@@ -22,8 +22,8 @@ const char* kExitCodes =
     "  0    success\n"
     "  1    bad command line\n"
     "  2    invalid scene or checkpoint (each problem is printed as file:line:column: key: message)\n"
-    "  3    the run stopped with a diagnosis (NaN, particle left the domain, out of memory, internal error); the\n"
-    "       last good checkpoint is kept\n"
+    "  3    the run stopped with a diagnosis (NaN, particle left the domain, out of memory during the run, an\n"
+    "       internal error); the last good checkpoint is kept\n"
     "  4    output could not be written: the output folder or riffle.log cannot be created, or another run is\n"
     "       writing into the same output folder (OUT/.riffle.lock is held)\n"
     "  130  interrupted by SIGINT (a checkpoint was written first; a step still running 2 s after the signal is\n"
@@ -156,6 +156,10 @@ int run_command(int argc, char** argv) {
     return kExitInvalidInput;
   } catch (const CheckpointError& error) {
     std::fprintf(stderr, "error: %s\n", error.what());
+    return kExitInvalidInput;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory while setting up the run (std::bad_alloc): the scene needs more "
+                         "memory than this machine has\n");
     return kExitInvalidInput;
   } catch (const std::exception& error) {
     // Scheduler or set-up errors are bugs or unsupported combinations; name them rather than abort.

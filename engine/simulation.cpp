@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
 
 #include "engine/bed_statistics.hpp"
@@ -429,6 +430,10 @@ RunOutcome Simulation::run(const RunOptions& options) {
       const auto step_start = Clock::now();
       try {
         stepper_->step();
+      } catch (const std::bad_alloc&) {
+        outcome.exit_code = kExitUnstable;
+        outcome.message = "out of memory in step " + std::to_string(world_.step + 1) + " (std::bad_alloc)";
+        break;
       } catch (const std::exception& error) {
         outcome.exit_code = kExitUnstable;
         outcome.message = "internal error in step " + std::to_string(world_.step + 1) + ": " + error.what();
@@ -458,6 +463,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
     }
   } catch (const CheckpointError& error) {
     outcome = {kExitIoError, error.what(), checkpoints.last_written()};
+  } catch (const std::bad_alloc&) {  // not an output problem: exit 3, like a failing step
+    outcome = {kExitUnstable, "out of memory while writing the outputs (std::bad_alloc)", checkpoints.last_written()};
   } catch (const std::exception& error) {
     outcome = {kExitIoError, std::string("output failed: ") + error.what(), checkpoints.last_written()};
   }

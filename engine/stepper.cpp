@@ -81,15 +81,15 @@ void Stepper::step() {
   const auto run_substeps = [&] {
     const auto begin = Clock::now();
     solid_step_.run(start, dt);
-    std::int64_t done = 0;
-    for (; done < substeps; ++done) {
-      if (abandon_now()) {
+    std::int64_t sub = 0;
+    for (; sub < substeps; ++sub) {
+      if (abandon_now()) {  // a stop request older than the grace period: leave the step unfinished
         abandoned_ = true;
         break;
       }
-      substep_.run(start + static_cast<double>(done) * solid_dt, solid_dt);
+      substep_.run(start + static_cast<double>(sub) * solid_dt, solid_dt);
     }
-    substep_branch_.add(seconds_since(begin), static_cast<std::uint64_t>(done));
+    substep_branch_.add(seconds_since(begin), static_cast<std::uint64_t>(sub));
   };
   if (concurrent_) {
     tbb::task_group fluid_branch;
