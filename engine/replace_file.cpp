@@ -81,4 +81,32 @@ void replace_file(const fs::path& path, std::string_view bytes, Durability durab
   if (durability == Durability::kSync) sync_directory(path.parent_path());
 }
 
+bool is_temporary_name(const std::string& file_name) {
+  constexpr std::string_view kSuffix = ".tmp";
+  if (file_name.size() <= kSuffix.size() ||
+      file_name.compare(file_name.size() - kSuffix.size(), kSuffix.size(), kSuffix) != 0)
+    return false;
+  // Walk back over ".<counter>" and ".<pid>": two dot-led runs of digits before ".tmp", after a non-empty name.
+  std::size_t end = file_name.size() - kSuffix.size();
+  for (int field = 0; field < 2; ++field) {
+    std::size_t begin = end;
+    while (begin > 0 && file_name[begin - 1] >= '0' && file_name[begin - 1] <= '9') --begin;
+    if (begin == end || begin == 0 || file_name[begin - 1] != '.') return false;
+    end = begin - 1;
+  }
+  return end > 0;
+}
+
+std::size_t remove_stale_temporaries(const fs::path& directory) {
+  std::size_t removed = 0;
+  std::error_code error;
+  for (fs::directory_iterator entry(directory, error), last; !error && entry != last; entry.increment(error)) {
+    std::error_code ignored;
+    if (entry->is_regular_file(ignored) && is_temporary_name(entry->path().filename().string()) &&
+        fs::remove(entry->path(), ignored))
+      ++removed;
+  }
+  return removed;
+}
+
 }  // namespace riffle

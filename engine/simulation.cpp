@@ -353,6 +353,10 @@ RunOutcome Simulation::run(const RunOptions& options) {
   } catch (const std::exception& error) {
     return refuse("cannot create the output directory '" + out.string() + "': " + error.what());
   }
+  // What a killed run was writing when it died (it held the lock, so nobody is writing these now).
+  for (const fs::path& directory : {out, vtk_dir, checkpoint_dir})
+    if (const std::size_t removed = remove_stale_temporaries(directory))
+      spdlog::info("removed {} temporary file(s) a killed run left in {}", removed, directory.string());
 
   std::shared_ptr<spdlog::sinks::basic_file_sink_mt> file_sink;
   try {

@@ -49,7 +49,7 @@ void write_text(const fs::path& path, const std::string& text) {
   file << text;
 }
 
-/// Files in `directory` whose name ends in ".tmp".
+/// Files in `directory` (and below) whose name ends in ".tmp".
 int temporary_files_in(const fs::path& directory) {
   int count = 0;
   for (const auto& entry : fs::recursive_directory_iterator(directory))
@@ -267,4 +267,24 @@ TEST_CASE("a dt longer than end_time is refused: the run would take no step") {
   REQUIRE(problems.size() == 1);
   CHECK(problems[0].rfind("named.toml:5:6: run.dt: dt = 0.06 s is longer than end_time = 0.05 s", 0) == 0);
   CHECK(problems_with("dt = 1.0e-3", "dt = 0.05").empty());  // one step exactly
+}
+
+TEST_CASE("the temporary files a killed run left behind are removed by the next run into the folder, nothing else") {
+  CHECK(is_temporary_name(unique_temporary_path("dir/final.ckpt").filename().string()));
+  CHECK(is_temporary_name("step_0000000010.ckpt.4242.7.tmp"));
+  CHECK_FALSE(is_temporary_name("notes.tmp"));
+  CHECK_FALSE(is_temporary_name("a.12.tmp"));
+  CHECK_FALSE(is_temporary_name(".1.2.tmp"));
+  CHECK_FALSE(is_temporary_name("a.1x.2.tmp"));
+  CHECK_FALSE(is_temporary_name("final.ckpt.1.2.tmpx"));
+
+  const fs::path out = test::scratch_dir("stale_temporaries");
+  fs::create_directories(out / "checkpoints");
+  write_text(out / "checkpoints" / "final.ckpt.999999.3.tmp", "half a checkpoint");
+  write_text(out / "solids.pvd.999999.0.tmp", "half a series");
+  write_text(out / "checkpoints" / "notes.tmp", "the user's");
+  REQUIRE(run_small(out, 0.002).exit_code == kExitOk);
+  CHECK_FALSE(fs::exists(out / "checkpoints" / "final.ckpt.999999.3.tmp"));
+  CHECK_FALSE(fs::exists(out / "solids.pvd.999999.0.tmp"));
+  CHECK(file_text(out / "checkpoints" / "notes.tmp") == "the user's");
 }
