@@ -51,8 +51,8 @@ std::string run_name_problem(const std::string& name) {
   if (name.empty()) return "expected a non-empty name (it names the output folder out/<name>)";
   if (name == "." || name == "..") return "\"" + name + "\" is not a folder name (the output goes to out/<name>)";
   if (name.size() > kMaxNameBytes)
-    return "expected at most " + std::to_string(kMaxNameBytes) + " bytes (it names the output folder out/<name>), got " +
-           std::to_string(name.size());
+    return "expected at most " + std::to_string(kMaxNameBytes) +
+           " bytes (it names the output folder out/<name>), got " + std::to_string(name.size());
   for (const char c : name) {
     const auto byte = static_cast<unsigned char>(c);
     if (c == '/' || c == '\\')

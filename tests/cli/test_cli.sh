@@ -546,8 +546,9 @@ wait "$busy_pid"
 busy_rc=$?
 background_pid=
 check "the first run was undisturbed and stops on SIGTERM (exit $busy_rc)" test "$busy_rc" = 143
+busy_rows=$(data_rows busy/diagnostics.csv)
 check "its diagnostics.csv holds only its own rows (steps 20, 40, ...)" \
-  same_text "$(tail -n +2 busy/diagnostics.csv | cut -d, -f1)" "$(seq 20 20 $(($(data_rows busy/diagnostics.csv) * 20)))"
+  same_text "$(tail -n +2 busy/diagnostics.csv | cut -d, -f1)" "$(seq 20 20 $((busy_rows * 20)))"
 riffle_as reuse_busy run small.toml --out busy --until 0.002
 expect_rc "once it has exited the folder is free again (the kernel dropped its lock)" reuse_busy 0
 
