@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/replace_file.hpp"
+
 namespace riffle {
 
 namespace {
@@ -97,18 +99,11 @@ CheckpointData decode_checkpoint(const std::string& bytes, const std::string& na
 }
 
 void write_checkpoint(const std::string& path, const CheckpointData& data) {
-  const std::string bytes = encode_checkpoint(data);
-  const std::string temporary = path + ".tmp";
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file) throw CheckpointError(temporary + ": cannot open for writing");
-    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    file.flush();
-    if (!file) throw CheckpointError(temporary + ": write failed (disk full?)");
+  try {
+    replace_file(path, encode_checkpoint(data), Durability::kSync);
+  } catch (const std::runtime_error& error) {
+    throw CheckpointError(error.what());
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw CheckpointError(path + ": cannot rename the temporary checkpoint into place: " + error.message());
 }
 
 CheckpointData read_checkpoint(const std::string& path) {

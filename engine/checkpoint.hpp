@@ -8,8 +8,8 @@
 //   8 bytes  payload size in bytes
 //   8 bytes  FNV-1a 64 checksum of the payload
 //   payload  cereal binary archive of CheckpointData
-// Files are written to "<path>.tmp" and renamed into place, so a crash never leaves a half-written checkpoint
-// under the real name.
+// Files are written to a temporary file of their own ("<path>.<pid>.<counter>.tmp"), synced and renamed into
+// place (engine/replace_file.hpp), so a crash never leaves a half-written checkpoint under the real name.
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -53,7 +53,7 @@ std::string encode_checkpoint(const CheckpointData& data);
 /// Parses checkpoint bytes; `name` is used in messages. Throws CheckpointError for anything but a valid file.
 CheckpointData decode_checkpoint(const std::string& bytes, const std::string& name);
 
-/// Writes atomically (temporary file, then rename). Throws CheckpointError on I/O failure.
+/// Writes atomically (unique temporary file, fsync, rename). Throws CheckpointError on I/O failure.
 void write_checkpoint(const std::string& path, const CheckpointData& data);
 CheckpointData read_checkpoint(const std::string& path);
 

@@ -5,8 +5,10 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <new>
 
 #include "engine/scene.hpp"
 #include "engine/simulation.hpp"
@@ -20,10 +22,13 @@ const char* kExitCodes =
     "  0    success\n"
     "  1    bad command line\n"
     "  2    invalid scene or checkpoint (each problem is printed as file:line:column: key: message)\n"
-    "  3    the run stopped with a diagnosis (NaN, particle left the domain); the last good checkpoint is kept\n"
-    "  4    output could not be written\n"
-    "  130  interrupted by SIGINT (a checkpoint was written first)\n"
-    "  143  terminated by SIGTERM (a checkpoint was written first)\n";
+    "  3    the run stopped with a diagnosis (NaN, particle left the domain, out of memory during the run, an\n"
+    "       internal error); the last good checkpoint is kept\n"
+    "  4    output could not be written: the output folder or riffle.log cannot be created, or another run is\n"
+    "       writing into the same output folder (OUT/.riffle.lock is held)\n"
+    "  130  interrupted by SIGINT (a checkpoint was written first; a step still running 2 s after the signal is\n"
+    "       abandoned instead, and the last good checkpoint is named)\n"
+    "  143  terminated by SIGTERM (as for SIGINT)\n";
 
 extern "C" void handle_stop_signal(int signal_number) { request_stop(signal_number); }
 
@@ -35,9 +40,50 @@ int report_run(const RunOutcome& outcome) {
   return outcome.exit_code;
 }
 
+/// Why `until` cannot end a run that starts at `start` with steps of at most `dt`, or "" if it can: the same
+/// checks as run.end_time (finite, positive, at most 1e12 steps), and at least one step after the start.
+std::string until_problem(double until, double start, double dt) {
+  char text[256];
+  if (!std::isfinite(until) || until <= 0.0) {
+    std::snprintf(text, sizeof text, "--until: expected a finite time > 0 s, got %g", until);
+  } else if (until <= start) {
+    std::snprintf(text, sizeof text, "--until %g s is not after the checkpoint's time t = %.17g s", until, start);
+  } else if ((until - start) / dt > 1e12) {
+    std::snprintf(text, sizeof text, "--until %g s is more than 1e12 steps of dt = %g s away", until, dt);
+  } else if (until - start < dt * (1.0 - 1e-9)) {  // the tolerance absorbs the rounding of t = step * dt
+    std::snprintf(text, sizeof text,
+                  "--until %g s is less than one step (dt = %g s) after the start time t = %.17g s: the run would "
+                  "end before its first step",
+                  until, dt, start);
+  } else {
+    return "";
+  }
+  return text;
+}
+
+int run_command(int argc, char** argv);
+
 }  // namespace
 
+/// Every failure ends in a documented exit code with a message, never in std::terminate.
 int cli_main(int argc, char** argv) {
+  try {
+    return run_command(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory (std::bad_alloc); the scene is too large for this machine\n");
+    return kExitUnstable;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "error: internal error: %s\n", error.what());
+    return kExitUnstable;
+  } catch (...) {
+    std::fprintf(stderr, "error: internal error (an unknown exception)\n");
+    return kExitUnstable;
+  }
+}
+
+namespace {
+
+int run_command(int argc, char** argv) {
   CLI::App app{"riffle: sediment moved by water. DEM grains coupled to an MPS free-surface fluid.", "riffle"};
   app.footer(kExitCodes);
   app.require_subcommand(1);
@@ -59,7 +105,8 @@ int cli_main(int argc, char** argv) {
   run->add_option("scene", scene_path, "Scene file (TOML)")->required();
   run->add_option("--out", out_dir, "Output directory (default: out/<run.name>)");
   run->add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
-  run->add_option("--until", until, "End time [s], overrides run.end_time")->check(CLI::PositiveNumber);
+  // Checked after the scene or checkpoint is read (until_problem): the bounds depend on its time and dt.
+  CLI::Option* run_until = run->add_option("--until", until, "End time [s], overrides run.end_time");
   add_log_level(run);
   run->footer(kExitCodes);
 
@@ -72,7 +119,7 @@ int cli_main(int argc, char** argv) {
   resume->add_option("checkpoint", checkpoint_path, "Checkpoint file (.ckpt)")->required();
   resume->add_option("--out", out_dir, "Output directory (default: the checkpoint's run directory)");
   resume->add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
-  resume->add_option("--until", until, "End time [s], overrides run.end_time")->check(CLI::PositiveNumber);
+  CLI::Option* resume_until = resume->add_option("--until", until, "End time [s], overrides run.end_time");
   add_log_level(resume);
   resume->footer(kExitCodes);
 
@@ -82,6 +129,7 @@ int cli_main(int argc, char** argv) {
     const int code = app.exit(error);
     return code == 0 ? kExitOk : kExitUsage;
   }
+  const bool until_given = (*run && run_until->count() > 0) || (*resume && resume_until->count() > 0);
 
   auto console = spdlog::stderr_color_mt("riffle");
   spdlog::set_default_logger(console);
@@ -108,6 +156,10 @@ int cli_main(int argc, char** argv) {
     return kExitInvalidInput;
   } catch (const CheckpointError& error) {
     std::fprintf(stderr, "error: %s\n", error.what());
+    return kExitInvalidInput;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory while setting up the run (std::bad_alloc): the scene needs more "
+                         "memory than this machine has\n");
     return kExitInvalidInput;
   } catch (const std::exception& error) {
     // Scheduler or set-up errors are bugs or unsupported combinations; name them rather than abort.
@@ -137,14 +189,24 @@ int cli_main(int argc, char** argv) {
     return kExitOk;
   }
 
+  if (until_given) {
+    const std::string problem = until_problem(until, simulation->world().time, simulation->model().dt);
+    if (!problem.empty()) {
+      std::fprintf(stderr, "error: %s\n", problem.c_str());
+      return kExitUsage;
+    }
+  }
+
   std::signal(SIGINT, handle_stop_signal);
   std::signal(SIGTERM, handle_stop_signal);
   RunOptions options;
   options.out_dir = out_dir;
   options.threads = threads;
-  if (until > 0.0) options.until = until;
+  if (until_given) options.until = until;
   options.progress = isatty(fileno(stderr)) != 0;
   return report_run(simulation->run(options));
 }
+
+}  // namespace
 
 }  // namespace riffle

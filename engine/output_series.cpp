@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "engine/replace_file.hpp"
+
 namespace riffle {
 
 namespace fs = std::filesystem;
@@ -30,11 +32,11 @@ CsvSeries::CsvSeries(const fs::path& path, const std::string& header, std::optio
       }
     }
   }
-  file_.open(path, std::ios::trunc);
+  // The header and the kept rows replace the old file in one rename, and the run appends after them: a kill while
+  // the rows are copied leaves the old file as it was, so the next resume finds them again.
+  replace_file(path, header + "\n" + kept, Durability::kFlush);
+  file_.open(path, std::ios::app);
   if (!file_) throw std::runtime_error(path.string() + ": cannot open for writing");
-  file_ << header << "\n" << kept;
-  file_.flush();
-  if (!file_) throw std::runtime_error(path.string() + ": cannot write");
 }
 
 void CsvSeries::write_row(const std::string& row) {

@@ -13,9 +13,10 @@ namespace riffle {
 /// A CSV file written row by row. Every write_row() is flushed, so a crash loses at most the row being written.
 class CsvSeries {
  public:
-  /// Opens `path` (truncating it) and writes `header` (without the newline). With `keep_up_to` set (a resumed
-  /// run), the rows of the existing file whose first column is <= *keep_up_to are written back first, provided
-  /// its header equals `header`; rows with another field count than the header (a torn last line) are dropped.
+  /// Replaces `path` with `header` (without the newline) and opens it for appending. With `keep_up_to` set (a
+  /// resumed run), the rows of the existing file whose first column is <= *keep_up_to are kept, provided its
+  /// header equals `header`; rows with another field count than the header (a torn last line) are dropped. The
+  /// replacement is a rename of a temporary file (engine/replace_file.hpp): a kill never loses the kept rows.
   /// Throws std::runtime_error if the file cannot be written.
   CsvSeries(const std::filesystem::path& path, const std::string& header, std::optional<double> keep_up_to);
 

@@ -38,14 +38,45 @@ namespace {
 
 const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+/// Why `name` cannot be the default output folder out/<name>, or "" if it can: it must be one plain path
+/// component, so that the run writes inside out/ (not "../../..") and the log file can be opened (no NUL).
+std::string run_name_problem(const std::string& name) {
+  constexpr std::size_t kMaxNameBytes = 200;  // well below NAME_MAX (255), leaving room for suffixes
+  if (name.empty()) return "expected a non-empty name (it names the output folder out/<name>)";
+  if (name == "." || name == "..") return "\"" + name + "\" is not a folder name (the output goes to out/<name>)";
+  if (name.size() > kMaxNameBytes)
+    return "expected at most " + std::to_string(kMaxNameBytes) +
+           " bytes (it names the output folder out/<name>), got " + std::to_string(name.size());
+  for (const char c : name) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '/' || c == '\\')
+      return "expected a plain folder name without '/' or '\\' (the output goes to out/<name>), got \"" + name + "\"";
+    if (byte < 0x20 || byte == 0x7f)
+      return "expected a name without control characters (NUL, tab, newline...): it names the output folder "
+             "out/<name>";
+  }
+  return "";
+}
+
 void read_run(TableReader& run, Model& model) {
   model.name = run.text("name", "riffle");
+  if (const std::string problem = run_name_problem(model.name); !problem.empty()) run.problem("name", problem);
   model.end_time = run.number("end_time", std::nullopt, "s", Bounds::positive());
   model.dt = run.number("dt", std::nullopt, "s", Bounds::positive());
   model.solid_substeps = run.integer("solid_substeps", 1, 1, 1000000);
   model.gravity = run.vec3("gravity", Vec3(0.0, 0.0, -9.81), "m/s^2", Bounds::any());
   if (model.dt > 0.0 && model.end_time > 0.0 && model.end_time / model.dt > 1e12)
     run.problem("dt", "dt is too small for end_time (more than 1e12 steps)");
+  // The run loop takes no step when end_time < dt / 2 and overshoots end_time when it is below dt.
+  if (model.dt > 0.0 && model.end_time > 0.0 && model.dt > model.end_time)
+    run.problem("dt", "dt = " + format_number(model.dt) + " s is longer than end_time = " +
+                          format_number(model.end_time) + " s: the run would end before its first step");
   run.finish();
 }
 

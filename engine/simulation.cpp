@@ -10,12 +10,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
 
 #include "engine/bed_statistics.hpp"
 #include "engine/initial_state.hpp"
+#include "engine/output_lock.hpp"
 #include "engine/output_series.hpp"
 #include "engine/probes.hpp"
+#include "engine/replace_file.hpp"
 #include "engine/scene.hpp"
 #include "engine/vtk_output.hpp"
 #include "systems/solid_checks.hpp"
@@ -27,11 +30,19 @@ namespace fs = std::filesystem;
 namespace {
 
 std::atomic<int> g_stop_signal{0};
+/// [s] How long a step may go on after a stop request before it is abandoned (without a checkpoint of it).
+constexpr double kStopGraceSeconds = 2.0;
 static_assert(std::atomic<int>::is_always_lock_free, "the stop flag must be usable from a signal handler");
 
 std::string format_vec(const Vec3& v) {
   char text[96];
   std::snprintf(text, sizeof text, "(%.6g, %.6g, %.6g)", v[0], v[1], v[2]);
+  return text;
+}
+
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", value);
   return text;
 }
 
@@ -42,16 +53,8 @@ std::string format_duration(double seconds) {
   return text;
 }
 
-void write_text_file(const fs::path& path, const std::string& text) {
-  const fs::path temporary = path.string() + ".tmp";
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    file << text;
-    file.flush();
-    if (!file) throw std::runtime_error(temporary.string() + ": cannot write");
-  }
-  fs::rename(temporary, path);
-}
+/// Frames, series and tables are replaced whole (unique temporary file, rename): a kill never leaves half a file.
+void write_text_file(const fs::path& path, const std::string& text) { replace_file(path, text, Durability::kFlush); }
 
 /// diagnostics.csv: one row per `diagnostics_every` steps, flushed as written so a crash loses nothing.
 class DiagnosticsWriter {
@@ -145,9 +148,18 @@ class CheckpointStore {
     spdlog::debug("checkpoint written: {}", last_written_);
   }
 
-  /// A stable name for the end state, so other scenes can start from it ([solids] initial_state).
+  /// A stable name for the end state, so other scenes can start from it ([solids] initial_state). Copied by way of
+  /// a temporary file and a rename: a kill during the copy leaves the previous final.ckpt whole.
   void copy_as_final() const {
-    fs::copy_file(last_written_, directory_ / "final.ckpt", fs::copy_options::overwrite_existing);
+    std::ifstream file(last_written_, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << file.rdbuf();
+    if (!file || file.bad()) throw CheckpointError(last_written_ + ": cannot read it back to copy it to final.ckpt");
+    try {
+      replace_file(directory_ / "final.ckpt", bytes.str(), Durability::kSync);
+    } catch (const std::runtime_error& error) {
+      throw CheckpointError(error.what());
+    }
   }
 
   const std::string& last_written() const { return last_written_; }
@@ -318,14 +330,40 @@ RunOutcome Simulation::run(const RunOptions& options) {
   const fs::path vtk_dir = out / "vtk";
   const fs::path checkpoint_dir = out / "checkpoints";
   RunOutcome outcome;
+  // An error here is printed at once: the log file is not open yet.
+  const auto refuse = [](const std::string& message) {
+    spdlog::error("{}", message);
+    return RunOutcome{kExitIoError, message, ""};
+  };
+  try {
+    fs::create_directories(out);
+  } catch (const std::exception& error) {
+    return refuse("cannot create the output directory '" + out.string() + "': " + error.what());
+  }
+  // Before anything is written into the folder: a second run into it is refused, not interleaved with this one.
+  std::optional<OutputLock> lock;
+  try {
+    lock.emplace(out);
+  } catch (const OutputLockError& error) {
+    return refuse(error.what());
+  }
   try {
     fs::create_directories(vtk_dir);
     fs::create_directories(checkpoint_dir);
   } catch (const std::exception& error) {
-    return {kExitIoError, std::string("cannot create the output directory: ") + error.what(), ""};
+    return refuse("cannot create the output directory '" + out.string() + "': " + error.what());
   }
+  // What a killed run was writing when it died (it held the lock, so nobody is writing these now).
+  for (const fs::path& directory : {out, vtk_dir, checkpoint_dir})
+    if (const std::size_t removed = remove_stale_temporaries(directory))
+      spdlog::info("removed {} temporary file(s) a killed run left in {}", removed, directory.string());
 
-  auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "riffle.log").string(), false);
+  std::shared_ptr<spdlog::sinks::basic_file_sink_mt> file_sink;
+  try {
+    file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "riffle.log").string(), false);
+  } catch (const std::exception& error) {  // spdlog::spdlog_ex: a directory in the way, no permission
+    return refuse((out / "riffle.log").string() + ": cannot open the log file: " + error.what());
+  }
   auto logger = spdlog::default_logger();
   logger->sinks().push_back(file_sink);
   struct SinkGuard {
@@ -348,6 +386,24 @@ RunOutcome Simulation::run(const RunOptions& options) {
   const double dt = model_->dt;
   auto due = [&](double interval, std::size_t done) {
     return interval > 0.0 && world_.time >= static_cast<double>(done) * interval - 0.5 * dt;
+  };
+
+  // A stop request ends even a step of millions of sub-steps: after kStopGraceSeconds the step is abandoned.
+  stepper_->set_stop_flag(&g_stop_signal, kStopGraceSeconds);
+  const auto abandoned_step_outcome = [&](const std::string& last_good) {
+    const int signal_number = stop_requested();
+    const char* name = signal_number == SIGINT ? "SIGINT" : "SIGTERM";
+    const std::string grace = format_number(kStopGraceSeconds);
+    RunOutcome abandoned;
+    abandoned.exit_code = signal_number == SIGINT ? kExitInterrupted : kExitTerminated;
+    abandoned.message = std::string("stopped by ") + name + " during step " + std::to_string(world_.step + 1) +
+                        " (from t = " + format_number(world_.time) + " s), which did not finish within " + grace +
+                        " s of the request: the step was abandoned and no checkpoint of it written; last good "
+                        "checkpoint: " +
+                        (last_good.empty() ? std::string("none written yet (set output.checkpoint_interval)")
+                                           : last_good);
+    abandoned.last_checkpoint = last_good;
+    return abandoned;
   };
 
   double stepping_seconds = 0.0;
@@ -378,9 +434,17 @@ RunOutcome Simulation::run(const RunOptions& options) {
       const auto step_start = Clock::now();
       try {
         stepper_->step();
+      } catch (const std::bad_alloc&) {
+        outcome.exit_code = kExitUnstable;
+        outcome.message = "out of memory in step " + std::to_string(world_.step + 1) + " (std::bad_alloc)";
+        break;
       } catch (const std::exception& error) {
         outcome.exit_code = kExitUnstable;
         outcome.message = "internal error in step " + std::to_string(world_.step + 1) + ": " + error.what();
+        break;
+      }
+      if (stepper_->last_step_abandoned()) {
+        outcome = abandoned_step_outcome(checkpoints.last_good());
         break;
       }
       const double step_seconds = seconds_since(step_start);
@@ -403,6 +467,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
     }
   } catch (const CheckpointError& error) {
     outcome = {kExitIoError, error.what(), checkpoints.last_written()};
+  } catch (const std::bad_alloc&) {  // not an output problem: exit 3, like a failing step
+    outcome = {kExitUnstable, "out of memory while writing the outputs (std::bad_alloc)", checkpoints.last_written()};
   } catch (const std::exception& error) {
     outcome = {kExitIoError, std::string("output failed: ") + error.what(), checkpoints.last_written()};
   }

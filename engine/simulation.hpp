@@ -24,7 +24,8 @@ enum ExitCode : int {
   kExitTerminated = 143,  ///< SIGTERM: checkpoint written, clean exit
 };
 
-/// Asks the running loop to stop after the current step (async-signal-safe: stores into a lock-free atomic).
+/// Asks the running loop to stop after the current step, or within about 2 s inside a step that takes longer
+/// (async-signal-safe: stores into a lock-free atomic that the stepper reads between sub-steps).
 void request_stop(int signal_number);
 /// The signal number of a pending stop request, or 0.
 int stop_requested();

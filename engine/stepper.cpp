@@ -27,10 +27,23 @@ Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
                 });
 }
 
+void Stepper::set_stop_flag(const std::atomic<int>* stop_signal, double grace_seconds) {
+  stop_signal_ = stop_signal;
+  stop_grace_seconds_ = grace_seconds;
+  stop_seen_at_.reset();
+}
+
+bool Stepper::abandon_now() {
+  if (stop_signal_ == nullptr || stop_signal_->load(std::memory_order_relaxed) == 0) return false;
+  if (!stop_seen_at_) stop_seen_at_ = Clock::now();
+  return seconds_since(*stop_seen_at_) >= stop_grace_seconds_;
+}
+
 void Stepper::compute_initial_forces() { initial_forces_.run(world_.time, 0.0); }
 
 void Stepper::step() {
   world_.step_status.clear();
+  abandoned_ = false;
   const double start = world_.time;
   // A fluid limits the step by its Courant and diffusion numbers (numerics 1.5); run.dt is the largest step.
   double dt = model_.dt;
@@ -71,8 +84,15 @@ void Stepper::step() {
   const auto run_substeps = [&] {
     const auto begin = Clock::now();
     solid_step_.run(start, dt);
-    for (std::int64_t sub = 0; sub < substeps; ++sub) substep_.run(start + static_cast<double>(sub) * solid_dt, solid_dt);
-    substep_branch_.add(seconds_since(begin), static_cast<std::uint64_t>(substeps));
+    std::int64_t sub = 0;
+    for (; sub < substeps; ++sub) {
+      if (abandon_now()) {  // a stop request older than the grace period: leave the step unfinished
+        abandoned_ = true;
+        break;
+      }
+      substep_.run(start + static_cast<double>(sub) * solid_dt, solid_dt);
+    }
+    substep_branch_.add(seconds_since(begin), static_cast<std::uint64_t>(sub));
   };
   if (concurrent_) {
     tbb::task_group fluid_branch;
@@ -88,6 +108,7 @@ void Stepper::step() {
     run_step_graph();
     run_substeps();
   }
+  if (abandoned_) return;  // mid-step: neither the time nor the step advances, and no end-of-step checks run
   world_.time = start + dt;
   const auto end_begin = Clock::now();
   end_of_step_.run(start, dt);

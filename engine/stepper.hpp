@@ -6,7 +6,9 @@
 // scenes exchange their fields through the step-start copy and the end-of-step graph), the two branches run side
 // by side: on two cores the grains' many short sub-step loops fill the gaps the fluid's serial parts leave, and
 // the reverse.
+#include <atomic>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "engine/scheduler.hpp"
@@ -20,6 +22,15 @@ class Stepper {
 
   /// Advances world.time by model.dt and world.step by one. Problems are left in world.step_status.
   void step();
+
+  /// Lets a stop request (Ctrl-C, SIGTERM) end a long step: `stop_signal` is read, one relaxed load, before every
+  /// solid sub-step. Once it is non-zero the step goes on for at most `grace_seconds` more (most steps finish and
+  /// the run stops after them as usual); past that the remaining sub-steps are skipped, the fluid's branch is waited
+  /// for, and the step is abandoned (last_step_abandoned()). nullptr (the default): steps always finish.
+  void set_stop_flag(const std::atomic<int>* stop_signal, double grace_seconds);
+  /// True if the last step() was abandoned: the world is mid-step (time and step not advanced, the grains part way
+  /// through their sub-steps). It must not be checkpointed, reported or stepped again.
+  bool last_step_abandoned() const { return abandoned_; }
 
   /// Computes the forces of the current state without advancing it (dt = 0: springs do not grow). Called once for
   /// a new run; a resumed run has its forces in the checkpoint.
@@ -49,9 +60,16 @@ class Stepper {
   Scheduler end_of_step_;
   Scheduler initial_forces_;
   bool concurrent_ = false;
+  const std::atomic<int>* stop_signal_ = nullptr;
+  double stop_grace_seconds_ = 0.0;
+  std::optional<Clock::time_point> stop_seen_at_;  ///< when a sub-step first saw the stop request
+  bool abandoned_ = false;
   SystemTimer step_branch_{"fluid step graph", "branch"};
   SystemTimer substep_branch_{"solid branch", "branch"};
   SystemTimer end_of_step_branch_{"end-of-step graph", "branch"};
+
+  /// True once a stop was requested more than the grace period ago (checked before each sub-step).
+  bool abandon_now();
 };
 
 }  // namespace riffle

@@ -484,5 +484,130 @@ expect_rc "a fluid whose Courant step falls below min_dt stops with exit 3" fast
 check "the diagnosis names the time-step collapse" contains fast_fluid.err "below fluid.min_dt"
 
 # ---------------------------------------------------------------------------------------------------------------
+# 9. Where the outputs go and how long the run is: --until, --out, run.name, dt against end_time.
+riffle_as until_nan run small.toml --out until_nan --until nan
+expect_rc "--until nan exits 1" until_nan 1
+check "... naming the option and the value" contains until_nan.err "--until: expected a finite time > 0 s, got nan"
+riffle_as until_inf run small.toml --out until_inf --until inf
+expect_rc "--until inf exits 1" until_inf 1
+riffle_as until_far run small.toml --out until_far --until 1e10
+expect_rc "--until 1e10 with dt = 1 ms (1e13 steps) exits 1" until_far 1
+check "... naming the 1e12-step limit" contains until_far.err "more than 1e12 steps"
+riffle_as until_short run small.toml --out until_short --until 0.0004
+expect_rc "--until shorter than one step exits 1" until_short 1
+check "... saying the run would end before its first step" contains until_short.err "less than one step (dt = 0.001 s)"
+riffle_as until_past resume "A/checkpoints/$(ckpt_name 20)" --out until_past --until 0.01
+expect_rc "resume --until before the checkpoint's time exits 1" until_past 1
+check "... naming the checkpoint's time" contains until_past.err "--until 0.01 s is not after the checkpoint's time"
+check "the refused --until runs write nothing" \
+  test ! -e until_nan -a ! -e until_inf -a ! -e until_far -a ! -e until_short -a ! -e until_past
+sed 's/^dt = 1.0e-3/dt = 0.06/' small.toml >long_dt.toml
+riffle_as long_dt check long_dt.toml
+expect_rc "a dt longer than end_time exits 2" long_dt 2
+check "... as file:line:column: key: message" \
+  contains long_dt.err "long_dt.toml:4:6: run.dt: dt = 0.06 s is longer than end_time = 0.05 s"
+# `check`, not `run`: without the fix a run of this scene writes into the folder three levels above out/.
+sed 's|^name = "cli_small"|name = "../../.."|' small.toml >escape_name.toml
+riffle_as escape_name check escape_name.toml
+expect_rc "run.name = \"../../..\" exits 2" escape_name 2
+check "... naming run.name" \
+  contains escape_name.err "escape_name.toml:2:8: run.name: expected a plain folder name without '/'"
+sed 's|^name = "cli_small"|name = "nul\\u0000name"|' small.toml >nul_name.toml
+riffle_as nul_name check nul_name.toml
+expect_rc "a run.name with a NUL character exits 2 (a run aborted with SIGABRT)" nul_name 2
+check "... naming run.name" \
+  contains nul_name.err "nul_name.toml:2:8: run.name: expected a name without control characters"
+riffle_as out_file run small.toml --out small.toml/out
+expect_rc "an --out that cannot be created exits 4" out_file 4
+check "... with a message naming it" contains out_file.err "cannot create the output directory 'small.toml/out'"
+mkdir -p log_blocked/riffle.log
+riffle_as log_blocked run small.toml --out log_blocked
+expect_rc "a riffle.log that cannot be opened exits 4 (it aborted with SIGABRT)" log_blocked 4
+check "... naming the log file" contains log_blocked.err "log_blocked/riffle.log: cannot open the log file"
+
+# ---------------------------------------------------------------------------------------------------------------
+# 10. One run per output folder: a second run or resume into a folder a run is writing is refused at once.
+"$RIFFLE" run long.toml --out busy --threads 1 --until 1000 >busy.out 2>busy.err &
+busy_pid=$!
+background_pid=$busy_pid
+waited=0
+while [ "$(data_rows busy/diagnostics.csv)" -lt 2 ] && kill -0 "$busy_pid" 2>/dev/null && [ $waited -lt 600 ]; do
+  sleep 0.05
+  waited=$((waited + 1))
+done
+riffle_as second_run run long.toml --out busy --until 0.005
+expect_rc "a second run into a folder another run is writing exits 4" second_run 4
+check "... naming the folder and the run holding it" \
+  contains second_run.err "busy: another riffle run (pid $busy_pid) is writing into this output folder"
+riffle_as second_resume resume "A/checkpoints/$(ckpt_name 20)" --out busy --until 0.03
+expect_rc "a resume into it exits 4 too" second_resume 4
+kill -s TERM "$busy_pid" 2>/dev/null
+wait "$busy_pid"
+busy_rc=$?
+background_pid=
+check "the first run was undisturbed and stops on SIGTERM (exit $busy_rc)" test "$busy_rc" = 143
+busy_rows=$(data_rows busy/diagnostics.csv)
+check "its diagnostics.csv holds only its own rows (steps 20, 40, ...)" \
+  same_text "$(tail -n +2 busy/diagnostics.csv | cut -d, -f1)" "$(seq 20 20 $((busy_rows * 20)))"
+riffle_as reuse_busy run small.toml --out busy --until 0.002
+expect_rc "once it has exited the folder is free again (the kernel dropped its lock)" reuse_busy 0
+
+# ---------------------------------------------------------------------------------------------------------------
+# 11. Ctrl-C inside a step of a million sub-steps: the step is abandoned (no checkpoint of a half-done step) and
+# riffle exits 130 within a few seconds. It used to finish the step first, tens of seconds later.
+cat >long_step.toml <<'EOF'
+[run]
+name = "cli_long_step"
+end_time = 1.0
+dt = 1.0e-3
+solid_substeps = 1000000
+gravity = [0.0, 0.0, 0.0]
+
+[materials.grain]
+density = 1318.0
+
+[tank]
+size = [0.10, 0.10, 0.10]
+wall_material = "grain"
+
+[[solids.blocks]]
+min = [0.02, 0.02, 0.02]
+max = [0.08, 0.08, 0.08]
+spacing = 0.006
+radius = 0.002
+material = "grain"
+EOF
+(trap - INT; exec "$RIFFLE" run long_step.toml --out long_step --threads 1 >long_step.out 2>long_step.err) &
+step_pid=$!
+background_pid=$step_pid
+waited=0
+while ! grep -q "starting 'cli_long_step'" long_step.err 2>/dev/null && kill -0 "$step_pid" 2>/dev/null &&
+      [ $waited -lt 600 ]; do
+  sleep 0.05
+  waited=$((waited + 1))
+done
+sleep 1  # well inside the first step
+kill -s INT "$step_pid"
+waited=0
+while kill -0 "$step_pid" 2>/dev/null && [ $waited -lt 200 ]; do
+  sleep 0.05
+  waited=$((waited + 1))
+done
+if kill -0 "$step_pid" 2>/dev/null; then
+  kill -s KILL "$step_pid"
+  wait "$step_pid" 2>/dev/null
+  not_ok "SIGINT inside a long step stops riffle within 10 s" "still running; killed"
+else
+  wait "$step_pid"
+  step_rc=$?
+  check "SIGINT inside a long step stops riffle within 10 s, exit 130 (got $step_rc)" test "$step_rc" = 130
+fi
+background_pid=
+check "... saying the step was abandoned and that no checkpoint exists yet" \
+  contains long_step.err "stopped by SIGINT during step 1" "the step was abandoned and no checkpoint of it written" \
+  "last good checkpoint: none written yet"
+check "... and writes no checkpoint of the half-done step" test -z "$(ls long_step/checkpoints 2>/dev/null)"
+
+# ---------------------------------------------------------------------------------------------------------------
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
