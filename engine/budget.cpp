@@ -10,6 +10,7 @@
 #include "engine/initial_state.hpp"
 #include "engine/fluid_layout.hpp"
 #include "systems/cell_grid.hpp"
+#include "systems/voidage_grid.hpp"
 #include "systems/solid_checks.hpp"
 #include "systems/solid_neighbours.hpp"
 
@@ -131,11 +132,10 @@ double grain_bytes_lower_bound(double grains) {
 SceneBudget estimate_budget(const Model& model) {
   SceneBudget budget;
   const TankModel& tank = model.tank;
-  // Where the particles are while the run is healthy: the tank swept by its motion. (The domain margin beyond it
-  // is where a particle is declared lost; the grids follow the particles, so an empty margin costs nothing.)
+  // The coupling grids span the particles, which may be anywhere in the domain (the tank extent by its motion, plus
+  // the margin); each is bounded by its own node limit, so a wide domain costs at most that.
   const DomainBox domain = solid_domain(model);
-  const Vec3 sweep = domain.high - domain.low - tank.size - 2.0 * Vec3::Constant(tank.domain_margin);
-  const Vec3 swept = tank.size + sweep.cwiseMax(0.0);
+  const Vec3 extent = domain.high - domain.low;
 
   GrainSizes grains;
   if (model.solids.enabled) {
@@ -173,11 +173,12 @@ SceneBudget estimate_budget(const Model& model) {
     const double voidage_radius = model.coupling.voidage_radius > 0.0
                                       ? model.coupling.voidage_radius
                                       : std::max(3.0 * fluid.spacing, 4.0 * grains.largest);
-    budget.voidage_nodes = voidage_nodes(swept, 0.668 * voidage_radius) +
-                           voidage_nodes(swept, 0.668 * (grains.largest + fluid_reach));
+    const double node_limit = voidage_node_limit(static_cast<std::size_t>(grains.count + budget.fluid_particles));
+    budget.voidage_nodes = std::min(voidage_nodes(extent, 0.668 * voidage_radius), node_limit) +
+                           std::min(voidage_nodes(extent, 0.668 * (grains.largest + fluid_reach)), node_limit);
     // systems/solid_fluid_sampling.cpp: cells of 0.5 (r_min + r_e) over the fluid, bounded by cell_grid.hpp.
     const double cell = 0.5 * (grains.smallest + fluid_reach);
-    const double cells = std::ceil(swept[0] / cell + 1.0) * std::ceil(swept[1] / cell + 1.0) * std::ceil(swept[2] / cell + 1.0);
+    const double cells = std::ceil(extent[0] / cell + 1.0) * std::ceil(extent[1] / cell + 1.0) * std::ceil(extent[2] / cell + 1.0);
     budget.sampling_cells = std::min(cells, cell_grid_cell_limit(static_cast<std::size_t>(budget.fluid_particles)));
   }
 

@@ -17,6 +17,7 @@
 #include "engine/simulation.hpp"
 #include "systems/solid_checks.hpp"
 #include "systems/solid_neighbours.hpp"
+#include "systems/voidage_grid.hpp"
 
 namespace {
 
@@ -139,6 +140,16 @@ TEST_CASE("solid grid: its cell count stays bounded by the grains, not the empty
     const riffle::SolidGridShape shape = riffle::solid_grid_shape(grains, huge, 1e-5);
     CHECK(shape.cell_count() <= riffle::solid_grid_cell_limit(grains.size()));
   }
+}
+
+TEST_CASE("voidage grid: two particles far apart in a wide domain give a bounded grid") {
+  // 4096^3 nodes (two 550 GB arrays) before: the per-axis cap of 4096 bounded nothing in total.
+  riffle::VoidageGrid grid;
+  const std::vector<riffle::Vec3> grains = {{0.0, 0.0, 0.0}, {1.0e3, 1.0e3, 1.0e3}};
+  const std::vector<double> volumes = {1e-9, 1e-9};
+  grid.build(grains, volumes, {}, 0, 1e-9, 0.01);
+  CHECK(static_cast<double>(grid.node_count()) <= riffle::voidage_node_limit(2));
+  CHECK(grid.node_count() > 8);  // coarsened only as far as needed
 }
 
 TEST_CASE("solid grid: tiny grains, huge margins and amplitudes build a world and find the same contacts") {
