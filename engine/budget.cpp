@@ -33,7 +33,7 @@ constexpr double kBytesPerMpsParticle = 1100.0;
 constexpr double kBytesPerFluidNeighbour = 20.0;  ///< list slots (wide and narrow), PPE matrix entry, pair batches
 constexpr double kBytesPerGridCell = 8.0;         ///< cell start (uint32) and its fill cursor
 constexpr double kBytesPerVoidageNode = 16.0;     ///< solid and fluid deposit (two doubles)
-constexpr double kBaseBytes = 32.0 * 1024.0 * 1024.0;  ///< the process itself (9 MB measured), TBB's pools, logs
+constexpr double kBaseBytes = 16.0 * 1024.0 * 1024.0;  ///< the process itself (9 MB measured), TBB's pools, logs
 
 /// Closest-packed spheres fill at most pi / sqrt(18) of space.
 constexpr double kDensestPacking = 0.7405;
@@ -207,8 +207,15 @@ std::string memory_limit_advice(const Model& model) {
 std::string grain_count_problem(const Model& model, double grains) {
   char count[64];
   std::snprintf(count, sizeof count, "%.6g", grains);
-  if (grains > kMaxSceneGrains)
-    return std::string("the scene would have ") + count + " grains in all, more than the 5e7 a scene may have";
+  if (grains > std::min(kMaxSceneGrains, model.max_grains)) {
+    char limit[64];
+    if (model.max_grains >= kMaxSceneGrains)
+      std::snprintf(limit, sizeof limit, "5e7");
+    else
+      std::snprintf(limit, sizeof limit, "%.0f", model.max_grains);
+    return std::string("the scene would have ") + count + " grains in all, more than the " + limit +
+           " a scene may have";
+  }
   const double bytes = grain_bytes_lower_bound(grains);
   if (bytes > effective_memory_limit(model))
     return std::string("the scene's ") + count + " grains would need at least an estimated " + format_bytes(bytes) +

@@ -14,6 +14,9 @@ namespace riffle {
 struct SceneLimits {
   /// [bytes] --memory-limit; 0 = not given: the scene's run.memory_limit, else default_memory_limit().
   double memory_limit = 0.0;
+  /// Grains a scene may have in all (at most kMaxSceneGrains); lower in the fuzzer, where generating a bed of
+  /// thousands of grains under the sanitizers takes longer than its timeout.
+  double max_grains = 5e7;
 };
 
 /// Estimated counts (doubles: an absurd scene may ask for more than any integer holds) and memory of a scene.

@@ -407,7 +407,7 @@ void check_budget(TableReader& scene, const Model& model) {
     if (auto fluid = table_at(scene, {"fluid"})) fluid->problem("spacing", text);
     return;
   }
-  if (budget.grains > kMaxSceneGrains) {
+  if (budget.grains > std::min(kMaxSceneGrains, model.max_grains)) {
     if (auto solids = table_at(scene, {"solids"}))
       solids->problem("", grain_count_problem(model, budget.grains));
     return;
@@ -467,6 +467,7 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   std::optional<TableReader> run = scene.table("run", true);
   model.memory_limit = limits.memory_limit > 0.0 ? limits.memory_limit : default_memory_limit();
   model.memory_limit_source = limits.memory_limit > 0.0 ? "--memory-limit" : "the default, 3/4 of physical memory";
+  model.max_grains = limits.max_grains;
   if (run) read_run(*run, model, limits);
   // Materials first: the tank, the contacts and the solids refer to them by name.
   if (auto materials = scene.table("materials", true)) read_materials(*materials, model, scene.has("contact"));
