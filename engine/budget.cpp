@@ -25,7 +25,8 @@ constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // run holds beside them (contacts' per-grain arrays, the sorts' scratch copies, the set-up copies (SphereSpec,
 // lattice layouts), the PPE's vectors, and the serialised checkpoint written at the end), calibrated against the
 // peak RSS of runs (/usr/bin/time -v, docs/RELIABILITY.md "Memory budget"): 6.4e4 and 3.43e5 grains in a dense
-// block, 5.1e4 and 5.7e5 MPS particles of still water. Estimate / measured: 1.05 to 1.35.
+// block, 5.1e4 and 5.7e5 MPS particles of still water. Estimate / measured: 1.03 to 1.2 (1.4 for dam_break and
+// ergun_plug, whose dummy particles cost less than the average).
 constexpr double kBytesPerGrain = 2600.0;
 constexpr double kBytesPerGrainPair = 200.0;      ///< pair_second, spring, force, two torques, overlap, reverse index, saved springs
 constexpr double kBytesPerGrainWallPair = 90.0;   ///< wall slot, spring, force, torque, overlap
