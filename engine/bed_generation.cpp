@@ -1,5 +1,7 @@
 #include "engine/bed_generation.hpp"
 
+#include "engine/budget.hpp"
+
 #include "engine/scene.hpp"
 
 #include <algorithm>
@@ -520,6 +522,17 @@ void report(const BedGenerationError& error, TableReader& table, std::vector<Tab
     table.problem(error.key(), error.what());
 }
 
+/// Whether the scene's grains, with these classes added, stay within the scene's grain cap and memory limit: asked
+/// before generating, which for millions of grains takes long (each class is capped alone; this is the total).
+template <class ClassSpec>
+bool scene_has_room(TableReader& table, const Model& model, const std::vector<ClassSpec>& classes) {
+  double total = static_cast<double>(model.solids.spheres.size());
+  for (const ClassSpec& grains : classes) total += static_cast<double>(grains.count);
+  const std::string problem = grain_count_problem(model, total);
+  if (!problem.empty()) table.problem("classes", problem);
+  return problem.empty();
+}
+
 std::string span_text(double low, double high) { return format_number(low) + " to " + format_number(high); }
 
 void read_layered_bed(TableReader& bed, Model& model, bool tank_known) {
@@ -570,6 +583,7 @@ void read_layered_bed(TableReader& bed, Model& model, bool tank_known) {
                                     "rises above the tank" + tank_z);
   if (bed.problem_count() != geometry_before) return;
 
+  if (!scene_has_room(bed, model, spec.classes)) return;
   try {
     const std::vector<SphereSpec> spheres = generate_layered_bed(spec);
     model.solids.spheres.insert(model.solids.spheres.end(), spheres.begin(), spheres.end());
@@ -607,6 +621,7 @@ void read_fill(TableReader& fill, Model& model, bool tank_known) {
   }
   spec.min = low;
   spec.max = high;
+  if (!scene_has_room(fill, model, spec.classes)) return;
   try {
     const std::vector<SphereSpec> spheres = generate_fill(spec);
     model.solids.spheres.insert(model.solids.spheres.end(), spheres.begin(), spheres.end());

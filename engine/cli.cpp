@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <new>
 
+#include "engine/budget.hpp"
 #include "engine/scene.hpp"
 #include "engine/simulation.hpp"
 
@@ -96,6 +97,14 @@ int run_command(int argc, char** argv) {
         ->capture_default_str();
   };
   add_log_level(&app);
+  // [GiB] raises (or lowers) the memory limit scenes are checked against (engine/budget.hpp); beats run.memory_limit.
+  double memory_limit_gib = 0.0;
+  auto add_memory_limit = [&memory_limit_gib](CLI::App* command) {
+    command->add_option("--memory-limit", memory_limit_gib,
+                        "Memory limit [GiB] for the scene's estimated budget (default: run.memory_limit, else 3/4 of "
+                        "physical memory)")
+        ->check(CLI::PositiveNumber);
+  };
 
   std::string scene_path, checkpoint_path, out_dir;
   int threads = 0;
@@ -108,11 +117,13 @@ int run_command(int argc, char** argv) {
   // Checked after the scene or checkpoint is read (until_problem): the bounds depend on its time and dt.
   CLI::Option* run_until = run->add_option("--until", until, "End time [s], overrides run.end_time");
   add_log_level(run);
+  add_memory_limit(run);
   run->footer(kExitCodes);
 
   CLI::App* check = app.add_subcommand("check", "Validate a scene file without running it");
   check->add_option("scene", scene_path, "Scene file (TOML)")->required();
   add_log_level(check);
+  add_memory_limit(check);
   check->footer(kExitCodes);
 
   CLI::App* resume = app.add_subcommand("resume", "Continue a run from a checkpoint");
@@ -121,6 +132,7 @@ int run_command(int argc, char** argv) {
   resume->add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
   CLI::Option* resume_until = resume->add_option("--until", until, "End time [s], overrides run.end_time");
   add_log_level(resume);
+  add_memory_limit(resume);
   resume->footer(kExitCodes);
 
   try {
@@ -136,10 +148,12 @@ int run_command(int argc, char** argv) {
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
   spdlog::set_level(spdlog::level::from_str(log_level));
 
+  SceneLimits limits;
+  limits.memory_limit = memory_limit_gib * 1024.0 * 1024.0 * 1024.0;
   std::unique_ptr<Simulation> simulation;
   try {
     if (*resume) {
-      simulation = Simulation::from_checkpoint(checkpoint_path);
+      simulation = Simulation::from_checkpoint(checkpoint_path, limits);
       if (out_dir.empty()) {
         // The run directory is the one holding checkpoints/, also when the path is a bare name inside checkpoints/.
         auto run_dir = (std::filesystem::path(checkpoint_path).parent_path() / "..").lexically_normal();
@@ -147,7 +161,7 @@ int run_command(int argc, char** argv) {
         out_dir = run_dir.string();
       }
     } else {
-      simulation = Simulation::from_scene_file(scene_path);
+      simulation = Simulation::from_scene_file(scene_path, limits);
       if (out_dir.empty()) out_dir = default_out_dir(simulation->model());
     }
   } catch (const SceneError& error) {
@@ -186,6 +200,7 @@ int run_command(int argc, char** argv) {
       std::printf("  fluid: %zu MPS particles, %zu of them fluid, spacing %g m, r_e = %g spacing\n", fluid->size(),
                   simulation->world().fluid_summary->fluid_count, model.fluid.spacing,
                   model.fluid.effective_radius_ratio);
+    std::printf("%s", describe_budget(estimate_budget(model), model).c_str());
     return kExitOk;
   }
 

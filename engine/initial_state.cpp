@@ -42,7 +42,8 @@ Solids initial_grains(const Model& model) {
   const toml::table* materials = root ? (*root)["materials"].as_table() : nullptr;
   if (!materials) throw std::runtime_error(path + ": the checkpoint's scene has no readable [materials]");
   std::vector<std::int32_t> mapped;
-  for (auto&& [name, node] : *materials) {
+  for (auto&& [binding, node] : *materials) {
+    const toml::key& name = binding;  // clang 14 (the fuzz build) cannot capture a structured binding
     const auto found = std::find_if(model.materials.begin(), model.materials.end(),
                                     [&](const Material& material) { return material.name == name.str(); });
     if (found == model.materials.end())

@@ -237,6 +237,12 @@ struct Model {
   CouplingModel coupling;
   OutputModel output;
 
+  /// [bytes] a scene whose estimated memory (engine/budget.hpp) exceeds this is refused before anything is
+  /// allocated: --memory-limit, else run.memory_limit, else default_memory_limit()
+  double memory_limit = 0.0;
+  std::string memory_limit_source;  ///< where memory_limit came from, for messages
+  double max_grains = 5e7;          ///< grains the scene may have in all (SceneLimits::max_grains)
+
   double solid_dt() const { return dt / static_cast<double>(solid_substeps); }
 };
 

@@ -1,11 +1,17 @@
 #include "engine/scene.hpp"
 
+#include <sys/stat.h>
+
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <initializer_list>
 #include <map>
+#include <optional>
 
 #include "engine/bed_generation.hpp"
+#include "engine/budget.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/bed_statistics.hpp"
 #include "engine/fluid_scene.hpp"
@@ -64,9 +70,15 @@ std::string run_name_problem(const std::string& name) {
   return "";
 }
 
-void read_run(TableReader& run, Model& model) {
+void read_run(TableReader& run, Model& model, const SceneLimits& limits) {
   model.name = run.text("name", "riffle");
   if (const std::string problem = run_name_problem(model.name); !problem.empty()) run.problem("name", problem);
+  // [GiB]; the command line's --memory-limit wins (parse_scene has set it already).
+  const double memory_limit = run.number("memory_limit", 0.0, "GiB", Bounds::non_negative());
+  if (limits.memory_limit <= 0.0 && memory_limit > 0.0) {
+    model.memory_limit = memory_limit * 1024.0 * 1024.0 * 1024.0;
+    model.memory_limit_source = "run.memory_limit";
+  }
   model.end_time = run.number("end_time", std::nullopt, "s", Bounds::positive());
   model.dt = run.number("dt", std::nullopt, "s", Bounds::positive());
   model.solid_substeps = run.integer("solid_substeps", 1, 1, 1000000);
@@ -182,7 +194,19 @@ void read_solids(TableReader& solids, Model& model) {
     sphere.finish();
     model.solids.spheres.push_back(spec);
   }
-  for (TableReader& block : solids.tables("blocks")) {
+  // Blocks in two passes: every block is read and counted first, and the scene's total checked (grain_count_problem)
+  // before any is generated, so that blocks each under the per-block cap cannot together exhaust memory.
+  struct PlannedBlock {
+    TableReader* reader;
+    Vec3 low;
+    double spacing;
+    SphereSpec spec;
+    Eigen::Array3d counts;
+  };
+  std::vector<TableReader> block_readers = solids.tables("blocks");
+  std::vector<PlannedBlock> planned;
+  double planned_grains = static_cast<double>(model.solids.spheres.size());
+  for (TableReader& block : block_readers) {
     const std::size_t problems_before = block.problem_count();
     const Vec3 low = block.vec3("min", std::nullopt, "m", Bounds::any());
     const Vec3 high = block.vec3("max", std::nullopt, "m", Bounds::any());
@@ -211,15 +235,27 @@ void read_solids(TableReader& solids, Model& model) {
       continue;
     }
     if (!tank_known) continue;
+    planned_grains += counts.prod();
+    planned.push_back({&block, low, spacing, spec, counts});
+  }
+  if (!planned.empty()) {
+    const std::string too_many = grain_count_problem(model, planned_grains);
+    if (!too_many.empty()) {
+      planned.back().reader->problem("spacing", too_many);
+      planned.clear();
+    }
+  }
+  for (PlannedBlock& block : planned) {
     const std::size_t before = model.solids.spheres.size();
-    for (int k = 0; k < static_cast<int>(counts[2]); ++k)
-      for (int j = 0; j < static_cast<int>(counts[1]); ++j)
-        for (int i = 0; i < static_cast<int>(counts[0]); ++i) {
-          spec.position = low + spacing * Vec3(i, j, k);
+    SphereSpec spec = block.spec;
+    for (int k = 0; k < static_cast<int>(block.counts[2]); ++k)
+      for (int j = 0; j < static_cast<int>(block.counts[1]); ++j)
+        for (int i = 0; i < static_cast<int>(block.counts[0]); ++i) {
+          spec.position = block.low + block.spacing * Vec3(i, j, k);
           if (inside_tank(model, spec.position, spec.radius)) model.solids.spheres.push_back(spec);
         }
     if (model.solids.spheres.size() == before)
-      block.problem("min", "the block places no sphere inside the tank");
+      block.reader->problem("min", "the block places no sphere inside the tank");
   }
   read_bed_generators(solids, model);
   solids.finish();
@@ -417,6 +453,75 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
   }
   return best;
 }
+
+/// The reader of a sub-table for reporting a problem in it (the table was read and finished already).
+std::optional<TableReader> table_at(TableReader& scene, std::initializer_list<const char*> path) {
+  std::optional<TableReader> reader = scene.table(*path.begin(), false);
+  for (auto it = path.begin() + 1; reader && it != path.end(); ++it) reader = reader->table(*it, false);
+  return reader;
+}
+
+/// Scene-wide limits, judged from the budget before any particle is laid out (engine/budget.hpp): the totals over
+/// the per-block caps, the memory estimate against the limit, and a contact skin that would make every grain list
+/// every other one.
+void check_budget(TableReader& scene, const Model& model) {
+  const SceneBudget budget = estimate_budget(model);
+  char text[512];
+  if (model.contact.enabled && model.contact.skin > 0.0 && !model.solids.spheres.empty()) {
+    double largest = 0.0;
+    for (const SphereSpec& sphere : model.solids.spheres) largest = std::max(largest, sphere.radius);
+    // Beyond a diameter the skin buys no fewer rebuilds worth having, and each grain lists ~(skin / r)^3 others.
+    if (model.contact.skin > 4.0 * largest) {
+      std::snprintf(text, sizeof text,
+                    "a skin of %g m is more than twice the largest grain diameter (%g m): every grain would list "
+                    "every grain within it (an estimated %.3g pairs) and each step would crawl; leave it out (half "
+                    "the smallest radius) or keep it below a grain diameter",
+                    model.contact.skin, 2.0 * largest, budget.grain_pairs);
+      if (auto contact = table_at(scene, {"contact"})) contact->problem("skin", text);
+      return;
+    }
+  }
+  const double mps = budget.fluid_particles + budget.wall_particles + budget.dummy_particles;
+  if (mps > kMaxSceneFluidParticles) {
+    std::snprintf(text, sizeof text,
+                  "the scene would have %.4g MPS particles (%.4g fluid, %.4g wall, %.4g dummy), more than the 5e7 a "
+                  "scene may have; coarsen the spacing",
+                  mps, budget.fluid_particles, budget.wall_particles, budget.dummy_particles);
+    if (auto fluid = table_at(scene, {"fluid"})) fluid->problem("spacing", text);
+    return;
+  }
+  if (budget.grains > std::min(kMaxSceneGrains, model.max_grains)) {
+    if (auto solids = table_at(scene, {"solids"}))
+      solids->problem("", grain_count_problem(model, budget.grains));
+    return;
+  }
+  if (!(budget.bytes > effective_memory_limit(model))) return;
+  std::snprintf(text, sizeof text,
+                "the scene needs an estimated %s: grains %s (%.4g grains, %.3g pairs), MPS particles %s (%.4g "
+                "particles, %.3g neighbour entries), grids %s (%.3g voidage nodes); ",
+                format_bytes(budget.bytes).c_str(), format_bytes(budget.grain_bytes).c_str(), budget.grains,
+                budget.grain_pairs, format_bytes(budget.fluid_bytes).c_str(), mps, budget.fluid_neighbours,
+                format_bytes(budget.grid_bytes).c_str(), budget.voidage_nodes);
+  const std::string message = text + memory_limit_advice(model);
+  // Blame the key behind the largest part.
+  std::optional<TableReader> blamed;
+  std::string key;
+  if (budget.fluid_bytes >= budget.grain_bytes && budget.fluid_bytes >= budget.grid_bytes) {
+    blamed = table_at(scene, {"fluid"}), key = "spacing";
+  } else if (budget.grain_bytes >= budget.grid_bytes) {
+    const bool pairs = budget.grain_pair_bytes > 0.5 * budget.grain_bytes && model.contact.skin > 0.0;
+    blamed = pairs ? table_at(scene, {"contact"}) : table_at(scene, {"solids"}), key = pairs ? "skin" : "";
+  } else if (model.tank.motion.kind != TankMotionModel::Kind::kNone) {
+    blamed = table_at(scene, {"tank", "motion"}), key = "amplitude";
+  } else {
+    blamed = table_at(scene, {"tank"}), key = "size";
+  }
+  if (blamed)
+    blamed->problem(key, message);
+  else
+    scene.problem("", message);
+}
+
 }  // namespace
 
 /// [coupling]: grains and fluid together (seed 000 Secs. 3.2-3.3; numerics.md 5).
@@ -433,7 +538,7 @@ void read_coupling(TableReader& coupling, Model& model) {
   coupling.finish();
 }
 
-Model parse_scene(const std::string& text, const std::string& file_name) {
+Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits) {
   SceneProblems problems{file_name, {}};
   std::optional<toml::table> root = parse_toml(text, problems);
   if (!root) throw SceneError(problems.lines);
@@ -443,7 +548,10 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   model.scene_text = text;
   TableReader scene(*root, "", problems);
   std::optional<TableReader> run = scene.table("run", true);
-  if (run) read_run(*run, model);
+  model.memory_limit = limits.memory_limit > 0.0 ? limits.memory_limit : default_memory_limit();
+  model.memory_limit_source = limits.memory_limit > 0.0 ? "--memory-limit" : "the default, 3/4 of physical memory";
+  model.max_grains = limits.max_grains;
+  if (run) read_run(*run, model, limits);
   // Materials first: the tank, the contacts and the solids refer to them by name.
   if (auto materials = scene.table("materials", true)) read_materials(*materials, model, scene.has("contact"));
   if (auto tank = scene.table("tank", true)) read_tank(*tank, model);
@@ -454,6 +562,8 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   if (auto coupling = scene.table("coupling", false)) read_coupling(*coupling, model);
   if (auto output = scene.table("output", false)) read_output(*output, model);
   scene.finish();
+  // The budget judges the scene as a whole, so only once every part of it is valid.
+  if (problems.lines.empty()) check_budget(scene, model);
   if (!problems.lines.empty()) throw SceneError(problems.lines);
 
   // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
@@ -502,17 +612,37 @@ Model parse_scene(const std::string& text, const std::string& file_name) {
   return model;
 }
 
-Model load_scene_file(const std::string& path) {
-  // A directory opens and reads as empty text, which would be reported as "missing required table [run]".
-  std::error_code ignored;
-  if (std::filesystem::is_directory(path, ignored))
-    throw SceneError({path + ": is a directory, not a scene file"});
+std::string read_scene_text(const std::string& path) {
+  // stat before opening: a FIFO would block in open() or read forever, /dev/zero or a huge file would fill memory,
+  // and a directory opens and reads as empty text ("missing required table [run]" would mislead).
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0)
+    throw SceneError({path + ": cannot open the scene file (does it exist and is it readable?)"});
+  if (S_ISDIR(info.st_mode)) throw SceneError({path + ": is a directory, not a scene file"});
+  if (!S_ISREG(info.st_mode))
+    throw SceneError({path + ": is not a regular file (a FIFO, device or socket); a scene must be a regular file"});
+  if (static_cast<std::uint64_t>(info.st_size) > kMaxSceneFileBytes)
+    throw SceneError({path + ": the scene file is " + std::to_string(info.st_size) + " bytes, more than the " +
+                      std::to_string(kMaxSceneFileBytes) + " (16 MiB) a scene may have"});
   std::ifstream file(path, std::ios::binary);
   if (!file) throw SceneError({path + ": cannot open the scene file (does it exist and is it readable?)"});
-  std::ostringstream text;
-  text << file.rdbuf();
+  // Read in chunks and stop one chunk past the cap: the file may have grown (or been swapped) since stat.
+  std::string text;
+  text.reserve(static_cast<std::size_t>(info.st_size));
+  char chunk[1 << 16];
+  while (file && text.size() <= kMaxSceneFileBytes) {
+    file.read(chunk, sizeof chunk);
+    text.append(chunk, static_cast<std::size_t>(file.gcount()));
+  }
   if (file.bad()) throw SceneError({path + ": error while reading the scene file"});
-  return parse_scene(text.str(), path);
+  if (text.size() > kMaxSceneFileBytes)
+    throw SceneError({path + ": the scene file grew past " + std::to_string(kMaxSceneFileBytes) +
+                      " bytes (16 MiB) while it was read"});
+  return text;
+}
+
+Model load_scene_file(const std::string& path, const SceneLimits& limits) {
+  return parse_scene(read_scene_text(path), path, limits);
 }
 
 }  // namespace riffle

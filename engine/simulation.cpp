@@ -279,13 +279,13 @@ std::unique_ptr<Simulation> Simulation::from_model(Model model) {
   return simulation;
 }
 
-std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path) {
-  return from_model(load_scene_file(path));
+std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path, const SceneLimits& limits) {
+  return from_model(load_scene_file(path, limits));
 }
 
-std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path) {
+std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path, const SceneLimits& limits) {
   CheckpointData data = read_checkpoint(path);
-  Model model = parse_scene(data.scene_text, data.scene_file);
+  Model model = parse_scene(data.scene_text, data.scene_file, limits);
   // Components the scene enables but that hold no persistent state are rebuilt; the rest come from the file.
   World world = initial_world(model);
   world.time = data.world.time;

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "engine/budget.hpp"
 #include "engine/checkpoint.hpp"
 #include "engine/model.hpp"
 #include "engine/stepper.hpp"
@@ -46,10 +47,10 @@ struct RunOutcome {
 class Simulation {
  public:
   /// Throws SceneError.
-  static std::unique_ptr<Simulation> from_scene_file(const std::string& path);
+  static std::unique_ptr<Simulation> from_scene_file(const std::string& path, const SceneLimits& limits = {});
   static std::unique_ptr<Simulation> from_model(Model model);
   /// Throws CheckpointError, or SceneError if the embedded scene no longer validates.
-  static std::unique_ptr<Simulation> from_checkpoint(const std::string& path);
+  static std::unique_ptr<Simulation> from_checkpoint(const std::string& path, const SceneLimits& limits = {});
 
   /// Runs to options.until (or run.end_time) writing all outputs into options.out_dir.
   RunOutcome run(const RunOptions& options);

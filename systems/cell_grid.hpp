@@ -12,6 +12,9 @@
 
 namespace riffle {
 
+/// The most cells a CellGrid over `points` points may have: 64 per point, and at least 4e6 (32 MB).
+inline double cell_grid_cell_limit(std::size_t points) { return std::max(64.0 * static_cast<double>(points), 4.0e6); }
+
 class CellGrid {
  public:
   /// Grid over points[first .. first + count) with cells of `cell_size` (at least the largest query radius).
@@ -24,9 +27,17 @@ class CellGrid {
       high = high.cwiseMax(points[k]);
     }
     if (count == 0) low_ = high = Vec3::Zero();
+    // A stray point far from the others must not make the grid huge: above cell_grid_cell_limit the cells double
+    // until it fits. That changes the order of the visits (and so the last bits of sums over them), but only for a
+    // grid that big, which no valid scene's fluid builds (the limit is 64 cells per point).
+    auto axis_cells = [&](int axis) {
+      return std::min(std::floor((high[axis] - low_[axis]) / cell_size_) + 1.0, static_cast<double>(1 << 20));
+    };
+    const double limit = cell_grid_cell_limit(count);
+    while (axis_cells(0) * axis_cells(1) * axis_cells(2) > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
+    const bool fits = axis_cells(0) * axis_cells(1) * axis_cells(2) <= limit;  // not with an infinite coordinate
     for (int axis = 0; axis < 3; ++axis)
-      cells_[static_cast<std::size_t>(axis)] =
-          std::min<std::int64_t>(static_cast<std::int64_t>((high[axis] - low_[axis]) / cell_size) + 1, 1 << 20);
+      cells_[static_cast<std::size_t>(axis)] = fits ? static_cast<std::int64_t>(axis_cells(axis)) : 1;
     const std::size_t total = static_cast<std::size_t>(cells_[0] * cells_[1] * cells_[2]);
     start_.assign(total + 1, 0);
     cell_of_.resize(count);

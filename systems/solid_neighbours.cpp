@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "systems/solid_cell_sort.hpp"
 #include "systems/solid_checks.hpp"
@@ -17,7 +18,7 @@ namespace {
 
 constexpr std::size_t kGrain = 256;
 
-/// Uniform grid over the domain box with the grains of each cell listed in slot order.
+/// Uniform grid over the grains' box (solid_grid_shape) with the grains of each cell listed in slot order.
 struct CellGrid {
   Vec3 origin;
   double cell_size = 0.0;
@@ -28,8 +29,11 @@ struct CellGrid {
   std::array<std::int64_t, 3> cell_of(const Vec3& position) const {
     std::array<std::int64_t, 3> cell{};
     for (int axis = 0; axis < 3; ++axis) {
-      const auto index = static_cast<std::int64_t>(std::floor((position[axis] - origin[axis]) / cell_size));
-      cell[static_cast<std::size_t>(axis)] = std::clamp<std::int64_t>(index, 0, cells[static_cast<std::size_t>(axis)] - 1);
+      // Clamped as a double before the cast: a grain far outside the box (or a query reach of 1e300) must not
+      // overflow int64. Monotone in the position, so a query's cell range still covers every grain in reach.
+      const double index = std::floor((position[axis] - origin[axis]) / cell_size);
+      const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
+      cell[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::clamp(index, 0.0, top));
     }
     return cell;
   }
@@ -39,12 +43,11 @@ struct CellGrid {
 };
 
 CellGrid build_grid(const Solids& solids, const DomainBox& domain, double cell_size) {
+  const SolidGridShape shape = solid_grid_shape(solids.position, domain, cell_size);
   CellGrid grid;
-  grid.origin = domain.low;
-  grid.cell_size = cell_size;
-  for (int axis = 0; axis < 3; ++axis)
-    grid.cells[static_cast<std::size_t>(axis)] =
-        std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil((domain.high[axis] - domain.low[axis]) / cell_size)));
+  grid.origin = shape.origin;
+  grid.cell_size = shape.cell_size;
+  grid.cells = shape.cells;
   const std::size_t cell_count = static_cast<std::size_t>(grid.cells[0] * grid.cells[1] * grid.cells[2]);
   std::vector<std::uint32_t> cell_of_grain(solids.size());
   grid.cell_start.assign(cell_count + 1, 0);
@@ -96,6 +99,37 @@ const SavedSpring* find_spring(const std::vector<SavedSpring>& saved, EntityId l
 }
 
 }  // namespace
+
+double solid_grid_cell_limit(std::size_t grains) { return std::max(8.0 * static_cast<double>(grains), 65536.0); }
+
+SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const DomainBox& domain, double cell_size) {
+  // The grains' box, clipped to the domain (a grain outside it stops the run at the domain check; until then it
+  // sits in an edge cell). Non-finite positions are left out here for the same reason.
+  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 high = -low;
+  for (const Vec3& p : positions)
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) low = low.cwiseMin(p), high = high.cwiseMax(p);
+  low = low.cwiseMax(domain.low);
+  high = high.cwiseMin(domain.high);
+  if (!((low.array() <= high.array()).all())) low = high = domain.low;
+  SolidGridShape shape;
+  shape.origin = low;
+  shape.cell_size = cell_size > 0.0 && std::isfinite(cell_size) ? cell_size : 1.0;
+  const Vec3 extent = high - low;
+  const double limit = solid_grid_cell_limit(positions.size());
+  auto axis_cells = [&](int axis) {
+    // Clamped before the cast: 1e300 m of extent over a 1 um cell is no int64.
+    return std::clamp(std::ceil(extent[axis] / shape.cell_size), 1.0, 1e15);
+  };
+  for (;;) {
+    const double total = axis_cells(0) * axis_cells(1) * axis_cells(2);
+    if (total <= limit) break;
+    // Straight to about the limit, then by 1/8 steps: the per-axis ceilings can keep the first guess a bit high.
+    shape.cell_size *= std::max(1.125, 0.999 * std::cbrt(total / limit));
+  }
+  for (int axis = 0; axis < 3; ++axis) shape.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(axis_cells(axis));
+  return shape;
+}
 
 double default_skin(const Solids& solids) {
   if (solids.size() == 0) return 0.0;

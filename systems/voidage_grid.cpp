@@ -33,10 +33,19 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
   for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
   for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
   if (low[0] > high[0]) low = high = Vec3::Zero();
-  origin_ = low - Vec3::Constant(cell_size);
+  // Nodes per axis in doubles (a stray coordinate of 1e300 must not overflow the cast), at most 4096 each.
+  auto axis_nodes = [&](int axis) {
+    return std::min(std::floor((high[axis] - (low[axis] - cell_size_)) / cell_size_) + 3.0, 4096.0);
+  };
+  // A stray particle far from the others (still inside a wide domain) must not make the grid huge: above
+  // voidage_node_limit the cells double until it fits. That changes the field, but only for a grid that big, which
+  // no valid scene builds (64 nodes per particle; the seed scenes use well under one).
+  const double limit = voidage_node_limit(grain_positions.size() + fluid_count);
+  while (axis_nodes(0) * axis_nodes(1) * axis_nodes(2) > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
+  const bool fits = axis_nodes(0) * axis_nodes(1) * axis_nodes(2) <= limit;  // not with an infinite coordinate
+  origin_ = low - Vec3::Constant(cell_size_);
   for (int axis = 0; axis < 3; ++axis)
-    nodes_[static_cast<std::size_t>(axis)] =
-        std::min<std::int64_t>(static_cast<std::int64_t>((high[axis] - origin_[axis]) / cell_size) + 3, 4096);
+    nodes_[static_cast<std::size_t>(axis)] = fits ? static_cast<std::int64_t>(axis_nodes(axis)) : 2;
   const std::size_t total = static_cast<std::size_t>(nodes_[0] * nodes_[1] * nodes_[2]);
   solid_.assign(total, 0.0);
   fluid_.assign(total, 0.0);

@@ -6,6 +6,7 @@
 // numerics 5.3 costs hundreds of grain pairs per grain at R_eps = 2 d_max), walls and the free surface truncate
 // both deposits alike, and each grain sees a fraction averaged over about two cells in each direction.
 // Deposits run in slot order, so the field does not depend on the thread count.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -19,6 +20,9 @@ struct CloudInCellStencil {
   std::array<std::size_t, 8> node;
   std::array<double, 8> weight;  ///< sum to 1
 };
+
+/// The most nodes a VoidageGrid over `points` grains and fluid particles may have: 64 per point, at least 4e6.
+inline double voidage_node_limit(std::size_t points) { return std::max(64.0 * static_cast<double>(points), 4.0e6); }
 
 class VoidageGrid {
  public:
