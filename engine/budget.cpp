@@ -28,7 +28,8 @@ constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // block, 5.1e4 and 5.7e5 MPS particles of still water. Estimate / measured: 1.03 to 1.2 (1.4 for dam_break and
 // ergun_plug, whose dummy particles cost less than the average).
 constexpr double kBytesPerGrain = 2600.0;
-constexpr double kBytesPerGrainPair = 200.0;      ///< pair_second, spring, force, two torques, overlap, reverse index, saved springs
+/// pair_second, spring, force, two torques, overlap, reverse index, saved springs
+constexpr double kBytesPerGrainPair = 200.0;
 constexpr double kBytesPerGrainWallPair = 90.0;   ///< wall slot, spring, force, torque, overlap
 constexpr double kBytesPerMpsParticle = 1100.0;
 constexpr double kBytesPerFluidNeighbour = 20.0;  ///< list slots (wide and narrow), PPE matrix entry, pair batches
@@ -153,7 +154,8 @@ SceneBudget estimate_budget(const Model& model) {
   const FluidModel& fluid = model.fluid;
   double fluid_reach = 0.0;
   if (fluid.enabled && fluid.spacing > 0.0) {
-    for (const ParticleBoxModel& box : fluid.boxes) budget.fluid_particles += box_particles(box, tank.origin, fluid.spacing);
+    for (const ParticleBoxModel& box : fluid.boxes)
+      budget.fluid_particles += box_particles(box, tank.origin, fluid.spacing);
     for (const ParticleBoxModel& box : fluid.wall_boxes)
       budget.wall_particles += box_particles(box, tank.origin, fluid.spacing);
     if (fluid.tank_walls) {
@@ -165,7 +167,8 @@ SceneBudget estimate_budget(const Model& model) {
     }
     // Lattice points within r_e plus the list's skin: 4/3 pi (r_e/l0 + skin/l0)^3 per listed particle.
     const double reach = fluid.effective_radius_ratio + fluid.neighbour_skin_ratio;
-    budget.fluid_neighbours = (budget.fluid_particles + budget.wall_particles) * 4.0 / 3.0 * kPi * reach * reach * reach;
+    const double listed = budget.fluid_particles + budget.wall_particles;
+    budget.fluid_neighbours = listed * 4.0 / 3.0 * kPi * reach * reach * reach;
     fluid_reach = fluid.effective_radius();
   }
 
@@ -179,14 +182,16 @@ SceneBudget estimate_budget(const Model& model) {
                            std::min(voidage_nodes(extent, 0.668 * (grains.largest + fluid_reach)), node_limit);
     // systems/solid_fluid_sampling.cpp: cells of 0.5 (r_min + r_e) over the fluid, bounded by cell_grid.hpp.
     const double cell = 0.5 * (grains.smallest + fluid_reach);
-    const double cells = std::ceil(extent[0] / cell + 1.0) * std::ceil(extent[1] / cell + 1.0) * std::ceil(extent[2] / cell + 1.0);
+    double cells = 1.0;
+    for (int axis = 0; axis < 3; ++axis) cells *= std::ceil(extent[axis] / cell + 1.0);
     budget.sampling_cells = std::min(cells, cell_grid_cell_limit(static_cast<std::size_t>(budget.fluid_particles)));
   }
 
   budget.grain_pair_bytes = budget.grain_pairs * kBytesPerGrainPair;
   budget.grain_bytes = budget.grains * kBytesPerGrain + budget.grain_pair_bytes +
                        budget.grain_wall_pairs * kBytesPerGrainWallPair;
-  budget.fluid_bytes = (budget.fluid_particles + budget.wall_particles + budget.dummy_particles) * kBytesPerMpsParticle +
+  const double mps = budget.fluid_particles + budget.wall_particles + budget.dummy_particles;
+  budget.fluid_bytes = mps * kBytesPerMpsParticle +
                        budget.fluid_neighbours * kBytesPerFluidNeighbour;
   budget.grid_bytes = (budget.grain_grid_cells + 2.0 * budget.sampling_cells) * kBytesPerGridCell +
                       budget.voidage_nodes * kBytesPerVoidageNode;
@@ -227,7 +232,8 @@ std::string grain_count_problem(const Model& model, double grains) {
 double default_memory_limit() {
   const long pages = ::sysconf(_SC_PHYS_PAGES);
   const long page_size = ::sysconf(_SC_PAGESIZE);
-  const double physical = pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0.0;
+  const double physical =
+      pages > 0 && page_size > 0 ? static_cast<double>(pages) * static_cast<double>(page_size) : 0.0;
   return std::max(kGiB, 0.75 * physical);
 }
 

@@ -108,7 +108,10 @@ SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const Domain
   Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 high = -low;
   for (const Vec3& p : positions)
-    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) low = low.cwiseMin(p), high = high.cwiseMax(p);
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) {
+      low = low.cwiseMin(p);
+      high = high.cwiseMax(p);
+    }
   low = low.cwiseMax(domain.low);
   high = high.cwiseMin(domain.high);
   if (!((low.array() <= high.array()).all())) low = high = domain.low;
@@ -127,7 +130,8 @@ SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const Domain
     // Straight to about the limit, then by 1/8 steps: the per-axis ceilings can keep the first guess a bit high.
     shape.cell_size *= std::max(1.125, 0.999 * std::cbrt(total / limit));
   }
-  for (int axis = 0; axis < 3; ++axis) shape.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(axis_cells(axis));
+  for (int axis = 0; axis < 3; ++axis)
+    shape.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(axis_cells(axis));
   return shape;
 }
 

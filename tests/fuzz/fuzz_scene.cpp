@@ -1,7 +1,7 @@
 // libFuzzer harness over the scene reader (issue 19): arbitrary text through parse_scene, whose budget check
 // (engine/budget.hpp) runs with a 64 MiB limit and at most 2000 grains; a scene it accepts and that is small is then
-// built into its initial world (laid out, neighbour lists, initial forces). Acceptable outcomes are a Model or a SceneError; any
-// other exception, a crash, a hang or an allocation above libFuzzer's -malloc_limit_mb is a finding.
+// built into its initial world (laid out, neighbour lists, initial forces). Acceptable outcomes are a Model or a
+// SceneError; any other exception, a crash, a hang or an allocation above libFuzzer's -malloc_limit_mb is a finding.
 //
 // Build and run (docs/RELIABILITY.md):
 //   CC=clang CXX=clang++ cmake -B build-fuzz -G Ninja -DRIFFLE_FUZZ=ON -DRIFFLE_SANITIZE=ON

@@ -22,7 +22,8 @@
 namespace {
 
 /// A dry DEM scene: `extra_run` is added to [run], `tank_extra` to [tank], `solids` is the [solids] body.
-std::string dem_scene(const std::string& solids, const std::string& tank_extra = "", const std::string& extra_run = "") {
+std::string dem_scene(const std::string& solids, const std::string& tank_extra = "",
+                      const std::string& extra_run = "") {
   return "[run]\nend_time = 0.01\ndt = 1.0e-3\n" + extra_run +
          "\n[materials.sand]\ndensity = 2650.0\nyoung_modulus = 1.0e7\npoisson_ratio = 0.3\n"
          "\n[tank]\nsize = [0.3, 0.2, 0.2]\nwall_material = \"sand\"\n" +
