@@ -49,6 +49,8 @@ class Simulation {
   static std::unique_ptr<Simulation> from_model(Model model);
   /// Throws CheckpointError, or SceneError if the embedded scene no longer validates.
   static std::unique_ptr<Simulation> from_checkpoint(const std::string& path);
+  /// The same from decoded data (`name` is the file, for messages): the data is validated against its scene first.
+  static std::unique_ptr<Simulation> from_checkpoint_data(CheckpointData data, const std::string& name);
 
   /// Runs to options.until (or run.end_time) writing all outputs into options.out_dir.
   RunOutcome run(const RunOptions& options);
