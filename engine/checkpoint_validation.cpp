@@ -20,7 +20,15 @@ std::string show(double value) {
   std::snprintf(text, sizeof text, "%.17g", value);
   return text;
 }
-std::string show(const Vec3& value) { return "(" + show(value[0]) + ", " + show(value[1]) + ", " + show(value[2]) + ")"; }
+std::string show(const Vec3& value) {
+  std::string text = "(";  // appended in place: GCC 12 warns (-Wrestrict) about "(" + std::string
+  text += show(value[0]);
+  text += ", ";
+  text += show(value[1]);
+  text += ", ";
+  text += show(value[2]);
+  return text + ")";
+}
 template <class Integer, std::enable_if_t<std::is_integral_v<Integer>, int> = 0>
 std::string show(Integer value) {
   return std::to_string(value);
@@ -60,7 +68,8 @@ class Refusal {
   }
   void count(const std::string& field, std::size_t found, std::size_t expected, const std::string& why) const {
     if (found != expected)
-      fail(field, "holds " + std::to_string(found) + " entries, expected " + std::to_string(expected) + " (" + why + ")");
+      fail(field,
+           "holds " + std::to_string(found) + " entries, expected " + std::to_string(expected) + " (" + why + ")");
   }
 
   /// Every real field of an SoA component (for_each_field) is finite.
@@ -108,11 +117,13 @@ void check_world_time(const Refusal& refusal, const World& world, const Model& m
   // Each step advances the time by run.dt, or with a fluid by a Courant-limited step of at least fluid.min_dt.
   const double steps = static_cast<double>(world.step);
   const double longest = steps * model.dt * (1.0 + 1e-6);
-  const double shortest = steps * (model.fluid.enabled ? std::min(model.fluid.min_dt, model.dt) : model.dt) * (1.0 - 1e-6);
+  const double shortest_step = model.fluid.enabled ? std::min(model.fluid.min_dt, model.dt) : model.dt;
+  const double shortest = steps * shortest_step * (1.0 - 1e-6);
   if (world.time > longest || world.time < shortest)
     refusal.fail("time = " + show(world.time),
                  "does not match step = " + show(world.step) + " (steps of " +
-                     (model.fluid.enabled ? show(model.fluid.min_dt) + " to " : std::string()) + show(model.dt) + " s)");
+                     (model.fluid.enabled ? show(model.fluid.min_dt) + " to " : std::string()) + show(model.dt) +
+                     " s)");
 }
 
 void check_tank_motion(const Refusal& refusal, const TankMotion& tank) {
@@ -152,14 +163,17 @@ void check_grains_match_scene(const Refusal& refusal, const Solids& grains, cons
 /// The walls are the scene's tank: only their position and velocity move.
 void check_walls(const Refusal& refusal, const Walls& walls, const Walls& scene) {
   refusal.count("walls", walls.size(), scene.size(), "the closed faces of its scene's tank");
-  if (walls.next_id != scene.next_id) refusal.fail("walls.next_id = " + show(walls.next_id), "differs from the scene's");
+  if (walls.next_id != scene.next_id)
+    refusal.fail("walls.next_id = " + show(walls.next_id), "differs from the scene's");
   for (std::size_t i = 0; i < walls.size(); ++i) {
     const bool same = walls.id[i] == scene.id[i] && walls.name[i] == scene.name[i] &&
                       walls.rest_point[i] == scene.rest_point[i] && walls.normal[i] == scene.normal[i] &&
                       walls.half_extent_u[i] == scene.half_extent_u[i] &&
                       walls.half_extent_v[i] == scene.half_extent_v[i] &&
                       walls.moves_with_tank[i] == scene.moves_with_tank[i] && walls.material[i] == scene.material[i];
-    if (!same) refusal.fail("walls[" + std::to_string(i) + "] (\"" + walls.name[i] + "\")", "differs from the scene's tank wall \"" + scene.name[i] + "\"");
+    if (!same)
+      refusal.fail("walls[" + std::to_string(i) + "] (\"" + walls.name[i] + "\")",
+                   "differs from the scene's tank wall \"" + scene.name[i] + "\"");
   }
   refusal.finite_fields("walls", walls);
 }
@@ -305,7 +319,8 @@ void check_output(const Refusal& refusal, const OutputState& output, const World
   // Frame or checkpoint k is due at k * interval - dt / 2: no more of them than that allows by now.
   auto most = [&](double interval) { return interval > 0.0 ? (world.time + 0.5 * model.dt) / interval + 2.0 : 0.0; };
   if (static_cast<double>(frames.size()) > most(model.output.vtk_interval))
-    refusal.fail("output.frame_times", std::to_string(frames.size()) + " frames: more than output.vtk_interval allows by t = " + show(world.time));
+    refusal.fail("output.frame_times", std::to_string(frames.size()) +
+                                           " frames: more than output.vtk_interval allows by t = " + show(world.time));
   if (static_cast<double>(output.checkpoints_due) > most(model.output.checkpoint_interval))
     refusal.fail("output.checkpoints_due = " + show(output.checkpoints_due),
                  "more than output.checkpoint_interval allows by t = " + show(world.time));
@@ -336,6 +351,11 @@ void validate_grains(const Solids& grains, std::size_t material_count, const std
     if (grains.size_class[i] < 0 || grains.size_class[i] > kMaxSizeClass)
       refusal.fail(refusal.item("solids.size_class", i, grains.size_class[i]),
                    "must be in 0.." + std::to_string(kMaxSizeClass));
+    // The drag law divides by the voidage and raises it to powers: it is a volume fraction, clipped above zero.
+    if (!(grains.voidage[i] > 0.0 && grains.voidage[i] <= 1.0))
+      refusal.fail(refusal.item("solids.voidage", i, grains.voidage[i]), "must be in (0, 1]");
+    if (grains.fluid_weight[i] < 0.0)
+      refusal.fail(refusal.item("solids.fluid_weight", i, grains.fluid_weight[i]), "must not be negative");
   }
 }
 

@@ -17,8 +17,8 @@ namespace riffle {
 inline constexpr std::int32_t kMaxSizeClass = 1000;
 
 /// Grains on their own (a [solids] initial_state, or a resumed run's): every real finite; radius, mass and moment of
-/// inertia positive; material in [0, material_count); size class in [0, kMaxSizeClass]; ids unique, below next_id,
-/// and next_id equal to the grain count (grains are never removed). `name` is the file, for messages.
+/// inertia positive; voidage in (0, 1]; material in [0, material_count); size class in [0, kMaxSizeClass]; ids
+/// unique, below next_id, and next_id equal to the grain count (grains are never removed). `name` is the file.
 void validate_grains(const Solids& grains, std::size_t material_count, const std::string& name);
 
 /// A checkpoint to resume, against the model rebuilt from its own scene and `initial`, the world that model builds

@@ -43,11 +43,13 @@ Solids initial_grains(const Model& model) {
   const toml::table* materials = root ? (*root)["materials"].as_table() : nullptr;
   if (!materials) throw std::runtime_error(path + ": the checkpoint's scene has no readable [materials]");
   std::vector<std::int32_t> mapped;
-  for (auto&& [name, node] : *materials) {
+  for (auto&& entry : *materials) {
+    // A named variable, not a structured binding: clang before 16 cannot capture those in a lambda.
+    const std::string_view name = entry.first.str();
     const auto found = std::find_if(model.materials.begin(), model.materials.end(),
-                                    [&](const Material& material) { return material.name == name.str(); });
+                                    [&](const Material& material) { return material.name == name; });
     if (found == model.materials.end())
-      throw std::runtime_error(path + ": its grains use material \"" + std::string(name.str()) +
+      throw std::runtime_error(path + ": its grains use material \"" + std::string(name) +
                                "\", which this scene does not define");
     mapped.push_back(static_cast<std::int32_t>(found - model.materials.begin()));
   }

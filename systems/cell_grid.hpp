@@ -14,8 +14,11 @@ namespace riffle {
 
 class CellGrid {
  public:
-  /// Grid over points[first .. first + count) with cells of `cell_size` (at least the largest query radius).
-  void build(const std::vector<Vec3>& points, std::size_t first, std::size_t count, double cell_size) {
+  /// Grid over points[first .. first + count) with cells of `cell_size` (at least the largest query radius), within
+  /// the box [bound_low, bound_high] (the domain: a point outside it has left the domain, which fails the step; it
+  /// is filed in the nearest edge cell instead of stretching the grid to wherever it flew).
+  void build(const std::vector<Vec3>& points, std::size_t first, std::size_t count, double cell_size,
+             const Vec3& bound_low, const Vec3& bound_high) {
     cell_size_ = cell_size;
     low_ = Vec3::Constant(1e300);
     Vec3 high = Vec3::Constant(-1e300);
@@ -24,9 +27,15 @@ class CellGrid {
       high = high.cwiseMax(points[k]);
     }
     if (count == 0) low_ = high = Vec3::Zero();
-    for (int axis = 0; axis < 3; ++axis)
+    for (int axis = 0; axis < 3; ++axis) {
+      // Unchanged while every point is inside the bounds; a NaN coordinate leaves the bound.
+      low_[axis] = low_[axis] >= bound_low[axis] ? std::min(low_[axis], bound_high[axis]) : bound_low[axis];
+      high[axis] = high[axis] <= bound_high[axis] ? std::max(high[axis], low_[axis]) : bound_high[axis];
+      // Capped before the conversion (the same count as capping after it, for every span that fits an int64).
+      const double span = (high[axis] - low_[axis]) / cell_size;
       cells_[static_cast<std::size_t>(axis)] =
-          std::min<std::int64_t>(static_cast<std::int64_t>((high[axis] - low_[axis]) / cell_size) + 1, 1 << 20);
+          static_cast<std::int64_t>(span >= 0.0 ? std::min(span, double((1 << 20) - 1)) : 0.0) + 1;
+    }
     const std::size_t total = static_cast<std::size_t>(cells_[0] * cells_[1] * cells_[2]);
     start_.assign(total + 1, 0);
     cell_of_.resize(count);
@@ -75,8 +84,8 @@ class CellGrid {
     std::array<std::int64_t, 3> result{};
     for (int axis = 0; axis < 3; ++axis) {
       const double scaled = std::floor((point[axis] - low_[axis]) / cell_size_);
-      result[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(
-          std::clamp(scaled, 0.0, static_cast<double>(cells_[static_cast<std::size_t>(axis)] - 1)));
+      const double top = static_cast<double>(cells_[static_cast<std::size_t>(axis)] - 1);
+      result[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(scaled >= 0.0 ? std::min(scaled, top) : 0.0);
     }
     return result;
   }

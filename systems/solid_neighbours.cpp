@@ -28,8 +28,10 @@ struct CellGrid {
   std::array<std::int64_t, 3> cell_of(const Vec3& position) const {
     std::array<std::int64_t, 3> cell{};
     for (int axis = 0; axis < 3; ++axis) {
-      const auto index = static_cast<std::int64_t>(std::floor((position[axis] - origin[axis]) / cell_size));
-      cell[static_cast<std::size_t>(axis)] = std::clamp<std::int64_t>(index, 0, cells[static_cast<std::size_t>(axis)] - 1);
+      // Clamped before the conversion: a grain thrown far out within a step (or a NaN) has no int64 cell index.
+      const double scaled = std::floor((position[axis] - origin[axis]) / cell_size);
+      const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
+      cell[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(scaled >= 0.0 ? std::min(scaled, top) : 0.0);
     }
     return cell;
   }

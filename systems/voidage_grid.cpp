@@ -11,7 +11,9 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
   std::array<double, 3> fraction{};
   for (int axis = 0; axis < 3; ++axis) {
     const double scaled = (point[axis] - origin_[axis]) / cell_size_;
-    const double clamped = std::clamp(scaled, 0.0, static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2));
+    // NaN-safe clamp (std::clamp passes NaN through; NaN has no node index): a non-finite grain lands on node 0.
+    const double top = static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2);
+    const double clamped = scaled >= 0.0 ? std::min(scaled, top) : 0.0;
     base[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(clamped));
     fraction[static_cast<std::size_t>(axis)] = clamped - std::floor(clamped);
   }
@@ -27,16 +29,24 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
 
 void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
                         const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
-                        double cell_size) {
+                        double cell_size, const Vec3& bound_low, const Vec3& bound_high) {
   cell_size_ = cell_size;
   Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
   for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
   for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
   if (low[0] > high[0]) low = high = Vec3::Zero();
+  // Within the bounds (unchanged while every point is inside them; a NaN coordinate leaves the bound).
+  for (int axis = 0; axis < 3; ++axis) {
+    low[axis] = low[axis] >= bound_low[axis] ? std::min(low[axis], bound_high[axis]) : bound_low[axis];
+    high[axis] = high[axis] <= bound_high[axis] ? std::max(high[axis], low[axis]) : bound_high[axis];
+  }
   origin_ = low - Vec3::Constant(cell_size);
-  for (int axis = 0; axis < 3; ++axis)
-    nodes_[static_cast<std::size_t>(axis)] =
-        std::min<std::int64_t>(static_cast<std::int64_t>((high[axis] - origin_[axis]) / cell_size) + 3, 4096);
+  // Capped in floating point before the conversion: a grain thrown far out within a step spans more cells than an
+  // int64 holds (the same node counts as capping after it, for every span that fits).
+  for (int axis = 0; axis < 3; ++axis) {
+    const double span = (high[axis] - origin_[axis]) / cell_size;
+    nodes_[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(span >= 0.0 ? std::min(span, 4093.0) : 0.0) + 3;
+  }
   const std::size_t total = static_cast<std::size_t>(nodes_[0] * nodes_[1] * nodes_[2]);
   solid_.assign(total, 0.0);
   fluid_.assign(total, 0.0);

@@ -286,7 +286,8 @@ TEST_CASE("material, size class, wall and id indices outside the scene are refus
             "solids.next_id");
   }
   SUBCASE("a component the scene does not have") {
-    refused(resume(data, [](CheckpointData& d) { d.world.contacts.reset(); }), "contacts: absent, but its scene needs it");
+    refused(resume(data, [](CheckpointData& d) { d.world.contacts.reset(); }),
+            "contacts: absent, but its scene needs it");
   }
 }
 
@@ -350,8 +351,13 @@ TEST_CASE("non-finite and non-positive values and an inconsistent time are refus
     refused(resume(data, [](CheckpointData& d) { d.world.contacts->pair_force[0][0] = kInf; }),
             "contacts.pair_force[0] = (inf");
   }
+  SUBCASE("voidage 0") {
+    refused(resume(data, [](CheckpointData& d) { d.world.solids->voidage[3] = 0.0; }),
+            "solids.voidage[3] = 0: must be in (0, 1]");
+  }
   SUBCASE("mass 0") {
-    refused(resume(data, [](CheckpointData& d) { d.world.solids->mass[1] = 0.0; }), "solids.mass[1] = 0: must be positive");
+    refused(resume(data, [](CheckpointData& d) { d.world.solids->mass[1] = 0.0; }),
+            "solids.mass[1] = 0: must be positive");
   }
   SUBCASE("time -inf") {
     refused(resume(data, [](CheckpointData& d) { d.world.time = -kInf; }), "time = -inf: must be finite");
