@@ -41,9 +41,10 @@ class BoundedInputArchive : public cereal::InputArchive<BoundedInputArchive, cer
     std::uint64_t length = 0;
     load_bytes(&length, sizeof length);
     if (element_bytes > 0 && length > left_ / element_bytes)
-      throw cereal::Exception(std::string("a ") + what + " of " + std::to_string(length) + " elements of at least " +
-                              std::to_string(element_bytes) + " bytes cannot fit in the " + std::to_string(left_) +
-                              " bytes left");
+      throw cereal::Exception(std::string("a ") + what + " of " + std::to_string(length) +
+                              (element_bytes == 1 ? " bytes"
+                                                  : " elements of at least " + std::to_string(element_bytes) + " bytes") +
+                              " cannot fit in the " + std::to_string(left_) + " bytes left");
     return static_cast<std::size_t>(length);
   }
 
