@@ -4,7 +4,11 @@
 #include <cereal/types/optional.hpp>
 #include <cereal/types/string.hpp>
 #include <cereal/types/vector.hpp>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -12,6 +16,7 @@
 #include <sstream>
 
 #include "engine/replace_file.hpp"
+#include "engine/checkpoint_archive.hpp"
 
 namespace riffle {
 
@@ -42,7 +47,7 @@ void archive_checkpoint(Archive& archive, CheckpointData& data) {
 }
 }  // namespace
 
-std::uint64_t fnv1a64(const std::string& bytes) {
+std::uint64_t fnv1a64(std::string_view bytes) {
   std::uint64_t hash = 14695981039346656037ull;
   for (unsigned char byte : bytes) {
     hash ^= byte;
@@ -81,14 +86,16 @@ CheckpointData decode_checkpoint(const std::string& bytes, const std::string& na
     throw CheckpointError(name + ": checkpoint is " + (found < payload_size ? "truncated" : "oversized") +
                           ": header says " + std::to_string(payload_size) + " payload bytes, file has " +
                           std::to_string(found));
-  const std::string payload = bytes.substr(kHeaderSize);
-  if (fnv1a64(payload) != checksum)
+  const char* payload = bytes.data() + kHeaderSize;
+  if (fnv1a64(std::string_view(payload, found)) != checksum)
     throw CheckpointError(name + ": checkpoint is corrupted (checksum mismatch)");
   CheckpointData data;
   try {
-    std::istringstream payload_stream(payload, std::ios::binary);
-    cereal::BinaryInputArchive archive(payload_stream);
+    // Bounded: no length prefix may claim more than the bytes left (engine/checkpoint_archive.hpp).
+    BoundedInputArchive archive(payload, found);
     archive_checkpoint(archive, data);
+    if (archive.bytes_left() != 0)
+      throw std::runtime_error(std::to_string(archive.bytes_left()) + " bytes left over after the last field");
     if (data.world.solids) check_field_sizes(*data.world.solids, "solids");
     if (data.world.walls) check_field_sizes(*data.world.walls, "walls");
     if (data.world.fluid) check_field_sizes(*data.world.fluid, "fluid");
@@ -107,11 +114,37 @@ void write_checkpoint(const std::string& path, const CheckpointData& data) {
 }
 
 CheckpointData read_checkpoint(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw CheckpointError(path + ": cannot open the checkpoint");
-  std::ostringstream bytes;
-  bytes << file.rdbuf();
-  return decode_checkpoint(bytes.str(), path);
+  // Regular files only, and their size known before reading: a FIFO would block forever and /dev/zero or a
+  // character device would be read until memory runs out. O_NONBLOCK keeps the open itself from waiting for a
+  // FIFO's writer; the type is checked on the opened descriptor, so it cannot change between check and read.
+  const int descriptor = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (descriptor < 0) throw CheckpointError(path + ": cannot open the checkpoint: " + std::strerror(errno));
+  struct Closer {
+    int descriptor;
+    ~Closer() { ::close(descriptor); }
+  } closer{descriptor};
+  struct stat status {};
+  if (::fstat(descriptor, &status) != 0)
+    throw CheckpointError(path + ": cannot open the checkpoint: " + std::strerror(errno));
+  if (!S_ISREG(status.st_mode)) {
+    const std::string what = S_ISDIR(status.st_mode)    ? "a directory"
+                             : S_ISFIFO(status.st_mode) ? "a FIFO"
+                             : S_ISCHR(status.st_mode)  ? "a character device"
+                                                        : "a special file";
+    throw CheckpointError(path + ": not a regular file (" + what + "): a checkpoint must be a regular file");
+  }
+  const auto size = static_cast<std::size_t>(status.st_size);
+  std::string bytes(size, '\0');
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t count = ::read(descriptor, bytes.data() + done, size - done);
+    if (count < 0 && errno == EINTR) continue;
+    if (count < 0) throw CheckpointError(path + ": cannot read the checkpoint: " + std::strerror(errno));
+    if (count == 0) break;  // shrank while being read: the size check in decode_checkpoint names it
+    done += static_cast<std::size_t>(count);
+  }
+  bytes.resize(done);
+  return decode_checkpoint(bytes, path);
 }
 
 }  // namespace riffle

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/world.hpp"
@@ -46,15 +47,18 @@ class CheckpointError : public std::runtime_error {
 };
 
 /// FNV-1a, 64 bit.
-std::uint64_t fnv1a64(const std::string& bytes);
+std::uint64_t fnv1a64(std::string_view bytes);
 
 /// Serialises `data` into the checkpoint byte format.
 std::string encode_checkpoint(const CheckpointData& data);
-/// Parses checkpoint bytes; `name` is used in messages. Throws CheckpointError for anything but a valid file.
+/// Parses checkpoint bytes; `name` is used in messages. Throws CheckpointError for anything but a well-formed file:
+/// every length prefix is checked against the bytes left before it is allocated. What the fields say is checked
+/// separately, against the scene (engine/checkpoint_validation.hpp).
 CheckpointData decode_checkpoint(const std::string& bytes, const std::string& name);
 
 /// Writes atomically (unique temporary file, fsync, rename). Throws CheckpointError on I/O failure.
 void write_checkpoint(const std::string& path, const CheckpointData& data);
+/// Reads and decodes a regular file (a FIFO, a device or a directory is refused at once, without reading).
 CheckpointData read_checkpoint(const std::string& path);
 
 }  // namespace riffle

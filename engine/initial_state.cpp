@@ -4,6 +4,7 @@
 #include <set>
 
 #include "engine/checkpoint.hpp"
+#include "engine/checkpoint_validation.hpp"
 #include "engine/fluid_layout.hpp"
 #include "engine/scene_reader.hpp"
 #include "systems/wall_motion.hpp"
@@ -42,20 +43,21 @@ Solids initial_grains(const Model& model) {
   const toml::table* materials = root ? (*root)["materials"].as_table() : nullptr;
   if (!materials) throw std::runtime_error(path + ": the checkpoint's scene has no readable [materials]");
   std::vector<std::int32_t> mapped;
-  for (auto&& [binding, node] : *materials) {
-    const toml::key& name = binding;  // clang 14 (the fuzz build) cannot capture a structured binding
+  for (auto&& entry : *materials) {
+    // A named variable, not a structured binding: clang before 16 cannot capture those in a lambda.
+    const std::string_view name = entry.first.str();
     const auto found = std::find_if(model.materials.begin(), model.materials.end(),
-                                    [&](const Material& material) { return material.name == name.str(); });
+                                    [&](const Material& material) { return material.name == name; });
     if (found == model.materials.end())
-      throw std::runtime_error(path + ": its grains use material \"" + std::string(name.str()) +
+      throw std::runtime_error(path + ": its grains use material \"" + std::string(name) +
                                "\", which this scene does not define");
     mapped.push_back(static_cast<std::int32_t>(found - model.materials.begin()));
   }
   Solids grains = std::move(*data.world.solids);
+  // Checked against the scene that wrote them before anything is taken from them (engine/checkpoint_validation.hpp).
+  validate_grains(grains, mapped.size(), path);
   for (std::size_t i = 0; i < grains.size(); ++i) {
-    const auto old_index = static_cast<std::size_t>(grains.material[i]);
-    if (old_index >= mapped.size()) throw std::runtime_error(path + ": a grain has an unknown material index");
-    grains.material[i] = mapped[old_index];
+    grains.material[i] = mapped[static_cast<std::size_t>(grains.material[i])];
     // Mass and inertia follow this scene's density, so a material may be redefined between runs.
     const double density = model.materials[static_cast<std::size_t>(grains.material[i])].density;
     const double r = grains.radius[i];
@@ -63,6 +65,8 @@ Solids initial_grains(const Model& model) {
     grains.moment_of_inertia[i] = 0.4 * grains.mass[i] * r * r;
     grains.force[i] = grains.torque[i] = grains.contact_force[i] = grains.contact_torque[i] = Vec3::Zero();
   }
+  // Again with this scene's densities: a tiny radius can leave a mass or an inertia that underflows to zero.
+  validate_grains(grains, model.materials.size(), path);
   return grains;
 }
 

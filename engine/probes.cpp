@@ -320,8 +320,9 @@ double surge_front_position(const FluidParticles& particles, const FluidProbeSet
   const double reach = 1.5 * settings.spacing;
   const double floor = settings.floor_height + tank.displacement.z();
   for (std::size_t a = 0; a < order.size(); ++a) {
-    const auto along = order[a].first;  // not a structured binding: clang 14 (the fuzz build) cannot capture one
-    const auto j = order[a].second;
+    // Named variables, not a structured binding: clang before 16 cannot capture those in a lambda.
+    const double along = order[a].first;
+    const std::size_t j = order[a].second;
     if (!(particles.position[j].z() - floor < below)) continue;
     auto near = [&](std::size_t b) {
       return (particles.position[order[b].second] - particles.position[j]).squaredNorm() < reach * reach;

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "engine/bed_statistics.hpp"
+#include "engine/checkpoint_validation.hpp"
 #include "engine/initial_state.hpp"
 #include "engine/output_lock.hpp"
 #include "engine/output_series.hpp"
@@ -284,26 +285,22 @@ std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path,
 }
 
 std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path, const SceneLimits& limits) {
-  CheckpointData data = read_checkpoint(path);
+  return from_checkpoint_data(read_checkpoint(path), path, limits);
+}
+
+std::unique_ptr<Simulation> Simulation::from_checkpoint_data(CheckpointData data, const std::string& name,
+                                                             const SceneLimits& limits) {
   Model model = parse_scene(data.scene_text, data.scene_file, limits);
-  // Components the scene enables but that hold no persistent state are rebuilt; the rest come from the file.
+  // Components the scene enables but that hold no persistent state are rebuilt; the rest come from the file, once
+  // checked against what this scene builds (engine/checkpoint_validation.hpp).
   World world = initial_world(model);
+  validate_checkpoint(data, model, world, name);
   world.time = data.world.time;
   world.step = data.world.step;
-  if (model.solids.enabled != data.world.solids.has_value())
-    throw CheckpointError(path + ": checkpoint does not match its own scene (solids present: " +
-                          (data.world.solids ? "yes" : "no") + ")");
   world.solids = std::move(data.world.solids);
   world.walls = std::move(data.world.walls);
   world.tank_motion = std::move(data.world.tank_motion);
-  if (model.contact.enabled != data.world.contacts.has_value())
-    throw CheckpointError(path + ": checkpoint does not match its own scene (contacts present: " +
-                          (data.world.contacts ? "yes" : "no") + ")");
   world.contacts = std::move(data.world.contacts);
-  if (model.fluid.enabled != data.world.fluid.has_value() ||
-      data.world.fluid.has_value() != data.world.fluid_summary.has_value())
-    throw CheckpointError(path + ": checkpoint does not match its own scene (fluid present: " +
-                          (data.world.fluid ? "yes" : "no") + ")");
   world.fluid = std::move(data.world.fluid);  // fluid_neighbours stays as initial_world made it: rebuilt
   world.fluid_summary = std::move(data.world.fluid_summary);
   return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), std::move(data.output)));

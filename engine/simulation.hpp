@@ -51,6 +51,9 @@ class Simulation {
   static std::unique_ptr<Simulation> from_model(Model model);
   /// Throws CheckpointError, or SceneError if the embedded scene no longer validates.
   static std::unique_ptr<Simulation> from_checkpoint(const std::string& path, const SceneLimits& limits = {});
+  /// The same from decoded data (`name` is the file, for messages): the data is validated against its scene first.
+  static std::unique_ptr<Simulation> from_checkpoint_data(CheckpointData data, const std::string& name,
+                                                          const SceneLimits& limits = {});
 
   /// Runs to options.until (or run.end_time) writing all outputs into options.out_dir.
   RunOutcome run(const RunOptions& options);

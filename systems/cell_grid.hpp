@@ -17,8 +17,11 @@ inline double cell_grid_cell_limit(std::size_t points) { return std::max(64.0 * 
 
 class CellGrid {
  public:
-  /// Grid over points[first .. first + count) with cells of `cell_size` (at least the largest query radius).
-  void build(const std::vector<Vec3>& points, std::size_t first, std::size_t count, double cell_size) {
+  /// Grid over points[first .. first + count) with cells of `cell_size` (at least the largest query radius), within
+  /// the box [bound_low, bound_high] (the domain: a point outside it has left the domain, which fails the step; it
+  /// is filed in the nearest edge cell instead of stretching the grid to wherever it flew).
+  void build(const std::vector<Vec3>& points, std::size_t first, std::size_t count, double cell_size,
+             const Vec3& bound_low, const Vec3& bound_high) {
     cell_size_ = cell_size;
     low_ = Vec3::Constant(1e300);
     Vec3 high = Vec3::Constant(-1e300);
@@ -27,11 +30,18 @@ class CellGrid {
       high = high.cwiseMax(points[k]);
     }
     if (count == 0) low_ = high = Vec3::Zero();
-    // A stray point far from the others must not make the grid huge: above cell_grid_cell_limit the cells double
-    // until it fits. That changes the order of the visits (and so the last bits of sums over them), but only for a
-    // grid that big, which no valid scene's fluid builds (the limit is 64 cells per point).
+    // Unchanged while every point is inside the bounds; a NaN coordinate leaves the bound.
+    for (int axis = 0; axis < 3; ++axis) {
+      low_[axis] = low_[axis] >= bound_low[axis] ? std::min(low_[axis], bound_high[axis]) : bound_low[axis];
+      high[axis] = high[axis] <= bound_high[axis] ? std::max(high[axis], low_[axis]) : bound_high[axis];
+    }
+    // Counted in floating point, capped before the conversion. A stray point far from the others (still inside a
+    // wide domain) must not make the grid huge either: above cell_grid_cell_limit the cells double until it fits.
+    // That changes the order of the visits (and so the last bits of sums over them), but only for a grid that big,
+    // which no valid scene's fluid builds (the limit is 64 cells per point).
     auto axis_cells = [&](int axis) {
-      return std::min(std::floor((high[axis] - low_[axis]) / cell_size_) + 1.0, static_cast<double>(1 << 20));
+      const double span = (high[axis] - low_[axis]) / cell_size_;
+      return span >= 0.0 ? std::min(std::floor(span), static_cast<double>((1 << 20) - 1)) + 1.0 : 1.0;
     };
     const double limit = cell_grid_cell_limit(count);
     while (axis_cells(0) * axis_cells(1) * axis_cells(2) > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
@@ -86,8 +96,8 @@ class CellGrid {
     std::array<std::int64_t, 3> result{};
     for (int axis = 0; axis < 3; ++axis) {
       const double scaled = std::floor((point[axis] - low_[axis]) / cell_size_);
-      result[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(
-          std::clamp(scaled, 0.0, static_cast<double>(cells_[static_cast<std::size_t>(axis)] - 1)));
+      const double top = static_cast<double>(cells_[static_cast<std::size_t>(axis)] - 1);
+      result[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(scaled >= 0.0 ? std::min(scaled, top) : 0.0);
     }
     return result;
   }

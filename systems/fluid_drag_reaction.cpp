@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "systems/solid_checks.hpp"
+
 namespace riffle {
 
 void FluidDragReaction::run(SystemContext& context) {
@@ -14,7 +16,9 @@ void FluidDragReaction::run(SystemContext& context) {
   // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
   const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
   volumes_.assign(solids.size(), 0.0);
-  grid_.build(solids.position, volumes_, fluid.position, fluid_count, constants_.particle_volume, cell_size);
+  const DomainBox domain = solid_domain(context.model);
+  grid_.build(solids.position, volumes_, fluid.position, fluid_count, constants_.particle_volume, cell_size, domain.low,
+              domain.high);
 
   // Impulses to the nodes (slot order), then each fluid particle takes its weight's share of its nodes' impulse:
   // sum_j w_jn / W_n = 1 at every node with water, so the water receives exactly minus the grains' impulse.

@@ -88,6 +88,12 @@ bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vect
     for (const auto& entry : coarse_row) position_of_column[entry.first] = -1;
     std::sort(coarse_row.begin(), coarse_row.end());
   });
+  // No unknowns (every fluid particle on the free surface): nothing to coarsen, and Eigen cannot compress an empty
+  // matrix (makeCompressed reads one entry past its empty arrays).
+  if (aggregate_count_ == 0) {
+    coarse_ready_ = false;
+    return false;
+  }
   const auto size = static_cast<Eigen::Index>(aggregate_count_);
   coarse_matrix_.resize(size, size);
   Eigen::VectorXi entries_per_column(size);

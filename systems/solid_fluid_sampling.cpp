@@ -2,6 +2,7 @@
 
 #include "systems/drag_law.hpp"
 #include "systems/fluid_pair_batch.hpp"
+#include "systems/solid_checks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -21,7 +22,10 @@ void SolidFluidSampling::run(SystemContext& context) {
   for (const double radius : solids.radius) smallest_radius = std::min(smallest_radius, radius);
   // Cells of half the smallest sampling radius: a query scans about 5^3 cells holding about twice the sphere's
   // volume; cells of the largest radius made every small grain test ten times the particles it keeps.
-  if (!solids.radius.empty()) fluid_grid_.build(fluid.position, 0, fluid_count, 0.5 * (smallest_radius + effective_radius));
+  const DomainBox domain = solid_domain(context.model);
+  if (!solids.radius.empty())
+    fluid_grid_.build(fluid.position, 0, fluid_count, 0.5 * (smallest_radius + effective_radius), domain.low,
+                      domain.high);
 
   for_each_particle(solids.size(), [&](std::size_t grain) {
     const Vec3 centre = solids.position[grain];

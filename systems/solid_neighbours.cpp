@@ -29,11 +29,10 @@ struct CellGrid {
   std::array<std::int64_t, 3> cell_of(const Vec3& position) const {
     std::array<std::int64_t, 3> cell{};
     for (int axis = 0; axis < 3; ++axis) {
-      // Clamped as a double before the cast: a grain far outside the box (or a query reach of 1e300) must not
-      // overflow int64. Monotone in the position, so a query's cell range still covers every grain in reach.
-      const double index = std::floor((position[axis] - origin[axis]) / cell_size);
+      // Clamped before the conversion: a grain thrown far out within a step (or a NaN) has no int64 cell index.
+      const double scaled = std::floor((position[axis] - origin[axis]) / cell_size);
       const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
-      cell[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::clamp(index, 0.0, top));
+      cell[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(scaled >= 0.0 ? std::min(scaled, top) : 0.0);
     }
     return cell;
   }

@@ -5,6 +5,7 @@
 
 #include "systems/drag_law.hpp"
 #include "systems/fluid_common.hpp"
+#include "systems/solid_checks.hpp"
 
 namespace riffle {
 
@@ -27,8 +28,9 @@ void SolidVoidage::run(SystemContext& context) {
   if (voidage_radius_ <= 0.0) voidage_radius_ = std::max(3.0 * spacing_, 4.0 * largest_radius);
   // Cells of (2 pi / 21)^(1/3) R_eps: one cell holds the volume of the Wendland kernel on R_eps (numerics 1.2),
   // so the grid averages over the same volume as the kernel form of numerics 5.3.
+  const DomainBox domain = solid_domain(context.model);
   grid_.build(solids.position, grain_volumes_, fluid.position, fluid_slot_count(fluid), particle_volume_,
-              0.668 * voidage_radius_);
+              0.668 * voidage_radius_, domain.low, domain.high);
   for_each_particle(solids.size(), [&](std::size_t grain) {
     solids.voidage[grain] = std::clamp(1.0 - grid_.solid_fraction(solids.position[grain]), min_voidage_, 1.0);
   });

@@ -11,7 +11,9 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
   std::array<double, 3> fraction{};
   for (int axis = 0; axis < 3; ++axis) {
     const double scaled = (point[axis] - origin_[axis]) / cell_size_;
-    const double clamped = std::clamp(scaled, 0.0, static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2));
+    // NaN-safe clamp (std::clamp passes NaN through; NaN has no node index): a non-finite grain lands on node 0.
+    const double top = static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2);
+    const double clamped = scaled >= 0.0 ? std::min(scaled, top) : 0.0;
     base[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(clamped));
     fraction[static_cast<std::size_t>(axis)] = clamped - std::floor(clamped);
   }
@@ -27,15 +29,21 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
 
 void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
                         const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
-                        double cell_size) {
+                        double cell_size, const Vec3& bound_low, const Vec3& bound_high) {
   cell_size_ = cell_size;
   Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
   for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
   for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
   if (low[0] > high[0]) low = high = Vec3::Zero();
-  // Nodes per axis in doubles (a stray coordinate of 1e300 must not overflow the cast), at most 4096 each.
+  // Within the bounds (unchanged while every point is inside them; a NaN coordinate leaves the bound).
+  for (int axis = 0; axis < 3; ++axis) {
+    low[axis] = low[axis] >= bound_low[axis] ? std::min(low[axis], bound_high[axis]) : bound_low[axis];
+    high[axis] = high[axis] <= bound_high[axis] ? std::max(high[axis], low[axis]) : bound_high[axis];
+  }
+  // Nodes per axis in doubles, capped before the conversion, at most 4096 each.
   auto axis_nodes = [&](int axis) {
-    return std::min(std::floor((high[axis] - (low[axis] - cell_size_)) / cell_size_) + 3.0, 4096.0);
+    const double span = (high[axis] - (low[axis] - cell_size_)) / cell_size_;
+    return span >= 0.0 ? std::min(std::floor(span), 4093.0) + 3.0 : 3.0;
   };
   // A stray particle far from the others (still inside a wide domain) must not make the grid huge: above
   // voidage_node_limit the cells double until it fits. That changes the field, but only for a grid that big, which

@@ -26,10 +26,12 @@ inline double voidage_node_limit(std::size_t points) { return std::max(64.0 * st
 
 class VoidageGrid {
  public:
-  /// Grid of nodes spaced `cell_size` covering every point given (grains and fluid).
+  /// Grid of nodes spaced `cell_size` covering every point given (grains and fluid) within the box [low, high] (the
+  /// domain: a point outside it has left the domain, which fails the step, and is deposited on the nearest edge node
+  /// instead of stretching the grid to wherever it flew).
   void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
              const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
-             double cell_size);
+             double cell_size, const Vec3& low, const Vec3& high);
 
   /// Solid volume fraction at `point`: interpolated over the surrounding nodes that hold water; 0 if none does.
   double solid_fraction(const Vec3& point) const;

@@ -222,7 +222,8 @@ TEST_CASE("reordering the fluid by cell moves slots, not particles: results agre
   };
   const FluidParticles unsorted = run(0, 0);
   // Every 7 steps whatever the flow, and every 3 steps only while it is fast (the splashing column is).
-  for (const auto& [every, every_fast] : {std::pair{7, 0}, std::pair{0, 3}}) {
+  for (const std::pair<int, int>& setting : {std::pair{7, 0}, std::pair{0, 3}}) {
+    const int every = setting.first, every_fast = setting.second;  // named: clang 14 cannot capture a binding
     CAPTURE(every);
     const FluidParticles sorted = run(every, every_fast);
     REQUIRE(sorted.size() == unsorted.size());
@@ -274,7 +275,9 @@ TEST_CASE("the neighbour skin, fixed or narrowed in fast flow, changes no result
   const FluidParticles adaptive_unsorted =
       run("neighbour_skin = 0.3\nneighbour_skin_narrow = 0.1\nsort_every = 0\nsort_every_fast = 0", nullptr, nullptr);
   const FluidParticles none_unsorted = run("neighbour_skin = 0.0\nsort_every = 0\nsort_every_fast = 0", nullptr, nullptr);
-  for (const auto& [one, other] : {std::pair{&adaptive, &wide}, std::pair{&adaptive_unsorted, &none_unsorted}}) {
+  for (const auto& compared : {std::pair{&adaptive, &wide}, std::pair{&adaptive_unsorted, &none_unsorted}}) {
+    const FluidParticles* one = compared.first;  // named: clang 14 cannot capture a structured binding
+    const FluidParticles* other = compared.second;
     CAPTURE(other == &wide);
     CHECK(one->position == other->position);
     CHECK(one->velocity == other->velocity);

@@ -85,3 +85,15 @@ TEST_CASE("the coarse correction is exact for residuals in the coarse space's ra
   for (std::size_t k = 0; k < prolonged.size(); ++k)
     CHECK(result[k] - residual[k] / lattice.diagonal[k] == doctest::Approx(prolonged[k]).epsilon(1e-10));
 }
+
+TEST_CASE("a pressure solve without unknowns has no coarse level (every fluid particle on the free surface)") {
+  // Found by the checkpoint fuzzer: Eigen read past the arrays of the empty coarse matrix when compressing it.
+  const std::size_t row_start[1] = {0};
+  const PressureMatrix empty{0, nullptr, row_start, nullptr, nullptr};
+  TwoLevelPreconditioner preconditioner;
+  CHECK_FALSE(preconditioner.setup(empty, {}, Vec3::Zero(), 4.0));
+  CHECK(preconditioner.coarse_size() == 0);
+  std::vector<double> residual, result;
+  CHECK(preconditioner.solve_coarse(residual) == 0.0);
+  preconditioner.apply(residual, result);
+}

@@ -148,7 +148,7 @@ TEST_CASE("voidage grid: two particles far apart in a wide domain give a bounded
   riffle::VoidageGrid grid;
   const std::vector<riffle::Vec3> grains = {{0.0, 0.0, 0.0}, {1.0e3, 1.0e3, 1.0e3}};
   const std::vector<double> volumes = {1e-9, 1e-9};
-  grid.build(grains, volumes, {}, 0, 1e-9, 0.01);
+  grid.build(grains, volumes, {}, 0, 1e-9, 0.01, riffle::Vec3::Constant(-1e4), riffle::Vec3::Constant(1e4));
   CHECK(static_cast<double>(grid.node_count()) <= riffle::voidage_node_limit(2));
   CHECK(grid.node_count() > 8);  // coarsened only as far as needed
 }

@@ -299,7 +299,7 @@ TEST_CASE("the voidage of a submerged simple cubic packing is 1 - pi/6") {
     for (int j = 0; j < 24; ++j)
       for (int k = 0; k < 24; ++k) fluid.emplace_back(0.0025 + 0.005 * i, 0.0025 + 0.005 * j, 0.0025 + 0.005 * k);
   VoidageGrid grid;
-  grid.build(grains, volumes, fluid, fluid.size(), 1.25e-7, 0.668 * 0.03);
+  grid.build(grains, volumes, fluid, fluid.size(), 1.25e-7, 0.668 * 0.03, Vec3::Constant(-1.0), Vec3::Constant(1.0));
   // Away from the box faces the deposits are exact partitions of unity of a periodic arrangement: the fraction
   // is pi/6 up to the lattice's aliasing against the 20 mm cells (the grain and fluid lattices are commensurate
   // with 10 mm, not 20.04 mm): allow 2 %.
