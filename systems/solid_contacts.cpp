@@ -130,7 +130,7 @@ template <ContactLaw kLaw, bool kRolling>
       const double rwx = wix - wjx, rwy = wiy - wjy, rwz = wiz - wjz;
       const double spin = std::sqrt(rwx * rwx + rwy * rwy + rwz * rwz);
       const double rolling_scale_any = -b.rolling[p] * effective_radius * normal_force / spin;
-      const double rolling_scale = (b.rolling[p] > 0.0) & (spin > 0.0) ? rolling_scale_any : 0.0;
+      const double rolling_scale = ((b.rolling[p] > 0.0) & (spin > 0.0)) ? rolling_scale_any : 0.0;
       rtx = rolling_scale * rwx;
       rty = rolling_scale * rwy;
       rtz = rolling_scale * rwz;

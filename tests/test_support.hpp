@@ -1,6 +1,7 @@
 #pragma once
 // Shared helpers for the doctest suites: tiny inline scenes and a scratch directory.
 #include <filesystem>
+#include <unistd.h>
 #include <string>
 
 #include "engine/model.hpp"
@@ -95,7 +96,9 @@ inline Model fluid_model() { return parse_scene(fluid_scene_text(), "fluid.toml"
 
 /// A fresh, empty directory under the system's temporary directory.
 inline std::filesystem::path scratch_dir(const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() / ("riffle_test_" + name);
+  // Per process: ctest runs every test case as its own process, two at a time, and test cases share names.
+  const auto path =
+      std::filesystem::temp_directory_path() / ("riffle_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(path);
   std::filesystem::create_directories(path);
   return path;
