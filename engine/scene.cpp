@@ -369,8 +369,7 @@ struct DesignImpact {
 double restitution_error(ContactLaw law, const DesignImpact& impact, double speed, double dt) {
   const double steps_per_contact = impact.contact_time / dt;
   if (!(steps_per_contact < 1000.0)) return 0.0;
-  ContactPairParameters pair = *impact.pair;
-  return worst_restitution_error(law, pair, impact.effective_radius, impact.effective_mass, speed, dt);
+  return worst_restitution_error(law, *impact.pair, impact.effective_radius, impact.effective_mass, speed, dt);
 }
 
 StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impacts) {
@@ -435,11 +434,13 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
     for (const DesignImpact& impact : impacts) {
       const double error_at_estimate = restitution_error(contact.law, impact, contact.max_impact_speed, estimate);
       if (error_at_estimate <= contact.restitution_tolerance) continue;
-      double dt = std::min(best.solid_dt, estimate);
-      for (int shortening = 0; shortening < 60; ++shortening) {
-        if (restitution_error(contact.law, impact, contact.max_impact_speed, dt) <= contact.restitution_tolerance)
-          break;
+      // From the sub-step the impacts before this one left (best only shortens), at most 60 shortenings.
+      double dt = best.solid_dt;
+      double error = dt == estimate ? error_at_estimate
+                                    : restitution_error(contact.law, impact, contact.max_impact_speed, dt);
+      for (int shortening = 0; shortening < 60 && error > contact.restitution_tolerance; ++shortening) {
         dt *= 0.8;
+        error = restitution_error(contact.law, impact, contact.max_impact_speed, dt);
       }
       if (dt < best.solid_dt) {
         std::snprintf(text, sizeof text,

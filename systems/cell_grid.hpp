@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "components/vec.hpp"
+#include "systems/cell_index.hpp"
 
 namespace riffle {
 
@@ -41,7 +42,7 @@ class CellGrid {
     // which no valid scene's fluid builds (the limit is 64 cells per point).
     auto axis_cells = [&](int axis) {
       const double span = (high[axis] - low_[axis]) / cell_size_;
-      return span >= 0.0 ? std::min(std::floor(span), static_cast<double>((1 << 20) - 1)) + 1.0 : 1.0;
+      return clamp_to_cells(std::floor(span), static_cast<double>((1 << 20) - 1)) + 1.0;
     };
     const double limit = cell_grid_cell_limit(count);
     while (axis_cells(0) * axis_cells(1) * axis_cells(2) > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
@@ -97,7 +98,7 @@ class CellGrid {
     for (int axis = 0; axis < 3; ++axis) {
       const double scaled = std::floor((point[axis] - low_[axis]) / cell_size_);
       const double top = static_cast<double>(cells_[static_cast<std::size_t>(axis)] - 1);
-      result[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(scaled >= 0.0 ? std::min(scaled, top) : 0.0);
+      result[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(clamp_to_cells(scaled, top));
     }
     return result;
   }

@@ -11,6 +11,8 @@
 #include <numeric>
 #include <utility>
 
+#include "systems/cell_index.hpp"
+
 namespace riffle {
 
 std::vector<std::size_t> cell_order(const std::vector<Vec3>& positions, std::size_t count, const Vec3& origin,
@@ -21,8 +23,7 @@ std::vector<std::size_t> cell_order(const std::vector<Vec3>& positions, std::siz
       std::uint64_t axis_cell[3];
       for (int axis = 0; axis < 3; ++axis) {
         const double cell = std::floor((positions[i][axis] - origin[axis]) / cell_size);
-        // NaN-safe clamp (std::clamp passes NaN through, and NaN has no integer): a NaN sorts into cell 0.
-        axis_cell[axis] = static_cast<std::uint64_t>(cell >= 0.0 ? std::min(cell, 1048575.0) : 0.0);
+        axis_cell[axis] = static_cast<std::uint64_t>(clamp_to_cells(cell, 1048575.0));  // a NaN sorts into cell 0
       }
       keys[i] = {(axis_cell[2] << 40) | (axis_cell[1] << 20) | axis_cell[0], i};
     }

@@ -1,5 +1,6 @@
 #include "systems/fluid_neighbours.hpp"
 
+#include "systems/cell_index.hpp"
 #include "systems/wall_motion.hpp"
 
 #include <tbb/blocked_range.h>
@@ -65,7 +66,7 @@ struct CellGrid {
   std::int64_t axis_cell(double coordinate, int axis) const {
     const double scaled = std::floor((coordinate - origin[axis]) * inverse_cell_size);
     const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
-    return static_cast<std::int64_t>(scaled >= 0.0 ? std::min(scaled, top) : 0.0);  // NaN-safe clamp
+    return static_cast<std::int64_t>(clamp_to_cells(scaled, top));
   }
   std::size_t linear(std::int64_t x, std::int64_t y, std::int64_t z) const {
     return static_cast<std::size_t>((z * cells[1] + y) * cells[0] + x);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "systems/cell_index.hpp"
 #include "systems/solid_cell_sort.hpp"
 #include "systems/solid_checks.hpp"
 
@@ -32,7 +33,7 @@ struct CellGrid {
       // Clamped before the conversion: a grain thrown far out within a step (or a NaN) has no int64 cell index.
       const double scaled = std::floor((position[axis] - origin[axis]) / cell_size);
       const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
-      cell[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(scaled >= 0.0 ? std::min(scaled, top) : 0.0);
+      cell[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(clamp_to_cells(scaled, top));
     }
     return cell;
   }

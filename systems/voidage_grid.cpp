@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "systems/cell_index.hpp"
+
 namespace riffle {
 
 CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
@@ -11,9 +13,9 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
   std::array<double, 3> fraction{};
   for (int axis = 0; axis < 3; ++axis) {
     const double scaled = (point[axis] - origin_[axis]) / cell_size_;
-    // NaN-safe clamp (std::clamp passes NaN through; NaN has no node index): a non-finite grain lands on node 0.
+    // A non-finite grain lands on node 0.
     const double top = static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2);
-    const double clamped = scaled >= 0.0 ? std::min(scaled, top) : 0.0;
+    const double clamped = clamp_to_cells(scaled, top);
     base[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(clamped));
     fraction[static_cast<std::size_t>(axis)] = clamped - std::floor(clamped);
   }
@@ -43,7 +45,7 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
   // Nodes per axis in doubles, capped before the conversion, at most 4096 each.
   auto axis_nodes = [&](int axis) {
     const double span = (high[axis] - (low[axis] - cell_size_)) / cell_size_;
-    return span >= 0.0 ? std::min(std::floor(span), 4093.0) + 3.0 : 3.0;
+    return clamp_to_cells(std::floor(span), 4093.0) + 3.0;
   };
   // A stray particle far from the others (still inside a wide domain) must not make the grid huge: above
   // voidage_node_limit the cells double until it fits. That changes the field, but only for a grid that big, which
