@@ -6,12 +6,12 @@
 #include <memory>
 #include <string>
 
-#include "engine/fluid_layout.hpp"
-#include "engine/initial_state.hpp"
-#include "engine/model.hpp"
-#include "engine/stepper.hpp"
-#include "systems/fluid_common.hpp"
-#include "systems/registry.hpp"
+#include "engine/setup/fluid_layout.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "components/model.hpp"
+#include "engine/run/stepper.hpp"
+#include "systems/physics/mps_common.hpp"
+#include "engine/run/registry.hpp"
 
 namespace riffle::test {
 

@@ -4,8 +4,8 @@
 #include <unistd.h>
 #include <string>
 
-#include "engine/model.hpp"
-#include "engine/scene.hpp"
+#include "components/model.hpp"
+#include "engine/scene/scene.hpp"
 
 namespace riffle::test {
 

@@ -11,8 +11,8 @@
 #include <cstring>
 #include <string>
 
-#include "engine/scene.hpp"
-#include "engine/simulation.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
 
 int main(int argc, char** argv) {
   long grains_per_side = 40;

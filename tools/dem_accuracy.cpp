@@ -9,9 +9,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "engine/scene.hpp"
-#include "engine/simulation.hpp"
-#include "systems/contact_law.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
+#include "systems/physics/contact_law.hpp"
 
 int main(int argc, char** argv) {
   using namespace riffle;

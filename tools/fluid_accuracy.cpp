@@ -44,7 +44,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/timers.hpp"
+#include "engine/core/timers.hpp"
 #include "tests/fluid_support.hpp"
 
 namespace {

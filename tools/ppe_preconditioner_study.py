@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """PCG iteration counts of one dumped MPS pressure system under different preconditioners.
 
-The engine's PCG (systems/fluid_pressure.cpp, two-level additive: Jacobi plus a Galerkin coarse solve on cubic
+The engine's PCG (systems/mps/fluid_pressure.cpp, two-level additive: Jacobi plus a Galerkin coarse solve on cubic
 aggregates of 4 l0) is the most expensive part of a fluid step, and each idea for a better preconditioner costs a
 C++ implementation to test. This script answers the first question offline in a minute: how many iterations, and
 how many matrix-vector products' worth of work, would a variant need on the very system the engine solved?

@@ -178,7 +178,7 @@ class Run:
         return 0.01
 
     def ramp(self, t):
-        """Quintic start-up ramp r(t) and r'(t) (systems/wall_motion.cpp)."""
+        """Quintic start-up ramp r(t) and r'(t) (systems/dem/wall_motion.cpp)."""
         t = np.asarray(t, dtype=float)
         if self.ramp_time <= 0:
             return np.ones_like(t), np.zeros_like(t)

@@ -1,4 +1,4 @@
-"""Read riffle's ParaView output (engine/vtk_output.cpp) into numpy arrays. numpy only.
+"""Read riffle's ParaView output (engine/output/vtk_output.cpp) into numpy arrays. numpy only.
 
 riffle writes PolyData (.vtp) with every DataArray inline, format="binary", header_type="UInt32", little endian:
 the text of an array is base64 of one block, a UInt32 byte count followed by the raw values (no compression,

@@ -20,15 +20,15 @@
 #include <random>
 #include <string>
 
-#include "engine/checkpoint.hpp"
-#include "engine/scene_reader.hpp"
-#include "engine/simulation.hpp"
+#include "engine/output/checkpoint.hpp"
+#include "engine/scene/scene_reader.hpp"
+#include "engine/run/simulation.hpp"
 
 using namespace riffle;
 
 namespace {
 
-constexpr std::size_t kHeaderSize = 32;  // magic, version, zero, payload size, checksum (engine/checkpoint.hpp)
+constexpr std::size_t kHeaderSize = 32;  // magic, version, zero, payload size, checksum (engine/output/checkpoint.hpp)
 constexpr char kMagic[8] = {'R', 'I', 'F', 'F', 'L', 'E', 'C', 'P'};
 
 bool has_header(const std::uint8_t* data, std::size_t size) {

@@ -1,5 +1,5 @@
 // libFuzzer harness over the scene reader (issue 19): arbitrary text through parse_scene, whose budget check
-// (engine/budget.hpp) runs with a 64 MiB limit and at most 2000 grains; a scene it accepts and that is small is then
+// (engine/scene/budget.hpp) runs with a 64 MiB limit and at most 2000 grains; a scene it accepts and that is small is then
 // built into its initial world (laid out, neighbour lists, initial forces). Acceptable outcomes are a Model or a
 // SceneError; any other exception, a crash, a hang or an allocation above libFuzzer's -malloc_limit_mb is a finding.
 //
@@ -16,9 +16,9 @@
 #include <memory>
 #include <string>
 
-#include "engine/budget.hpp"
-#include "engine/scene.hpp"
-#include "engine/simulation.hpp"
+#include "engine/scene/budget.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
 
 namespace {
 

@@ -5,11 +5,11 @@
 #include <map>
 #include <utility>
 
-#include "engine/checkpoint.hpp"
-#include "engine/initial_state.hpp"
-#include "systems/fluid_common.hpp"
-#include "systems/solid_neighbours.hpp"
-#include "engine/simulation.hpp"
+#include "engine/output/checkpoint.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "systems/physics/mps_common.hpp"
+#include "systems/dem/solid_neighbours.hpp"
+#include "engine/run/simulation.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "engine/bed_generation.hpp"
-#include "engine/scene_reader.hpp"
+#include "engine/setup/bed_generation.hpp"
+#include "engine/scene/scene_reader.hpp"
 
 namespace {
 

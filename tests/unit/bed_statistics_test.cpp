@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/bed_statistics.hpp"
-#include "engine/scene.hpp"
+#include "engine/output/bed_statistics.hpp"
+#include "engine/scene/scene.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

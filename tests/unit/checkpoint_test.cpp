@@ -5,8 +5,8 @@
 #include <type_traits>
 #include <fstream>
 
-#include "engine/checkpoint.hpp"
-#include "engine/simulation.hpp"
+#include "engine/output/checkpoint.hpp"
+#include "engine/run/simulation.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -13,9 +13,9 @@
 #include <new>
 #include <numeric>
 
-#include "engine/checkpoint.hpp"
-#include "engine/scene.hpp"
-#include "engine/simulation.hpp"
+#include "engine/output/checkpoint.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -6,9 +6,9 @@
 #include <numeric>
 #include <tuple>
 
-#include "engine/initial_state.hpp"
-#include "systems/cell_order.hpp"
-#include "systems/solid_cell_sort.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "systems/physics/cell_order.hpp"
+#include "systems/dem/solid_cell_sort.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

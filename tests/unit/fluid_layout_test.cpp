@@ -1,11 +1,11 @@
-// Initial MPS lattices: fluid boxes and tank wall/dummy shells against closed-form counts (engine/fluid_layout.hpp,
+// Initial MPS lattices: fluid boxes and tank wall/dummy shells against closed-form counts (engine/setup/fluid_layout.hpp,
 // numerics.md Sec. 3.1).
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <set>
 
-#include "engine/fluid_layout.hpp"
+#include "engine/setup/fluid_layout.hpp"
 
 using namespace riffle;
 

@@ -1,4 +1,4 @@
-// MPS neighbour lists (systems/fluid_neighbours.hpp) against a brute-force O(N^2) search, and independent of the
+// MPS neighbour lists (systems/mps/fluid_neighbours.hpp) against a brute-force O(N^2) search, and independent of the
 // thread count.
 #include <doctest/doctest.h>
 #include <tbb/task_arena.h>
@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "systems/fluid_neighbours.hpp"
+#include "systems/mps/fluid_neighbours.hpp"
 
 using namespace riffle;
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/fluid_layout.hpp"
-#include "engine/probes.hpp"
-#include "engine/scene.hpp"
-#include "systems/mps_kernel.hpp"
+#include "engine/setup/fluid_layout.hpp"
+#include "engine/output/probes.hpp"
+#include "engine/scene/scene.hpp"
+#include "systems/physics/mps_kernel.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -9,10 +9,10 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/fluid_layout.hpp"
-#include "engine/initial_state.hpp"
-#include "engine/scene.hpp"
-#include "systems/wall_motion.hpp"
+#include "engine/setup/fluid_layout.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "engine/scene/scene.hpp"
+#include "systems/physics/tank_kinematics.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

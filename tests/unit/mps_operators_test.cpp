@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "systems/mps_operators.hpp"
+#include "systems/physics/mps_operators.hpp"
 
 using namespace riffle;
 

@@ -12,14 +12,14 @@
 #include <sstream>
 #include <string>
 
-#include "engine/checkpoint.hpp"
-#include "engine/initial_state.hpp"
-#include "engine/output_lock.hpp"
-#include "engine/output_series.hpp"
-#include "engine/replace_file.hpp"
-#include "engine/simulation.hpp"
-#include "engine/stepper.hpp"
-#include "systems/registry.hpp"
+#include "engine/output/checkpoint.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "engine/output/output_lock.hpp"
+#include "engine/output/output_series.hpp"
+#include "engine/output/replace_file.hpp"
+#include "engine/run/simulation.hpp"
+#include "engine/run/stepper.hpp"
+#include "engine/run/registry.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

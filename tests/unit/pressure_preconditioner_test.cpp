@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "systems/pressure_preconditioner.hpp"
+#include "systems/physics/pressure_preconditioner.hpp"
 
 using namespace riffle;
 

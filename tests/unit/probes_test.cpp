@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/bed_statistics.hpp"
-#include "engine/probes.hpp"
-#include "engine/scene.hpp"
-#include "engine/simulation.hpp"
+#include "engine/output/bed_statistics.hpp"
+#include "engine/output/probes.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

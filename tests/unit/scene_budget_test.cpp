@@ -12,12 +12,12 @@
 #include <fstream>
 #include <string>
 
-#include "engine/budget.hpp"
-#include "engine/scene.hpp"
-#include "engine/simulation.hpp"
-#include "systems/solid_checks.hpp"
-#include "systems/solid_neighbours.hpp"
-#include "systems/voidage_grid.hpp"
+#include "engine/scene/budget.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
+#include "systems/physics/domain.hpp"
+#include "systems/dem/solid_neighbours.hpp"
+#include "systems/physics/voidage_grid.hpp"
 
 namespace {
 

@@ -19,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/scene.hpp"
+#include "engine/scene/scene.hpp"
 
 namespace {
 

@@ -9,11 +9,11 @@
 #include <mutex>
 #include <thread>
 
-#include "engine/initial_state.hpp"
-#include "engine/scene.hpp"
-#include "engine/scheduler.hpp"
-#include "engine/stepper.hpp"
-#include "systems/registry.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/core/scheduler.hpp"
+#include "engine/run/stepper.hpp"
+#include "engine/run/registry.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

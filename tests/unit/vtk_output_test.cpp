@@ -9,9 +9,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "engine/initial_state.hpp"
-#include "engine/simulation.hpp"
-#include "engine/vtk_output.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "engine/run/simulation.hpp"
+#include "engine/output/vtk_output.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "engine/fluid_layout.hpp"
-#include "engine/simulation.hpp"
-#include "systems/drag_law.hpp"
-#include "systems/fluid_drag_reaction.hpp"
-#include "systems/solid_drag.hpp"
-#include "systems/voidage_grid.hpp"
+#include "engine/setup/fluid_layout.hpp"
+#include "engine/run/simulation.hpp"
+#include "systems/physics/drag_law.hpp"
+#include "systems/coupling/fluid_drag_reaction.hpp"
+#include "systems/coupling/solid_drag.hpp"
+#include "systems/physics/voidage_grid.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/scene.hpp"
-#include "engine/simulation.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
 
 using namespace riffle;
 

@@ -32,8 +32,8 @@
 #include <utility>
 #include <vector>
 
-#include "engine/simulation.hpp"
-#include "systems/contact_law.hpp"
+#include "engine/run/simulation.hpp"
+#include "systems/physics/contact_law.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

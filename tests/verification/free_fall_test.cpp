@@ -6,7 +6,7 @@
 #include <cmath>
 #include <map>
 
-#include "engine/simulation.hpp"
+#include "engine/run/simulation.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

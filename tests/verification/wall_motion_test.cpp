@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "engine/initial_state.hpp"
-#include "engine/simulation.hpp"
-#include "systems/wall_motion.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "engine/run/simulation.hpp"
+#include "systems/physics/tank_kinematics.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -1,0 +1,249 @@
+#pragma once
+// The immutable description of a run, parsed and validated from a scene file. Systems receive it as const; the
+// mutable state lives in the World. A checkpoint stores the scene text, so the model is rebuilt on resume.
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "components/vec.hpp"
+
+namespace riffle {
+
+struct Material {
+  std::string name;
+  double density = 0.0;        ///< [kg/m^3]
+  double young_modulus = 0.0;  ///< [Pa] E; needed when [contact] is present
+  double poisson_ratio = 0.0;  ///< [1] nu
+};
+
+enum class ContactLaw {
+  kHertzMindlin,        ///< seed 003 Sec. 2.2: Hertz normal, Mindlin no-slip tangential, restitution damping
+  kLinearSpringDashpot  ///< seed 004 Sec. 2.2: linear spring-dashpot whose stiffness is set by a collision time
+};
+
+/// Contact constants of one pair of materials, derived once when the scene is read.
+struct ContactPairParameters {
+  double restitution = 1.0;       ///< [1] requested normal coefficient of restitution e, in [0, 1]
+  /// [1] the restitution the damping is calibrated to: e itself, or for e = 0 (perfectly plastic, which no finite
+  /// dashpot reaches) half the scene's restitution_tolerance, so that the achieved value is within the tolerance of 0.
+  double calibrated_restitution = 1.0;
+  double friction = 0.0;          ///< [1] Coulomb sliding friction mu
+  double rolling_friction = 0.0;  ///< [1] mu_r; rolling torque -mu_r R* F_n (direction of relative spin)
+  double effective_young = 0.0;   ///< [Pa] E*: 1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j
+  double effective_shear = 0.0;   ///< [Pa] G*: 1/G* = (2 - nu_i)/G_i + (2 - nu_j)/G_j
+  /// [1] dimensionless damping c of the law's normal equation x'' = -f(x) - c g(x) x', calibrated so that the
+  /// achieved restitution (with the no-tension cut-off) equals `restitution` exactly; see contact_law.hpp.
+  double damping = 0.0;
+
+  // Derived by prepare_contact_pair (systems/physics/contact_law.hpp), so the pair loop does no logarithms and fewer roots:
+  //   Hertz:  k_n = A sqrt(R* d), gamma_n = c sqrt(k_n m*), k_t = B sqrt(R* d), gamma_t = T gamma_n
+  //   linear: k_n = A m*,         gamma_n = D m*,           k_t = B k_n,         gamma_t = T gamma_n
+  double normal_stiffness_coefficient = 0.0;      ///< A: Hertz 4/3 E* [Pa]; linear (pi^2 + ln^2 e)/t_c^2 [1/s^2]
+  double normal_damping_coefficient = 0.0;        ///< D: linear c sqrt(A) [1/s]; unused by Hertz
+  double tangential_stiffness_coefficient = 0.0;  ///< B: Hertz 8 G* [Pa]; linear 2/7
+  double tangential_damping_ratio = 0.0;          ///< T: Hertz sqrt(4 G*/E*) (seed 003's ratio); linear 2/7
+};
+
+struct ContactModel {
+  bool enabled = false;
+  ContactLaw law = ContactLaw::kHertzMindlin;
+  std::size_t material_count = 0;
+  std::vector<ContactPairParameters> pairs;  ///< material_count x material_count, symmetric; [a * count + b]
+  double collision_time = 0.0;     ///< [s] linear law: duration of a normal collision
+  double max_impact_speed = 1.0;   ///< [m/s] impact speed for the Hertz contact-time estimate
+  double rayleigh_fraction = 0.25; ///< sub-step <= this fraction of the Rayleigh time
+  double steps_per_collision = 16; ///< sub-step <= contact time / this
+  double skin = 0.0;               ///< [m] Verlet skin of the neighbour list
+  std::int64_t sort_every_rebuild = 10;  ///< reorder grains by cell every this many neighbour rebuilds
+  /// [1] the achieved restitution of a head-on impact at max_impact_speed, integrated at the chosen sub-step, must be
+  /// within this of the requested one (absolute); the sub-step is shortened until it is (see stable_solid_step).
+  double restitution_tolerance = 0.02;
+  double stable_solid_dt = 0.0;    ///< [s] largest sub-step allowed by the estimates (filled by the scene reader)
+  std::string stable_solid_dt_reason;  ///< which estimate sets stable_solid_dt (for `riffle check` and errors)
+  /// [1] worst |achieved - requested| restitution at the run's sub-step over the pairs in use (filled by the reader)
+  double restitution_error = 0.0;
+  std::string restitution_error_pair;  ///< the pair with that worst error
+
+  const ContactPairParameters& pair(std::int32_t a, std::int32_t b) const {
+    return pairs[static_cast<std::size_t>(a) * material_count + static_cast<std::size_t>(b)];
+  }
+};
+
+/// Prescribed rigid translation of the tank. x(t) = -A r(t) sin(2 pi f t) along `direction` (seed 000 Eq. 1),
+/// with r(t) a C2 quintic ramp from 0 to 1 over `ramp_time` (the seed's "accelerated gradually at the onset").
+struct TankMotionModel {
+  enum class Kind { kNone, kSinusoidal };
+  Kind kind = Kind::kNone;
+  Vec3 direction = Vec3::UnitX();  ///< [1] unit vector
+  double amplitude = 0.0;          ///< [m] A
+  double frequency = 0.0;          ///< [Hz] f
+  double ramp_time = 0.0;          ///< [s] 0 = start at full amplitude
+};
+
+struct TankModel {
+  Vec3 size = Vec3::Zero();            ///< [m] inner size along x, y, z
+  Vec3 origin = Vec3::Zero();          ///< [m] inner min corner at rest
+  std::vector<std::string> open_faces; ///< faces without a wall: any of x_min, x_max, y_min, y_max, z_min, z_max
+  std::int32_t wall_material = 0;      ///< index into Model::materials
+  double domain_margin = 0.0;          ///< [m] a particle further than this outside the swept tank is lost
+  TankMotionModel motion;
+};
+
+/// A box of particles on the fluid lattice, given by two corners (fluid blocks and solid wall blocks).
+struct ParticleBoxModel {
+  Vec3 low = Vec3::Zero();       ///< [m] min corner
+  Vec3 high = Vec3::Zero();      ///< [m] max corner
+  Vec3 velocity = Vec3::Zero();  ///< [m/s] initial velocity (fluid boxes only)
+};
+
+/// The enhanced MPS schemes of seed 000 Sec. 3.1, each switchable so that its cost and benefit can be measured.
+/// Off means the classic Koshizuka-Oka counterpart (numerics.md 1.4): HS off = density-deviation source
+/// (n* - n0)/(n0 dt^2); HL off = lambda0 Laplacian; GC off = plain gradient with p_j - min_j p_j; ECS, DS off = absent.
+struct FluidSchemes {
+  bool higher_order_source = true;        ///< HS, Eq. 5
+  bool error_compensating_source = true;  ///< ECS, Eq. 6
+  bool higher_order_laplacian = true;     ///< HL, Eq. 7 with the closure a = -2 w'/r (numerics 2.5)
+  bool gradient_correction = true;        ///< GC, Eqs. 8-9
+  bool dynamic_stabilisation = true;      ///< DS, Eqs. 10-12 (repulsive, numerics 2.7)
+};
+
+/// The incompressible free-surface fluid (MPS, seed 000 Sec. 3.1; numerics.md with the prototype's amendments).
+struct FluidModel {
+  bool enabled = false;
+  double spacing = 0.0;                  ///< [m] l0, the initial lattice spacing
+  double effective_radius_ratio = 2.4;   ///< [1] r_e / l0, one radius for every operator
+  double density = 1000.0;               ///< [kg/m^3] rho
+  double kinematic_viscosity = 1.0e-6;   ///< [m^2/s] nu
+  std::vector<ParticleBoxModel> boxes;       ///< fluid blocks
+  std::vector<ParticleBoxModel> wall_boxes;  ///< solid blocks of wall particles that move with the tank
+  bool tank_walls = true;                ///< wall and dummy particles on the closed faces of [tank]
+  FluidSchemes schemes;
+  bool clamp_negative_pressure = true;   ///< p < 0 -> 0 after the solve (numerics 2.8)
+  double surface_threshold = 0.93;       ///< [1] beta: free surface where n* < beta n0 (amendment: not 0.97)
+  /// [1/s] gamma / dt of the density term gamma (n* - n0)/(n0 dt^2). The prototype's 12 /s let a shaken 3D slab
+  /// compress by 1.8 % and still water deeper than 12 layers drift away; 48 /s holds 24 layers still and keeps the
+  /// shaken slab within 0.3 % (docs/BENCHMARKS.md, tests/verification/fluid_*).
+  double density_relaxation_rate = 48.0;
+  double compressibility = 1.0e-9;       ///< [1/Pa] alpha_c, keeps every PPE cluster well posed
+  double courant = 0.2;                  ///< [1] C_r: dt <= C_r l0 / |u|max; alpha_DS = 1 - C_r (seed)
+  double diffusion_number = 0.2;         ///< [1] dt <= this l0^2 / nu
+  double min_dt = 1.0e-6;                ///< [s] a step below this stops the run as unstable
+  double solver_tolerance = 1.0e-8;      ///< [1] PCG stops at |r| <= tol |b| (1e-6 shifts the sloshing frequency by 1 %)
+  std::int64_t solver_max_iterations = 2000;
+  enum class Preconditioner { kJacobi, kTwoLevel };
+  Preconditioner preconditioner = Preconditioner::kTwoLevel;  ///< Jacobi, or Jacobi plus an aggregation coarse solve
+  double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
+  double narrow_neighbour_skin_ratio = 0.1;  ///< [1] the skin / l0 when the last lists lasted one step (<= the skin)
+  std::int64_t sort_every = 20;          ///< [steps] reorder fluid particles by cell this often (memory locality); 0 = never
+  /// [steps] ... and this often while the fastest particle moves more than 0.15 l0 in a step: then no list outlives a
+  /// step (half the default skin of 0.3 l0), so a sort costs no extra rebuild; 0 = only sort_every
+  std::int64_t sort_every_fast = 5;
+
+  double effective_radius() const { return spacing * effective_radius_ratio; }
+  double stabilisation_distance() const { return (1.0 - courant) * spacing; }  ///< d_ij = alpha_DS l0
+};
+
+/// Unresolved fluid-grain coupling (seed 000 Secs. 3.2-3.3; numerics.md 5). On whenever a scene has both grains and
+/// a fluid; [coupling] tunes it.
+struct CouplingModel {
+  bool enabled = false;
+  bool drag = true;                      ///< Ergun / Wen-Yu drag and its reaction on the fluid (Eqs. 20-26)
+  bool pressure_gradient = true;         ///< -V <grad p> on each grain (Eq. 13): buoyancy and pressure forces
+  double voidage_radius = 0.0;           ///< [m] R_eps of the voidage kernel; 0 = max(3 l0, 2 d_max) (numerics 5.3)
+  double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
+  double ergun_inertial_exponent = 1.5;  ///< [1] n in F_ch = 1.75 / (sqrt(150) eps^n): 1.5 = Ergun/Gidaspow; the seed prints 3 (numerics 5.1)
+  double newton_drag_coefficient = 0.44; ///< [1] C_D above Re_p = 1000 (the seed prints 0.4)
+  /// What the MPS velocity u stands for inside the bed (docs/COUPLING.md, "The water inside the bed").
+  /// false ("pore", the seed): the pore water's velocity; the water filling all space then passes 1/eps^2 too much
+  /// Darcy flux for a pressure gradient and loads the grains with (2 - eps) times the seepage force.
+  /// true ("mixture"): the volume flux of the mixture, eps u_pore + (1 - eps) u_s, which is what an incompressible
+  /// fluid filling all space (div u = 0, wall velocity at the walls) can carry exactly. The pore water moves
+  /// relative to a grain at (u - u_s) / eps (the drag's slip), and the water receives the drag per volume over eps,
+  /// so steady Darcy-Forchheimer flow and the seepage force are right; the pore water's relative inertia is eps
+  /// too small.
+  bool mixture_velocity = false;
+};
+
+struct SphereSpec {
+  Vec3 position = Vec3::Zero();          ///< [m]
+  Vec3 velocity = Vec3::Zero();          ///< [m/s]
+  Vec3 angular_velocity = Vec3::Zero();  ///< [rad/s]
+  double radius = 0.0;                   ///< [m]
+  std::int32_t material = 0;
+  std::int32_t size_class = 0;
+};
+
+struct SolidsModel {
+  bool enabled = false;
+  std::string initial_state;           ///< checkpoint whose grains start this run (resolved path), or empty
+  std::vector<SphereSpec> spheres;     ///< initial spheres, explicit and generated from blocks, in scene order
+  std::int64_t sort_every = 0;         ///< [steps] reorder grains by grid cell this often; 0 = never
+  /// Grains carried rigidly with the tank (a fixed bed: forces are still computed and written, the grains do not
+  /// respond). For fixed-bed flows and for separating what the water does from what the bed does (docs/RESULTS.md).
+  bool fixed_to_tank = false;
+};
+
+/// One [[output.probes]] entry: a CSV written while the run goes (engine/output/probes.hpp).
+struct ProbeModel {
+  enum class Kind {
+    kGrains,         ///< chosen grains by id: position, velocity, angular velocity, contact force
+    kWallForces,     ///< reaction force on each wall: minus the sum of its grain-wall contact forces
+    kFluidPressure,  ///< pressure at sensors fixed to the tank (hydrostatically extrapolated Shepard average)
+    kWaveGauge,      ///< height of the free surface above horizontal points of the tank
+    kSurgeFront,     ///< furthest reach of the connected fluid along a horizontal direction
+    kFluidTotals     ///< the fluid's per-step summary (FluidSummary): count, volume, energy, PPE report
+  };
+  Kind kind = Kind::kGrains;
+  std::string name;                 ///< unique among the probes
+  std::string file;                 ///< file name inside the output directory
+  double interval = 0.0;            ///< [s] between rows; 0 = every engine step
+  std::vector<std::uint64_t> ids;   ///< grains: grain ids (stable, not slots), in the order of the columns
+  /// [m] fluid_pressure: sensor positions; wave_gauge: (x, y, 0) gauge positions. Tank frame (rest coordinates):
+  /// the lab position is point + tank displacement, so a sensor on a wall moves with it.
+  std::vector<Vec3> points;
+  double radius = 0.0;              ///< [m] wave_gauge: horizontal search radius around each gauge (default l0)
+  Vec3 direction = Vec3::UnitX();   ///< [1] surge_front: unit horizontal direction of the front
+  /// [m] surge_front: only particles less than this above the tank floor count (infinity = the whole depth)
+  double below = std::numeric_limits<double>::infinity();
+};
+
+struct OutputModel {
+  double vtk_interval = 0.0;         ///< [s] 0 = no frames
+  double checkpoint_interval = 0.0;  ///< [s] 0 = only on signal and at the end
+  std::int64_t checkpoint_keep = 3;  ///< newest interval checkpoints kept on disk
+  std::int64_t diagnostics_every = 1;  ///< [steps] rows of diagnostics.csv
+  std::vector<ProbeModel> probes;
+  double bed_profile_interval = 0.0;  ///< [s] bed_profile.csv and class_centroids.csv; 0 = off
+  double bed_layer_thickness = 0.0;   ///< [m] sub-layer thickness; 0 = the smallest grain diameter (bed_layer_thickness())
+};
+
+struct Model {
+  std::string scene_file;   ///< path as given, for messages
+  std::string scene_text;   ///< the full scene text (stored in checkpoints)
+  std::string name;         ///< run name
+
+  double end_time = 0.0;             ///< [s]
+  double dt = 0.0;                   ///< [s] engine (fluid) step; with a fluid, the largest step (Courant limits below it)
+  std::int64_t solid_substeps = 1;   ///< DEM sub-steps per engine step (derived from the contact estimates if unset)
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< [m/s^2]
+
+  std::vector<Material> materials;
+  TankModel tank;
+  SolidsModel solids;
+  ContactModel contact;
+  FluidModel fluid;
+  CouplingModel coupling;
+  OutputModel output;
+
+  /// [bytes] a scene whose estimated memory (engine/scene/budget.hpp) exceeds this is refused before anything is
+  /// allocated: --memory-limit, else run.memory_limit, else default_memory_limit()
+  double memory_limit = 0.0;
+  std::string memory_limit_source;  ///< where memory_limit came from, for messages
+  double max_grains = 5e7;          ///< grains the scene may have in all (SceneLimits::max_grains)
+
+  double solid_dt() const { return dt / static_cast<double>(solid_substeps); }
+};
+
+}  // namespace riffle

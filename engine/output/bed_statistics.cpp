@@ -1,0 +1,181 @@
+#include "engine/output/bed_statistics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace riffle {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::size_t kMaxLayers = 1000000;
+
+/// Index of the layer holding `height` above the floor, or count if outside [0, count h).
+std::size_t layer_of(double height, double thickness, std::size_t count) {
+  if (!(height >= 0.0)) return count;  // also NaN
+  const double index = std::floor(height / thickness);
+  return index < static_cast<double>(count) ? static_cast<std::size_t>(index) : count;
+}
+}  // namespace
+
+std::vector<ClassCentroid> class_centroids(const Solids& solids, const std::vector<std::int32_t>& classes,
+                                           double floor_z) {
+  std::vector<ClassCentroid> result(classes.size());
+  std::vector<double> weighted(classes.size(), 0.0), volume(classes.size(), 0.0);
+  for (std::size_t k = 0; k < classes.size(); ++k) result[k].size_class = classes[k];
+  // Serial, in slot order: the same state gives the same bits.
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    const auto found = std::find(classes.begin(), classes.end(), solids.size_class[i]);
+    if (found == classes.end()) continue;
+    const auto k = static_cast<std::size_t>(found - classes.begin());
+    const double r = solids.radius[i];
+    const double weight = r * r * r;  // proportional to the volume
+    ++result[k].grains;
+    weighted[k] += weight * (solids.position[i].z() - floor_z);
+    volume[k] += weight;
+  }
+  for (std::size_t k = 0; k < classes.size(); ++k)
+    result[k].height = result[k].grains ? weighted[k] / volume[k] : kNaN;
+  return result;
+}
+
+double BedLayer::coordination_number() const {
+  return grains ? 2.0 * static_cast<double>(contacts) / static_cast<double>(grains) : kNaN;
+}
+
+double BedLayer::mean_dimensionless_overlap() const {
+  return contacts ? overlap_ratio_sum / static_cast<double>(contacts) : kNaN;
+}
+
+BedProfile bed_profile(const Solids& solids, const Contacts* contacts, double floor_z, double thickness,
+                       std::size_t layer_count) {
+  BedProfile profile;
+  profile.layers.resize(layer_count);
+  for (std::size_t k = 0; k < layer_count; ++k) {
+    profile.layers[k].z_low = static_cast<double>(k) * thickness;
+    profile.layers[k].z_high = static_cast<double>(k + 1) * thickness;
+  }
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    const std::size_t k = layer_of(solids.position[i].z() - floor_z, thickness, layer_count);
+    if (k < layer_count) ++profile.layers[k].grains;
+  }
+  if (!contacts) {
+    profile.contacts_known = true;
+    return profile;
+  }
+  const Contacts& list = *contacts;
+  profile.contacts_known = list.valid && list.pair_offsets.size() == solids.size() + 1 &&
+                           list.pair_overlap.size() == list.pair_second.size();
+  if (!profile.contacts_known) return profile;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    const double r_i = solids.radius[i];
+    for (std::uint32_t p = list.pair_offsets[i]; p < list.pair_offsets[i + 1]; ++p) {
+      const double overlap = list.pair_overlap[p];
+      if (!(overlap > 0.0)) continue;
+      const std::uint32_t j = list.pair_second[p];
+      const Vec3 centre_line = solids.position[j] - solids.position[i];
+      const double distance = centre_line.norm();
+      // The contact point: the middle of the overlap, r_i - delta/2 from the first centre along the line of centres.
+      const double z = solids.position[i].z() +
+                       (distance > 0.0 ? (r_i - 0.5 * overlap) * centre_line.z() / distance : 0.0);
+      const std::size_t k = layer_of(z - floor_z, thickness, layer_count);
+      if (k >= layer_count) continue;
+      ++profile.layers[k].contacts;
+      profile.layers[k].overlap_ratio_sum += overlap / (r_i + solids.radius[j]);  // d_ij = (d_i + d_j)/2 = r_i + r_j
+    }
+  }
+  return profile;
+}
+
+std::vector<std::int32_t> size_classes(const Solids& solids) {
+  const std::set<std::int32_t> classes(solids.size_class.begin(), solids.size_class.end());
+  return {classes.begin(), classes.end()};
+}
+
+double bed_layer_thickness(const Model& model, const Solids& solids) {
+  if (model.output.bed_layer_thickness > 0.0) return model.output.bed_layer_thickness;
+  if (solids.size() == 0) return 0.0;
+  return 2.0 * *std::min_element(solids.radius.begin(), solids.radius.end());
+}
+
+std::size_t bed_layer_count(const Model& model, double thickness) {
+  if (!(thickness > 0.0)) return 1;
+  const double count = std::ceil(model.tank.size.z() / thickness * (1.0 - 1e-12));
+  return static_cast<std::size_t>(std::clamp(count, 1.0, static_cast<double>(kMaxLayers)));
+}
+
+double tank_floor_z(const Model& model, const World& world) {
+  return model.tank.origin.z() + (world.tank_motion ? world.tank_motion->displacement.z() : 0.0);
+}
+
+double oscillation_periods(const Model& model, double time) {
+  if (model.tank.motion.kind != TankMotionModel::Kind::kSinusoidal) return kNaN;
+  return time * model.tank.motion.frequency;
+}
+
+void read_bed_profile_keys(TableReader& output, Model& model) {
+  OutputModel& out = model.output;
+  out.bed_profile_interval = output.number("bed_profile_interval", 0.0, "s", Bounds::non_negative());
+  // 0 (the default) stands for the smallest grain diameter, resolved by bed_layer_thickness(model).
+  out.bed_layer_thickness = output.number("bed_layer_thickness", 0.0, "m", Bounds::positive());
+  if (out.bed_profile_interval > 0.0 && model.solids.spheres.empty() && model.solids.initial_state.empty())
+    output.problem("bed_profile_interval", "the bed profile needs grains ([solids] with at least one grain)");
+  else if (out.bed_layer_thickness > 0.0 && model.tank.size.z() / out.bed_layer_thickness > kMaxLayers)
+    output.problem("bed_layer_thickness", "more than 1e6 layers over the tank height; use a thicker layer");
+}
+
+namespace {
+std::string centroid_header(const std::vector<std::int32_t>& classes) {
+  std::string header = "time_s,t_over_T";
+  for (std::int32_t size_class : classes) header += ",class_" + std::to_string(size_class) + "_centroid_m";
+  return header;
+}
+}  // namespace
+
+BedProfileWriter::BedProfileWriter(const Model& model, const std::filesystem::path& out_dir, const World& world,
+                                   bool fresh_run)
+    : model_(&model),
+      classes_(world.solids ? size_classes(*world.solids) : std::vector<std::int32_t>{}),
+      thickness_(world.solids ? bed_layer_thickness(model, *world.solids) : 0.0),
+      layer_count_(bed_layer_count(model, thickness_)),
+      schedule_(model.output.bed_profile_interval, model.dt, world.time),
+      profile_file_(out_dir / "bed_profile.csv",
+                    "time_s,t_over_T,layer,z_low_m,z_high_m,grains,contacts,coordination_number,"
+                    "mean_dimensionless_overlap",
+                    fresh_run ? std::nullopt : std::optional<double>(world.time)),
+      centroid_file_(out_dir / "class_centroids.csv", centroid_header(classes_),
+                     fresh_run ? std::nullopt : std::optional<double>(world.time)) {}
+
+void BedProfileWriter::write(const World& world) {
+  if (!world.solids) return;
+  const double floor_z = tank_floor_z(*model_, world);
+  std::string time = format_exact(world.time);
+  append_field(time, format_value(oscillation_periods(*model_, world.time)));
+  const BedProfile profile = bed_profile(*world.solids, world.contacts ? &*world.contacts : nullptr, floor_z,
+                                         thickness_, layer_count_);
+  std::string rows;
+  for (std::size_t k = 0; k < profile.layers.size(); ++k) {
+    const BedLayer& layer = profile.layers[k];
+    rows += time;
+    append_field(rows, std::to_string(k));
+    append_field(rows, format_value(layer.z_low));
+    append_field(rows, format_value(layer.z_high));
+    append_field(rows, std::to_string(layer.grains));
+    if (profile.contacts_known) {
+      append_field(rows, std::to_string(layer.contacts));
+      append_field(rows, format_value(layer.coordination_number()));
+      append_field(rows, format_value(layer.mean_dimensionless_overlap()));
+    } else {
+      rows += ",,,";  // the contact list does not exist yet (before the first step): unknown, not zero
+    }
+    rows += '\n';
+  }
+  profile_file_.write_rows(rows);
+  std::string row = time;
+  for (const ClassCentroid& centroid : class_centroids(*world.solids, classes_, floor_z))
+    append_field(row, format_value(centroid.height));
+  centroid_file_.write_row(row);
+}
+
+}  // namespace riffle

@@ -1,0 +1,64 @@
+#pragma once
+// Checkpoints: everything needed to continue a run bit for bit, and nothing from the wall clock.
+//
+// File layout (little-endian):
+//   8 bytes  magic "RIFFLECP"
+//   4 bytes  format version (kCheckpointVersion)
+//   4 bytes  zero
+//   8 bytes  payload size in bytes
+//   8 bytes  FNV-1a 64 checksum of the payload
+//   payload  cereal binary archive of CheckpointData
+// Files are written to a temporary file of their own ("<path>.<pid>.<counter>.tmp"), synced and renamed into
+// place (engine/output/replace_file.hpp), so a crash never leaves a half-written checkpoint under the real name.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/core/world.hpp"
+
+namespace riffle {
+
+inline constexpr std::uint32_t kCheckpointVersion = 4;  // 2: contacts; 3: fluid and fluid summary; 4: coupling fields
+
+/// Output bookkeeping that must survive a resume so the frame series and diagnostics continue seamlessly.
+struct OutputState {
+  std::vector<double> frame_times;          ///< [s] time of every VTK frame written so far (frame k = index k)
+  std::uint64_t checkpoints_due = 0;        ///< interval checkpoints written so far
+  std::vector<std::uint64_t> kept_steps;    ///< steps of the interval checkpoints still on disk, oldest first
+
+  template <class Archive>
+  void serialize(Archive& archive) {
+    archive(frame_times, checkpoints_due, kept_steps);
+  }
+};
+
+struct CheckpointData {
+  std::string scene_file;  ///< the scene's file name as given when the run started (for messages)
+  std::string scene_text;  ///< the full scene; the model is rebuilt from it
+  World world;
+  OutputState output;
+};
+
+class CheckpointError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// FNV-1a, 64 bit.
+std::uint64_t fnv1a64(std::string_view bytes);
+
+/// Serialises `data` into the checkpoint byte format.
+std::string encode_checkpoint(const CheckpointData& data);
+/// Parses checkpoint bytes; `name` is used in messages. Throws CheckpointError for anything but a well-formed file:
+/// every length prefix is checked against the bytes left before it is allocated. What the fields say is checked
+/// separately, against the scene (engine/output/checkpoint_validation.hpp).
+CheckpointData decode_checkpoint(const std::string& bytes, const std::string& name);
+
+/// Writes atomically (unique temporary file, fsync, rename). Throws CheckpointError on I/O failure.
+void write_checkpoint(const std::string& path, const CheckpointData& data);
+/// Reads and decodes a regular file (a FIFO, a device or a directory is refused at once, without reading).
+CheckpointData read_checkpoint(const std::string& path);
+
+}  // namespace riffle

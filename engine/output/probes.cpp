@@ -1,0 +1,449 @@
+#include "engine/output/probes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+
+#include "engine/setup/initial_state.hpp"
+#include "systems/physics/mps_kernel.hpp"
+
+namespace riffle {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& reserved_output_files() {
+  static const std::vector<std::string> names = {"diagnostics.csv", "timings.csv",  "bed_profile.csv",
+                                                 "class_centroids.csv", "riffle.log", "solids.pvd",
+                                                 "walls.pvd",       "vtk",          "checkpoints"};
+  return names;
+}
+
+namespace {
+
+bool plain_name(const std::string& name) {
+  if (name.empty() || name.front() == '.' || name.size() > 200) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+           c == '.';
+  });
+}
+
+/// One past the largest grain id the run starts with: the grains of [solids] initial_state (ids below its next_id)
+/// and then the scene's own spheres, numbered on from there. nullopt if the initial state cannot be read (that is
+/// reported where [solids] is read).
+std::optional<std::uint64_t> grain_id_limit(const Model& model) {
+  std::uint64_t limit = model.solids.spheres.size();
+  if (!model.solids.initial_state.empty()) {
+    try {
+      limit += initial_grains(model).next_id;
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+  }
+  return limit;
+}
+
+/// Walls the tank has (the faces not listed as open), in the order tank_walls() creates them.
+std::size_t wall_count(const Model& model) {
+  return 6 - model.tank.open_faces.size();
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
+  static const std::vector<std::pair<std::string, ProbeModel::Kind>> kinds = {
+      {"grains", ProbeModel::Kind::kGrains},
+      {"wall_forces", ProbeModel::Kind::kWallForces},
+      {"fluid_pressure", ProbeModel::Kind::kFluidPressure},
+      {"wave_gauge", ProbeModel::Kind::kWaveGauge},
+      {"surge_front", ProbeModel::Kind::kSurgeFront},
+      {"fluid_totals", ProbeModel::Kind::kFluidTotals}};
+  return kinds;
+}
+
+bool is_fluid_probe(ProbeModel::Kind kind) {
+  return kind == ProbeModel::Kind::kFluidPressure || kind == ProbeModel::Kind::kWaveGauge ||
+         kind == ProbeModel::Kind::kSurgeFront || kind == ProbeModel::Kind::kFluidTotals;
+}
+
+/// The `points` of a fluid_pressure (width 3) or wave_gauge (width 2) probe. Each must lie in the tank's inner box
+/// at rest, boundary included (a sensor on a wall): points are in the tank frame, and one outside is most likely a
+/// unit or frame mistake.
+std::vector<Vec3> read_points(TableReader& table, const Model& model, std::size_t width) {
+  const std::size_t problems_before = table.problem_count();
+  std::vector<Vec3> points = table.points("points", true, width, "m");
+  if (points.empty() && table.problem_count() == problems_before)
+    table.problem("points", "expected at least one point");
+  const Vec3 low = model.tank.origin;
+  const Vec3 high = low + model.tank.size;
+  if (!(model.tank.size.minCoeff() > 0.0)) return points;  // a bad tank is reported where [tank] is read
+  const double slack = 1e-9 * model.tank.size.maxCoeff();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    bool inside = true;
+    for (std::size_t axis = 0; axis < width; ++axis) {
+      const auto a = static_cast<Eigen::Index>(axis);
+      inside = inside && points[k][a] >= low[a] - slack && points[k][a] <= high[a] + slack;
+    }
+    if (!inside) {
+      char message[256];
+      std::snprintf(message, sizeof message,
+                    "the point lies outside the tank (inner box x %g to %g, y %g to %g, z %g to %g m at rest); "
+                    "points are in the tank frame",
+                    low[0], high[0], low[1], high[1], low[2], high[2]);
+      table.item_problem("points", k, message);
+    }
+  }
+  return points;
+}
+
+/// The keys of a surge_front probe: a non-zero horizontal direction (normalised) and the height limit.
+void read_surge_front(TableReader& table, ProbeModel& probe) {
+  const std::size_t problems_before = table.problem_count();
+  const Vec3 direction = table.vec3("direction", Vec3::UnitX(), "1", Bounds::any());
+  if (table.problem_count() == problems_before) {
+    if (direction.z() != 0.0)
+      table.problem("direction", "expected a horizontal direction (z component 0): the front runs along the floor");
+    else if (direction.norm() == 0.0)
+      table.problem("direction", "expected a non-zero direction");
+    else
+      probe.direction = direction.normalized();
+  }
+  probe.below = table.number("below", std::numeric_limits<double>::infinity(), "m", Bounds::positive());
+}
+
+}  // namespace
+
+void read_probes(TableReader& output, Model& model) {
+  std::vector<TableReader> tables = output.tables("probes");
+  for (std::size_t index = 0; index < tables.size(); ++index) {
+    TableReader& table = tables[index];
+    ProbeModel probe;
+    const std::size_t problems_before = table.problem_count();
+    std::vector<std::string> kind_names;
+    for (const auto& entry : probe_kinds()) kind_names.push_back(entry.first);
+    const std::string kind = table.choice("kind", std::nullopt, kind_names);
+    const bool kind_known = table.problem_count() == problems_before;
+    for (const auto& [name, value] : probe_kinds())
+      if (name == kind) probe.kind = value;
+    probe.name = table.text("name", kind_known ? kind : "probe_" + std::to_string(index));
+    const bool name_ok = plain_name(probe.name);
+    if (!name_ok)
+      table.problem("name", "expected a name of letters, digits, '_', '-' and '.', not starting with '.', got \"" +
+                                probe.name + "\"");
+    probe.file = table.text("file", "probe_" + probe.name + ".csv");
+    if (!name_ok && !table.has("file")) {
+      // The default file name comes from the bad name: already reported.
+    } else if (!plain_name(probe.file)) {
+      table.problem("file", "expected a plain file name (letters, digits, '_', '-', '.'; written in the output "
+                            "directory), got \"" + probe.file + "\"");
+    } else if (std::find(reserved_output_files().begin(), reserved_output_files().end(), probe.file) !=
+               reserved_output_files().end()) {
+      table.problem(table.has("file") ? "file" : "name", "\"" + probe.file + "\" is an output riffle writes itself");
+    } else {
+      for (const ProbeModel& other : model.output.probes)
+        if (other.file == probe.file) {
+          table.problem(table.has("file") ? "file" : "name",
+                        "another probe (\"" + other.name + "\") already writes \"" + probe.file +
+                            "\"; give each probe its own name or file");
+          break;
+        }
+    }
+    probe.interval = table.number("interval", 0.0, "s", Bounds::non_negative());
+
+    if (!kind_known) {
+      // The kind decides which keys belong: with a bad kind the other keys cannot be judged, so none of them is
+      // reported as unknown.
+      model.output.probes.push_back(probe);
+      continue;
+    }
+    if (is_fluid_probe(probe.kind) && !model.fluid.enabled)
+      table.problem("kind", "\"" + kind + "\" probes need a [fluid] table: the scene has no fluid");
+    switch (probe.kind) {
+      case ProbeModel::Kind::kGrains: {
+        const std::optional<std::uint64_t> limit = grain_id_limit(model);
+        const std::size_t problems_before_ids = table.problem_count();
+        const std::vector<std::int64_t> ids =
+            table.integers("ids", true, 0, std::numeric_limits<std::int64_t>::max());
+        if (ids.empty() && table.problem_count() == problems_before_ids)
+          table.problem("ids", "expected at least one grain id");
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+          const auto id = static_cast<EntityId>(ids[k]);
+          if (limit && id >= *limit) {
+            table.item_problem("ids", k,
+                               "unknown grain id " + std::to_string(id) + ": the scene has " +
+                                   std::to_string(*limit) + " grains" +
+                                   (*limit ? " (ids 0 to " + std::to_string(*limit - 1) + ")" : ""));
+          } else if (std::find(probe.ids.begin(), probe.ids.end(), id) != probe.ids.end()) {
+            table.item_problem("ids", k, "grain id " + std::to_string(id) + " is listed twice");
+          } else {
+            probe.ids.push_back(id);
+          }
+        }
+        break;
+      }
+      case ProbeModel::Kind::kWallForces:
+        if (!model.contact.enabled)
+          table.problem("kind", "wall forces need [contact]: without contacts no grain pushes on a wall");
+        else if (wall_count(model) == 0)
+          table.problem("kind", "the tank has no walls (every face is open)");
+        break;
+      case ProbeModel::Kind::kFluidPressure:
+        probe.points = read_points(table, model, 3);
+        break;
+      case ProbeModel::Kind::kWaveGauge:
+        probe.points = read_points(table, model, 2);
+        probe.radius = table.number("radius", model.fluid.spacing, "m", Bounds::positive());
+        break;
+      case ProbeModel::Kind::kSurgeFront:
+        read_surge_front(table, probe);
+        break;
+      case ProbeModel::Kind::kFluidTotals:
+        break;
+    }
+    table.finish();
+    model.output.probes.push_back(probe);
+  }
+}
+
+GrainSlotMap::GrainSlotMap(std::vector<EntityId> ids) : ids_(std::move(ids)), slots_(ids_.size(), kNone) {}
+
+bool GrainSlotMap::refresh(const Solids& solids) {
+  bool current = true;
+  for (std::size_t k = 0; k < ids_.size() && current; ++k)
+    current = slots_[k] < solids.size() && solids.id[slots_[k]] == ids_[k];
+  if (current) return false;
+  std::unordered_map<EntityId, std::size_t> wanted;
+  for (std::size_t k = 0; k < ids_.size(); ++k) wanted.emplace(ids_[k], k);
+  std::fill(slots_.begin(), slots_.end(), kNone);
+  for (std::size_t slot = 0; slot < solids.size(); ++slot)
+    if (const auto found = wanted.find(solids.id[slot]); found != wanted.end()) slots_[found->second] = slot;
+  return true;
+}
+
+std::vector<Vec3> wall_reaction_forces(const Contacts& contacts, std::size_t wall_count) {
+  if (!contacts.valid || contacts.wall_pair_force.size() != contacts.wall_pair_wall.size()) return {};
+  std::vector<Vec3> forces(wall_count, Vec3::Zero());
+  for (std::size_t k = 0; k < contacts.wall_pair_wall.size(); ++k)
+    if (contacts.wall_pair_wall[k] < wall_count) forces[contacts.wall_pair_wall[k]] -= contacts.wall_pair_force[k];
+  return forces;
+}
+
+FluidProbeSettings fluid_probe_settings(const Model& model) {
+  FluidProbeSettings settings;
+  settings.spacing = model.fluid.spacing;
+  settings.effective_radius = model.fluid.effective_radius();
+  settings.density = model.fluid.density;
+  settings.gravity = model.gravity;
+  settings.reference_number_density =
+      lattice_constants(3, settings.spacing, settings.effective_radius).number_density;
+  settings.floor_height = model.tank.origin.z();
+  return settings;
+}
+
+double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
+                         const Vec3& point) {
+  const Vec3 sensor = point + tank.displacement;
+  // In the tank's frame a fluid at rest has grad p = rho (g - a_tank); carrying each p_j along it to the sensor
+  // makes the average exact for a hydrostatic field, and is what lets a sensor outside the fluid (on a wall) read.
+  const Vec3 body_acceleration = settings.gravity - tank.acceleration;
+  const WendlandKernel kernel{settings.effective_radius};
+  const double radius_squared = settings.effective_radius * settings.effective_radius;
+  double weighted_sum = 0.0, weight_sum = 0.0;
+  for (std::size_t j = 0; j < particles.size(); ++j) {
+    if (particles.kind[j] != static_cast<std::int32_t>(FluidKind::kFluid)) continue;
+    const Vec3 offset = sensor - particles.position[j];
+    if (offset.squaredNorm() >= radius_squared) continue;
+    const double weight = kernel.weight(offset.norm());
+    weighted_sum += weight * (particles.pressure[j] + settings.density * body_acceleration.dot(offset));
+    weight_sum += weight;
+  }
+  return weight_sum > 0.0 ? weighted_sum / weight_sum : kNaN;
+}
+
+namespace {
+/// n of particle `slot` at the current positions: sum of w(r) over every other MPS particle (fluid, wall, dummy)
+/// within r_e, as the fluid systems define it.
+double number_density_at(const FluidParticles& particles, const WendlandKernel& kernel, std::size_t slot) {
+  const double radius_squared = kernel.effective_radius * kernel.effective_radius;
+  double density = 0.0;
+  for (std::size_t j = 0; j < particles.size(); ++j) {
+    const double distance_squared = (particles.position[j] - particles.position[slot]).squaredNorm();
+    if (j != slot && distance_squared < radius_squared) density += kernel.weight(std::sqrt(distance_squared));
+  }
+  return density;
+}
+}  // namespace
+
+double wave_gauge_height(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
+                         const Vec3& point, double radius) {
+  const Vec3 gauge = point + tank.displacement;
+  const double radius_squared = radius * radius;
+  std::vector<std::pair<double, std::size_t>> column;  // (z, slot) of the fluid particles over the gauge
+  for (std::size_t j = 0; j < particles.size(); ++j) {
+    if (particles.kind[j] != static_cast<std::int32_t>(FluidKind::kFluid)) continue;
+    const double dx = particles.position[j].x() - gauge.x();
+    const double dy = particles.position[j].y() - gauge.y();
+    if (dx * dx + dy * dy < radius_squared) column.emplace_back(particles.position[j].z(), j);
+  }
+  std::sort(column.begin(), column.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  // The highest particle that is not isolated: n >= 0.5 n0 (a particle inside the water has n0, one on a flat
+  // surface 0.7-0.8 n0, a drop of spray far less; spray must not make a spike). n is computed here at the current
+  // positions, only for the few particles from the top down to the first that passes: the stored number_density
+  // belongs to the predicted positions of the last step and is zero before the first one.
+  const WendlandKernel kernel{settings.effective_radius};
+  for (const auto& [z, j] : column)
+    if (number_density_at(particles, kernel, j) >= 0.5 * settings.reference_number_density)
+      return z + 0.5 * settings.spacing - tank.displacement.z();  // a particle stands for a cube of side l0
+  return kNaN;
+}
+
+double surge_front_position(const FluidParticles& particles, const FluidProbeSettings& settings,
+                            const TankMotion& tank, const Vec3& direction, double below) {
+  // Fluid particles sorted by their position along the direction, front first; the first particle low enough
+  // that has a neighbour within 1.5 l0 is the front. A neighbour lies within 1.5 l0 along the direction too, so
+  // the search scans only the window around it in the sorted order; lone drops are rare, so the walk stops after
+  // a few particles and the sort, O(F log F), is the whole cost.
+  std::vector<std::pair<double, std::size_t>> order;
+  order.reserve(particles.size());
+  for (std::size_t j = 0; j < particles.size(); ++j)
+    if (particles.kind[j] == static_cast<std::int32_t>(FluidKind::kFluid))
+      order.emplace_back(particles.position[j].dot(direction), j);
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+  });
+  const double reach = 1.5 * settings.spacing;
+  const double floor = settings.floor_height + tank.displacement.z();
+  for (std::size_t a = 0; a < order.size(); ++a) {
+    // Named variables, not a structured binding: clang before 16 cannot capture those in a lambda.
+    const double along = order[a].first;
+    const std::size_t j = order[a].second;
+    if (!(particles.position[j].z() - floor < below)) continue;
+    auto near = [&](std::size_t b) {
+      return (particles.position[order[b].second] - particles.position[j]).squaredNorm() < reach * reach;
+    };
+    bool connected = false;
+    for (std::size_t b = a; b-- > 0 && order[b].first - along < reach && !connected;) connected = near(b);
+    for (std::size_t b = a + 1; b < order.size() && along - order[b].first < reach && !connected; ++b)
+      connected = near(b);
+    if (connected) return along + 0.5 * settings.spacing - tank.displacement.dot(direction);
+  }
+  return kNaN;
+}
+
+std::string probe_header(const ProbeModel& probe, const World& world) {
+  std::string header = "time_s,step";
+  if (probe.kind == ProbeModel::Kind::kGrains) {
+    static const char* const kColumns[] = {"x_m",      "y_m",      "z_m",      "vx_m_s", "vy_m_s", "vz_m_s",
+                                           "wx_rad_s", "wy_rad_s", "wz_rad_s", "fx_N",   "fy_N",   "fz_N"};
+    for (EntityId id : probe.ids)
+      for (const char* column : kColumns) header += ",grain" + std::to_string(id) + "_" + column;
+  } else if (probe.kind == ProbeModel::Kind::kWallForces) {
+    if (world.walls)
+      for (const std::string& name : world.walls->name)
+        for (const char* column : {"fx_N", "fy_N", "fz_N"}) header += "," + name + "_" + column;
+  } else if (probe.kind == ProbeModel::Kind::kFluidPressure) {
+    for (std::size_t k = 0; k < probe.points.size(); ++k) header += ",p" + std::to_string(k) + "_Pa";
+  } else if (probe.kind == ProbeModel::Kind::kWaveGauge) {
+    for (std::size_t k = 0; k < probe.points.size(); ++k) header += ",gauge" + std::to_string(k) + "_z_m";
+  } else if (probe.kind == ProbeModel::Kind::kSurgeFront) {
+    header += ",front_m";
+  } else {
+    header += ",fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,surface_particles,"
+              "ppe_iterations,ppe_residual";
+  }
+  return header;
+}
+
+ProbeWriter::ProbeWriter(const Model& model, const ProbeModel& probe, const fs::path& out_dir, const World& world,
+                         bool fresh_run)
+    : probe_(probe),
+      fluid_(model.fluid.enabled ? fluid_probe_settings(model) : FluidProbeSettings{}),
+      slots_(probe.ids),
+      schedule_(probe.interval, model.dt, world.time),
+      file_(out_dir / probe.file, probe_header(probe, world),
+            fresh_run ? std::nullopt : std::optional<double>(world.time)) {}
+
+void ProbeWriter::write(const World& world) {
+  std::string row = format_exact(world.time);
+  append_field(row, std::to_string(world.step));
+  auto append = [&row](const Vec3& value) {
+    for (int axis = 0; axis < 3; ++axis) append_field(row, format_value(value[axis]));
+  };
+  auto append_empty = [&row](std::size_t fields) {
+    for (std::size_t k = 0; k < fields; ++k) row += ",";
+  };
+  // A fluid probe in a world without fluid particles (yet) writes empty fields: unknown, not zero.
+  const TankMotion tank = world.tank_motion.value_or(TankMotion{});
+  auto append_fluid = [&](std::size_t columns, auto&& measure) {
+    for (std::size_t k = 0; k < columns; ++k)
+      append_field(row, world.fluid ? format_value(measure(*world.fluid, k)) : std::string());
+  };
+  switch (probe_.kind) {
+    case ProbeModel::Kind::kGrains: {
+      const Solids* solids = world.solids ? &*world.solids : nullptr;
+      if (solids) slots_.refresh(*solids);
+      for (std::size_t k = 0; k < probe_.ids.size(); ++k) {
+        const std::size_t slot = solids ? slots_.slot(k) : GrainSlotMap::kNone;
+        if (slot == GrainSlotMap::kNone) {
+          append_empty(12);  // the grain is gone (or never was): empty fields, not made-up numbers
+          continue;
+        }
+        append(solids->position[slot]);
+        append(solids->velocity[slot]);
+        append(solids->angular_velocity[slot]);
+        append(solids->contact_force[slot]);
+      }
+      break;
+    }
+    case ProbeModel::Kind::kWallForces: {
+      const std::size_t walls = world.walls ? world.walls->size() : 0;
+      const std::vector<Vec3> forces =
+          world.contacts ? wall_reaction_forces(*world.contacts, walls) : std::vector<Vec3>{};
+      // Before the first step the contact list does not exist yet: the forces are unknown, not zero.
+      for (std::size_t wall = 0; wall < walls; ++wall)
+        if (forces.empty())
+          append_empty(3);
+        else
+          append(forces[wall]);
+      break;
+    }
+    case ProbeModel::Kind::kFluidPressure:
+      append_fluid(probe_.points.size(), [&](const FluidParticles& fluid, std::size_t k) {
+        return fluid_pressure_at(fluid, fluid_, tank, probe_.points[k]);
+      });
+      break;
+    case ProbeModel::Kind::kWaveGauge:
+      append_fluid(probe_.points.size(), [&](const FluidParticles& fluid, std::size_t k) {
+        return wave_gauge_height(fluid, fluid_, tank, probe_.points[k], probe_.radius);
+      });
+      break;
+    case ProbeModel::Kind::kSurgeFront:
+      append_fluid(1, [&](const FluidParticles& fluid, std::size_t) {
+        return surge_front_position(fluid, fluid_, tank, probe_.direction, probe_.below);
+      });
+      break;
+    case ProbeModel::Kind::kFluidTotals:
+      if (const std::optional<FluidSummary>& summary = world.fluid_summary) {
+        append_field(row, std::to_string(summary->fluid_count));
+        append_field(row, format_value(summary->volume));
+        append_field(row, format_value(summary->kinetic_energy));
+        append_field(row, format_value(summary->max_speed));
+        append_field(row, format_value(summary->mean_density_ratio));
+        append_field(row, std::to_string(summary->surface_count));
+        append_field(row, std::to_string(summary->solver_iterations));
+        append_field(row, format_value(summary->solver_residual));
+      } else {
+        append_empty(8);
+      }
+      break;
+  }
+  file_.write_row(row);
+}
+
+}  // namespace riffle

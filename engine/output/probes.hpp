@@ -1,0 +1,115 @@
+#pragma once
+// Probes: CSV files written while the run goes, declared in the scene as [[output.probes]] (docs/SCENES.md).
+//
+//   kind = "grains"       chosen grains by id: position, velocity, angular velocity and the total contact force
+//                         (Solids::contact_force), 12 columns per grain;
+//   kind = "wall_forces"  the reaction force on each wall, minus the sum of its grain-wall contact forces,
+//                         3 columns per wall, named after it;
+//   kind = "fluid_pressure", "wave_gauge", "surge_front", "fluid_totals"  the MPS fluid (need [fluid]): pressure
+//                         at sensors fixed to the tank, surface height at gauges, the surge front, FluidSummary.
+//
+// Each file starts with "time_s,step", then the probe's columns; one row on the first output of a fresh run
+// (t = 0), then one per `interval` (IntervalSchedule). On resume, the rows after the checkpoint's time are dropped
+// and the series continues (CsvSeries). Grains are named by their stable id; their slots change when grains are
+// reordered, so the writer keeps an id -> slot map and rebuilds it when a slot no longer holds its id.
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "components/model.hpp"
+#include "engine/output/output_series.hpp"
+#include "engine/scene/scene_reader.hpp"
+#include "engine/core/world.hpp"
+
+namespace riffle {
+
+/// Output files the run writes itself: a probe's `file` may not be one of them.
+const std::vector<std::string>& reserved_output_files();
+
+/// Reads every [[output.probes]] table of the [output] reader into model.output.probes. The grains, the contact
+/// model, [tank] and [fluid] must be read already (ids are checked against the grains the run starts with: those of
+/// [solids] initial_state, then model.solids.spheres; wall forces need [contact], fluid probes [fluid] and take
+/// their default radius from its spacing; points must lie in the tank).
+/// Problems go through the reader (file:line:column: key: message).
+void read_probes(TableReader& output, Model& model);
+
+/// The slots of chosen grain ids, kept up to date across reorderings: refresh() checks each cached slot still
+/// holds its id and rebuilds the whole map with one pass over the grains only when one does not.
+class GrainSlotMap {
+ public:
+  explicit GrainSlotMap(std::vector<EntityId> ids);
+  /// Returns true if the map had to be rebuilt. Ids no grain has get kNone.
+  bool refresh(const Solids& solids);
+  /// Slot of ids[k] (after refresh), or kNone.
+  std::size_t slot(std::size_t k) const { return slots_[k]; }
+  static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+
+ private:
+  std::vector<EntityId> ids_;
+  std::vector<std::size_t> slots_;
+};
+
+/// [N] reaction force on each wall slot: minus the sum of the grain-wall contact forces on the grains (the force
+/// each grain exerts on the wall), summed in slot order. Empty if the contact list is not built yet.
+std::vector<Vec3> wall_reaction_forces(const Contacts& contacts, std::size_t wall_count);
+
+/// What the fluid probes need from [fluid], [run] and [tank].
+struct FluidProbeSettings {
+  double spacing = 0.0;                   ///< [m] l0
+  double effective_radius = 0.0;          ///< [m] r_e: support of a pressure sensor
+  double density = 0.0;                   ///< [kg/m^3] rho
+  Vec3 gravity = Vec3::Zero();            ///< [m/s^2] g
+  double reference_number_density = 0.0; ///< [1] n0 of the initial lattice (lattice_constants(3, l0, r_e))
+  double floor_height = 0.0;              ///< [m] z of the tank's inner floor at rest
+};
+/// The settings of model.fluid (which must be enabled, with l0 > 0).
+FluidProbeSettings fluid_probe_settings(const Model& model);
+
+/// [Pa] Pressure at a sensor at `point` (tank frame): the Shepard average, with Wendland weights w(|x_s - x_j|),
+/// over the fluid particles j within r_e of the sensor's lab position x_s = point + displacement of
+/// p_j + rho (g - a_tank) . (x_s - x_j), i.e. each p_j carried hydrostatically to the sensor (numerics.md amendment
+/// 1), so a sensor on a wall, l0/2 beyond the last fluid layer, reads the wall pressure. NaN if no fluid particle is
+/// within r_e (a dry sensor).
+double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
+                         const Vec3& point);
+
+/// [m] Height (tank-frame z) of the free surface above the gauge at `point` (x, y in the tank frame): the largest
+/// z_j + l0/2 of the fluid particles within horizontal distance `radius` of the gauge that are not isolated
+/// (n_j >= 0.5 n0, n_j computed at the current positions over fluid, wall and dummy particles: a drop of spray
+/// above the surface must not make a spike). NaN if there is none.
+double wave_gauge_height(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
+                         const Vec3& point, double radius);
+
+/// [m] Position of the surge front along the horizontal unit `direction`, in the tank frame: the largest
+/// x_j . direction + l0/2 over the fluid particles less than `below` above the tank floor that have another fluid
+/// particle within 1.5 l0 (lone drops ahead of the front do not count), minus the tank displacement along
+/// `direction`. NaN if no particle qualifies.
+double surge_front_position(const FluidParticles& particles, const FluidProbeSettings& settings,
+                            const TankMotion& tank, const Vec3& direction, double below);
+
+/// The header line of a probe's file (without the newline).
+std::string probe_header(const ProbeModel& probe, const World& world);
+
+/// One probe's CSV file.
+class ProbeWriter {
+ public:
+  /// Opens out_dir/probe.file; on a resume (fresh_run false) keeps the rows up to world.time.
+  ProbeWriter(const Model& model, const ProbeModel& probe, const std::filesystem::path& out_dir, const World& world,
+              bool fresh_run);
+  /// Writes a row for the current state.
+  void write(const World& world);
+  /// Writes a row if one is due after the step that ended at world.time.
+  void write_if_due(const World& world) {
+    if (schedule_.take(world.time)) write(world);
+  }
+
+ private:
+  ProbeModel probe_;
+  FluidProbeSettings fluid_;  ///< fluid probes only
+  GrainSlotMap slots_;
+  IntervalSchedule schedule_;
+  CsvSeries file_;
+};
+
+}  // namespace riffle

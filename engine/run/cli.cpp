@@ -1,0 +1,227 @@
+#include "engine/run/cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <new>
+
+#include "engine/scene/budget.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
+
+namespace riffle {
+
+namespace {
+
+const char* kExitCodes =
+    "Exit codes:\n"
+    "  0    success\n"
+    "  1    bad command line\n"
+    "  2    invalid scene or checkpoint (each problem is printed as file:line:column: key: message)\n"
+    "  3    the run stopped with a diagnosis (NaN, particle left the domain, out of memory during the run, an\n"
+    "       internal error); the last good checkpoint is kept\n"
+    "  4    output could not be written: the output folder or riffle.log cannot be created, or another run is\n"
+    "       writing into the same output folder (OUT/.riffle.lock is held)\n"
+    "  130  interrupted by SIGINT (a checkpoint was written first; a step still running 2 s after the signal is\n"
+    "       abandoned instead, and the last good checkpoint is named)\n"
+    "  143  terminated by SIGTERM (as for SIGINT)\n";
+
+extern "C" void handle_stop_signal(int signal_number) { request_stop(signal_number); }
+
+std::string default_out_dir(const Model& model) { return "out/" + model.name; }
+
+int report_run(const RunOutcome& outcome) {
+  if (!outcome.last_checkpoint.empty() && outcome.exit_code != kExitOk)
+    spdlog::info("resume with: riffle resume {}", outcome.last_checkpoint);
+  return outcome.exit_code;
+}
+
+/// Why `until` cannot end a run that starts at `start` with steps of at most `dt`, or "" if it can: the same
+/// checks as run.end_time (finite, positive, at most 1e12 steps), and at least one step after the start.
+std::string until_problem(double until, double start, double dt) {
+  char text[256];
+  if (!std::isfinite(until) || until <= 0.0) {
+    std::snprintf(text, sizeof text, "--until: expected a finite time > 0 s, got %g", until);
+  } else if (until <= start) {
+    std::snprintf(text, sizeof text, "--until %g s is not after the checkpoint's time t = %.17g s", until, start);
+  } else if ((until - start) / dt > 1e12) {
+    std::snprintf(text, sizeof text, "--until %g s is more than 1e12 steps of dt = %g s away", until, dt);
+  } else if (until - start < dt * (1.0 - 1e-9)) {  // the tolerance absorbs the rounding of t = step * dt
+    std::snprintf(text, sizeof text,
+                  "--until %g s is less than one step (dt = %g s) after the start time t = %.17g s: the run would "
+                  "end before its first step",
+                  until, dt, start);
+  } else {
+    return "";
+  }
+  return text;
+}
+
+int run_command(int argc, char** argv);
+
+}  // namespace
+
+/// Every failure ends in a documented exit code with a message, never in std::terminate.
+int cli_main(int argc, char** argv) {
+  try {
+    return run_command(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory (std::bad_alloc); the scene is too large for this machine\n");
+    return kExitUnstable;
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "error: internal error: %s\n", error.what());
+    return kExitUnstable;
+  } catch (...) {
+    std::fprintf(stderr, "error: internal error (an unknown exception)\n");
+    return kExitUnstable;
+  }
+}
+
+namespace {
+
+int run_command(int argc, char** argv) {
+  CLI::App app{"riffle: sediment moved by water. DEM grains coupled to an MPS free-surface fluid.", "riffle"};
+  app.footer(kExitCodes);
+  app.require_subcommand(1);
+  app.set_version_flag("--version", RIFFLE_VERSION);
+  std::string log_level = "info";
+  // Accepted before and after the subcommand (riffle --log-level debug run ... / riffle run ... --log-level debug).
+  auto add_log_level = [&log_level](CLI::App* command) {
+    command->add_option("--log-level", log_level, "Log verbosity")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}))
+        ->capture_default_str();
+  };
+  add_log_level(&app);
+  // [GiB] raises (or lowers) the memory limit scenes are checked against (engine/scene/budget.hpp); beats run.memory_limit.
+  double memory_limit_gib = 0.0;
+  auto add_memory_limit = [&memory_limit_gib](CLI::App* command) {
+    command->add_option("--memory-limit", memory_limit_gib,
+                        "Memory limit [GiB] for the scene's estimated budget (default: run.memory_limit, else 3/4 of "
+                        "physical memory)")
+        ->check(CLI::PositiveNumber);
+  };
+
+  std::string scene_path, checkpoint_path, out_dir;
+  int threads = 0;
+  double until = -1.0;
+
+  CLI::App* run = app.add_subcommand("run", "Validate and run a scene file");
+  run->add_option("scene", scene_path, "Scene file (TOML)")->required();
+  run->add_option("--out", out_dir, "Output directory (default: out/<run.name>)");
+  run->add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
+  // Checked after the scene or checkpoint is read (until_problem): the bounds depend on its time and dt.
+  CLI::Option* run_until = run->add_option("--until", until, "End time [s], overrides run.end_time");
+  add_log_level(run);
+  add_memory_limit(run);
+  run->footer(kExitCodes);
+
+  CLI::App* check = app.add_subcommand("check", "Validate a scene file without running it");
+  check->add_option("scene", scene_path, "Scene file (TOML)")->required();
+  add_log_level(check);
+  add_memory_limit(check);
+  check->footer(kExitCodes);
+
+  CLI::App* resume = app.add_subcommand("resume", "Continue a run from a checkpoint");
+  resume->add_option("checkpoint", checkpoint_path, "Checkpoint file (.ckpt)")->required();
+  resume->add_option("--out", out_dir, "Output directory (default: the checkpoint's run directory)");
+  resume->add_option("--threads", threads, "Worker threads (default: all cores)")->check(CLI::PositiveNumber);
+  CLI::Option* resume_until = resume->add_option("--until", until, "End time [s], overrides run.end_time");
+  add_log_level(resume);
+  add_memory_limit(resume);
+  resume->footer(kExitCodes);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = app.exit(error);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  const bool until_given = (*run && run_until->count() > 0) || (*resume && resume_until->count() > 0);
+
+  auto console = spdlog::stderr_color_mt("riffle");
+  spdlog::set_default_logger(console);
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  SceneLimits limits;
+  limits.memory_limit = memory_limit_gib * 1024.0 * 1024.0 * 1024.0;
+  std::unique_ptr<Simulation> simulation;
+  try {
+    if (*resume) {
+      simulation = Simulation::from_checkpoint(checkpoint_path, limits);
+      if (out_dir.empty()) {
+        // The run directory is the one holding checkpoints/, also when the path is a bare name inside checkpoints/.
+        auto run_dir = (std::filesystem::path(checkpoint_path).parent_path() / "..").lexically_normal();
+        if (!run_dir.has_filename()) run_dir = run_dir.parent_path();  // "A/" -> "A"
+        out_dir = run_dir.string();
+      }
+    } else {
+      simulation = Simulation::from_scene_file(scene_path, limits);
+      if (out_dir.empty()) out_dir = default_out_dir(simulation->model());
+    }
+  } catch (const SceneError& error) {
+    for (const std::string& problem : error.problems()) std::fprintf(stderr, "error: %s\n", problem.c_str());
+    std::fprintf(stderr, "%zu problem(s) found; nothing was run\n", error.problems().size());
+    return kExitInvalidInput;
+  } catch (const CheckpointError& error) {
+    std::fprintf(stderr, "error: %s\n", error.what());
+    return kExitInvalidInput;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory while setting up the run (std::bad_alloc): the scene needs more "
+                         "memory than this machine has\n");
+    return kExitInvalidInput;
+  } catch (const std::exception& error) {
+    // Scheduler or set-up errors are bugs or unsupported combinations; name them rather than abort.
+    std::fprintf(stderr, "error: cannot set up the run: %s\n", error.what());
+    return kExitInvalidInput;
+  }
+
+  if (*check) {
+    const Model& model = simulation->model();
+    std::printf("%s: valid scene '%s': %zu grains, %zu walls, t_end = %g s, dt = %g s, %lld solid sub-steps\n",
+                scene_path.c_str(), model.name.c_str(),
+                simulation->world().solids ? simulation->world().solids->size() : 0,
+                simulation->world().walls ? simulation->world().walls->size() : 0, model.end_time, model.dt,
+                static_cast<long long>(model.solid_substeps));
+    if (model.contact.enabled && model.contact.stable_solid_dt > 0.0)
+      std::printf("  DEM sub-step %.4g s (%lld per step); stable estimate %.4g s, set by %s\n"
+                  "  restitution at this sub-step, head-on at max_impact_speed = %g m/s: within %.3g of the requested "
+                  "(tolerance %g; worst: %s)\n",
+                  model.solid_dt(), static_cast<long long>(model.solid_substeps), model.contact.stable_solid_dt,
+                  model.contact.stable_solid_dt_reason.c_str(), model.contact.max_impact_speed,
+                  model.contact.restitution_error, model.contact.restitution_tolerance,
+                  model.contact.restitution_error_pair.c_str());
+    if (const FluidParticles* fluid = simulation->world().fluid ? &*simulation->world().fluid : nullptr)
+      std::printf("  fluid: %zu MPS particles, %zu of them fluid, spacing %g m, r_e = %g spacing\n", fluid->size(),
+                  simulation->world().fluid_summary->fluid_count, model.fluid.spacing,
+                  model.fluid.effective_radius_ratio);
+    std::printf("%s", describe_budget(estimate_budget(model), model).c_str());
+    return kExitOk;
+  }
+
+  if (until_given) {
+    const std::string problem = until_problem(until, simulation->world().time, simulation->model().dt);
+    if (!problem.empty()) {
+      std::fprintf(stderr, "error: %s\n", problem.c_str());
+      return kExitUsage;
+    }
+  }
+
+  std::signal(SIGINT, handle_stop_signal);
+  std::signal(SIGTERM, handle_stop_signal);
+  RunOptions options;
+  options.out_dir = out_dir;
+  options.threads = threads;
+  if (until_given) options.until = until;
+  options.progress = isatty(fileno(stderr)) != 0;
+  return report_run(simulation->run(options));
+}
+
+}  // namespace
+
+}  // namespace riffle

@@ -1,0 +1,94 @@
+#include "engine/run/registry.hpp"
+
+#include "systems/mps/fluid_cell_sort.hpp"
+#include "systems/mps/fluid_checks.hpp"
+#include "systems/mps/fluid_correct.hpp"
+#include "systems/coupling/fluid_drag_reaction.hpp"
+#include "systems/coupling/solid_drag.hpp"
+#include "systems/coupling/solid_fluid_sampling.hpp"
+#include "systems/mps/fluid_free_surface.hpp"
+#include "systems/coupling/fluid_sample_copy.hpp"
+#include "systems/mps/fluid_neighbours.hpp"
+#include "systems/mps/fluid_predict.hpp"
+#include "systems/mps/fluid_pressure.hpp"
+#include "systems/mps/fluid_wall_motion.hpp"
+#include "systems/dem/solid_cell_sort.hpp"
+#include "systems/dem/solid_domain_check.hpp"
+#include "systems/dem/solid_summarize.hpp"
+#include "systems/dem/solid_contacts.hpp"
+#include "systems/dem/solid_force_sum.hpp"
+#include "systems/dem/solid_neighbours.hpp"
+#include "systems/coupling/solid_voidage.hpp"
+#include "systems/dem/solid_integrate.hpp"
+#include "systems/dem/wall_motion.hpp"
+
+namespace riffle {
+
+Pipeline build_pipeline(const Model& model) {
+  Pipeline pipeline;
+  if (model.fluid.enabled) {
+    // numerics.md 2.1 and 5.6; the scheduler chains these through the fluid component in this order.
+    const FluidModel& fluid = model.fluid;
+    const double skin = fluid.neighbour_skin_ratio * fluid.spacing;
+    const double narrow_skin = fluid.narrow_neighbour_skin_ratio * fluid.spacing;
+    using At = FluidNeighbourSearch::Positions;
+    pipeline.step.push_back(
+        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent));
+    pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidWallMotion>());
+    // After the prediction, right before the search at r*: in fast flow that search rebuilds anyway.
+    if (fluid.sort_every > 0 || fluid.sort_every_fast > 0)
+      pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.sort_every_fast,
+                                                              fluid.effective_radius() + skin, 0.15 * fluid.spacing));
+    pipeline.step.push_back(
+        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted));
+    pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
+    pipeline.end_of_step.push_back(std::make_unique<FluidChecks>(fluid));
+    if (model.coupling.enabled) {
+      // Staggered by one fluid step (docs/COUPLING.md): the grains' sub-steps of step k+1 use the water at the end
+      // of step k. The grains sample a copy of it, first in their own branch, so the fluid's step graph and the
+      // grains' branch share no component and the stepper runs them side by side; the voidage, which the drag
+      // reaction needs, is read at the end of the step.
+      pipeline.step_start.push_back(std::make_unique<FluidSampleCopy>());
+      pipeline.solid_step.push_back(std::make_unique<SolidFluidSampling>(model));
+      pipeline.end_of_step.push_back(std::make_unique<SolidVoidage>(model));
+      pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model));
+    }
+  }
+  // Order matters only where systems share a component: the scheduler derives the edges from it.
+  if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>());
+  // The walls move once per sub-step when grains feel them, otherwise once per engine step.
+  (model.solids.enabled ? pipeline.substep : pipeline.step).push_back(std::make_unique<WallMotion>());
+  const bool contacts = model.solids.enabled && model.contact.enabled;
+  const bool coupled = model.coupling.enabled;
+  if (contacts || coupled) {
+    for (auto* phase : {&pipeline.substep, &pipeline.initial_forces}) {
+      if (contacts) {
+        phase->push_back(std::make_unique<SolidNeighbours>());
+        phase->push_back(std::make_unique<SolidContactForces>());
+        phase->push_back(std::make_unique<SolidContactGather>());
+      }
+      if (coupled && model.coupling.drag && phase == &pipeline.substep) phase->push_back(std::make_unique<SolidDrag>(model));
+      // A new run's first sub-steps use the water as laid out (hydrostatic, engine/setup/initial_state.cpp): buoyancy
+      // from the first sub-step on.
+      if (coupled && phase == &pipeline.initial_forces) {
+        phase->push_back(std::make_unique<FluidSampleCopy>());
+        phase->push_back(std::make_unique<SolidVoidage>(model));
+        phase->push_back(std::make_unique<SolidFluidSampling>(model));
+      }
+      phase->push_back(std::make_unique<SolidForceSum>());
+    }
+  }
+  if (model.solids.enabled) {
+    pipeline.substep.push_back(std::make_unique<SolidKick>());
+    pipeline.end_of_step.push_back(std::make_unique<SolidDomainCheck>());
+    pipeline.end_of_step.push_back(std::make_unique<SolidSummarize>());
+    // With contacts the neighbour list reorders the grains itself, at rebuilds, where slots may change.
+    if (!contacts && model.solids.sort_every > 0) pipeline.end_of_step.push_back(std::make_unique<SolidCellSort>());
+  }
+  return pipeline;
+}
+
+}  // namespace riffle

@@ -1,0 +1,508 @@
+#include "engine/run/simulation.hpp"
+
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <new>
+#include <sstream>
+
+#include "engine/output/bed_statistics.hpp"
+#include "engine/output/checkpoint_validation.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "engine/output/output_lock.hpp"
+#include "engine/output/output_series.hpp"
+#include "engine/output/probes.hpp"
+#include "engine/output/replace_file.hpp"
+#include "engine/scene/scene.hpp"
+#include "engine/output/vtk_output.hpp"
+#include "systems/physics/domain.hpp"
+
+namespace riffle {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<int> g_stop_signal{0};
+/// [s] How long a step may go on after a stop request before it is abandoned (without a checkpoint of it).
+constexpr double kStopGraceSeconds = 2.0;
+static_assert(std::atomic<int>::is_always_lock_free, "the stop flag must be usable from a signal handler");
+
+std::string format_vec(const Vec3& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.6g, %.6g, %.6g)", v[0], v[1], v[2]);
+  return text;
+}
+
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", value);
+  return text;
+}
+
+std::string format_duration(double seconds) {
+  const auto total = static_cast<long long>(seconds + 0.5);
+  char text[32];
+  std::snprintf(text, sizeof text, "%lld:%02lld:%02lld", total / 3600, (total / 60) % 60, total % 60);
+  return text;
+}
+
+/// Frames, series and tables are replaced whole (unique temporary file, rename): a kill never leaves half a file.
+void write_text_file(const fs::path& path, const std::string& text) { replace_file(path, text, Durability::kFlush); }
+
+/// diagnostics.csv: one row per `diagnostics_every` steps, flushed as written so a crash loses nothing.
+class DiagnosticsWriter {
+ public:
+  DiagnosticsWriter(const fs::path& path, const World& world, const std::vector<SystemTimer>& timers,
+                    bool fresh_run)
+      : file_(path, header(timers, world.fluid_summary.has_value()),
+              // On resume, keep the rows up to the checkpoint's step and continue after them.
+              fresh_run ? std::nullopt : std::optional<double>(static_cast<double>(world.step))) {
+    for (const SystemTimer& timer : timers) previous_totals_.push_back(timer.total_seconds);
+  }
+
+  void row(const World& world, const Model& model, double min_radius, double step_wall_seconds,
+           const std::vector<SystemTimer>& timers) {
+    char text[512];
+    const SolidSummary summary = world.solid_summary.value_or(SolidSummary{});
+    const double cfl = min_radius > 0.0 ? summary.max_speed * model.solid_dt() / min_radius : 0.0;
+    const Vec3 direction = model.tank.motion.direction;
+    std::snprintf(text, sizeof text, "%llu,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.6g",
+                  static_cast<unsigned long long>(world.step), world.time, world.last_dt > 0.0 ? world.last_dt : model.dt,
+                  model.solid_dt(),
+                  summary.translational_energy, summary.rotational_energy, summary.potential_energy,
+                  summary.max_speed, cfl, world.tank_motion->displacement.dot(direction),
+                  world.tank_motion->velocity.dot(direction), step_wall_seconds);
+    std::string line = text;
+    if (world.fluid_summary) {
+      const FluidSummary& fluid = *world.fluid_summary;
+      std::snprintf(text, sizeof text, ",%zu,%zu,%.9g,%.9g,%.6g,%.9g,%.9g,%lld,%.3g,%zu", fluid.fluid_count,
+                    fluid.surface_count, fluid.kinetic_energy, fluid.max_speed, fluid.courant, fluid.mean_density_ratio,
+                    fluid.volume, static_cast<long long>(fluid.solver_iterations), fluid.solver_residual,
+                    fluid.solver_unknowns);
+      line += text;
+    }
+    for (std::size_t k = 0; k < timers.size(); ++k) {
+      std::snprintf(text, sizeof text, ",%.6g", timers[k].total_seconds - previous_totals_[k]);
+      line += text;
+      previous_totals_[k] = timers[k].total_seconds;
+    }
+    file_.write_row(line);
+  }
+
+ private:
+  static std::string header(const std::vector<SystemTimer>& timers, bool fluid) {
+    std::string text = "step,time_s,dt_s,solid_dt_s,solid_translational_energy_J,solid_rotational_energy_J,"
+                       "solid_potential_energy_J,solid_max_speed_m_s,solid_cfl,tank_displacement_m,"
+                       "tank_velocity_m_s,step_wall_s";
+    if (fluid)
+      text += ",fluid_particles,fluid_surface_particles,fluid_kinetic_energy_J,fluid_max_speed_m_s,fluid_courant,"
+              "fluid_mean_density_ratio,fluid_volume_m3,ppe_iterations,ppe_relative_residual,ppe_unknowns";
+    for (const SystemTimer& timer : timers) text += ",wall_" + timer.name + "_s";
+    return text;
+  }
+
+  CsvSeries file_;
+  std::vector<double> previous_totals_;
+};
+
+
+std::string checkpoint_name(std::uint64_t step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "step_%010llu.ckpt", static_cast<unsigned long long>(step));
+  return name;
+}
+
+/// Writes checkpoints into OUT/checkpoints and keeps the newest `keep` interval ones (the list of kept steps lives
+/// in OutputState, so it survives a resume).
+class CheckpointStore {
+ public:
+  CheckpointStore(fs::path directory, OutputState& output, std::int64_t keep)
+      : directory_(std::move(directory)), output_(output), keep_(static_cast<std::size_t>(keep)) {}
+
+  /// `interval` checkpoints count towards the schedule and the retention; the others (signal, end) do not.
+  void save(const Simulation& simulation, bool interval) {
+    const std::uint64_t step = simulation.checkpoint_step();
+    std::vector<std::uint64_t> expired;
+    if (interval) {
+      ++output_.checkpoints_due;
+      output_.kept_steps.push_back(step);
+      while (output_.kept_steps.size() > keep_) {
+        expired.push_back(output_.kept_steps.front());
+        output_.kept_steps.erase(output_.kept_steps.begin());
+      }
+    }
+    const fs::path path = directory_ / checkpoint_name(step);
+    write_checkpoint(path.string(), simulation.checkpoint_data());  // after the bookkeeping: it is part of the state
+    last_written_ = path.string();
+    for (std::uint64_t old_step : expired) {
+      std::error_code ignored;
+      if (old_step != step) fs::remove(directory_ / checkpoint_name(old_step), ignored);
+    }
+    spdlog::debug("checkpoint written: {}", last_written_);
+  }
+
+  /// A stable name for the end state, so other scenes can start from it ([solids] initial_state). Copied by way of
+  /// a temporary file and a rename: a kill during the copy leaves the previous final.ckpt whole.
+  void copy_as_final() const {
+    std::ifstream file(last_written_, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << file.rdbuf();
+    if (!file || file.bad()) throw CheckpointError(last_written_ + ": cannot read it back to copy it to final.ckpt");
+    try {
+      replace_file(directory_ / "final.ckpt", bytes.str(), Durability::kSync);
+    } catch (const std::runtime_error& error) {
+      throw CheckpointError(error.what());
+    }
+  }
+
+  const std::string& last_written() const { return last_written_; }
+  /// The newest checkpoint on disk: written by this process, or kept from before a resume; empty if none.
+  std::string last_good() const {
+    if (!last_written_.empty() || output_.kept_steps.empty()) return last_written_;
+    return (directory_ / checkpoint_name(output_.kept_steps.back())).string();
+  }
+
+ private:
+  fs::path directory_;
+  OutputState& output_;
+  std::size_t keep_;
+  std::string last_written_;
+};
+
+/// Appends a VTK frame of every phase and rewrites the .pvd series that list all frames so far.
+void write_vtk_frame(const fs::path& out, const World& world, OutputState& output) {
+  const std::size_t index = output.frame_times.size();
+  output.frame_times.push_back(world.time);
+  char name[64];
+  std::vector<std::string> solid_files, wall_files, fluid_files;
+  for (std::size_t k = 0; k <= index; ++k) {
+    std::snprintf(name, sizeof name, "vtk/solids_%06zu.vtp", k);
+    solid_files.push_back(name);
+    std::snprintf(name, sizeof name, "vtk/walls_%06zu.vtp", k);
+    wall_files.push_back(name);
+    std::snprintf(name, sizeof name, "vtk/fluid_%06zu.vtp", k);
+    fluid_files.push_back(name);
+  }
+  if (world.solids) {
+    write_text_file(out / solid_files.back(), solids_vtp(*world.solids));
+    write_text_file(out / "solids.pvd", pvd_collection(output.frame_times, solid_files));
+  }
+  if (world.walls) {
+    write_text_file(out / wall_files.back(), walls_vtp(*world.walls));
+    write_text_file(out / "walls.pvd", pvd_collection(output.frame_times, wall_files));
+  }
+  if (world.fluid) {
+    write_text_file(out / fluid_files.back(), fluid_vtp(*world.fluid));
+    write_text_file(out / "fluid.pvd", pvd_collection(output.frame_times, fluid_files));
+  }
+}
+
+/// The one-line diagnosis of a failed step.
+std::string diagnosis(const World& world, const Model& model) {
+  const StepStatus& status = world.step_status;
+  const DomainBox domain = domain_box(model);
+  const std::string when = "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) + " s): ";
+  if (status.problem == StepProblem::kTimeStepCollapse)
+    return when + "the fluid's Courant limit gave dt = " + std::to_string(world.last_dt) + " s, below fluid.min_dt = " +
+           std::to_string(model.fluid.min_dt) + " s: the flow blew up; fastest fluid particle id " +
+           std::to_string(status.entity) + " at position " + format_vec(status.position) + " m with velocity " +
+           format_vec(status.velocity) + " m/s";
+  if (status.problem == StepProblem::kSolverFailed)
+    return when + "the pressure solve diverged (non-finite residual after " +
+           std::to_string(world.fluid_summary ? world.fluid_summary->solver_iterations : 0) + " iterations)";
+  return "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) +
+         " s): " + status.phase + " particle id " + std::to_string(status.entity) +
+         (status.problem == StepProblem::kNonFinite
+              ? " has a non-finite state"
+              : " left the domain " + format_vec(domain.low) + " - " + format_vec(domain.high) + " m") +
+         " at position " + format_vec(status.position) + " m with velocity " + format_vec(status.velocity) + " m/s";
+}
+
+/// Progress: a line on the terminal at most once a second, or a log line every 30 s when not on a terminal.
+class ProgressReporter {
+ public:
+  ProgressReporter(bool terminal, std::uint64_t first_step, double end_time, double dt)
+      : terminal_(terminal), first_step_(first_step), end_time_(end_time), dt_(dt) {}
+  ~ProgressReporter() {
+    if (terminal_ && printed_) std::fprintf(stderr, "\n");
+  }
+
+  void tick(const World& world) {
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_report_).count() < (terminal_ ? 1.0 : 30.0)) return;
+    last_report_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double steps_per_second = static_cast<double>(world.step - first_step_) / elapsed;
+    const double eta = steps_per_second > 0.0 ? (end_time_ - world.time) / dt_ / steps_per_second : 0.0;
+    if (terminal_) {
+      std::fprintf(stderr, "\r  t = %.4f / %.4f s   step %llu   %.1f steps/s   ETA %s   ", world.time, end_time_,
+                   static_cast<unsigned long long>(world.step), steps_per_second, format_duration(eta).c_str());
+      std::fflush(stderr);
+      printed_ = true;
+    } else {
+      spdlog::info("t = {:.4f} / {:.4f} s, step {}, {:.1f} steps/s, ETA {}", world.time, end_time_, world.step,
+                   steps_per_second, format_duration(eta));
+    }
+  }
+
+ private:
+  bool terminal_;
+  std::uint64_t first_step_;
+  double end_time_, dt_;
+  Clock::time_point start_ = Clock::now();
+  Clock::time_point last_report_ = start_;
+  bool printed_ = false;
+};
+
+}  // namespace
+
+void request_stop(int signal_number) { g_stop_signal.store(signal_number); }
+int stop_requested() { return g_stop_signal.load(); }
+
+Simulation::Simulation(Model model, World world, OutputState output)
+    : model_(std::make_unique<const Model>(std::move(model))),
+      world_(std::move(world)),
+      output_(std::move(output)),
+      stepper_(std::make_unique<Stepper>(build_pipeline(*model_), world_, *model_)) {}
+
+std::unique_ptr<Simulation> Simulation::from_model(Model model) {
+  World world = initial_world(model);
+  auto simulation = std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), OutputState{}));
+  simulation->stepper_->compute_initial_forces();
+  return simulation;
+}
+
+std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path, const SceneLimits& limits) {
+  return from_model(load_scene_file(path, limits));
+}
+
+std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path, const SceneLimits& limits) {
+  return from_checkpoint_data(read_checkpoint(path), path, limits);
+}
+
+std::unique_ptr<Simulation> Simulation::from_checkpoint_data(CheckpointData data, const std::string& name,
+                                                             const SceneLimits& limits) {
+  Model model = parse_scene(data.scene_text, data.scene_file, limits);
+  // Components the scene enables but that hold no persistent state are rebuilt; the rest come from the file, once
+  // checked against what this scene builds (engine/output/checkpoint_validation.hpp).
+  World world = initial_world(model);
+  validate_checkpoint(data, model, world, name);
+  world.time = data.world.time;
+  world.step = data.world.step;
+  world.solids = std::move(data.world.solids);
+  world.walls = std::move(data.world.walls);
+  world.tank_motion = std::move(data.world.tank_motion);
+  world.contacts = std::move(data.world.contacts);
+  world.fluid = std::move(data.world.fluid);  // fluid_neighbours stays as initial_world made it: rebuilt
+  world.fluid_summary = std::move(data.world.fluid_summary);
+  return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), std::move(data.output)));
+}
+
+CheckpointData Simulation::checkpoint_data() const {
+  CheckpointData data;
+  data.scene_file = model_->scene_file;
+  data.scene_text = model_->scene_text;
+  data.world.time = world_.time;
+  data.world.step = world_.step;
+  data.world.solids = world_.solids;
+  data.world.walls = world_.walls;
+  data.world.tank_motion = world_.tank_motion;
+  data.world.contacts = world_.contacts;
+  data.world.fluid = world_.fluid;
+  data.world.fluid_summary = world_.fluid_summary;
+  data.output = output_;
+  return data;
+}
+
+RunOutcome Simulation::run(const RunOptions& options) {
+  const fs::path out = options.out_dir;
+  const fs::path vtk_dir = out / "vtk";
+  const fs::path checkpoint_dir = out / "checkpoints";
+  RunOutcome outcome;
+  // An error here is printed at once: the log file is not open yet.
+  const auto refuse = [](const std::string& message) {
+    spdlog::error("{}", message);
+    return RunOutcome{kExitIoError, message, ""};
+  };
+  try {
+    fs::create_directories(out);
+  } catch (const std::exception& error) {
+    return refuse("cannot create the output directory '" + out.string() + "': " + error.what());
+  }
+  // Before anything is written into the folder: a second run into it is refused, not interleaved with this one.
+  std::optional<OutputLock> lock;
+  try {
+    lock.emplace(out);
+  } catch (const OutputLockError& error) {
+    return refuse(error.what());
+  }
+  try {
+    fs::create_directories(vtk_dir);
+    fs::create_directories(checkpoint_dir);
+  } catch (const std::exception& error) {
+    return refuse("cannot create the output directory '" + out.string() + "': " + error.what());
+  }
+  // What a killed run was writing when it died (it held the lock, so nobody is writing these now).
+  for (const fs::path& directory : {out, vtk_dir, checkpoint_dir})
+    if (const std::size_t removed = remove_stale_temporaries(directory))
+      spdlog::info("removed {} temporary file(s) a killed run left in {}", removed, directory.string());
+
+  std::shared_ptr<spdlog::sinks::basic_file_sink_mt> file_sink;
+  try {
+    file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "riffle.log").string(), false);
+  } catch (const std::exception& error) {  // spdlog::spdlog_ex: a directory in the way, no permission
+    return refuse((out / "riffle.log").string() + ": cannot open the log file: " + error.what());
+  }
+  auto logger = spdlog::default_logger();
+  logger->sinks().push_back(file_sink);
+  struct SinkGuard {
+    std::shared_ptr<spdlog::logger> logger;
+    ~SinkGuard() { logger->sinks().pop_back(); }
+  } sink_guard{logger};
+
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const double end_time = options.until.value_or(model_->end_time);
+  const bool fresh_run = world_.step == 0 && output_.frame_times.empty();
+  spdlog::info("{} '{}' from {}: t = {} s to {} s, dt = {} s, {} solid sub-steps, {} grains, {} threads",
+               fresh_run ? "starting" : "resuming", model_->name, model_->scene_file, world_.time, end_time,
+               model_->dt, model_->solid_substeps, world_.solids ? world_.solids->size() : 0, threads);
+
+  double min_radius = 0.0;
+  if (world_.solids && world_.solids->size())
+    min_radius = *std::min_element(world_.solids->radius.begin(), world_.solids->radius.end());
+  CheckpointStore checkpoints(checkpoint_dir, output_, model_->output.checkpoint_keep);
+  const double dt = model_->dt;
+  auto due = [&](double interval, std::size_t done) {
+    return interval > 0.0 && world_.time >= static_cast<double>(done) * interval - 0.5 * dt;
+  };
+
+  // A stop request ends even a step of millions of sub-steps: after kStopGraceSeconds the step is abandoned.
+  stepper_->set_stop_flag(&g_stop_signal, kStopGraceSeconds);
+  const auto abandoned_step_outcome = [&](const std::string& last_good) {
+    const int signal_number = stop_requested();
+    const char* name = signal_number == SIGINT ? "SIGINT" : "SIGTERM";
+    const std::string grace = format_number(kStopGraceSeconds);
+    RunOutcome abandoned;
+    abandoned.exit_code = signal_number == SIGINT ? kExitInterrupted : kExitTerminated;
+    abandoned.message = std::string("stopped by ") + name + " during step " + std::to_string(world_.step + 1) +
+                        " (from t = " + format_number(world_.time) + " s), which did not finish within " + grace +
+                        " s of the request: the step was abandoned and no checkpoint of it written; last good "
+                        "checkpoint: " +
+                        (last_good.empty() ? std::string("none written yet (set output.checkpoint_interval)")
+                                           : last_good);
+    abandoned.last_checkpoint = last_good;
+    return abandoned;
+  };
+
+  double stepping_seconds = 0.0;
+  try {
+    DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run);
+    // Probes and the bed profile keep no state in checkpoints: their schedules depend on the time only.
+    std::vector<ProbeWriter> probes;
+    for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, world_, fresh_run);
+    std::optional<BedProfileWriter> bed_profile;
+    if (model_->output.bed_profile_interval > 0.0 && world_.solids)
+      bed_profile.emplace(*model_, out, world_, fresh_run);
+    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, output_);
+    if (fresh_run) {
+      for (ProbeWriter& probe : probes) probe.write(world_);
+      if (bed_profile) bed_profile->write(world_);
+    }
+
+    ProgressReporter progress(options.progress, world_.step, end_time, dt);
+    while (world_.time < end_time - 0.5 * dt) {
+      if (const int signal_number = stop_requested()) {
+        checkpoints.save(*this, false);
+        outcome.exit_code = signal_number == SIGINT ? kExitInterrupted : kExitTerminated;
+        outcome.message = std::string("stopped by ") + (signal_number == SIGINT ? "SIGINT" : "SIGTERM") +
+                          " at t = " + std::to_string(world_.time) + " s; checkpoint: " + checkpoints.last_written();
+        outcome.last_checkpoint = checkpoints.last_written();
+        break;
+      }
+      const auto step_start = Clock::now();
+      try {
+        stepper_->step();
+      } catch (const std::bad_alloc&) {
+        outcome.exit_code = kExitUnstable;
+        outcome.message = "out of memory in step " + std::to_string(world_.step + 1) + " (std::bad_alloc)";
+        break;
+      } catch (const std::exception& error) {
+        outcome.exit_code = kExitUnstable;
+        outcome.message = "internal error in step " + std::to_string(world_.step + 1) + ": " + error.what();
+        break;
+      }
+      if (stepper_->last_step_abandoned()) {
+        outcome = abandoned_step_outcome(checkpoints.last_good());
+        break;
+      }
+      const double step_seconds = seconds_since(step_start);
+      stepping_seconds += step_seconds;
+
+      if (!world_.step_status.ok()) {
+        outcome.exit_code = kExitUnstable;
+        outcome.message = diagnosis(world_, *model_);
+        diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
+        if (world_.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids));
+        break;
+      }
+      if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
+        diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
+      if (due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, output_);
+      for (ProbeWriter& probe : probes) probe.write_if_due(world_);
+      if (bed_profile) bed_profile->write_if_due(world_);
+      if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) checkpoints.save(*this, true);
+      progress.tick(world_);
+    }
+  } catch (const CheckpointError& error) {
+    outcome = {kExitIoError, error.what(), checkpoints.last_written()};
+  } catch (const std::bad_alloc&) {  // not an output problem: exit 3, like a failing step
+    outcome = {kExitUnstable, "out of memory while writing the outputs (std::bad_alloc)", checkpoints.last_written()};
+  } catch (const std::exception& error) {
+    outcome = {kExitIoError, std::string("output failed: ") + error.what(), checkpoints.last_written()};
+  }
+
+  try {
+    if (outcome.exit_code == kExitOk) {
+      checkpoints.save(*this, false);
+      checkpoints.copy_as_final();
+      outcome.last_checkpoint = checkpoints.last_written();
+      outcome.message = "finished at t = " + std::to_string(world_.time) + " s after " +
+                        std::to_string(world_.step) + " steps; final checkpoint: " + outcome.last_checkpoint;
+    } else if (outcome.exit_code == kExitUnstable) {
+      outcome.last_checkpoint = checkpoints.last_good();
+      outcome.message += "; last good checkpoint: " +
+                         (outcome.last_checkpoint.empty() ? std::string("none written yet (set output.checkpoint_interval)")
+                                                          : outcome.last_checkpoint);
+    }
+  } catch (const std::exception& error) {
+    outcome = {kExitIoError, std::string("final checkpoint failed: ") + error.what(), checkpoints.last_written()};
+  }
+
+  std::vector<SystemTimer> timers = stepper_->timers();
+  for (const SystemTimer& branch : stepper_->branch_timers())
+    if (branch.calls > 0) timers.push_back(branch);
+  try {
+    write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
+  } catch (const std::exception& error) {
+    spdlog::error("{}", error.what());
+  }
+  spdlog::info("per-system timings ({} threads{}):\n{}", threads,
+               stepper_->concurrent_branches() ? "; the fluid step graph runs beside the grains' branch" : "",
+               format_timing_table(timers, stepping_seconds));
+  if (outcome.exit_code == kExitOk)
+    spdlog::info("{}", outcome.message);
+  else
+    spdlog::error("{}", outcome.message);
+  return outcome;
+}
+
+}  // namespace riffle

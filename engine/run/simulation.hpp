@@ -1,0 +1,79 @@
+#pragma once
+// A run: the model, the world, the stepper, and the run loop with its outputs (VTK frames, diagnostics.csv,
+// timings.csv, checkpoints), progress reporting, signal handling and the failure policy.
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "engine/scene/budget.hpp"
+#include "engine/output/checkpoint.hpp"
+#include "components/model.hpp"
+#include "engine/run/stepper.hpp"
+#include "engine/core/world.hpp"
+
+namespace riffle {
+
+/// Process exit codes (documented in README.md and `riffle --help`).
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitUsage = 1,         ///< bad command line
+  kExitInvalidInput = 2,  ///< invalid scene or checkpoint
+  kExitUnstable = 3,      ///< the run stopped with a diagnosis (NaN, particle lost); last good checkpoint kept
+  kExitIoError = 4,       ///< output could not be written
+  kExitInterrupted = 130, ///< SIGINT: checkpoint written, clean exit
+  kExitTerminated = 143,  ///< SIGTERM: checkpoint written, clean exit
+};
+
+/// Asks the running loop to stop after the current step, or within about 2 s inside a step that takes longer
+/// (async-signal-safe: stores into a lock-free atomic that the stepper reads between sub-steps).
+void request_stop(int signal_number);
+/// The signal number of a pending stop request, or 0.
+int stop_requested();
+
+struct RunOptions {
+  std::string out_dir;                ///< where every output goes (created if needed)
+  int threads = 0;                    ///< 0 = all cores
+  std::optional<double> until;        ///< [s] overrides run.end_time
+  bool progress = false;              ///< print a progress line (on a terminal)
+};
+
+struct RunOutcome {
+  int exit_code = kExitOk;
+  std::string message;          ///< one-line summary or diagnosis
+  std::string last_checkpoint;  ///< path of the newest checkpoint written, if any
+};
+
+class Simulation {
+ public:
+  /// Throws SceneError.
+  static std::unique_ptr<Simulation> from_scene_file(const std::string& path, const SceneLimits& limits = {});
+  static std::unique_ptr<Simulation> from_model(Model model);
+  /// Throws CheckpointError, or SceneError if the embedded scene no longer validates.
+  static std::unique_ptr<Simulation> from_checkpoint(const std::string& path, const SceneLimits& limits = {});
+  /// The same from decoded data (`name` is the file, for messages): the data is validated against its scene first.
+  static std::unique_ptr<Simulation> from_checkpoint_data(CheckpointData data, const std::string& name,
+                                                          const SceneLimits& limits = {});
+
+  /// Runs to options.until (or run.end_time) writing all outputs into options.out_dir.
+  RunOutcome run(const RunOptions& options);
+
+  /// One engine step without any output (for tests and benchmarks).
+  void step() { stepper_->step(); }
+
+  const Model& model() const { return *model_; }
+  World& world() { return world_; }
+  const Stepper& stepper() const { return *stepper_; }
+  CheckpointData checkpoint_data() const;
+  std::uint64_t checkpoint_step() const { return world_.step; }
+
+ private:
+  Simulation(Model model, World world, OutputState output);
+
+  std::unique_ptr<const Model> model_;
+  World world_;
+  OutputState output_;
+  std::unique_ptr<Stepper> stepper_;
+};
+
+}  // namespace riffle

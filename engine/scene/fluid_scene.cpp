@@ -1,0 +1,183 @@
+#include "engine/scene/fluid_scene.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "engine/setup/fluid_layout.hpp"
+
+namespace riffle {
+
+namespace {
+
+// As for [[solids.blocks]]: a fluid this large is a typo in spacing, and laying it out would exhaust the memory.
+constexpr double kMaxParticles = 5e7;
+const char* const kAxisNames[3] = {"x", "y", "z"};
+
+std::string format_number(double value) {
+  std::ostringstream stream;
+  stream << value;  // shortest form: 0.005, not 0.005000
+  return stream.str();
+}
+
+std::string format_vec(const Vec3& v) {
+  std::ostringstream stream;  // not "(" + string: GCC 12 warns falsely (-Wrestrict) on that operator+
+  stream << '(' << v[0] << ", " << v[1] << ", " << v[2] << ')';
+  return stream.str();
+}
+
+void read_schemes(TableReader& schemes, FluidSchemes& out) {
+  out.higher_order_source = schemes.boolean("hs", true);
+  out.error_compensating_source = schemes.boolean("ecs", true);
+  out.higher_order_laplacian = schemes.boolean("hl", true);
+  out.gradient_correction = schemes.boolean("gc", true);
+  out.dynamic_stabilisation = schemes.boolean("ds", true);
+  schemes.finish();
+}
+
+/// One [[fluid.boxes]] or [[fluid.wall_boxes]] entry and what the checks need of it.
+struct BoxEntry {
+  TableReader reader;
+  std::string name;         ///< full key, e.g. fluid.boxes[1], for messages naming the other box
+  LatticeRange range;
+  bool laid_out = false;    ///< its lattice range is known (no earlier problem with it)
+};
+
+/// Reads one box and checks it against the tank and the lattice; `spacing` is 0 when unknown (already reported).
+BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, const Model& model, double spacing) {
+  BoxEntry entry{reader, reader.full_key(""), {}, false};
+  if (!entry.name.empty() && entry.name.back() == '.') entry.name.pop_back();  // full_key("") ends with a '.'
+  const std::size_t problems_before = reader.problem_count();
+  box.low = reader.vec3("low", std::nullopt, "m", Bounds::any());
+  box.high = reader.vec3("high", std::nullopt, "m", Bounds::any());
+  if (fluid_box) box.velocity = reader.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
+  reader.finish();
+  if (reader.problem_count() != problems_before) return entry;
+
+  for (int axis = 0; axis < 3; ++axis)
+    if (!(box.high[axis] > box.low[axis])) {
+      reader.problem("high", std::string("every component of high must be > the one of low (along ") +
+                                 kAxisNames[axis] + ": " + format_number(box.high[axis]) + " <= " +
+                                 format_number(box.low[axis]) + ")");
+      return entry;
+    }
+  const TankModel& tank = model.tank;
+  if (!(tank.size.array() > 0.0).all()) return entry;  // a bad tank is reported at [tank]
+  // Corners written as the tank's own sums may miss them by a rounding error; 1e-9 of the tank allows for that.
+  const double tolerance = 1e-9 * tank.size.maxCoeff();
+  const Vec3 tank_high = tank.origin + tank.size;
+  const std::string tank_box =
+      "the box must lie inside the tank's inner box " + format_vec(tank.origin) + " - " + format_vec(tank_high) + " m";
+  if ((box.low.array() < tank.origin.array() - tolerance).any()) {
+    reader.problem("low", tank_box);
+    return entry;
+  }
+  if ((box.high.array() > tank_high.array() + tolerance).any()) {
+    reader.problem("high", tank_box);
+    return entry;
+  }
+  if (!(spacing > 0.0)) return entry;
+  const Eigen::Array3d cells = ((box.high - box.low).array() / spacing + 1e-9).floor() + 1.0;
+  if (cells.prod() > kMaxParticles) {
+    reader.problem("high", "the box would hold more than 5e7 particles at spacing " + format_number(spacing) + " m");
+    return entry;
+  }
+  entry.range = lattice_range(tank.origin, box.low, box.high, spacing);
+  for (std::size_t a = 0; a < 3; ++a)
+    if (entry.range.last[a] < entry.range.first[a]) {
+      reader.problem("low", std::string("the box contains no lattice point: along ") + kAxisNames[a] +
+                                " no particle centre tank.origin + (i + 1/2) spacing lies in [low, high]");
+      return entry;
+    }
+  entry.laid_out = true;
+  return entry;
+}
+
+/// Tank walls: tank_wall_layout needs whole lattice cells along every axis; says which axis and what size fits.
+void check_tank_fits_lattice(TableReader& fluid, const Model& model) {
+  const double spacing = model.fluid.spacing;
+  const Vec3& size = model.tank.size;
+  const std::int64_t layers = 1 + dummy_layer_count(spacing, model.fluid.effective_radius());
+  double outer = 1.0, inner = 1.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double ratio = size[axis] / spacing;
+    const double cells = std::max(1.0, std::round(ratio));
+    if (std::abs(ratio - cells) > 1e-6) {  // the tolerance of tank_wall_layout
+      fluid.problem("spacing", std::string("with tank_walls = true the tank size along ") + kAxisNames[axis] + " (" +
+                                   format_number(size[axis]) + " m) must be an integer multiple of spacing (" +
+                                   format_number(spacing) + " m); nearest valid size " +
+                                   format_number(cells * spacing) + " m");
+      return;
+    }
+    outer *= cells + 2.0 * static_cast<double>(layers);
+    inner *= cells;
+  }
+  if (outer - inner > kMaxParticles)
+    fluid.problem("spacing", "the tank walls would need more than 5e7 wall and dummy particles at spacing " +
+                                 format_number(spacing) + " m");
+}
+
+}  // namespace
+
+void read_fluid(TableReader& fluid, Model& model) {
+  FluidModel& out = model.fluid;
+  out.enabled = true;
+  out.spacing = fluid.number("spacing", std::nullopt, "m", Bounds::positive());
+  // numerics.md amendment 6: r_e = 2.4 l0 (3.1 l0 grows a zig-zag in the second surface layer); below 2 l0 the
+  // Wendland stencil collapses to two shells, beyond 4 l0 the cost grows with no known benefit.
+  out.effective_radius_ratio = fluid.number("effective_radius", 2.4, "1", Bounds::closed(2.0, 4.0));
+  out.density = fluid.number("density", 1000.0, "kg/m^3", Bounds::positive());
+  out.kinematic_viscosity = fluid.number("kinematic_viscosity", 1.0e-6, "m^2/s", Bounds::non_negative());
+  out.tank_walls = fluid.boolean("tank_walls", true);
+  out.clamp_negative_pressure = fluid.boolean("clamp_negative_pressure", true);
+  // numerics.md amendments: beta = 0.93 (0.97 misflags the second layer).
+  out.surface_threshold = fluid.number("surface_threshold", 0.93, "1", Bounds{0.5, 1.0, false, false});
+  out.density_relaxation_rate = fluid.number("density_relaxation_rate", 48.0, "1/s", Bounds::non_negative());
+  out.compressibility = fluid.number("compressibility", 1.0e-9, "1/Pa", Bounds::non_negative());
+  out.courant = fluid.number("courant", 0.2, "1", Bounds{0.0, 0.5, false, true});
+  out.diffusion_number = fluid.number("diffusion_number", 0.2, "1", Bounds{0.0, 1.0, false, true});
+  out.min_dt = fluid.number("min_dt", 1.0e-6, "s", Bounds::positive());
+  out.solver_tolerance = fluid.number("solver_tolerance", 1.0e-8, "1", Bounds{0.0, 1.0, false, false});
+  out.solver_max_iterations = fluid.integer("solver_max_iterations", 2000, 1, 100000000);
+  out.preconditioner = fluid.choice("preconditioner", "two_level", {"two_level", "jacobi"}) == "jacobi"
+                           ? FluidModel::Preconditioner::kJacobi
+                           : FluidModel::Preconditioner::kTwoLevel;
+  out.neighbour_skin_ratio = fluid.number("neighbour_skin", 0.3, "1", Bounds::closed(0.0, 2.0));
+  // Violent flow uses up any skin every step; then a narrow one shortens every pass over the lists.
+  out.narrow_neighbour_skin_ratio = fluid.number("neighbour_skin_narrow", std::min(0.1, out.neighbour_skin_ratio), "1",
+                                                 Bounds::closed(0.0, 2.0));
+  if (out.narrow_neighbour_skin_ratio > out.neighbour_skin_ratio)
+    fluid.problem("neighbour_skin_narrow",
+                  "must not exceed neighbour_skin (" + format_number(out.neighbour_skin_ratio) + ")");
+  out.sort_every = fluid.integer("sort_every", 20, 0, 1000000000);
+  out.sort_every_fast = fluid.integer("sort_every_fast", 5, 0, 1000000000);
+  if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes);
+
+  const double spacing = out.spacing;  // 0 if missing or invalid (reported)
+  std::vector<BoxEntry> fluid_boxes, wall_boxes;
+  for (TableReader& reader : fluid.tables("boxes"))
+    fluid_boxes.push_back(read_box(reader, out.boxes.emplace_back(), true, model, spacing));
+  for (TableReader& reader : fluid.tables("wall_boxes"))
+    wall_boxes.push_back(read_box(reader, out.wall_boxes.emplace_back(), false, model, spacing));
+  if (out.boxes.empty()) fluid.problem("boxes", "expected at least one [[fluid.boxes]] table");
+
+  // Two boxes sharing a lattice point would place two particles in one spot. Wall boxes may overlap each other
+  // (their shared points are placed once), but not the fluid.
+  for (std::size_t k = 0; k < fluid_boxes.size(); ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (fluid_boxes[k].laid_out && fluid_boxes[j].laid_out && fluid_boxes[k].range.overlaps(fluid_boxes[j].range)) {
+        fluid_boxes[k].reader.problem("low", "the box overlaps " + fluid_boxes[j].name + " (they share lattice points)");
+        break;
+      }
+  for (BoxEntry& wall : wall_boxes)
+    for (const BoxEntry& box : fluid_boxes)
+      if (wall.laid_out && box.laid_out && wall.range.overlaps(box.range)) {
+        wall.reader.problem("low", "the wall box overlaps " + box.name + " (they share lattice points)");
+        break;
+      }
+
+  if (out.tank_walls && spacing > 0.0 && (model.tank.size.array() > 0.0).all()) check_tank_fits_lattice(fluid, model);
+  fluid.finish();
+}
+
+}  // namespace riffle

@@ -1,0 +1,13 @@
+#pragma once
+// The scene's [fluid] table (docs/SCENES.md): the MPS constants, the switchable schemes [fluid.schemes], the fluid
+// boxes [[fluid.boxes]] and the solid wall boxes [[fluid.wall_boxes]], validated against the tank so that the
+// initial lattice (engine/setup/fluid_layout.hpp) can always be laid out.
+#include "components/model.hpp"
+#include "engine/scene/scene_reader.hpp"
+
+namespace riffle {
+
+/// Fills model.fluid from the [fluid] table; needs model.tank read first. Problems go through the reader.
+void read_fluid(TableReader& fluid, Model& model);
+
+}  // namespace riffle

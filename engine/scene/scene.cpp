@@ -1,0 +1,649 @@
+#include "engine/scene/scene.hpp"
+
+#include <sys/stat.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <initializer_list>
+#include <map>
+#include <optional>
+
+#include "engine/setup/bed_generation.hpp"
+#include "engine/scene/budget.hpp"
+#include "engine/setup/initial_state.hpp"
+#include "engine/output/bed_statistics.hpp"
+#include "engine/scene/fluid_scene.hpp"
+#include "engine/output/probes.hpp"
+#include "systems/physics/contact_law.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace riffle {
+
+std::int32_t read_material(const Model& model, TableReader& reader, const std::string& key) {
+  const std::size_t problems_before = reader.problem_count();
+  const std::string name = reader.text(key, std::nullopt);
+  for (std::size_t k = 0; k < model.materials.size(); ++k)
+    if (model.materials[k].name == name) return static_cast<std::int32_t>(k);
+  // text() has already reported a missing or non-string value; anything else (even "") names no material.
+  if (reader.problem_count() == problems_before) {
+    std::string known;
+    for (const Material& material : model.materials) known += (known.empty() ? "" : ", ") + material.name;
+    reader.problem(key, "unknown material \"" + name + "\" (materials defined: " +
+                            (known.empty() ? "none" : known) + ")");
+  }
+  return 0;
+}
+
+namespace {
+
+const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+/// Why `name` cannot be the default output folder out/<name>, or "" if it can: it must be one plain path
+/// component, so that the run writes inside out/ (not "../../..") and the log file can be opened (no NUL).
+std::string run_name_problem(const std::string& name) {
+  constexpr std::size_t kMaxNameBytes = 200;  // well below NAME_MAX (255), leaving room for suffixes
+  if (name.empty()) return "expected a non-empty name (it names the output folder out/<name>)";
+  if (name == "." || name == "..") return "\"" + name + "\" is not a folder name (the output goes to out/<name>)";
+  if (name.size() > kMaxNameBytes)
+    return "expected at most " + std::to_string(kMaxNameBytes) +
+           " bytes (it names the output folder out/<name>), got " + std::to_string(name.size());
+  for (const char c : name) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '/' || c == '\\')
+      return "expected a plain folder name without '/' or '\\' (the output goes to out/<name>), got \"" + name + "\"";
+    if (byte < 0x20 || byte == 0x7f)
+      return "expected a name without control characters (NUL, tab, newline...): it names the output folder "
+             "out/<name>";
+  }
+  return "";
+}
+
+void read_run(TableReader& run, Model& model, const SceneLimits& limits) {
+  model.name = run.text("name", "riffle");
+  if (const std::string problem = run_name_problem(model.name); !problem.empty()) run.problem("name", problem);
+  // [GiB]; the command line's --memory-limit wins (parse_scene has set it already).
+  const double memory_limit = run.number("memory_limit", 0.0, "GiB", Bounds::non_negative());
+  if (limits.memory_limit <= 0.0 && memory_limit > 0.0) {
+    model.memory_limit = memory_limit * 1024.0 * 1024.0 * 1024.0;
+    model.memory_limit_source = "run.memory_limit";
+  }
+  model.end_time = run.number("end_time", std::nullopt, "s", Bounds::positive());
+  model.dt = run.number("dt", std::nullopt, "s", Bounds::positive());
+  model.solid_substeps = run.integer("solid_substeps", 1, 1, 1000000);
+  model.gravity = run.vec3("gravity", Vec3(0.0, 0.0, -9.81), "m/s^2", Bounds::any());
+  if (model.dt > 0.0 && model.end_time > 0.0 && model.end_time / model.dt > 1e12)
+    run.problem("dt", "dt is too small for end_time (more than 1e12 steps)");
+  // The run loop takes no step when end_time < dt / 2 and overshoots end_time when it is below dt.
+  if (model.dt > 0.0 && model.end_time > 0.0 && model.dt > model.end_time)
+    run.problem("dt", "dt = " + format_number(model.dt) + " s is longer than end_time = " +
+                          format_number(model.end_time) + " s: the run would end before its first step");
+  run.finish();
+}
+
+void read_materials(TableReader& materials, Model& model, bool contacts_enabled) {
+  for (auto& [name, reader] : materials.named_tables()) {
+    Material material;
+    material.name = name;
+    material.density = reader.number("density", std::nullopt, "kg/m^3", Bounds::positive());
+    // Elastic constants are required exactly when grains touch: the contact laws and the time-step estimates use them.
+    const std::optional<double> no_default = std::nullopt;
+    material.young_modulus =
+        reader.number("young_modulus", contacts_enabled ? no_default : std::optional<double>(0.0), "Pa",
+                      contacts_enabled ? Bounds::positive() : Bounds::non_negative());
+    material.poisson_ratio =
+        reader.number("poisson_ratio", contacts_enabled ? no_default : std::optional<double>(0.0), "1",
+                      Bounds{-1.0, 0.5, false, false});
+    reader.finish();
+    model.materials.push_back(material);
+  }
+  if (model.materials.empty()) materials.problem("", "expected at least one [materials.NAME] table");
+}
+
+void read_motion(TableReader& motion, TankMotionModel& model) {
+  const std::size_t problems_before = motion.problem_count();
+  const std::string kind = motion.choice("kind", "none", {"none", "sinusoidal"});
+  // With an invalid kind the other keys cannot be judged; calling amplitude etc. "unknown" would mislead.
+  if (motion.problem_count() != problems_before) return;
+  if (kind == "none") {
+    model.kind = TankMotionModel::Kind::kNone;
+    motion.finish();
+    return;
+  }
+  model.kind = TankMotionModel::Kind::kSinusoidal;
+  const Vec3 direction = motion.vec3("direction", Vec3::UnitX(), "1", Bounds::any());
+  // stableNorm: the plain norm overflows for components near 1e300 (normalising to a zero vector) and
+  // underflows to 0 for components near 1e-200, although both give a valid direction.
+  const double length = direction.stableNorm();
+  if (!(length > 0.0) || !std::isfinite(length))
+    motion.problem("direction", "expected a non-zero direction vector");
+  else
+    model.direction = direction / length;
+  model.amplitude = motion.number("amplitude", std::nullopt, "m", Bounds::non_negative());
+  model.frequency = motion.number("frequency", std::nullopt, "Hz", Bounds::positive());
+  model.ramp_time = motion.number("ramp_time", 0.0, "s", Bounds::non_negative());
+  motion.finish();
+}
+
+void read_tank(TableReader& tank, Model& model) {
+  model.tank.size = tank.vec3("size", std::nullopt, "m", Bounds::positive());
+  model.tank.origin = tank.vec3("origin", Vec3::Zero(), "m", Bounds::any());
+  model.tank.open_faces = tank.choices("open_faces", kFaceNames);
+  model.tank.wall_material = read_material(model, tank, "wall_material");
+  model.tank.domain_margin = tank.number("domain_margin", 0.05, "m", Bounds::non_negative());
+  if (auto motion = tank.table("motion", false)) read_motion(*motion, model.tank.motion);
+  tank.finish();
+}
+
+bool inside_tank(const Model& model, const Vec3& centre, double radius) {
+  // A sphere that touches a wall fits: the slack (a billionth of the radius) keeps lattice rounding from dropping a
+  // block's last row (0.0025 + 7 x 0.005 lands 1 ulp past 0.04 - 0.0025).
+  const double slack = 1e-9 * radius;
+  const Vec3 low = model.tank.origin.array() + (radius - slack);
+  const Vec3 high = (model.tank.origin + model.tank.size).array() - (radius - slack);
+  return (centre.array() >= low.array()).all() && (centre.array() <= high.array()).all();
+}
+
+std::string format_length(double value) {
+  std::ostringstream stream;
+  stream << value;  // not std::to_string: its fixed 6 decimals print a 1e-7 m diameter as 0.000000
+  return stream.str();
+}
+
+void read_solids(TableReader& solids, Model& model) {
+  model.solids.enabled = true;
+  // Without a valid tank size every grain would also be reported as outside the tank, burying the real problem.
+  const bool tank_known = (model.tank.size.array() > 0.0).all();
+  model.solids.sort_every = solids.integer("sort_every", 0, 0, 1000000000);
+  model.solids.fixed_to_tank = solids.boolean("fixed_to_tank", false);
+  if (solids.has("initial_state")) {
+    // Relative to the scene file, so a scene and the run it continues can move together.
+    std::filesystem::path path = solids.text("initial_state", "");
+    if (path.is_relative()) path = std::filesystem::path(model.scene_file).parent_path() / path;
+    model.solids.initial_state = path.lexically_normal().string();
+    try {
+      initial_grains(model);
+    } catch (const std::exception& error) {
+      solids.problem("initial_state", error.what());
+    }
+  }
+  for (TableReader& sphere : solids.tables("spheres")) {
+    SphereSpec spec;
+    const std::size_t problems_before = sphere.problem_count();
+    spec.position = sphere.vec3("position", std::nullopt, "m", Bounds::any());
+    const bool position_known = sphere.problem_count() == problems_before;
+    spec.velocity = sphere.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
+    spec.angular_velocity = sphere.vec3("angular_velocity", Vec3::Zero(), "rad/s", Bounds::any());
+    spec.radius = sphere.number("radius", std::nullopt, "m", Bounds::positive());
+    spec.material = read_material(model, sphere, "material");
+    spec.size_class = static_cast<std::int32_t>(sphere.integer("size_class", 0, 0, 1000));
+    if (tank_known && position_known && spec.radius > 0.0 && !inside_tank(model, spec.position, spec.radius))
+      sphere.problem("position", "the sphere does not fit inside the tank at rest (tank spans origin to "
+                                 "origin + size)");
+    sphere.finish();
+    model.solids.spheres.push_back(spec);
+  }
+  // Blocks in two passes: every block is read and counted first, and the scene's total checked (grain_count_problem)
+  // before any is generated, so that blocks each under the per-block cap cannot together exhaust memory.
+  struct PlannedBlock {
+    TableReader* reader;
+    Vec3 low;
+    double spacing;
+    SphereSpec spec;
+    Eigen::Array3d counts;
+  };
+  std::vector<TableReader> block_readers = solids.tables("blocks");
+  std::vector<PlannedBlock> planned;
+  double planned_grains = static_cast<double>(model.solids.spheres.size());
+  for (TableReader& block : block_readers) {
+    const std::size_t problems_before = block.problem_count();
+    const Vec3 low = block.vec3("min", std::nullopt, "m", Bounds::any());
+    const Vec3 high = block.vec3("max", std::nullopt, "m", Bounds::any());
+    const double spacing = block.number("spacing", std::nullopt, "m", Bounds::positive());
+    SphereSpec spec;
+    spec.radius = block.number("radius", std::nullopt, "m", Bounds::positive());
+    spec.velocity = block.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
+    spec.material = read_material(model, block, "material");
+    spec.size_class = static_cast<std::int32_t>(block.integer("size_class", 0, 0, 1000));
+    block.finish();
+    // A block with a bad key cannot be laid out meaningfully; its problems are already reported.
+    if (block.problem_count() != problems_before) continue;
+    if (spacing < 2.0 * spec.radius) {
+      block.problem("spacing", "spacing must be at least the sphere diameter (" + format_length(2 * spec.radius) +
+                                   " m) so that generated spheres do not overlap");
+      continue;
+    }
+    const Vec3 extent = high - low;
+    if ((extent.array() < 0.0).any()) {
+      block.problem("max", "every component of max must be >= the one of min");
+      continue;
+    }
+    const Eigen::Array3d counts = (extent.array() / spacing + 1e-9).floor() + 1.0;
+    if (counts.prod() > 5e7) {
+      block.problem("spacing", "the block would generate more than 5e7 spheres");
+      continue;
+    }
+    if (!tank_known) continue;
+    planned_grains += counts.prod();
+    planned.push_back({&block, low, spacing, spec, counts});
+  }
+  if (!planned.empty()) {
+    const std::string too_many = grain_count_problem(model, planned_grains);
+    if (!too_many.empty()) {
+      planned.back().reader->problem("spacing", too_many);
+      planned.clear();
+    }
+  }
+  for (PlannedBlock& block : planned) {
+    const std::size_t before = model.solids.spheres.size();
+    SphereSpec spec = block.spec;
+    for (int k = 0; k < static_cast<int>(block.counts[2]); ++k)
+      for (int j = 0; j < static_cast<int>(block.counts[1]); ++j)
+        for (int i = 0; i < static_cast<int>(block.counts[0]); ++i) {
+          spec.position = block.low + block.spacing * Vec3(i, j, k);
+          if (inside_tank(model, spec.position, spec.radius)) model.solids.spheres.push_back(spec);
+        }
+    if (model.solids.spheres.size() == before)
+      block.reader->problem("min", "the block places no sphere inside the tank");
+  }
+  read_bed_generators(solids, model);
+  solids.finish();
+}
+
+void read_output(TableReader& output, Model& model) {
+  model.output.vtk_interval = output.number("vtk_interval", 0.0, "s", Bounds::non_negative());
+  model.output.checkpoint_interval = output.number("checkpoint_interval", 0.0, "s", Bounds::non_negative());
+  model.output.checkpoint_keep = output.integer("checkpoint_keep", 3, 1, 1000000);
+  model.output.diagnostics_every = output.integer("diagnostics_every", 1, 1, 1000000000);
+  read_bed_profile_keys(output, model);  // engine/output/bed_statistics.cpp
+  read_probes(output, model);            // [[output.probes]], engine/output/probes.cpp
+  output.finish();
+}
+
+/// [contact]: the contact law, its constants per material pair, and the neighbour-list skin.
+void read_contact(TableReader& contact, Model& model) {
+  ContactModel& out = model.contact;
+  out.enabled = true;
+  const std::string law = contact.choice("law", "hertz_mindlin", {"hertz_mindlin", "linear_spring_dashpot"});
+  out.law = law == "linear_spring_dashpot" ? ContactLaw::kLinearSpringDashpot : ContactLaw::kHertzMindlin;
+  ContactPairParameters defaults;
+  defaults.restitution = contact.number("restitution", std::nullopt, "1", Bounds::closed(0.0, 1.0));
+  defaults.friction = contact.number("friction", std::nullopt, "1", Bounds::non_negative());
+  defaults.rolling_friction = contact.number("rolling_friction", 0.0, "1", Bounds::non_negative());
+  if (out.law == ContactLaw::kLinearSpringDashpot)
+    out.collision_time = contact.number("collision_time", std::nullopt, "s", Bounds::positive());
+  out.max_impact_speed = contact.number("max_impact_speed", 1.0, "m/s", Bounds::positive());
+  out.rayleigh_fraction = contact.number("rayleigh_fraction", 0.25, "1", Bounds{0.0, 1.0, false, true});
+  out.steps_per_collision = contact.number("steps_per_collision", 16.0, "1", Bounds::closed(4.0, 1e6));
+  out.restitution_tolerance = contact.number("restitution_tolerance", 0.02, "1", Bounds{0.0, 0.5, false, true});
+  out.skin = contact.number("skin", 0.0, "m", Bounds::non_negative());
+  out.sort_every_rebuild = contact.integer("sort_every_rebuild", 10, 1, 1000000);
+
+  const std::size_t count = model.materials.size();
+  out.material_count = count;
+  out.pairs.assign(count * count, defaults);
+  for (TableReader& override_table : contact.tables("pairs")) {
+    const std::vector<std::string> names = override_table.choices("materials", [&] {
+      std::vector<std::string> known;
+      for (const Material& material : model.materials) known.push_back(material.name);
+      return known;
+    }());
+    ContactPairParameters pair = defaults;
+    pair.restitution = override_table.number("restitution", defaults.restitution, "1", Bounds::closed(0.0, 1.0));
+    pair.friction = override_table.number("friction", defaults.friction, "1", Bounds::non_negative());
+    pair.rolling_friction =
+        override_table.number("rolling_friction", defaults.rolling_friction, "1", Bounds::non_negative());
+    override_table.finish();
+    if (names.size() != 2 && !(names.size() == 1)) {
+      override_table.problem("materials", "expected the names of two materials (or one, for a material with itself)");
+      continue;
+    }
+    auto index_of = [&](const std::string& name) {
+      for (std::size_t k = 0; k < count; ++k)
+        if (model.materials[k].name == name) return k;
+      return std::size_t{0};
+    };
+    const std::size_t a = index_of(names.front()), b = index_of(names.back());
+    out.pairs[a * count + b] = pair;
+    out.pairs[b * count + a] = pair;
+  }
+  contact.finish();
+
+  // Derived constants: effective moduli and the damping calibrated to the requested restitution. The calibration
+  // integrates a collision ODE (a few ms), so it runs once per distinct restitution, not once per material pair.
+  std::map<double, double> damping_for_restitution;
+  for (std::size_t a = 0; a < count; ++a)
+    for (std::size_t b = 0; b < count; ++b) {
+      ContactPairParameters& pair = out.pairs[a * count + b];
+      const Material& first = model.materials[a];
+      const Material& second = model.materials[b];
+      if (first.young_modulus <= 0.0 || second.young_modulus <= 0.0) continue;  // reported by read_materials
+      const double shear_first = first.young_modulus / (2.0 * (1.0 + first.poisson_ratio));
+      const double shear_second = second.young_modulus / (2.0 * (1.0 + second.poisson_ratio));
+      pair.effective_young = 1.0 / ((1.0 - first.poisson_ratio * first.poisson_ratio) / first.young_modulus +
+                                    (1.0 - second.poisson_ratio * second.poisson_ratio) / second.young_modulus);
+      pair.effective_shear =
+          1.0 / ((2.0 - first.poisson_ratio) / shear_first + (2.0 - second.poisson_ratio) / shear_second);
+      if (pair.restitution >= 0.0 && pair.restitution <= 1.0) {
+        // Perfectly plastic (e = 0) needs an infinite dashpot: aim at half the tolerance instead, so that the
+        // achieved restitution, checked at the chosen sub-step, is within the tolerance of 0.
+        pair.calibrated_restitution = pair.restitution > 0.0 ? pair.restitution : 0.5 * out.restitution_tolerance;
+        auto [cached, inserted] = damping_for_restitution.emplace(pair.calibrated_restitution, 0.0);
+        if (inserted) cached->second = calibrate_damping(out.law, pair.calibrated_restitution);
+        pair.damping = cached->second;
+      }
+      prepare_contact_pair(pair, out.law, out.collision_time);
+    }
+}
+
+/// The largest stable DEM sub-step: a fraction of the Rayleigh time of the smallest grain of each material, and the
+/// contact time (Hertz at max_impact_speed, or the linear law's collision time) divided by steps_per_collision, for
+/// the smallest grains of every pair of materials in use and for each of them against the walls; then shortened
+/// until each of those impacts, integrated as the DEM integrates it, rebounds within restitution_tolerance of the
+/// requested restitution (a damping term beyond its explicit stability limit creates energy instead of removing it).
+struct StableStep {
+  double solid_dt = 0.0;
+  std::string reason;
+};
+
+/// One head-on impact the sub-step must resolve: the smallest grains of two materials, or of one against a wall.
+struct DesignImpact {
+  const ContactPairParameters* pair;
+  double effective_radius, effective_mass, contact_time;
+  std::string name;
+};
+
+/// Worst |achieved - requested| restitution of `impact` at sub-step dt; 0 when the contact lasts over 1000
+/// sub-steps (resolved far beyond the tolerance, and too long to integrate cheaply).
+double restitution_error(ContactLaw law, const DesignImpact& impact, double speed, double dt) {
+  const double steps_per_contact = impact.contact_time / dt;
+  if (!(steps_per_contact < 1000.0)) return 0.0;
+  return worst_restitution_error(law, *impact.pair, impact.effective_radius, impact.effective_mass, speed, dt);
+}
+
+StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impacts) {
+  const ContactModel& contact = model.contact;
+  std::map<std::int32_t, double> smallest_radius;
+  auto note_grain = [&](std::int32_t material, double radius) {
+    auto [it, inserted] = smallest_radius.emplace(material, radius);
+    if (!inserted) it->second = std::min(it->second, radius);
+  };
+  for (const SphereSpec& sphere : model.solids.spheres) note_grain(sphere.material, sphere.radius);
+  if (!model.solids.initial_state.empty()) {
+    const Solids grains = initial_grains(model);  // validated when [solids] was read
+    for (std::size_t i = 0; i < grains.size(); ++i) note_grain(grains.material[i], grains.radius[i]);
+  }
+  StableStep best{std::numeric_limits<double>::infinity(), ""};
+  auto consider = [&](double candidate, const std::string& reason) {
+    if (candidate < best.solid_dt) best = {candidate, reason};
+  };
+  const double kPi = 3.14159265358979323846;
+  auto mass_of = [&](std::int32_t material, double radius) {
+    return model.materials[static_cast<std::size_t>(material)].density * 4.0 / 3.0 * kPi * radius * radius * radius;
+  };
+  char text[256];
+  for (const auto& [material, radius] : smallest_radius) {
+    const Material& props = model.materials[static_cast<std::size_t>(material)];
+    const double rayleigh = rayleigh_time(radius, props.density, props.young_modulus, props.poisson_ratio);
+    std::snprintf(text, sizeof text, "%g x the Rayleigh time %.3g s of a %g m grain of %s", contact.rayleigh_fraction,
+                  rayleigh, radius, props.name.c_str());
+    consider(contact.rayleigh_fraction * rayleigh, text);
+    for (const auto& [other, other_radius] : smallest_radius) {
+      const ContactPairParameters& pair = contact.pair(material, other);
+      const double effective_radius = radius * other_radius / (radius + other_radius);
+      const double first_mass = mass_of(material, radius), second_mass = mass_of(other, other_radius);
+      const double effective_mass = first_mass * second_mass / (first_mass + second_mass);
+      const double collision = contact.law == ContactLaw::kHertzMindlin
+                                   ? hertz_contact_time(pair.effective_young, effective_radius, effective_mass,
+                                                        contact.max_impact_speed)
+                                   : contact.collision_time;
+      std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%s grains of %g and %g m)",
+                    collision, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
+      consider(collision / contact.steps_per_collision, text);
+      if (material <= other) {
+        std::snprintf(text, sizeof text, "a %g m grain of %s on a %g m grain of %s", radius, props.name.c_str(), other_radius,
+                      model.materials[static_cast<std::size_t>(other)].name.c_str());
+        impacts.push_back({&pair, effective_radius, effective_mass, collision, text});
+      }
+    }
+    const ContactPairParameters& wall = contact.pair(material, model.tank.wall_material);
+    const double wall_collision = contact.law == ContactLaw::kHertzMindlin
+                                      ? hertz_contact_time(wall.effective_young, radius, mass_of(material, radius),
+                                                           contact.max_impact_speed)
+                                      : contact.collision_time;
+    std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%g m grain of %s on a wall)",
+                  wall_collision, contact.steps_per_collision, radius, props.name.c_str());
+    consider(wall_collision / contact.steps_per_collision, text);
+    std::snprintf(text, sizeof text, "a %g m grain of %s on a wall", radius, props.name.c_str());
+    impacts.push_back({&wall, radius, mass_of(material, radius), wall_collision, text});
+  }
+  // The restitution at that sub-step: shorten it by 20 % at a time until every design impact is within tolerance.
+  if (std::isfinite(best.solid_dt) && best.solid_dt > 0.0) {
+    const double estimate = best.solid_dt;
+    for (const DesignImpact& impact : impacts) {
+      const double error_at_estimate = restitution_error(contact.law, impact, contact.max_impact_speed, estimate);
+      if (error_at_estimate <= contact.restitution_tolerance) continue;
+      // From the sub-step the impacts before this one left (best only shortens), at most 60 shortenings.
+      double dt = best.solid_dt;
+      double error = dt == estimate ? error_at_estimate
+                                    : restitution_error(contact.law, impact, contact.max_impact_speed, dt);
+      for (int shortening = 0; shortening < 60 && error > contact.restitution_tolerance; ++shortening) {
+        dt *= 0.8;
+        error = restitution_error(contact.law, impact, contact.max_impact_speed, dt);
+      }
+      if (dt < best.solid_dt) {
+        std::snprintf(text, sizeof text,
+                      "restitution %g within %g: %s at %g m/s rebounds at %.3g off it at the contact-time estimate "
+                      "%.3g s",
+                      impact.pair->restitution, contact.restitution_tolerance, impact.name.c_str(),
+                      contact.max_impact_speed, error_at_estimate, estimate);
+        best = {dt, text};
+      }
+    }
+  }
+  return best;
+}
+
+/// The reader of a sub-table for reporting a problem in it (the table was read and finished already).
+std::optional<TableReader> table_at(TableReader& scene, std::initializer_list<const char*> path) {
+  std::optional<TableReader> reader = scene.table(*path.begin(), false);
+  for (auto it = path.begin() + 1; reader && it != path.end(); ++it) reader = reader->table(*it, false);
+  return reader;
+}
+
+/// Scene-wide limits, judged from the budget before any particle is laid out (engine/scene/budget.hpp): the totals over
+/// the per-block caps, the memory estimate against the limit, and a contact skin that would make every grain list
+/// every other one.
+void check_budget(TableReader& scene, const Model& model) {
+  const SceneBudget budget = estimate_budget(model);
+  char text[512];
+  if (model.contact.enabled && model.contact.skin > 0.0 && !model.solids.spheres.empty()) {
+    double largest = 0.0;
+    for (const SphereSpec& sphere : model.solids.spheres) largest = std::max(largest, sphere.radius);
+    // Beyond a diameter the skin buys no fewer rebuilds worth having, and each grain lists ~(skin / r)^3 others.
+    if (model.contact.skin > 4.0 * largest) {
+      std::snprintf(text, sizeof text,
+                    "a skin of %g m is more than twice the largest grain diameter (%g m): every grain would list "
+                    "every grain within it (an estimated %.3g pairs) and each step would crawl; leave it out (half "
+                    "the smallest radius) or keep it below a grain diameter",
+                    model.contact.skin, 2.0 * largest, budget.grain_pairs);
+      if (auto contact = table_at(scene, {"contact"})) contact->problem("skin", text);
+      return;
+    }
+  }
+  const double mps = budget.fluid_particles + budget.wall_particles + budget.dummy_particles;
+  if (mps > kMaxSceneFluidParticles) {
+    std::snprintf(text, sizeof text,
+                  "the scene would have %.4g MPS particles (%.4g fluid, %.4g wall, %.4g dummy), more than the 5e7 a "
+                  "scene may have; coarsen the spacing",
+                  mps, budget.fluid_particles, budget.wall_particles, budget.dummy_particles);
+    if (auto fluid = table_at(scene, {"fluid"})) fluid->problem("spacing", text);
+    return;
+  }
+  if (budget.grains > std::min(kMaxSceneGrains, model.max_grains)) {
+    if (auto solids = table_at(scene, {"solids"}))
+      solids->problem("", grain_count_problem(model, budget.grains));
+    return;
+  }
+  if (!(budget.bytes > effective_memory_limit(model))) return;
+  std::snprintf(text, sizeof text,
+                "the scene needs an estimated %s: grains %s (%.4g grains, %.3g pairs), MPS particles %s (%.4g "
+                "particles, %.3g neighbour entries), grids %s (%.3g voidage nodes); ",
+                format_bytes(budget.bytes).c_str(), format_bytes(budget.grain_bytes).c_str(), budget.grains,
+                budget.grain_pairs, format_bytes(budget.fluid_bytes).c_str(), mps, budget.fluid_neighbours,
+                format_bytes(budget.grid_bytes).c_str(), budget.voidage_nodes);
+  const std::string message = text + memory_limit_advice(model);
+  // Blame the key behind the largest part.
+  std::optional<TableReader> blamed;
+  std::string key;
+  if (budget.fluid_bytes >= budget.grain_bytes && budget.fluid_bytes >= budget.grid_bytes) {
+    blamed = table_at(scene, {"fluid"}), key = "spacing";
+  } else if (budget.grain_bytes >= budget.grid_bytes) {
+    const bool pairs = budget.grain_pair_bytes > 0.5 * budget.grain_bytes && model.contact.skin > 0.0;
+    blamed = pairs ? table_at(scene, {"contact"}) : table_at(scene, {"solids"}), key = pairs ? "skin" : "";
+  } else if (model.tank.motion.kind != TankMotionModel::Kind::kNone) {
+    blamed = table_at(scene, {"tank", "motion"}), key = "amplitude";
+  } else {
+    blamed = table_at(scene, {"tank"}), key = "size";
+  }
+  if (blamed)
+    blamed->problem(key, message);
+  else
+    scene.problem("", message);
+}
+
+}  // namespace
+
+/// [coupling]: grains and fluid together (seed 000 Secs. 3.2-3.3; numerics.md 5).
+void read_coupling(TableReader& coupling, Model& model) {
+  CouplingModel& out = model.coupling;
+  out.drag = coupling.boolean("drag", true);
+  out.pressure_gradient = coupling.boolean("pressure_gradient", true);
+  out.voidage_radius = coupling.number("voidage_radius", 0.0, "m", Bounds::non_negative());
+  out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
+  out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
+  out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
+  out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";
+  if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
+  coupling.finish();
+}
+
+Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits) {
+  SceneProblems problems{file_name, {}};
+  std::optional<toml::table> root = parse_toml(text, problems);
+  if (!root) throw SceneError(problems.lines);
+
+  Model model;
+  model.scene_file = file_name;
+  model.scene_text = text;
+  TableReader scene(*root, "", problems);
+  std::optional<TableReader> run = scene.table("run", true);
+  model.memory_limit = limits.memory_limit > 0.0 ? limits.memory_limit : default_memory_limit();
+  model.memory_limit_source = limits.memory_limit > 0.0 ? "--memory-limit" : "the default, 3/4 of physical memory";
+  model.max_grains = limits.max_grains;
+  if (run) read_run(*run, model, limits);
+  // Materials first: the tank, the contacts and the solids refer to them by name.
+  if (auto materials = scene.table("materials", true)) read_materials(*materials, model, scene.has("contact"));
+  if (auto tank = scene.table("tank", true)) read_tank(*tank, model);
+  if (auto contact = scene.table("contact", false)) read_contact(*contact, model);
+  if (auto solids = scene.table("solids", false)) read_solids(*solids, model);
+  if (auto fluid = scene.table("fluid", false)) read_fluid(*fluid, model);  // engine/scene/fluid_scene.cpp
+  model.coupling.enabled = model.solids.enabled && model.fluid.enabled;
+  if (auto coupling = scene.table("coupling", false)) read_coupling(*coupling, model);
+  if (auto output = scene.table("output", false)) read_output(*output, model);
+  scene.finish();
+  // The budget judges the scene as a whole, so only once every part of it is valid.
+  if (problems.lines.empty()) check_budget(scene, model);
+  if (!problems.lines.empty()) throw SceneError(problems.lines);
+
+  // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
+  if (model.contact.enabled && model.solids.enabled &&
+      (!model.solids.spheres.empty() || !model.solids.initial_state.empty())) {
+    std::vector<DesignImpact> impacts;
+    const StableStep stable = stable_solid_step(model, impacts);
+    model.contact.stable_solid_dt = stable.solid_dt;
+    model.contact.stable_solid_dt_reason = stable.reason;
+    // In floating point first: an absurd material or grain (E = 1e308, a 1e-300 m grain) must not overflow the count.
+    const double needed = std::ceil(model.dt / stable.solid_dt * (1.0 - 1e-12));
+    constexpr double kMaxSubsteps = 1e6;  // the most run.solid_substeps accepts
+    const char* key = run && run->has("solid_substeps") ? "solid_substeps" : "dt";
+    char message[768];
+    if (!(stable.solid_dt > 0.0) || !(needed <= kMaxSubsteps)) {
+      std::snprintf(message, sizeof message,
+                    "the stable DEM sub-step %.4g s (%s) would need %.4g sub-steps per engine step of dt = %.4g s, "
+                    "more than %g: lower run.dt, or check the materials' young_modulus, the grain radii and "
+                    "contact.max_impact_speed",
+                    stable.solid_dt, stable.reason.c_str(), needed, model.dt, kMaxSubsteps);
+      if (run) run->problem(key, message);
+      throw SceneError(problems.lines);
+    }
+    if (run && run->has("solid_substeps")) {
+      if (model.solid_dt() > stable.solid_dt * (1.0 + 1e-12)) {
+        std::snprintf(message, sizeof message,
+                      "the sub-step dt / solid_substeps = %.4g s exceeds the stable estimate %.4g s (%s); use "
+                      "solid_substeps >= %lld or leave it out to have it chosen",
+                      model.solid_dt(), stable.solid_dt, stable.reason.c_str(), static_cast<long long>(needed));
+        run->problem("solid_substeps", message);
+        throw SceneError(problems.lines);
+      }
+    } else {
+      model.solid_substeps = std::max<std::int64_t>(1, static_cast<std::int64_t>(needed));
+    }
+    // What the run will achieve, for `riffle check` and the log.
+    for (const DesignImpact& impact : impacts) {
+      const double error = restitution_error(model.contact.law, impact, model.contact.max_impact_speed,
+                                             model.solid_dt());
+      if (error >= model.contact.restitution_error) {
+        model.contact.restitution_error = error;
+        model.contact.restitution_error_pair = impact.name;
+      }
+    }
+  }
+  return model;
+}
+
+std::string read_scene_text(const std::string& path) {
+  // stat before opening: a FIFO would block in open() or read forever, /dev/zero or a huge file would fill memory,
+  // and a directory opens and reads as empty text ("missing required table [run]" would mislead).
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0)
+    throw SceneError({path + ": cannot open the scene file (does it exist and is it readable?)"});
+  if (S_ISDIR(info.st_mode)) throw SceneError({path + ": is a directory, not a scene file"});
+  if (!S_ISREG(info.st_mode))
+    throw SceneError({path + ": is not a regular file (a FIFO, device or socket); a scene must be a regular file"});
+  if (static_cast<std::uint64_t>(info.st_size) > kMaxSceneFileBytes)
+    throw SceneError({path + ": the scene file is " + std::to_string(info.st_size) + " bytes, more than the " +
+                      std::to_string(kMaxSceneFileBytes) + " (16 MiB) a scene may have"});
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw SceneError({path + ": cannot open the scene file (does it exist and is it readable?)"});
+  // Read in chunks and stop one chunk past the cap: the file may have grown (or been swapped) since stat.
+  std::string text;
+  text.reserve(static_cast<std::size_t>(info.st_size));
+  char chunk[1 << 16];
+  while (file && text.size() <= kMaxSceneFileBytes) {
+    file.read(chunk, sizeof chunk);
+    text.append(chunk, static_cast<std::size_t>(file.gcount()));
+  }
+  if (file.bad()) throw SceneError({path + ": error while reading the scene file"});
+  if (text.size() > kMaxSceneFileBytes)
+    throw SceneError({path + ": the scene file grew past " + std::to_string(kMaxSceneFileBytes) +
+                      " bytes (16 MiB) while it was read"});
+  return text;
+}
+
+Model load_scene_file(const std::string& path, const SceneLimits& limits) {
+  return parse_scene(read_scene_text(path), path, limits);
+}
+
+}  // namespace riffle

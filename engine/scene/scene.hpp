@@ -1,0 +1,33 @@
+#pragma once
+// Scene loading and validation: TOML text -> Model. All problems are collected and raised together as a
+// SceneError, each naming file, line, column and key. See docs/SCENES.md for the format.
+#include <cstdint>
+#include <string>
+
+#include "engine/scene/budget.hpp"
+#include "components/model.hpp"
+#include "engine/scene/scene_reader.hpp"
+
+namespace riffle {
+
+/// A scene file may not be larger than this (16 MiB: the largest scene in scenes/ is a few KiB; a list of a million
+/// explicit spheres is about 100 MiB and belongs in a checkpoint given as [solids] initial_state).
+inline constexpr std::uint64_t kMaxSceneFileBytes = 16u << 20;
+
+/// The text of a scene file: regular files only (a FIFO, /dev/zero, a device or a directory is refused before it
+/// is read), at most kMaxSceneFileBytes. Throws SceneError.
+std::string read_scene_text(const std::string& path);
+
+/// Reads and validates a scene file. Throws SceneError (also for an unreadable file).
+Model load_scene_file(const std::string& path, const SceneLimits& limits = {});
+
+/// Reads the material name at `key` and returns its index in model.materials (materials must be read already);
+/// a missing, non-string or unknown name is reported through the reader and gives 0.
+std::int32_t read_material(const Model& model, TableReader& reader, const std::string& key);
+
+/// Validates scene text; `file_name` is used in messages only.
+/// Refuses (SceneError) a scene whose estimated budget (engine/scene/budget.hpp) exceeds the memory limit, before any
+/// particle is generated or laid out.
+Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits = {});
+
+}  // namespace riffle

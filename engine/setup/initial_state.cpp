@@ -1,0 +1,136 @@
+#include "engine/setup/initial_state.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "engine/output/checkpoint.hpp"
+#include "engine/output/checkpoint_validation.hpp"
+#include "engine/setup/fluid_layout.hpp"
+#include "engine/scene/scene_reader.hpp"
+#include "systems/physics/tank_kinematics.hpp"
+
+namespace riffle {
+
+Walls tank_walls(const TankModel& tank) {
+  Walls walls;
+  const Vec3 centre = tank.origin + 0.5 * tank.size;
+  const Vec3 half = 0.5 * tank.size;
+  const char* names[3][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}, {"z_min", "z_max"}};
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u_axis = (axis + 1) % 3;
+    const int v_axis = (axis + 2) % 3;
+    for (int side = 0; side < 2; ++side) {
+      const std::string name = names[axis][side];
+      if (std::find(tank.open_faces.begin(), tank.open_faces.end(), name) != tank.open_faces.end()) continue;
+      const double sign = side == 0 ? -1.0 : 1.0;
+      Vec3 face_centre = centre;
+      face_centre[axis] += sign * half[axis];
+      const Vec3 inward = -sign * Vec3::Unit(axis);
+      walls.add(name, face_centre, inward, half[u_axis] * Vec3::Unit(u_axis), half[v_axis] * Vec3::Unit(v_axis), true,
+                tank.wall_material);
+    }
+  }
+  return walls;
+}
+
+Solids initial_grains(const Model& model) {
+  const std::string& path = model.solids.initial_state;
+  CheckpointData data = read_checkpoint(path);
+  if (!data.world.solids) throw std::runtime_error(path + ": the checkpoint holds no grains");
+  // Material indices follow the order of [materials.*] in the scene that wrote the checkpoint: map them by name.
+  SceneProblems problems{data.scene_file, {}};
+  const std::optional<toml::table> root = parse_toml(data.scene_text, problems);
+  const toml::table* materials = root ? (*root)["materials"].as_table() : nullptr;
+  if (!materials) throw std::runtime_error(path + ": the checkpoint's scene has no readable [materials]");
+  std::vector<std::int32_t> mapped;
+  for (auto&& entry : *materials) {
+    // A named variable, not a structured binding: clang before 16 cannot capture those in a lambda.
+    const std::string_view name = entry.first.str();
+    const auto found = std::find_if(model.materials.begin(), model.materials.end(),
+                                    [&](const Material& material) { return material.name == name; });
+    if (found == model.materials.end())
+      throw std::runtime_error(path + ": its grains use material \"" + std::string(name) +
+                               "\", which this scene does not define");
+    mapped.push_back(static_cast<std::int32_t>(found - model.materials.begin()));
+  }
+  Solids grains = std::move(*data.world.solids);
+  // Checked against the scene that wrote them before anything is taken from them (engine/output/checkpoint_validation.hpp).
+  validate_grains(grains, mapped.size(), path);
+  for (std::size_t i = 0; i < grains.size(); ++i) {
+    grains.material[i] = mapped[static_cast<std::size_t>(grains.material[i])];
+    // Mass and inertia follow this scene's density, so a material may be redefined between runs.
+    const double density = model.materials[static_cast<std::size_t>(grains.material[i])].density;
+    const double r = grains.radius[i];
+    grains.mass[i] = density * 4.0 / 3.0 * 3.14159265358979323846 * r * r * r;
+    grains.moment_of_inertia[i] = 0.4 * grains.mass[i] * r * r;
+    grains.force[i] = grains.torque[i] = grains.contact_force[i] = grains.contact_torque[i] = Vec3::Zero();
+  }
+  // Again with this scene's densities: a tiny radius can leave a mass or an inertia that underflows to zero.
+  validate_grains(grains, model.materials.size(), path);
+  return grains;
+}
+
+FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
+  const FluidModel& fluid = model.fluid;
+  const Vec3& origin = model.tank.origin;
+  FluidParticles particles;
+  // Grains coupled to the water sample its pressure gradient before the first pressure solve (a new run's initial
+  // forces): it starts as that of water at rest, rho g, so that they feel their buoyancy from the first sub-step
+  // (with a zero gradient they fell freely for one fluid step, and a neutrally buoyant grain kept that speed for
+  // seconds). The pressure itself starts at zero and the first solve finds it, as before: starting it hydrostatic
+  // as well moved the free-sloshing frequency test by one step of its fit (0.05 %), so that was left alone.
+  for (const ParticleBoxModel& box : fluid.boxes)
+    for (const LatticeParticle& particle : fluid_box_layout(origin, box.low, box.high, fluid.spacing).particles) {
+      const std::size_t slot = particles.add(particle.position, box.velocity, FluidKind::kFluid);
+      particles.pressure_gradient[slot] = fluid.density * model.gravity;
+    }
+
+  // Wall-box points that coincide with a tank wall particle, or with another wall box, are placed once.
+  std::set<std::array<std::int64_t, 3>> walls_placed;
+  auto add_wall = [&](const LatticeParticle& particle, FluidKind kind) {
+    if (!walls_placed.insert(particle.cell).second) return;
+    const std::size_t slot = particles.add(particle.position + tank.displacement, tank.velocity, kind);
+    particles.rest_position[slot] = particle.position;
+  };
+  if (fluid.tank_walls)
+    for (const LatticeParticle& particle : tank_wall_layout(origin, model.tank.size, model.tank.open_faces,
+                                                            fluid.spacing, fluid.effective_radius())
+                                               .particles)
+      add_wall(particle, particle.kind);
+  for (const ParticleBoxModel& box : fluid.wall_boxes)
+    for (const LatticeParticle& particle : fluid_box_layout(origin, box.low, box.high, fluid.spacing).particles)
+      add_wall(particle, FluidKind::kWall);
+  return particles;
+}
+
+World initial_world(const Model& model) {
+  World world;
+  world.tank_motion = tank_kinematics(model.tank.motion, 0.0);
+  world.walls = tank_walls(model.tank);
+  apply_tank_motion(*world.tank_motion, *world.walls);
+  if (model.solids.enabled) {
+    if (model.solids.initial_state.empty())
+      world.solids.emplace();
+    else
+      world.solids = initial_grains(model);
+    world.solid_summary.emplace();
+    if (model.contact.enabled) world.contacts.emplace();
+    for (const SphereSpec& sphere : model.solids.spheres) {
+      const std::size_t slot = world.solids->add(sphere.position, sphere.velocity, sphere.radius,
+                                                 model.materials[static_cast<std::size_t>(sphere.material)].density,
+                                                 sphere.material, sphere.size_class);
+      world.solids->angular_velocity[slot] = sphere.angular_velocity;
+    }
+  }
+  if (model.fluid.enabled) {
+    world.fluid = initial_fluid(model, *world.tank_motion);
+    world.fluid_neighbours.emplace();  // built by the first fluid step
+    world.fluid_summary.emplace();
+    if (model.coupling.enabled) world.fluid_sample.emplace();  // copied from `fluid` before every step
+    world.fluid_summary->fluid_count = static_cast<std::size_t>(
+        std::count(world.fluid->kind.begin(), world.fluid->kind.end(), static_cast<std::int32_t>(FluidKind::kFluid)));
+  }
+  return world;
+}
+
+}  // namespace riffle

@@ -1,0 +1,76 @@
+#include "systems/coupling/solid_fluid_sampling.hpp"
+
+#include "systems/physics/drag_law.hpp"
+#include "systems/physics/fluid_pair_batch.hpp"
+#include "systems/physics/domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace riffle {
+
+SolidFluidSampling::SolidFluidSampling(const Model& model)
+    : constants_(MpsConstants::from(model.fluid)), pressure_gradient_(model.coupling.pressure_gradient) {}
+
+void SolidFluidSampling::run(SystemContext& context) {
+  const FluidSample& fluid = context.read<FluidSample>();
+  Solids& solids = context.write<Solids>();
+  const std::size_t fluid_count = fluid.size();
+  const double effective_radius = constants_.kernel.effective_radius;
+  double smallest_radius = std::numeric_limits<double>::infinity();
+  for (const double radius : solids.radius) smallest_radius = std::min(smallest_radius, radius);
+  // Cells of half the smallest sampling radius: a query scans about 5^3 cells holding about twice the sphere's
+  // volume; cells of the largest radius made every small grain test ten times the particles it keeps.
+  const DomainBox domain = domain_box(context.model);
+  if (!solids.radius.empty())
+    fluid_grid_.build(fluid.position, 0, fluid_count, 0.5 * (smallest_radius + effective_radius), domain.low,
+                      domain.high);
+
+  for_each_particle(solids.size(), [&](std::size_t grain) {
+    const Vec3 centre = solids.position[grain];
+    const WendlandKernel sampling_kernel(solids.radius[grain] + effective_radius);
+    const double radius_squared = sampling_kernel.effective_radius * sampling_kernel.effective_radius;
+    double weight_sum = 0.0;
+    Vec3 velocity = Vec3::Zero(), gradient = Vec3::Zero();
+    // The fluid particles within the sampling radius, in grid order, a batch at a time: each candidate is written
+    // and kept by advancing the end (about half are kept, at random to a branch predictor), the distances and
+    // weights of a batch are evaluated in one vectorised pass (the same operations as WendlandKernel::weight of the
+    // norm), and the sums run in the same order as one candidate at a time.
+    FluidPairBatch batch;
+    batch.count = 0;
+    const auto flush = [&] {
+      evaluate_pair_geometry(batch, sampling_kernel);
+      for (std::size_t k = 0; k < batch.count; ++k) {
+        const double weight = batch.weight[k];
+        weight_sum += weight;
+        velocity += weight * fluid.velocity[batch.slot[k]];
+        gradient += weight * fluid.pressure_gradient[batch.slot[k]];
+      }
+      batch.count = 0;
+    };
+    fluid_grid_.for_each_candidate_run(centre, sampling_kernel.effective_radius,
+                                       [&](const std::uint32_t* first, const std::uint32_t* last) {
+                                         for (const std::uint32_t* member = first; member < last; ++member) {
+                                           const std::size_t k = batch.count;
+                                           batch.slot[k] = *member;
+                                           batch.distance_squared[k] = (fluid.position[*member] - centre).squaredNorm();
+                                           batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
+                                           if (batch.count == kPairBatch) flush();
+                                         }
+                                       });
+    if (batch.count > 0) flush();
+    solids.fluid_weight[grain] = weight_sum;
+    if (weight_sum <= 0.0) {  // out of the water: no fluid forces
+      solids.fluid_velocity[grain] = Vec3::Zero();
+      solids.pressure_force[grain] = Vec3::Zero();
+      return;
+    }
+    solids.fluid_velocity[grain] = velocity / weight_sum;
+    solids.pressure_force[grain] =
+        pressure_gradient_ ? Vec3(-grain_volume(solids.radius[grain]) * gradient / weight_sum) : Vec3::Zero();
+  });
+  context.count_items(solids.size());
+}
+
+}  // namespace riffle

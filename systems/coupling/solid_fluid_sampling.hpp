@@ -1,0 +1,26 @@
+#pragma once
+// Samples the water at every grain once per fluid step (numerics.md 5.2-5.4, 5.6 step 7): the locally averaged
+// fluid velocity (seed Eq. 23) and pressure gradient (Shepard averages with the Wendland kernel on
+// R_I = d_I/2 + r_e) and the pressure force -V <grad p> (Eq. 13). It reads the water of the step start from
+// FluidSample and runs first in the grains' branch (phase solid_step, docs/COUPLING.md), beside the fluid's step
+// graph; the sub-steps then hold these fixed (solid_drag). The voidage is solid_voidage's.
+#include "engine/core/system.hpp"
+#include "systems/physics/cell_grid.hpp"
+#include "systems/physics/mps_common.hpp"
+
+namespace riffle {
+
+class SolidFluidSampling final : public System {
+ public:
+  explicit SolidFluidSampling(const Model& model);
+  std::string_view name() const override { return "solid_fluid_sampling"; }
+  Access access() const override { return {{ComponentId::kFluidSample}, {ComponentId::kSolids}}; }
+  void run(SystemContext& context) override;
+
+ private:
+  MpsConstants constants_;
+  bool pressure_gradient_;  ///< the grains feel -V <grad p> (CouplingModel::pressure_gradient)
+  CellGrid fluid_grid_;
+};
+
+}  // namespace riffle

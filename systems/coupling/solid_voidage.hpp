@@ -1,0 +1,31 @@
+#pragma once
+// The voidage at every grain at the end of each fluid step (numerics.md 5.3 in grid form, docs/COUPLING.md): solid
+// volume over the space the fluid particles fill, both deposited on a grid of cells 0.67 R_eps wide
+// (systems/physics/voidage_grid.hpp; the fluid particles are the space quadrature, so walls and the free surface truncate
+// both alike), read back at the grain's centre and clipped to [min_voidage, 1]; 1 where no node around the grain
+// holds water. It runs at the end of the step, before fluid_drag_reaction divides the drag by it; the grains'
+// next sub-steps use the same value (solid_drag).
+#include <vector>
+
+#include "engine/core/system.hpp"
+#include "systems/physics/voidage_grid.hpp"
+
+namespace riffle {
+
+class SolidVoidage final : public System {
+ public:
+  explicit SolidVoidage(const Model& model);
+  std::string_view name() const override { return "solid_voidage"; }
+  Access access() const override { return {{ComponentId::kFluid}, {ComponentId::kSolids}}; }
+  void run(SystemContext& context) override;
+
+ private:
+  double particle_volume_;  ///< [m^3] l0^3
+  double spacing_;          ///< [m] l0
+  double voidage_radius_;   ///< [m] R_eps; 0 until the first run picks it from the grains present
+  double min_voidage_;      ///< [1]
+  VoidageGrid grid_;
+  std::vector<double> grain_volumes_;
+};
+
+}  // namespace riffle

@@ -1,0 +1,48 @@
+#include "systems/dem/solid_domain_check.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "systems/physics/domain.hpp"
+
+namespace riffle {
+
+namespace {
+constexpr std::size_t kGrain = 2048;
+
+bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+}  // namespace
+
+void SolidDomainCheck::run(SystemContext& context) {
+  const Solids& solids = context.read<Solids>();
+  StepStatus& status = context.write<StepStatus>();
+  const DomainBox domain = domain_box(context.model);
+  constexpr std::size_t kNoProblem = std::numeric_limits<std::size_t>::max();
+  // The lowest offending slot: min is associative and commutative, so any split gives the same answer.
+  const std::size_t first_bad = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, solids.size(), kGrain), kNoProblem,
+      [&](const tbb::blocked_range<std::size_t>& range, std::size_t found) {
+        for (std::size_t i = range.begin(); i < range.end() && i < found; ++i) {
+          const bool ok = finite(solids.position[i]) && finite(solids.velocity[i]) &&
+                          finite(solids.angular_velocity[i]) && domain.contains(solids.position[i]);
+          if (!ok) return i;
+        }
+        return found;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+  context.count_items(solids.size());
+  if (first_bad == kNoProblem || !status.ok()) return;
+  const bool is_finite = finite(solids.position[first_bad]) && finite(solids.velocity[first_bad]) &&
+                         finite(solids.angular_velocity[first_bad]);
+  status.problem = is_finite ? StepProblem::kLeftDomain : StepProblem::kNonFinite;
+  status.phase = "solids";
+  status.entity = solids.id[first_bad];
+  status.position = solids.position[first_bad];
+  status.velocity = solids.velocity[first_bad];
+}
+
+}  // namespace riffle

@@ -1,0 +1,15 @@
+#pragma once
+// solid_domain_check: flags the first grain (lowest slot) whose state is not finite or whose centre left the domain
+// (systems/physics/domain.hpp), so that the run stops with a diagnosis naming it.
+#include "engine/core/system.hpp"
+
+namespace riffle {
+
+class SolidDomainCheck final : public System {
+ public:
+  std::string_view name() const override { return "solid_domain_check"; }
+  Access access() const override { return {{ComponentId::kSolids}, {ComponentId::kStepStatus}}; }
+  void run(SystemContext& context) override;
+};
+
+}  // namespace riffle

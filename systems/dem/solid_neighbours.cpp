@@ -1,0 +1,275 @@
+#include "systems/dem/solid_neighbours.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "systems/physics/cell_index.hpp"
+#include "systems/dem/solid_cell_sort.hpp"
+#include "systems/physics/domain.hpp"
+
+namespace riffle {
+
+namespace {
+
+constexpr std::size_t kGrain = 256;
+
+/// Uniform grid over the grains' box (solid_grid_shape) with the grains of each cell listed in slot order.
+struct CellGrid {
+  Vec3 origin;
+  double cell_size = 0.0;
+  std::array<std::int64_t, 3> cells{};
+  std::vector<std::uint32_t> cell_start;  ///< cells + 1
+  std::vector<std::uint32_t> grains;      ///< slots grouped by cell, ascending within a cell
+
+  std::array<std::int64_t, 3> cell_of(const Vec3& position) const {
+    std::array<std::int64_t, 3> cell{};
+    for (int axis = 0; axis < 3; ++axis) {
+      // Clamped before the conversion: a grain thrown far out within a step (or a NaN) has no int64 cell index.
+      const double scaled = std::floor((position[axis] - origin[axis]) / cell_size);
+      const double top = static_cast<double>(cells[static_cast<std::size_t>(axis)] - 1);
+      cell[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(clamp_to_cells(scaled, top));
+    }
+    return cell;
+  }
+  std::size_t linear(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    return static_cast<std::size_t>((z * cells[1] + y) * cells[0] + x);
+  }
+};
+
+CellGrid build_grid(const Solids& solids, const DomainBox& domain, double cell_size) {
+  const SolidGridShape shape = solid_grid_shape(solids.position, domain, cell_size);
+  CellGrid grid;
+  grid.origin = shape.origin;
+  grid.cell_size = shape.cell_size;
+  grid.cells = shape.cells;
+  const std::size_t cell_count = static_cast<std::size_t>(grid.cells[0] * grid.cells[1] * grid.cells[2]);
+  std::vector<std::uint32_t> cell_of_grain(solids.size());
+  grid.cell_start.assign(cell_count + 1, 0);
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    const auto cell = grid.cell_of(solids.position[i]);
+    cell_of_grain[i] = static_cast<std::uint32_t>(grid.linear(cell[0], cell[1], cell[2]));
+    ++grid.cell_start[cell_of_grain[i] + 1];
+  }
+  for (std::size_t cell = 0; cell < cell_count; ++cell) grid.cell_start[cell + 1] += grid.cell_start[cell];
+  grid.grains.resize(solids.size());
+  std::vector<std::uint32_t> fill(grid.cell_start.begin(), grid.cell_start.end() - 1);
+  for (std::size_t i = 0; i < solids.size(); ++i) grid.grains[fill[cell_of_grain[i]]++] = static_cast<std::uint32_t>(i);
+  return grid;
+}
+
+/// Calls visit(j) for every grain j > i within r_i + r_j + skin of grain i, in a fixed order.
+template <class Visit>
+void for_each_candidate(const Solids& solids, const CellGrid& grid, double largest_radius, double skin,
+                        std::size_t i, Visit&& visit) {
+  const Vec3& position = solids.position[i];
+  const double reach = solids.radius[i] + largest_radius + skin;
+  const auto low = grid.cell_of(position - Vec3::Constant(reach));
+  const auto high = grid.cell_of(position + Vec3::Constant(reach));
+  for (std::int64_t z = low[2]; z <= high[2]; ++z)
+    for (std::int64_t y = low[1]; y <= high[1]; ++y)
+      for (std::int64_t x = low[0]; x <= high[0]; ++x) {
+        const std::size_t cell = grid.linear(x, y, z);
+        for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
+          const std::uint32_t j = grid.grains[k];
+          if (j <= i) continue;
+          const double cutoff = solids.radius[i] + solids.radius[j] + skin;
+          if ((solids.position[j] - position).squaredNorm() < cutoff * cutoff) visit(j);
+        }
+      }
+}
+
+struct SavedSpring {
+  EntityId lower, higher;  ///< grain ids (pairs) or grain id and wall slot (walls)
+  Vec3 spring;             ///< oriented for `lower` (pairs) or the grain (walls)
+  bool operator<(const SavedSpring& other) const {
+    return lower != other.lower ? lower < other.lower : higher < other.higher;
+  }
+};
+
+const SavedSpring* find_spring(const std::vector<SavedSpring>& saved, EntityId lower, EntityId higher) {
+  const SavedSpring probe{lower, higher, Vec3::Zero()};
+  auto it = std::lower_bound(saved.begin(), saved.end(), probe);
+  return it != saved.end() && it->lower == lower && it->higher == higher ? &*it : nullptr;
+}
+
+}  // namespace
+
+double solid_grid_cell_limit(std::size_t grains) { return std::max(8.0 * static_cast<double>(grains), 65536.0); }
+
+SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const DomainBox& domain, double cell_size) {
+  // The grains' box, clipped to the domain (a grain outside it stops the run at the domain check; until then it
+  // sits in an edge cell). Non-finite positions are left out here for the same reason.
+  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 high = -low;
+  for (const Vec3& p : positions)
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) {
+      low = low.cwiseMin(p);
+      high = high.cwiseMax(p);
+    }
+  low = low.cwiseMax(domain.low);
+  high = high.cwiseMin(domain.high);
+  if (!((low.array() <= high.array()).all())) low = high = domain.low;
+  SolidGridShape shape;
+  shape.origin = low;
+  shape.cell_size = cell_size > 0.0 && std::isfinite(cell_size) ? cell_size : 1.0;
+  const Vec3 extent = high - low;
+  const double limit = solid_grid_cell_limit(positions.size());
+  auto axis_cells = [&](int axis) {
+    // Clamped before the cast: 1e300 m of extent over a 1 um cell is no int64.
+    return std::clamp(std::ceil(extent[axis] / shape.cell_size), 1.0, 1e15);
+  };
+  for (;;) {
+    const double total = axis_cells(0) * axis_cells(1) * axis_cells(2);
+    if (total <= limit) break;
+    // Straight to about the limit, then by 1/8 steps: the per-axis ceilings can keep the first guess a bit high.
+    shape.cell_size *= std::max(1.125, 0.999 * std::cbrt(total / limit));
+  }
+  for (int axis = 0; axis < 3; ++axis)
+    shape.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(axis_cells(axis));
+  return shape;
+}
+
+double default_skin(const Solids& solids) {
+  if (solids.size() == 0) return 0.0;
+  return 0.5 * *std::min_element(solids.radius.begin(), solids.radius.end());
+}
+
+bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank) {
+  if (!contacts.valid || contacts.build_position.size() != solids.size()) return true;
+  const double largest_move = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, solids.size(), 4096), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& range, double largest) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i)
+          largest = std::max(largest, (solids.position[i] - contacts.build_position[i]).squaredNorm());
+        return largest;
+      },
+      [](double a, double b) { return std::max(a, b); });
+  const double grain_move = std::sqrt(largest_move);
+  const double wall_move = (tank.displacement - contacts.build_tank_displacement).norm();
+  return 2.0 * grain_move > contacts.skin || grain_move + wall_move > contacts.skin;
+}
+
+void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& walls, const TankMotion& tank,
+                            const Model& model, bool reorder) {
+  // 1. Save the springs of touching pairs by id, before slots change.
+  std::vector<SavedSpring> saved_pairs, saved_walls;
+  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+      for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+        if (contacts.pair_overlap[k] <= 0.0) continue;
+        const EntityId first = solids.id[i], second = solids.id[contacts.pair_second[k]];
+        const Vec3& spring = contacts.pair_spring[k];
+        saved_pairs.push_back(first < second ? SavedSpring{first, second, spring} : SavedSpring{second, first, -spring});
+      }
+      for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
+        if (contacts.wall_pair_overlap[k] > 0.0)
+          saved_walls.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k]});
+    }
+  }
+  std::sort(saved_pairs.begin(), saved_pairs.end());
+  std::sort(saved_walls.begin(), saved_walls.end());
+
+  const std::size_t count = solids.size();
+  const double skin = model.contact.skin > 0.0 ? model.contact.skin : default_skin(solids);
+  const double smallest_radius = count ? *std::min_element(solids.radius.begin(), solids.radius.end()) : 0.0;
+  const double largest_radius = count ? *std::max_element(solids.radius.begin(), solids.radius.end()) : 0.0;
+  const DomainBox domain = domain_box(model);
+
+  // 2. Reorder by cell for locality (ids travel with their data; the springs above are keyed by id).
+  if (reorder && count > 1) permute_fields(solids, cell_order(solids, domain.low, 2.0 * largest_radius));
+
+  // 3. Grain-grain candidates: count, scan, fill; every grain's list comes out in the same order every time.
+  const CellGrid grid = build_grid(solids, domain, 2.0 * smallest_radius + skin);
+  contacts.pair_offsets.assign(count + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      std::uint32_t found = 0;
+      for_each_candidate(solids, grid, largest_radius, skin, i, [&](std::uint32_t) { ++found; });
+      contacts.pair_offsets[i + 1] = found;
+    }
+  });
+  for (std::size_t i = 0; i < count; ++i) contacts.pair_offsets[i + 1] += contacts.pair_offsets[i];
+  const std::size_t pairs = contacts.pair_offsets[count];
+  contacts.pair_second.resize(pairs);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      std::uint32_t next = contacts.pair_offsets[i];
+      for_each_candidate(solids, grid, largest_radius, skin, i,
+                         [&](std::uint32_t j) { contacts.pair_second[next++] = j; });
+      std::sort(contacts.pair_second.begin() + contacts.pair_offsets[i], contacts.pair_second.begin() + next);
+    }
+  });
+  contacts.pair_spring.assign(pairs, Vec3::Zero());
+  contacts.pair_force.assign(pairs, Vec3::Zero());
+  contacts.pair_torque_first.assign(pairs, Vec3::Zero());
+  contacts.pair_torque_second.assign(pairs, Vec3::Zero());
+  contacts.pair_overlap.assign(pairs, 0.0);
+
+  // 4. Reverse index: pairs where each grain is second, ascending pair index.
+  contacts.second_offsets.assign(count + 1, 0);
+  for (std::size_t k = 0; k < pairs; ++k) ++contacts.second_offsets[contacts.pair_second[k] + 1];
+  for (std::size_t i = 0; i < count; ++i) contacts.second_offsets[i + 1] += contacts.second_offsets[i];
+  contacts.second_pairs.resize(pairs);
+  {
+    std::vector<std::uint32_t> fill(contacts.second_offsets.begin(), contacts.second_offsets.end() - 1);
+    for (std::size_t k = 0; k < pairs; ++k) contacts.second_pairs[fill[contacts.pair_second[k]]++] = static_cast<std::uint32_t>(k);
+  }
+
+  // 5. Grain-wall candidates: every wall plane within r + skin (a grain behind a wall is a candidate too).
+  contacts.wall_pair_offsets.assign(count + 1, 0);
+  contacts.wall_pair_wall.clear();
+  for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t wall = 0; wall < walls.size(); ++wall) {
+      const double height = (solids.position[i] - walls.point[wall]).dot(walls.normal[wall]);
+      if (height < solids.radius[i] + skin) contacts.wall_pair_wall.push_back(static_cast<std::uint32_t>(wall));
+    }
+    contacts.wall_pair_offsets[i + 1] = static_cast<std::uint32_t>(contacts.wall_pair_wall.size());
+  }
+  const std::size_t wall_pairs = contacts.wall_pair_wall.size();
+  contacts.wall_pair_spring.assign(wall_pairs, Vec3::Zero());
+  contacts.wall_pair_force.assign(wall_pairs, Vec3::Zero());
+  contacts.wall_pair_torque.assign(wall_pairs, Vec3::Zero());
+  contacts.wall_pair_overlap.assign(wall_pairs, 0.0);
+
+  // 6. Carry the springs over by id.
+  if (!saved_pairs.empty() || !saved_walls.empty()) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+          const EntityId first = solids.id[i], second = solids.id[contacts.pair_second[k]];
+          const bool first_lower = first < second;
+          if (const SavedSpring* found =
+                  find_spring(saved_pairs, first_lower ? first : second, first_lower ? second : first))
+            contacts.pair_spring[k] = first_lower ? found->spring : Vec3(-found->spring);
+        }
+        for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
+          if (const SavedSpring* found = find_spring(saved_walls, solids.id[i], contacts.wall_pair_wall[k]))
+            contacts.wall_pair_spring[k] = found->spring;
+      }
+    });
+  }
+
+  contacts.build_position = solids.position;
+  contacts.build_tank_displacement = tank.displacement;
+  contacts.skin = skin;
+  ++contacts.rebuilds;
+  contacts.valid = true;
+}
+
+void SolidNeighbours::run(SystemContext& context) {
+  Solids& solids = context.write<Solids>();
+  Contacts& contacts = context.write<Contacts>();
+  const TankMotion& tank = context.read<TankMotion>();
+  context.count_items(solids.size());
+  if (!neighbour_list_stale(solids, contacts, tank)) return;
+  const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
+  rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);
+}
+
+}  // namespace riffle

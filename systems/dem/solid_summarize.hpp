@@ -1,0 +1,15 @@
+#pragma once
+// solid_summary: the grains' kinetic and potential energy and largest speed after each step, with a reduction whose
+// result does not depend on the thread count (diagnostics.csv).
+#include "engine/core/system.hpp"
+
+namespace riffle {
+
+class SolidSummarize final : public System {
+ public:
+  std::string_view name() const override { return "solid_summary"; }
+  Access access() const override { return {{ComponentId::kSolids}, {ComponentId::kSolidSummary}}; }
+  void run(SystemContext& context) override;
+};
+
+}  // namespace riffle

@@ -1,0 +1,15 @@
+#pragma once
+// Wall motion: the single owner of the tank's state in the world. Moves every wall that follows the tank to the end
+// of the (sub)step and gives it the exact velocity (systems/physics/tank_kinematics.hpp).
+#include "engine/core/system.hpp"
+
+namespace riffle {
+
+class WallMotion final : public System {
+ public:
+  std::string_view name() const override { return "wall_motion"; }
+  Access access() const override { return {{}, {ComponentId::kTankMotion, ComponentId::kWalls}}; }
+  void run(SystemContext& context) override;
+};
+
+}  // namespace riffle

@@ -1,0 +1,71 @@
+#include "systems/mps/fluid_checks.hpp"
+
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "systems/physics/domain.hpp"
+
+namespace riffle {
+
+namespace {
+bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+}  // namespace
+
+void FluidChecks::run(SystemContext& context) {
+  const FluidParticles& particles = context.read<FluidParticles>();
+  FluidSummary& summary = context.write<FluidSummary>();
+  StepStatus& status = context.write<StepStatus>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  const DomainBox domain = domain_box(context.model);
+  constexpr std::size_t kNoProblem = std::numeric_limits<std::size_t>::max();
+  const std::size_t first_bad = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, fluid_count, 4096), kNoProblem,
+      [&](const tbb::blocked_range<std::size_t>& range, std::size_t found) {
+        for (std::size_t i = range.begin(); i < range.end() && i < found; ++i)
+          if (!finite(particles.position[i]) || !finite(particles.velocity[i]) || !domain.contains(particles.position[i]))
+            return i;
+        return found;
+      },
+      [](std::size_t a, std::size_t b) { return std::min(a, b); });
+
+  const double n0 = constants_.reference_density;
+  const double volume = constants_.particle_volume;
+  const double half_mass = 0.5 * volume * context.model.fluid.density;
+  summary.fluid_count = fluid_count;
+  summary.kinetic_energy =
+      deterministic_sum(fluid_count, [&](std::size_t i) { return half_mass * particles.velocity[i].squaredNorm(); });
+  summary.volume = deterministic_sum(fluid_count, [&](std::size_t i) {
+    return particles.free_surface[i] || !(particles.number_density[i] > 0.0) ? volume
+                                                                             : volume * n0 / particles.number_density[i];
+  });
+  const std::size_t interior = fluid_count - std::min(fluid_count, summary.surface_count);
+  summary.mean_density_ratio =
+      interior == 0 ? 1.0
+                    : deterministic_sum(fluid_count, [&](std::size_t i) {
+                        return particles.free_surface[i] ? 0.0 : particles.number_density[i] / n0;
+                      }) / static_cast<double>(interior);
+  double max_speed_squared = 0.0;
+  for (std::size_t i = 0; i < fluid_count; ++i) max_speed_squared = std::max(max_speed_squared, particles.velocity[i].squaredNorm());
+  summary.max_speed = std::sqrt(max_speed_squared);
+  summary.last_dt = context.dt;
+  summary.courant = summary.max_speed * context.dt / constants_.spacing;
+  context.count_items(fluid_count);
+
+  if (!status.ok()) return;
+  if (first_bad != kNoProblem) {
+    const bool is_finite = finite(particles.position[first_bad]) && finite(particles.velocity[first_bad]);
+    status.problem = is_finite ? StepProblem::kLeftDomain : StepProblem::kNonFinite;
+    status.phase = "fluid";
+    status.entity = particles.id[first_bad];
+    status.position = particles.position[first_bad];
+    status.velocity = particles.velocity[first_bad];
+  } else if (!std::isfinite(summary.solver_residual)) {
+    status.problem = StepProblem::kSolverFailed;
+    status.phase = "fluid";
+  }
+}
+
+}  // namespace riffle

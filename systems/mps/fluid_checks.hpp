@@ -1,0 +1,24 @@
+#pragma once
+// End-of-step checks and reductions over the fluid: the first non-finite or escaped particle stops the run with a
+// diagnosis; FluidSummary (energy, speed, mean n/n0, volume) feeds diagnostics.csv and the time-step control.
+#include <vector>
+
+#include "engine/core/system.hpp"
+#include "systems/physics/mps_common.hpp"
+
+namespace riffle {
+
+class FluidChecks final : public System {
+ public:
+  explicit FluidChecks(const FluidModel& fluid) : constants_(MpsConstants::from(fluid)) {}
+  std::string_view name() const override { return "fluid_checks"; }
+  Access access() const override {
+    return {{ComponentId::kFluid}, {ComponentId::kFluidSummary, ComponentId::kStepStatus}};
+  }
+  void run(SystemContext& context) override;
+
+ private:
+  MpsConstants constants_;
+};
+
+}  // namespace riffle

@@ -1,0 +1,67 @@
+#pragma once
+// Neighbour lists of all MPS particles (fluid, wall, dummy) within a search radius (>= r_e; numerics 1.1, 1.3):
+// a uniform cell grid over the particles' bounding box with cells half a radius wide (or half a wider cell radius),
+// counted, scanned and filled in parallel (oneTBB). Each particle's list is its neighbours' slots in ascending
+// order, self excluded, so the lists (and every sum over them) do not depend on the thread count, the grid or the
+// cell size.
+//
+// Choice: the lists live in their own component, FluidNeighbours (like Contacts for the grains), not in
+// FluidParticles: the build reads the particles and writes only the lists, so the scheduler can order it before
+// every operator that reads the lists and writes the particles. FluidNeighbourSearch keeps them as Verlet lists
+// (radius r_e + skin, rebuilt when the skin is used up); the operators cut at r_e themselves.
+#include <algorithm>
+#include <vector>
+
+#include "engine/core/system.hpp"
+#include "systems/physics/mps_common.hpp"
+
+namespace riffle {
+
+/// Edge [m] of the search grid's cells for a search radius: a query scans about 5^3 cells of half a radius, about
+/// 40 % fewer candidates than 3^3 cells of a radius.
+inline double fluid_search_cell_size(double radius) { return 0.5 * radius; }
+
+/// Builds `neighbours` for the first `query_count` particles of `positions` (all by default): j is a neighbour of i
+/// (j != i) iff |r_j - r_i| < radius, j among all particles. Non-finite positions get no neighbours and are nobody's
+/// neighbour. The grid's cells have a corner at `grid_anchor` and are fluid_search_cell_size(cell_radius) wide
+/// (cell_radius >= radius; 0: radius); the result depends on neither, the speed does: particles kept in the order
+/// of the same cells (FluidCellSort) come out of the scan nearly sorted.
+void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, FluidNeighbours& neighbours,
+                            std::size_t query_count = static_cast<std::size_t>(-1),
+                            const Vec3& grid_anchor = Vec3::Zero(), double cell_radius = 0.0);
+
+/// The candidate test of build_fluid_neighbours: the portable one, or 4 (AVX2) or 8 (AVX-512) candidates at a time
+/// where the CPU has them. All keep exactly the same pairs; the cap (default: the widest) lets a test compare them.
+enum class FluidSearchSimd { kPortable, kAvx2, kAvx512 };
+void set_fluid_search_simd_cap(FluidSearchSimd cap);
+/// The test the next build takes: the widest the CPU has, up to the cap.
+FluidSearchSimd fluid_search_simd();
+
+/// Verlet lists of the fluid particles (queries) among all MPS particles, built with radius r_e + skin and rebuilt
+/// only when some particle (walls included: they move with the tank) has moved more than skin / 2 since the build.
+/// The operators cut at r_e and the lists are ascending, so when a rebuild happens, and with which skin, changes
+/// no result. Two instances run per step: at the step start (current positions) and after the prediction (r*).
+///
+/// The skin adapts: when the last lists lasted a single step (in violent flow the fastest particles use up any
+/// skin of a few tenths of l0 every step), a wide skin buys no reuse and only lengthens every pass over the lists
+/// (r_e + 0.3 l0 holds 42 % more candidates than r_e), so the next build takes `narrow_skin`; once a list lasts
+/// longer, the build goes back to `skin` (docs/BENCHMARKS.md, "Fluid speed work").
+class FluidNeighbourSearch final : public System {
+ public:
+  enum class Positions { kCurrent, kPredicted };
+  FluidNeighbourSearch(double effective_radius, double skin, double narrow_skin, Positions at)
+      : effective_radius_(effective_radius), skin_(skin), narrow_skin_(std::min(narrow_skin, skin)), at_(at) {}
+  std::string_view name() const override {
+    return at_ == Positions::kCurrent ? "fluid_neighbours" : "fluid_neighbours_predicted";
+  }
+  Access access() const override { return {{ComponentId::kFluid}, {ComponentId::kFluidNeighbours}}; }
+  void run(SystemContext& context) override;
+
+ private:
+  double effective_radius_;
+  double skin_;
+  double narrow_skin_;
+  Positions at_;
+};
+
+}  // namespace riffle

@@ -1,0 +1,186 @@
+#include "systems/mps/fluid_pressure.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace riffle {
+
+void FluidPressureSolve::run(SystemContext& context) {
+  FluidParticles& particles = context.write<FluidParticles>();
+  const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
+  FluidSummary& summary = context.write<FluidSummary>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  const FluidSchemes& schemes = fluid_.schemes;
+  const WendlandKernel kernel = constants_.kernel;
+  const double n0 = constants_.reference_density;
+  const double dt = context.dt;
+  const double rho = fluid_.density;
+
+  // Unknowns: fluid particles off the free surface, in slot order (so the system is the same for any thread count).
+  row_of_.assign(fluid_count, -1);
+  slot_of_.clear();
+  for (std::size_t i = 0; i < fluid_count; ++i) {
+    if (particles.free_surface[i]) continue;
+    row_of_[i] = static_cast<std::int32_t>(slot_of_.size());
+    slot_of_.push_back(static_cast<std::uint32_t>(i));
+  }
+  const std::size_t unknowns = slot_of_.size();
+  // Off-diagonal entries per row: the near neighbours (within r_e at r*) that are unknowns. Counting them first lets
+  // the assembly write the compact rows in place.
+  row_start_.resize(unknowns + 1);
+  row_start_[0] = 0;
+  for_each_particle(unknowns, [&](std::size_t row) {
+    std::size_t entries = 0;
+    for (const std::uint32_t j : near_neighbours_of(neighbours, slot_of_[row]))
+      entries += particles.kind[j] == kFluidKind && row_of_[j] >= 0 ? 1 : 0;
+    row_start_[row + 1] = entries;
+  });
+  for (std::size_t row = 0; row < unknowns; ++row) row_start_[row + 1] += row_start_[row];
+  compact_columns_.resize(row_start_[unknowns]);
+  compact_values_.resize(row_start_[unknowns]);
+  for (auto* vector : {&diagonal_, &inverse_diagonal_, &rhs_, &solution_, &residual_, &direction_, &product_})
+    vector->resize(unknowns);
+
+  // Density term gamma (n* - n0)/(n0 dt^2) with gamma = rate dt (amendment 2); the classic source is gamma = 1.
+  const double gamma = schemes.higher_order_source ? fluid_.density_relaxation_rate * dt : 1.0;
+  const double compressibility_diagonal = rho * n0 * fluid_.compressibility / (dt * dt);
+  const double classic_coefficient = 6.0 / constants_.laplacian_lambda;  // a_ij = 2D w_ij / lambda0
+  for_each_particle(unknowns, [&](std::size_t row) {
+    const std::size_t i = slot_of_[row];
+    const Vec3 position = particles.predicted_position[i];
+    const Vec3 velocity = particles.velocity[i];
+    const std::size_t first_entry = row_start_[row];
+    std::size_t entries = 0;
+    std::uint32_t fluid_neighbours = 0;
+    double diagonal = compressibility_diagonal, rate = 0.0;
+    for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {  // all within r_e at r* (fluid_free_surface)
+      const Vec3 offset = particles.predicted_position[j] - position;
+      const double distance = std::sqrt(offset.squaredNorm());
+      const double derivative_over_distance = kernel.derivative_over_distance(distance);
+      const bool fluid = particles.kind[j] == kFluidKind;
+      if (fluid) {
+        // Walls are left out of the Laplacian: zero normal pressure flux (Neumann, amendment 1).
+        const double coefficient = schemes.higher_order_laplacian ? -2.0 * derivative_over_distance
+                                                                  : classic_coefficient * kernel.weight(distance);
+        diagonal += coefficient;
+        ++fluid_neighbours;
+        if (row_of_[j] >= 0) {  // surface neighbours hold p = 0: their term drops, the diagonal keeps it
+          compact_columns_[first_entry + entries] = static_cast<std::uint32_t>(row_of_[j]);
+          compact_values_[first_entry + entries] = -coefficient;
+          ++entries;
+        }
+      }
+      if (schemes.higher_order_source)
+        rate += (fluid ? 1.0 : 2.0) * derivative_over_distance * offset.dot(particles.velocity[j] - velocity);
+    }
+    double rhs = rho * gamma * (particles.number_density[i] - n0) / (dt * dt);
+    if (schemes.higher_order_source) rhs += rho / dt * rate;
+    if (schemes.error_compensating_source) rhs += rho / dt * particles.density_rate[i];
+    if (fluid_neighbours == 0) {  // only walls around: nothing to couple to, hold it at zero
+      diagonal = 1.0;
+      rhs = 0.0;
+    }
+    diagonal_[row] = diagonal;
+    inverse_diagonal_[row] = 1.0 / diagonal;
+    rhs_[row] = rhs;
+    // Warm start: p^k extrapolated linearly in time (p^{k-1} is kept per particle), clamped at zero like p.
+    solution_[row] = std::max(0.0, 2.0 * particles.pressure[i] - particles.previous_pressure[i]);
+  });
+
+  const bool two_level = fluid_.preconditioner == FluidModel::Preconditioner::kTwoLevel;
+  if (two_level) {
+    row_positions_.resize(unknowns);
+    for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = particles.predicted_position[slot_of_[row]]; });
+    // Coarse cells of at least 4 l0, wider for big problems so the coarse factorisation stays small.
+    const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
+    const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
+                                compact_values_.data()};
+    preconditioner_.setup(matrix, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
+  }
+  // z = M^-1 r = D^-1 r + P c with c = A_c^-1 P^T r is never stored: r . z = sum r^2 / diag + (P^T r) . c, the
+  // first sum taken in the pass that updates r, and z is formed where the direction update needs it.
+  const auto coarse_dot = [&]() { return two_level ? preconditioner_.solve_coarse(residual_) : 0.0; };
+  const auto preconditioned = [&](std::size_t k) {
+    return residual_[k] * inverse_diagonal_[k] + (two_level ? preconditioner_.coarse_correction(k) : 0.0);
+  };
+  // (M x)[row] with four partial sums: one chain of dependent additions would hold the product to the add latency.
+  const auto row_product = [&](std::size_t row, const std::vector<double>& x) {
+    double sum0 = diagonal_[row] * x[row], sum1 = 0.0, sum2 = 0.0, sum3 = 0.0;
+    std::size_t k = row_start_[row];
+    const std::size_t end = row_start_[row + 1];
+    for (; k + 4 <= end; k += 4) {
+      sum0 += compact_values_[k] * x[compact_columns_[k]];
+      sum1 += compact_values_[k + 1] * x[compact_columns_[k + 1]];
+      sum2 += compact_values_[k + 2] * x[compact_columns_[k + 2]];
+      sum3 += compact_values_[k + 3] * x[compact_columns_[k + 3]];
+    }
+    for (; k < end; ++k) sum0 += compact_values_[k] * x[compact_columns_[k]];
+    return (sum0 + sum1) + (sum2 + sum3);
+  };
+  // y = M x, returning x . y (CG needs the curvature d . M d right after the product).
+  const auto multiply_and_dot = [&](const std::vector<double>& x, std::vector<double>& y) {
+    return deterministic_sum(unknowns, [&](std::size_t row) {
+      const double sum = row_product(row, x);
+      y[row] = sum;
+      return x[row] * sum;
+    });
+  };
+
+  // Preconditioned conjugate gradients (numerics 3.5), |r| <= tol |b|, with the vector updates fused into the
+  // passes that need them (three passes over the unknowns per iteration, plus the restriction to the coarse level).
+  const double rhs_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t k) { return rhs_[k] * rhs_[k]; }));
+  const double target = fluid_.solver_tolerance * rhs_norm;
+  std::int64_t iterations = 0;
+  double residual_norm = 0.0;
+  if (rhs_norm == 0.0) {
+    std::fill(solution_.begin(), solution_.end(), 0.0);
+  } else {
+    // Each pass returns |r|^2 and r . D^-1 r.
+    const auto initial = deterministic_sums<2>(unknowns, [&](std::size_t row) {
+      const double residual = rhs_[row] - row_product(row, solution_);
+      residual_[row] = residual;
+      return std::array<double, 2>{residual * residual, residual * residual * inverse_diagonal_[row]};
+    });
+    residual_norm = std::sqrt(initial[0]);
+    double residual_dot = 0.0;
+    if (residual_norm > target) {
+      residual_dot = initial[1] + coarse_dot();
+      for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned(k); });
+    }
+    while (residual_norm > target && iterations < fluid_.solver_max_iterations && std::isfinite(residual_norm)) {
+      const double curvature = multiply_and_dot(direction_, product_);
+      const double step = residual_dot / curvature;
+      const auto updated = deterministic_sums<2>(unknowns, [&](std::size_t k) {
+        solution_[k] += step * direction_[k];
+        const double residual = residual_[k] - step * product_[k];
+        residual_[k] = residual;
+        return std::array<double, 2>{residual * residual, residual * residual * inverse_diagonal_[k]};
+      });
+      residual_norm = std::sqrt(updated[0]);
+      ++iterations;
+      if (residual_norm <= target) break;
+      const double next_dot = updated[1] + coarse_dot();
+      const double beta = next_dot / residual_dot;
+      residual_dot = next_dot;
+      for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned(k) + beta * direction_[k]; });
+    }
+  }
+
+  const bool clamp = fluid_.clamp_negative_pressure;
+  std::size_t surface = 0;
+  for (std::size_t i = 0; i < fluid_count; ++i) surface += particles.free_surface[i] ? 1 : 0;
+  for_each_particle(fluid_count, [&](std::size_t i) {
+    particles.previous_pressure[i] = particles.pressure[i];
+    const double pressure = row_of_[i] >= 0 ? solution_[static_cast<std::size_t>(row_of_[i])] : 0.0;
+    particles.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
+  });
+  summary.solver_iterations = iterations;
+  summary.solver_residual = rhs_norm > 0.0 ? residual_norm / rhs_norm : 0.0;
+  summary.solver_unknowns = unknowns;
+  summary.solver_converged = std::isfinite(residual_norm) && residual_norm <= target;
+  summary.surface_count = surface;
+  context.count_items(unknowns);
+}
+
+}  // namespace riffle

@@ -1,0 +1,40 @@
+#pragma once
+// The pressure Poisson equation (seed 000 Eqs. 4-7; numerics 2.2-2.5, 3.5 and amendments 1-2), assembled over the
+// fluid particles only (Neumann walls) and solved by CG warm-started from p^k, preconditioned by Jacobi or (default) Jacobi plus
+// an aggregation coarse solve (systems/physics/pressure_preconditioner.hpp).
+#include <vector>
+
+#include "engine/core/system.hpp"
+#include "systems/physics/mps_common.hpp"
+#include "systems/physics/pressure_preconditioner.hpp"
+
+namespace riffle {
+
+/// The pressure Poisson equation in the symmetric positive definite form M p = b over the unknown (non-surface)
+/// fluid particles: M_ii = sum_fluid a_ij + rho n0 alpha_c / dt^2, M_ij = -a_ij (j unknown), with
+/// b = rho/dt [Dn/Dt* + ECS] + rho gamma (n* - n0)/dt^2 (gamma = rate dt; classic source: gamma = 1, no Dn/Dt).
+class FluidPressureSolve final : public System {
+ public:
+  explicit FluidPressureSolve(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
+  std::string_view name() const override { return "fluid_pressure"; }
+  Access access() const override {
+    return {{ComponentId::kFluidNeighbours}, {ComponentId::kFluid, ComponentId::kFluidSummary}};
+  }
+  void run(SystemContext& context) override;
+
+ private:
+  FluidModel fluid_;
+  MpsConstants constants_;
+  std::vector<std::int32_t> row_of_;      ///< fluid slot -> unknown index, -1 on the surface
+  std::vector<std::uint32_t> slot_of_;    ///< unknown index -> fluid slot
+  std::vector<double> diagonal_, inverse_diagonal_;
+  // The off-diagonal entries M_ij in CSR, counted first (from the near lists) so the assembly writes them in place.
+  std::vector<std::size_t> row_start_;          ///< unknowns + 1
+  std::vector<std::uint32_t> compact_columns_;  ///< unknown indices
+  std::vector<double> compact_values_;          ///< M_ij
+  std::vector<Vec3> row_positions_;
+  TwoLevelPreconditioner preconditioner_;
+  std::vector<double> rhs_, solution_, residual_, direction_, product_;
+};
+
+}  // namespace riffle

@@ -1,0 +1,84 @@
+#include "systems/physics/voidage_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "systems/physics/cell_index.hpp"
+
+namespace riffle {
+
+CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
+  CloudInCellStencil result{};
+  std::array<std::int64_t, 3> base{};
+  std::array<double, 3> fraction{};
+  for (int axis = 0; axis < 3; ++axis) {
+    const double scaled = (point[axis] - origin_[axis]) / cell_size_;
+    // A non-finite grain lands on node 0.
+    const double top = static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2);
+    const double clamped = clamp_to_cells(scaled, top);
+    base[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(clamped));
+    fraction[static_cast<std::size_t>(axis)] = clamped - std::floor(clamped);
+  }
+  for (int corner = 0; corner < 8; ++corner) {
+    const std::int64_t x = base[0] + (corner & 1), y = base[1] + ((corner >> 1) & 1), z = base[2] + ((corner >> 2) & 1);
+    result.node[static_cast<std::size_t>(corner)] = static_cast<std::size_t>((z * nodes_[1] + y) * nodes_[0] + x);
+    result.weight[static_cast<std::size_t>(corner)] = ((corner & 1) ? fraction[0] : 1.0 - fraction[0]) *
+                                                      (((corner >> 1) & 1) ? fraction[1] : 1.0 - fraction[1]) *
+                                                      (((corner >> 2) & 1) ? fraction[2] : 1.0 - fraction[2]);
+  }
+  return result;
+}
+
+void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
+                        const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+                        double cell_size, const Vec3& bound_low, const Vec3& bound_high) {
+  cell_size_ = cell_size;
+  Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
+  for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
+  for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
+  if (low[0] > high[0]) low = high = Vec3::Zero();
+  // Within the bounds (unchanged while every point is inside them; a NaN coordinate leaves the bound).
+  for (int axis = 0; axis < 3; ++axis) {
+    low[axis] = low[axis] >= bound_low[axis] ? std::min(low[axis], bound_high[axis]) : bound_low[axis];
+    high[axis] = high[axis] <= bound_high[axis] ? std::max(high[axis], low[axis]) : bound_high[axis];
+  }
+  // Nodes per axis in doubles, capped before the conversion, at most 4096 each.
+  auto axis_nodes = [&](int axis) {
+    const double span = (high[axis] - (low[axis] - cell_size_)) / cell_size_;
+    return clamp_to_cells(std::floor(span), 4093.0) + 3.0;
+  };
+  // A stray particle far from the others (still inside a wide domain) must not make the grid huge: above
+  // voidage_node_limit the cells double until it fits. That changes the field, but only for a grid that big, which
+  // no valid scene builds (64 nodes per particle; the seed scenes use well under one).
+  const double limit = voidage_node_limit(grain_positions.size() + fluid_count);
+  while (axis_nodes(0) * axis_nodes(1) * axis_nodes(2) > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
+  const bool fits = axis_nodes(0) * axis_nodes(1) * axis_nodes(2) <= limit;  // not with an infinite coordinate
+  origin_ = low - Vec3::Constant(cell_size_);
+  for (int axis = 0; axis < 3; ++axis)
+    nodes_[static_cast<std::size_t>(axis)] = fits ? static_cast<std::int64_t>(axis_nodes(axis)) : 2;
+  const std::size_t total = static_cast<std::size_t>(nodes_[0] * nodes_[1] * nodes_[2]);
+  solid_.assign(total, 0.0);
+  fluid_.assign(total, 0.0);
+  for (std::size_t grain = 0; grain < grain_positions.size(); ++grain) {
+    const CloudInCellStencil s = stencil(grain_positions[grain]);
+    for (int c = 0; c < 8; ++c) solid_[s.node[static_cast<std::size_t>(c)]] += grain_volumes[grain] * s.weight[static_cast<std::size_t>(c)];
+  }
+  for (std::size_t k = 0; k < fluid_count; ++k) {
+    const CloudInCellStencil s = stencil(fluid_positions[k]);
+    for (int c = 0; c < 8; ++c) fluid_[s.node[static_cast<std::size_t>(c)]] += fluid_particle_volume * s.weight[static_cast<std::size_t>(c)];
+  }
+}
+
+double VoidageGrid::solid_fraction(const Vec3& point) const {
+  const CloudInCellStencil s = stencil(point);
+  double fraction = 0.0, weight = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const std::size_t node = s.node[static_cast<std::size_t>(c)];
+    if (fluid_[node] <= 0.0) continue;
+    fraction += s.weight[static_cast<std::size_t>(c)] * solid_[node] / fluid_[node];
+    weight += s.weight[static_cast<std::size_t>(c)];
+  }
+  return weight > 0.0 ? fraction / weight : 0.0;
+}
+
+}  // namespace riffle
