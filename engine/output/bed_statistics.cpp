@@ -9,7 +9,7 @@ namespace riffle {
 
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr std::size_t kMaxLayers = 1000000;
+constexpr std::size_t kMaxLayers = kMaxBedLayers;
 
 /// Index of the layer holding `height` above the floor, or count if outside [0, count h).
 std::size_t layer_of(double height, double thickness, std::size_t count) {
@@ -112,17 +112,6 @@ double tank_floor_z(const Model& model, const World& world) {
 double oscillation_periods(const Model& model, double time) {
   if (model.tank.motion.kind != TankMotionModel::Kind::kSinusoidal) return kNaN;
   return time * model.tank.motion.frequency;
-}
-
-void read_bed_profile_keys(TableReader& output, Model& model) {
-  OutputModel& out = model.output;
-  out.bed_profile_interval = output.number("bed_profile_interval", 0.0, "s", Bounds::non_negative());
-  // 0 (the default) stands for the smallest grain diameter, resolved by bed_layer_thickness(model).
-  out.bed_layer_thickness = output.number("bed_layer_thickness", 0.0, "m", Bounds::positive());
-  if (out.bed_profile_interval > 0.0 && model.solids.spheres.empty() && model.solids.initial_state.empty())
-    output.problem("bed_profile_interval", "the bed profile needs grains ([solids] with at least one grain)");
-  else if (out.bed_layer_thickness > 0.0 && model.tank.size.z() / out.bed_layer_thickness > kMaxLayers)
-    output.problem("bed_layer_thickness", "more than 1e6 layers over the tank height; use a thicker layer");
 }
 
 namespace {

@@ -28,6 +28,9 @@
 
 namespace riffle {
 
+/// Most sub-layers a bed profile may have (bed_layer_thickness is refused below tank height / this).
+inline constexpr std::size_t kMaxBedLayers = 1000000;
+
 struct ClassCentroid {
   std::int32_t size_class = 0;
   std::size_t grains = 0;
@@ -74,10 +77,6 @@ std::size_t bed_layer_count(const Model& model, double thickness);
 double tank_floor_z(const Model& model, const World& world);
 /// t/T = t f for a sinusoidally moving tank; NaN otherwise.
 double oscillation_periods(const Model& model, double time);
-
-/// Reads the [output] keys bed_profile_interval and bed_layer_thickness (the grains must be read already: the
-/// profile needs some).
-void read_bed_profile_keys(TableReader& output, Model& model);
 
 /// bed_profile.csv (long format: one row per time and layer) and class_centroids.csv (one row per time).
 class BedProfileWriter {

@@ -24,16 +24,6 @@
 
 namespace riffle {
 
-/// Output files the run writes itself: a probe's `file` may not be one of them.
-const std::vector<std::string>& reserved_output_files();
-
-/// Reads every [[output.probes]] table of the [output] reader into model.output.probes. The grains, the contact
-/// model, [tank] and [fluid] must be read already (ids are checked against the grains the run starts with: those of
-/// [solids] initial_state, then model.solids.spheres; wall forces need [contact], fluid probes [fluid] and take
-/// their default radius from its spacing; points must lie in the tank).
-/// Problems go through the reader (file:line:column: key: message).
-void read_probes(TableReader& output, Model& model);
-
 /// The slots of chosen grain ids, kept up to date across reorderings: refresh() checks each cached slot still
 /// holds its id and rebuilds the whole map with one pass over the grains only when one does not.
 class GrainSlotMap {

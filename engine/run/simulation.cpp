@@ -41,7 +41,8 @@ std::string format_vec(const Vec3& v) {
   return text;
 }
 
-std::string format_number(double value) {
+/// Nine significant digits: a time in a message must name the step exactly.
+std::string format_time(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.9g", value);
   return text;
@@ -390,11 +391,11 @@ RunOutcome Simulation::run(const RunOptions& options) {
   const auto abandoned_step_outcome = [&](const std::string& last_good) {
     const int signal_number = stop_requested();
     const char* name = signal_number == SIGINT ? "SIGINT" : "SIGTERM";
-    const std::string grace = format_number(kStopGraceSeconds);
+    const std::string grace = format_time(kStopGraceSeconds);
     RunOutcome abandoned;
     abandoned.exit_code = signal_number == SIGINT ? kExitInterrupted : kExitTerminated;
     abandoned.message = std::string("stopped by ") + name + " during step " + std::to_string(world_.step + 1) +
-                        " (from t = " + format_number(world_.time) + " s), which did not finish within " + grace +
+                        " (from t = " + format_time(world_.time) + " s), which did not finish within " + grace +
                         " s of the request: the step was abandoned and no checkpoint of it written; last good "
                         "checkpoint: " +
                         (last_good.empty() ? std::string("none written yet (set output.checkpoint_interval)")

@@ -14,12 +14,6 @@ namespace {
 constexpr double kMaxParticles = 5e7;
 const char* const kAxisNames[3] = {"x", "y", "z"};
 
-std::string format_number(double value) {
-  std::ostringstream stream;
-  stream << value;  // shortest form: 0.005, not 0.005000
-  return stream.str();
-}
-
 std::string format_vec(const Vec3& v) {
   std::ostringstream stream;  // not "(" + string: GCC 12 warns falsely (-Wrestrict) on that operator+
   stream << '(' << v[0] << ", " << v[1] << ", " << v[2] << ')';

@@ -10,12 +10,11 @@
 #include <map>
 #include <optional>
 
-#include "engine/setup/bed_generation.hpp"
+#include "engine/scene/bed_scene.hpp"
+#include "engine/scene/output_scene.hpp"
 #include "engine/scene/budget.hpp"
 #include "engine/setup/initial_state.hpp"
-#include "engine/output/bed_statistics.hpp"
 #include "engine/scene/fluid_scene.hpp"
-#include "engine/output/probes.hpp"
 #include "systems/physics/contact_law.hpp"
 
 #include <cmath>
@@ -43,12 +42,6 @@ std::int32_t read_material(const Model& model, TableReader& reader, const std::s
 namespace {
 
 const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
-
-std::string format_number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
 
 /// Why `name` cannot be the default output folder out/<name>, or "" if it can: it must be one plain path
 /// component, so that the run writes inside out/ (not "../../..") and the log file can be opened (no NUL).
@@ -266,8 +259,8 @@ void read_output(TableReader& output, Model& model) {
   model.output.checkpoint_interval = output.number("checkpoint_interval", 0.0, "s", Bounds::non_negative());
   model.output.checkpoint_keep = output.integer("checkpoint_keep", 3, 1, 1000000);
   model.output.diagnostics_every = output.integer("diagnostics_every", 1, 1, 1000000000);
-  read_bed_profile_keys(output, model);  // engine/output/bed_statistics.cpp
-  read_probes(output, model);            // [[output.probes]], engine/output/probes.cpp
+  read_bed_profile_keys(output, model);  // engine/scene/output_scene.cpp
+  read_probes(output, model);            // [[output.probes]], engine/scene/output_scene.cpp
   output.finish();
 }
 

@@ -24,12 +24,13 @@ std::optional<double> as_double(const toml::node& node) {
   return std::nullopt;
 }
 
+}  // namespace
+
 std::string format_number(double value) {
   std::ostringstream stream;
-  stream << value;
+  stream << value;  // shortest form: 0.005, not 0.005000; 1e-07, not 0.000000
   return stream.str();
 }
-}  // namespace
 
 SceneError::SceneError(const std::vector<std::string>& problems)
     : std::runtime_error(join(problems, "\n")), problems_(problems) {}

@@ -99,6 +99,9 @@ class TableReader {
   std::vector<std::string> known_;
 };
 
+/// A number as messages show it: the shortest form with 6 significant digits (0.005, 1e-07).
+std::string format_number(double value);
+
 /// Parses TOML text; syntax errors are reported as problems with the file's line and column.
 std::optional<toml::table> parse_toml(const std::string& text, SceneProblems& problems);
 

@@ -6,7 +6,7 @@
 // fixed order, so grain ids are reproducible. The beds are loose (no two spheres overlap, none touch a slab or box
 // face from outside); a scene settles them under gravity with DEM.
 //
-// read_bed_generators reads the scene tables [[solids.layered_beds]] and [[solids.fills]] (docs/SCENES.md).
+// engine/scene/bed_scene.hpp reads the scene tables [[solids.layered_beds]] and [[solids.fills]] (docs/SCENES.md).
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -106,12 +106,5 @@ std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec);
 /// The spheres of a fill, largest diameter first (ties in the order listed). Velocities are zero. Throws
 /// BedGenerationError.
 std::vector<SphereSpec> generate_fill(const FillSpec& spec);
-
-/// Reads [[solids.layered_beds]] and [[solids.fills]] from the [solids] reader and appends the generated spheres to
-/// model.solids.spheres (beds in order, then fills in order). Materials are looked up by name in model.materials
-/// and the regions are checked against model.tank, so both must be read already. Every problem goes through the
-/// reader (file:line:col: key: message). Call before solids.finish(), which would otherwise call these tables
-/// unknown keys.
-void read_bed_generators(TableReader& solids, Model& model);
 
 }  // namespace riffle

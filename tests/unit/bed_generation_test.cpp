@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/scene/bed_scene.hpp"
 #include "engine/setup/bed_generation.hpp"
 #include "engine/scene/scene_reader.hpp"
 

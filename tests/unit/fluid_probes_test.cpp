@@ -12,6 +12,7 @@
 
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/output/probes.hpp"
+#include "engine/scene/output_scene.hpp"
 #include "engine/scene/scene.hpp"
 #include "systems/physics/mps_kernel.hpp"
 #include "tests/test_support.hpp"

@@ -13,6 +13,7 @@
 
 #include "engine/output/bed_statistics.hpp"
 #include "engine/output/probes.hpp"
+#include "engine/scene/output_scene.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
 #include "tests/test_support.hpp"

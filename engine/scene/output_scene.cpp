@@ -1,0 +1,222 @@
+#include "engine/scene/output_scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+
+#include "engine/output/bed_statistics.hpp"
+#include "engine/setup/initial_state.hpp"
+
+namespace riffle {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& reserved_output_files() {
+  static const std::vector<std::string> names = {"diagnostics.csv", "timings.csv",  "bed_profile.csv",
+                                                 "class_centroids.csv", "riffle.log", "solids.pvd",
+                                                 "walls.pvd",       "vtk",          "checkpoints"};
+  return names;
+}
+
+namespace {
+
+bool plain_name(const std::string& name) {
+  if (name.empty() || name.front() == '.' || name.size() > 200) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+           c == '.';
+  });
+}
+
+/// One past the largest grain id the run starts with: the grains of [solids] initial_state (ids below its next_id)
+/// and then the scene's own spheres, numbered on from there. nullopt if the initial state cannot be read (that is
+/// reported where [solids] is read).
+std::optional<std::uint64_t> grain_id_limit(const Model& model) {
+  std::uint64_t limit = model.solids.spheres.size();
+  if (!model.solids.initial_state.empty()) {
+    try {
+      limit += initial_grains(model).next_id;
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+  }
+  return limit;
+}
+
+/// Walls the tank has (the faces not listed as open), in the order tank_walls() creates them.
+std::size_t wall_count(const Model& model) {
+  return 6 - model.tank.open_faces.size();
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
+  static const std::vector<std::pair<std::string, ProbeModel::Kind>> kinds = {
+      {"grains", ProbeModel::Kind::kGrains},
+      {"wall_forces", ProbeModel::Kind::kWallForces},
+      {"fluid_pressure", ProbeModel::Kind::kFluidPressure},
+      {"wave_gauge", ProbeModel::Kind::kWaveGauge},
+      {"surge_front", ProbeModel::Kind::kSurgeFront},
+      {"fluid_totals", ProbeModel::Kind::kFluidTotals}};
+  return kinds;
+}
+
+bool is_fluid_probe(ProbeModel::Kind kind) {
+  return kind == ProbeModel::Kind::kFluidPressure || kind == ProbeModel::Kind::kWaveGauge ||
+         kind == ProbeModel::Kind::kSurgeFront || kind == ProbeModel::Kind::kFluidTotals;
+}
+
+/// The `points` of a fluid_pressure (width 3) or wave_gauge (width 2) probe. Each must lie in the tank's inner box
+/// at rest, boundary included (a sensor on a wall): points are in the tank frame, and one outside is most likely a
+/// unit or frame mistake.
+std::vector<Vec3> read_points(TableReader& table, const Model& model, std::size_t width) {
+  const std::size_t problems_before = table.problem_count();
+  std::vector<Vec3> points = table.points("points", true, width, "m");
+  if (points.empty() && table.problem_count() == problems_before)
+    table.problem("points", "expected at least one point");
+  const Vec3 low = model.tank.origin;
+  const Vec3 high = low + model.tank.size;
+  if (!(model.tank.size.minCoeff() > 0.0)) return points;  // a bad tank is reported where [tank] is read
+  const double slack = 1e-9 * model.tank.size.maxCoeff();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    bool inside = true;
+    for (std::size_t axis = 0; axis < width; ++axis) {
+      const auto a = static_cast<Eigen::Index>(axis);
+      inside = inside && points[k][a] >= low[a] - slack && points[k][a] <= high[a] + slack;
+    }
+    if (!inside) {
+      char message[256];
+      std::snprintf(message, sizeof message,
+                    "the point lies outside the tank (inner box x %g to %g, y %g to %g, z %g to %g m at rest); "
+                    "points are in the tank frame",
+                    low[0], high[0], low[1], high[1], low[2], high[2]);
+      table.item_problem("points", k, message);
+    }
+  }
+  return points;
+}
+
+/// The keys of a surge_front probe: a non-zero horizontal direction (normalised) and the height limit.
+void read_surge_front(TableReader& table, ProbeModel& probe) {
+  const std::size_t problems_before = table.problem_count();
+  const Vec3 direction = table.vec3("direction", Vec3::UnitX(), "1", Bounds::any());
+  if (table.problem_count() == problems_before) {
+    if (direction.z() != 0.0)
+      table.problem("direction", "expected a horizontal direction (z component 0): the front runs along the floor");
+    else if (direction.norm() == 0.0)
+      table.problem("direction", "expected a non-zero direction");
+    else
+      probe.direction = direction.normalized();
+  }
+  probe.below = table.number("below", std::numeric_limits<double>::infinity(), "m", Bounds::positive());
+}
+
+}  // namespace
+
+void read_probes(TableReader& output, Model& model) {
+  std::vector<TableReader> tables = output.tables("probes");
+  for (std::size_t index = 0; index < tables.size(); ++index) {
+    TableReader& table = tables[index];
+    ProbeModel probe;
+    const std::size_t problems_before = table.problem_count();
+    std::vector<std::string> kind_names;
+    for (const auto& entry : probe_kinds()) kind_names.push_back(entry.first);
+    const std::string kind = table.choice("kind", std::nullopt, kind_names);
+    const bool kind_known = table.problem_count() == problems_before;
+    for (const auto& [name, value] : probe_kinds())
+      if (name == kind) probe.kind = value;
+    probe.name = table.text("name", kind_known ? kind : "probe_" + std::to_string(index));
+    const bool name_ok = plain_name(probe.name);
+    if (!name_ok)
+      table.problem("name", "expected a name of letters, digits, '_', '-' and '.', not starting with '.', got \"" +
+                                probe.name + "\"");
+    probe.file = table.text("file", "probe_" + probe.name + ".csv");
+    if (!name_ok && !table.has("file")) {
+      // The default file name comes from the bad name: already reported.
+    } else if (!plain_name(probe.file)) {
+      table.problem("file", "expected a plain file name (letters, digits, '_', '-', '.'; written in the output "
+                            "directory), got \"" + probe.file + "\"");
+    } else if (std::find(reserved_output_files().begin(), reserved_output_files().end(), probe.file) !=
+               reserved_output_files().end()) {
+      table.problem(table.has("file") ? "file" : "name", "\"" + probe.file + "\" is an output riffle writes itself");
+    } else {
+      for (const ProbeModel& other : model.output.probes)
+        if (other.file == probe.file) {
+          table.problem(table.has("file") ? "file" : "name",
+                        "another probe (\"" + other.name + "\") already writes \"" + probe.file +
+                            "\"; give each probe its own name or file");
+          break;
+        }
+    }
+    probe.interval = table.number("interval", 0.0, "s", Bounds::non_negative());
+
+    if (!kind_known) {
+      // The kind decides which keys belong: with a bad kind the other keys cannot be judged, so none of them is
+      // reported as unknown.
+      model.output.probes.push_back(probe);
+      continue;
+    }
+    if (is_fluid_probe(probe.kind) && !model.fluid.enabled)
+      table.problem("kind", "\"" + kind + "\" probes need a [fluid] table: the scene has no fluid");
+    switch (probe.kind) {
+      case ProbeModel::Kind::kGrains: {
+        const std::optional<std::uint64_t> limit = grain_id_limit(model);
+        const std::size_t problems_before_ids = table.problem_count();
+        const std::vector<std::int64_t> ids =
+            table.integers("ids", true, 0, std::numeric_limits<std::int64_t>::max());
+        if (ids.empty() && table.problem_count() == problems_before_ids)
+          table.problem("ids", "expected at least one grain id");
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+          const auto id = static_cast<EntityId>(ids[k]);
+          if (limit && id >= *limit) {
+            table.item_problem("ids", k,
+                               "unknown grain id " + std::to_string(id) + ": the scene has " +
+                                   std::to_string(*limit) + " grains" +
+                                   (*limit ? " (ids 0 to " + std::to_string(*limit - 1) + ")" : ""));
+          } else if (std::find(probe.ids.begin(), probe.ids.end(), id) != probe.ids.end()) {
+            table.item_problem("ids", k, "grain id " + std::to_string(id) + " is listed twice");
+          } else {
+            probe.ids.push_back(id);
+          }
+        }
+        break;
+      }
+      case ProbeModel::Kind::kWallForces:
+        if (!model.contact.enabled)
+          table.problem("kind", "wall forces need [contact]: without contacts no grain pushes on a wall");
+        else if (wall_count(model) == 0)
+          table.problem("kind", "the tank has no walls (every face is open)");
+        break;
+      case ProbeModel::Kind::kFluidPressure:
+        probe.points = read_points(table, model, 3);
+        break;
+      case ProbeModel::Kind::kWaveGauge:
+        probe.points = read_points(table, model, 2);
+        probe.radius = table.number("radius", model.fluid.spacing, "m", Bounds::positive());
+        break;
+      case ProbeModel::Kind::kSurgeFront:
+        read_surge_front(table, probe);
+        break;
+      case ProbeModel::Kind::kFluidTotals:
+        break;
+    }
+    table.finish();
+    model.output.probes.push_back(probe);
+  }
+}
+
+void read_bed_profile_keys(TableReader& output, Model& model) {
+  OutputModel& out = model.output;
+  out.bed_profile_interval = output.number("bed_profile_interval", 0.0, "s", Bounds::non_negative());
+  // 0 (the default) stands for the smallest grain diameter, resolved by bed_layer_thickness(model).
+  out.bed_layer_thickness = output.number("bed_layer_thickness", 0.0, "m", Bounds::positive());
+  if (out.bed_profile_interval > 0.0 && model.solids.spheres.empty() && model.solids.initial_state.empty())
+    output.problem("bed_profile_interval", "the bed profile needs grains ([solids] with at least one grain)");
+  else if (out.bed_layer_thickness > 0.0 && model.tank.size.z() / out.bed_layer_thickness > kMaxBedLayers)
+    output.problem("bed_layer_thickness", "more than 1e6 layers over the tank height; use a thicker layer");
+}
+
+}  // namespace riffle
