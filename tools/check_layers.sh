@@ -2,7 +2,9 @@
 # The layering rule of docs/ARCHITECTURE.md, checked on every build: a file may include only its own layer and the
 # layers below it.
 #   components (0) -> systems/physics (1) -> engine/core (2) -> systems/{dem,mps,coupling} (3)
-#   -> engine/{scene,setup,output} (4) -> engine/run (5)
+#   -> engine/output (4) -> engine/{scene,setup} (5) -> engine/run (6)
+# scene and setup share a floor: reading a scene generates its beds and loads its initial grains (setup), and
+# loading initial grains reads the scene embedded in their checkpoint (scene).
 # Within layer 3 the families stay apart: dem and mps never include each other; coupling may include both.
 # Prints every offending include as file:line and exits 1 if there is one.
 #   tools/check_layers.sh [source-dir]
@@ -14,8 +16,9 @@ rank() {
     systems/physics/*) echo 1 ;;
     engine/core/*) echo 2 ;;
     systems/dem/* | systems/mps/* | systems/coupling/*) echo 3 ;;
-    engine/scene/* | engine/setup/* | engine/output/*) echo 4 ;;
-    engine/run/*) echo 5 ;;
+    engine/output/*) echo 4 ;;
+    engine/scene/* | engine/setup/*) echo 5 ;;
+    engine/run/*) echo 6 ;;
     *) echo x ;;
   esac
 }

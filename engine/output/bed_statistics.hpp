@@ -23,7 +23,6 @@
 #include "components/solids.hpp"
 #include "components/model.hpp"
 #include "engine/output/output_series.hpp"
-#include "engine/scene/scene_reader.hpp"
 #include "engine/core/world.hpp"
 
 namespace riffle {

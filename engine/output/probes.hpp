@@ -19,7 +19,6 @@
 
 #include "components/model.hpp"
 #include "engine/output/output_series.hpp"
-#include "engine/scene/scene_reader.hpp"
 #include "engine/core/world.hpp"
 
 namespace riffle {
