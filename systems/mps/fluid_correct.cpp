@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "systems/physics/fluid_pair_batch.hpp"
+#include "systems/physics/hydrostatic.hpp"
 #include "systems/physics/mps_operators.hpp"
 #include "systems/physics/tank_kinematics.hpp"
 
@@ -22,15 +23,15 @@ void FluidCorrect::run(SystemContext& context) {
   const double stabilisation_distance = fluid_.stabilisation_distance();
   // Wall and dummy pressure seen from fluid particle i: hydrostatic in the tank frame (amendment 1), so GC is exact
   // for hydrostatics and the contact line sees p ~ 0.
-  const Vec3 body_acceleration =
-      context.model.gravity - tank_kinematics(context.model.tank.motion, context.time + dt).acceleration;
-  const Vec3 wall_pressure_gradient = rho * body_acceleration;
+  const Vec3 wall_pressure_gradient = hydrostatic_gradient(
+      rho, context.model.gravity, tank_kinematics(context.model.tank.motion, context.time + dt).acceleration);
 
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = particles.predicted_position[i];
     const double pressure = particles.pressure[i];
     const auto partner_pressure = [&](std::uint32_t j, const Vec3& offset) {
-      return particles.kind[j] == kFluidKind ? particles.pressure[j] : pressure + wall_pressure_gradient.dot(offset);
+      return particles.kind[j] == kFluidKind ? particles.pressure[j]
+                                             : hydrostatic_extrapolation(pressure, wall_pressure_gradient, offset);
     };
     // Classic gradient (GC off): p_j - min p over the support, which keeps the pressure force repulsive.
     double base_pressure = pressure;

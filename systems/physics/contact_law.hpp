@@ -212,7 +212,7 @@ struct SpherePairBatch {
   alignas(64) double vjx[kContactBatch], vjy[kContactBatch], vjz[kContactBatch];  // centre velocity of the second
   alignas(64) double wix[kContactBatch], wiy[kContactBatch], wiz[kContactBatch];  // angular velocity of the first
   alignas(64) double wjx[kContactBatch], wjy[kContactBatch], wjz[kContactBatch];  // angular velocity of the second
-  alignas(64) double sx[kContactBatch], sy[kContactBatch], sz[kContactBatch];     // tangential spring (in: old, out: new)
+  alignas(64) double sx[kContactBatch], sy[kContactBatch], sz[kContactBatch];     // tangential spring (in old, out new)
   alignas(64) double ri[kContactBatch], rj[kContactBatch], mi[kContactBatch], mj[kContactBatch];
   // Pair coefficients, as in ContactLaneInput.
   alignas(64) double stiffness_a[kContactBatch], stiffness_b[kContactBatch];
