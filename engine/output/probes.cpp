@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "systems/physics/hydrostatic.hpp"
 #include "systems/physics/mps_kernel.hpp"
 
 namespace riffle {
@@ -58,7 +59,7 @@ double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettin
   const Vec3 sensor = point + tank.displacement;
   // In the tank's frame a fluid at rest has grad p = rho (g - a_tank); carrying each p_j along it to the sensor
   // makes the average exact for a hydrostatic field, and is what lets a sensor outside the fluid (on a wall) read.
-  const Vec3 body_acceleration = settings.gravity - tank.acceleration;
+  const Vec3 gradient = hydrostatic_gradient(settings.density, settings.gravity, tank.acceleration);
   const WendlandKernel kernel{settings.effective_radius};
   const double radius_squared = settings.effective_radius * settings.effective_radius;
   double weighted_sum = 0.0, weight_sum = 0.0;
@@ -67,7 +68,7 @@ double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettin
     const Vec3 offset = sensor - particles.position[j];
     if (offset.squaredNorm() >= radius_squared) continue;
     const double weight = kernel.weight(offset.norm());
-    weighted_sum += weight * (particles.pressure[j] + settings.density * body_acceleration.dot(offset));
+    weighted_sum += weight * hydrostatic_extrapolation(particles.pressure[j], gradient, offset);
     weight_sum += weight;
   }
   return weight_sum > 0.0 ? weighted_sum / weight_sum : kNaN;

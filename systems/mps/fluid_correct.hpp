@@ -21,8 +21,4 @@ class FluidCorrect final : public System {
   MpsConstants constants_;
 };
 
-/// GC matrix C = (D A)^{-1} from the moment sum_j w_ij r_ij r_ij^T / r_ij^2 and n_i = sum_j w_ij, with the inversion
-/// safety of numerics 2.6: the identity when n_i < 0.5 n0, det(D A) < 0.05 or lambda_min(D A) < 0.2.
-Eigen::Matrix3d gradient_correction_matrix(const Eigen::Matrix3d& moment, double density, double reference_density);
-
 }  // namespace riffle

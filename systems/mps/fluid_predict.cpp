@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "systems/physics/fluid_pair_batch.hpp"
+#include "systems/physics/mps_operators.hpp"
 
 namespace riffle {
 
@@ -36,9 +37,9 @@ void FluidPredict::run(SystemContext& context) {
             viscous += weight * relative_velocity;
             if (error_compensation) {
               density += weight;
-              const double pair_share = particles.kind[j] == kFluidKind ? 1.0 : 2.0;
-              rate += pair_share * kernel.derivative_over_distance(pair.distance[k]) *
-                      pair.offset(k).dot(relative_velocity);
+              const double derivative_over_distance = kernel.derivative_over_distance(pair.distance[k]);
+              rate += density_rate_term(particles.kind[j] == kFluidKind, derivative_over_distance, pair.offset(k),
+                                        relative_velocity);
             }
           });
     }

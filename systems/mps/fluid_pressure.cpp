@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "systems/physics/mps_operators.hpp"
+
 namespace riffle {
 
 void FluidPressureSolve::run(SystemContext& context) {
@@ -61,7 +63,7 @@ void FluidPressureSolve::run(SystemContext& context) {
       const bool fluid = particles.kind[j] == kFluidKind;
       if (fluid) {
         // Walls are left out of the Laplacian: zero normal pressure flux (Neumann, amendment 1).
-        const double coefficient = schemes.higher_order_laplacian ? -2.0 * derivative_over_distance
+        const double coefficient = schemes.higher_order_laplacian ? laplacian_coefficient(derivative_over_distance)
                                                                   : classic_coefficient * kernel.weight(distance);
         diagonal += coefficient;
         ++fluid_neighbours;
@@ -72,7 +74,7 @@ void FluidPressureSolve::run(SystemContext& context) {
         }
       }
       if (schemes.higher_order_source)
-        rate += (fluid ? 1.0 : 2.0) * derivative_over_distance * offset.dot(particles.velocity[j] - velocity);
+        rate += density_rate_term(fluid, derivative_over_distance, offset, particles.velocity[j] - velocity);
     }
     double rhs = rho * gamma * (particles.number_density[i] - n0) / (dt * dt);
     if (schemes.higher_order_source) rhs += rho / dt * rate;

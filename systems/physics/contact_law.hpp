@@ -18,6 +18,7 @@
 // (Cundall & Strack 1979). Rolling friction (seed 003 Eq. 20): T = -mu_r R* F_n (w_rel / |w_rel|).
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "components/vec.hpp"
@@ -41,62 +42,198 @@ struct ContactResponse {
   bool sliding = false;
 };
 
-/// Evaluates one contact over a sub-step of length dt and advances its tangential spring.
-inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParameters& pair,
-                                        const ContactGeometry& contact, Vec3& tangential_spring, double dt) {
-  ContactResponse response;
-  const Vec3& n = contact.normal;
-  const double normal_speed = contact.contact_velocity.dot(n);  // < 0 while approaching
-  const Vec3 tangential_velocity = contact.contact_velocity - normal_speed * n;
-  const double overlap = contact.overlap;
-  const double m = contact.effective_mass;
+// The law is written once, as contact_law_lane: straight-line, branch-free code (selects only) on plain doubles, so
+// that the batched kernel (evaluate_sphere_pair_batch, what runs for grain-grain pairs) vectorises it, and the scalar
+// call (evaluate_contact, what runs for grain-wall pairs and in the calibration) is the same code on one contact.
+// The branches of the law become selects with both sides computed (the compiler will not speculate a possibly
+// trapping division into a select); a division by zero on the discarded side yields inf or NaN that is never used.
 
+/// One contact in the law's own terms (one lane of a batch): the geometry, the pair's coefficients and the spring.
+struct ContactLaneInput {
+  double nx, ny, nz;                ///< [1] unit normal, from the first body to the second
+  double overlap;                   ///< [m] > 0 while touching
+  double cvx, cvy, cvz;             ///< [m/s] contact velocity, second surface point minus first
+  double rwx, rwy, rwz;             ///< [rad/s] w_first - w_second (rolling friction)
+  double effective_radius;          ///< [m] R*
+  double effective_mass;            ///< [kg] m*
+  double stiffness_a, stiffness_b;  ///< the pair's normal and tangential stiffness coefficients
+  double damping;                   ///< c (Hertz-Mindlin) or the linear law's D
+  double damping_ratio;             ///< gamma_t / gamma_n
+  double friction, rolling;         ///< mu, mu_r
+  double sx, sy, sz;                ///< [m] tangential spring before this sub-step
+};
+
+struct ContactLaneOutput {
+  double fx, fy, fz;     ///< [N] force on the first body
+  double rtx, rty, rtz;  ///< [N m] rolling torque on the first body (the second gets the negative)
+  double normal_force;   ///< [N] >= 0
+  double sx, sy, sz;     ///< [m] tangential spring after this sub-step
+  bool sliding;
+};
+
+/// Evaluates one contact over a sub-step of length dt and advances its tangential spring. kRolling = false leaves
+/// out rolling friction (exactly zero torque); with kRolling a pair with mu_r = 0 or no relative spin gets 0 * w_rel.
+template <ContactLaw kLaw, bool kRolling>
+[[gnu::always_inline]] inline ContactLaneOutput contact_law_lane(const ContactLaneInput& in, double dt) {
+  const double nx = in.nx, ny = in.ny, nz = in.nz;
+  const double overlap = in.overlap;
+  const double normal_speed = in.cvx * nx + in.cvy * ny + in.cvz * nz;  // < 0 while approaching
+  const double vtx = in.cvx - normal_speed * nx, vty = in.cvy - normal_speed * ny, vtz = in.cvz - normal_speed * nz;
   double normal_stiffness, normal_damping, tangential_stiffness;
-  if (law == ContactLaw::kHertzMindlin) {
-    const double root = std::sqrt(contact.effective_radius * overlap);  // sqrt(R* d)
-    normal_stiffness = pair.normal_stiffness_coefficient * root;
+  if constexpr (kLaw == ContactLaw::kHertzMindlin) {
+    const double root = std::sqrt(in.effective_radius * overlap);  // sqrt(R* d)
+    normal_stiffness = in.stiffness_a * root;
     // gamma_n = c sqrt(k_n(d) m*): the scaling in which c alone sets the restitution, whatever the speed.
-    normal_damping = pair.damping * std::sqrt(normal_stiffness * m);
-    tangential_stiffness = pair.tangential_stiffness_coefficient * root;
+    normal_damping = in.damping * std::sqrt(normal_stiffness * in.effective_mass);
+    tangential_stiffness = in.stiffness_b * root;
   } else {
-    normal_stiffness = pair.normal_stiffness_coefficient * m;
-    normal_damping = pair.normal_damping_coefficient * m;
-    tangential_stiffness = pair.tangential_stiffness_coefficient * normal_stiffness;
+    normal_stiffness = in.stiffness_a * in.effective_mass;
+    normal_damping = in.damping * in.effective_mass;  // the linear law's D
+    tangential_stiffness = in.stiffness_b * normal_stiffness;
   }
-  const double tangential_damping = pair.tangential_damping_ratio * normal_damping;
+  const double tangential_damping = in.damping_ratio * normal_damping;
   const double normal_force = std::max(0.0, normal_stiffness * overlap - normal_damping * normal_speed);
 
-  // Keep the spring in the current tangent plane, with its length (the contact frame rotates with the pair).
-  Vec3 spring = tangential_spring;
-  const double out_of_plane = spring.dot(n);
-  if (out_of_plane != 0.0) {
-    const double length_squared = spring.squaredNorm();
-    spring -= out_of_plane * n;
-    const double projected_squared = spring.squaredNorm();
-    if (projected_squared > 0.0) spring *= std::sqrt(length_squared / projected_squared);
-  }
-  spring += dt * tangential_velocity;
+  // Keep the spring in the current tangent plane, with its length (the contact frame rotates with the pair). With
+  // no out-of-plane part this is an exact identity (the ratio of equal squared lengths is 1).
+  double spring_x = in.sx, spring_y = in.sy, spring_z = in.sz;
+  const double out_of_plane = spring_x * nx + spring_y * ny + spring_z * nz;
+  const double length_squared = spring_x * spring_x + spring_y * spring_y + spring_z * spring_z;
+  spring_x -= out_of_plane * nx;
+  spring_y -= out_of_plane * ny;
+  spring_z -= out_of_plane * nz;
+  const double projected_squared = spring_x * spring_x + spring_y * spring_y + spring_z * spring_z;
+  const double keep_length_any = std::sqrt(length_squared / projected_squared);
+  const double keep_length = projected_squared > 0.0 ? keep_length_any : 1.0;
+  spring_x = spring_x * keep_length + dt * vtx;
+  spring_y = spring_y * keep_length + dt * vty;
+  spring_z = spring_z * keep_length + dt * vtz;
 
-  Vec3 tangential_force = tangential_stiffness * spring + tangential_damping * tangential_velocity;
-  const double friction_limit = pair.friction * normal_force;
-  const double tangential_squared = tangential_force.squaredNorm();
-  if (tangential_squared > friction_limit * friction_limit) {
-    response.sliding = true;
-    tangential_force *= friction_limit / std::sqrt(tangential_squared);
-    spring = tangential_stiffness > 0.0 ? Vec3(tangential_force / tangential_stiffness) : Vec3::Zero();
-  }
-  tangential_spring = spring;
-  response.normal_force = normal_force;
-  response.force_on_first = -normal_force * n + tangential_force;
+  double ftx = tangential_stiffness * spring_x + tangential_damping * vtx;
+  double fty = tangential_stiffness * spring_y + tangential_damping * vty;
+  double ftz = tangential_stiffness * spring_z + tangential_damping * vtz;
+  const double friction_limit = in.friction * normal_force;
+  const double tangential_squared = ftx * ftx + fty * fty + ftz * ftz;
+  // Coulomb: when sliding, scale the force to mu F_n and reset the spring to carry it alone.
+  const bool sliding = tangential_squared > friction_limit * friction_limit;
+  const double slide_scale_any = friction_limit / std::sqrt(tangential_squared);
+  const double slide_scale = sliding ? slide_scale_any : 1.0;
+  ftx *= slide_scale;
+  fty *= slide_scale;
+  ftz *= slide_scale;
+  const bool stiff = tangential_stiffness > 0.0;
+  const double reset_x = ftx / tangential_stiffness, reset_y = fty / tangential_stiffness,
+               reset_z = ftz / tangential_stiffness;
 
-  if (pair.rolling_friction > 0.0) {
-    const double spin = contact.relative_angular_velocity.norm();
-    if (spin > 0.0)
-      response.rolling_torque_on_first = -pair.rolling_friction * contact.effective_radius * normal_force / spin *
-                                         contact.relative_angular_velocity;
+  ContactLaneOutput out;
+  out.sx = sliding ? (stiff ? reset_x : 0.0) : spring_x;
+  out.sy = sliding ? (stiff ? reset_y : 0.0) : spring_y;
+  out.sz = sliding ? (stiff ? reset_z : 0.0) : spring_z;
+  out.fx = ftx - normal_force * nx;
+  out.fy = fty - normal_force * ny;
+  out.fz = ftz - normal_force * nz;
+  out.normal_force = normal_force;
+  out.sliding = sliding;
+
+  // Rolling friction, T = -mu_r R* F_n w_rel / |w_rel| (a square root and a division per pair, skipped when no
+  // material pair has mu_r).
+  out.rtx = out.rty = out.rtz = 0.0;
+  if constexpr (kRolling) {
+    const double spin = std::sqrt(in.rwx * in.rwx + in.rwy * in.rwy + in.rwz * in.rwz);
+    const double rolling_scale_any = -in.rolling * in.effective_radius * normal_force / spin;
+    const double rolling_scale = ((in.rolling > 0.0) & (spin > 0.0)) ? rolling_scale_any : 0.0;
+    out.rtx = rolling_scale * in.rwx;
+    out.rty = rolling_scale * in.rwy;
+    out.rtz = rolling_scale * in.rwz;
   }
+  return out;
+}
+
+/// The lane's damping input: c for Hertz-Mindlin, the linear law's D.
+inline double lane_damping(ContactLaw law, const ContactPairParameters& pair) {
+  return law == ContactLaw::kHertzMindlin ? pair.damping : pair.normal_damping_coefficient;
+}
+
+/// The lane's inputs for `contact` with `pair`'s coefficients and `spring` under `law`.
+inline ContactLaneInput contact_lane_input(ContactLaw law, const ContactPairParameters& pair,
+                                           const ContactGeometry& contact, const Vec3& spring) {
+  ContactLaneInput in;
+  in.nx = contact.normal.x();
+  in.ny = contact.normal.y();
+  in.nz = contact.normal.z();
+  in.overlap = contact.overlap;
+  in.cvx = contact.contact_velocity.x();
+  in.cvy = contact.contact_velocity.y();
+  in.cvz = contact.contact_velocity.z();
+  in.rwx = contact.relative_angular_velocity.x();
+  in.rwy = contact.relative_angular_velocity.y();
+  in.rwz = contact.relative_angular_velocity.z();
+  in.effective_radius = contact.effective_radius;
+  in.effective_mass = contact.effective_mass;
+  in.stiffness_a = pair.normal_stiffness_coefficient;
+  in.stiffness_b = pair.tangential_stiffness_coefficient;
+  in.damping = lane_damping(law, pair);
+  in.damping_ratio = pair.tangential_damping_ratio;
+  in.friction = pair.friction;
+  in.rolling = pair.rolling_friction;
+  in.sx = spring.x();
+  in.sy = spring.y();
+  in.sz = spring.z();
+  return in;
+}
+
+/// Evaluates one contact over a sub-step of length dt and advances its tangential spring: contact_law_lane on one
+/// contact (rolling friction only where the pair has mu_r).
+inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParameters& pair,
+                                        const ContactGeometry& contact, Vec3& tangential_spring, double dt) {
+  const ContactLaneInput in = contact_lane_input(law, pair, contact, tangential_spring);
+  const bool rolling = pair.rolling_friction > 0.0;
+  const ContactLaneOutput out =
+      law == ContactLaw::kHertzMindlin
+          ? (rolling ? contact_law_lane<ContactLaw::kHertzMindlin, true>(in, dt)
+                     : contact_law_lane<ContactLaw::kHertzMindlin, false>(in, dt))
+          : (rolling ? contact_law_lane<ContactLaw::kLinearSpringDashpot, true>(in, dt)
+                     : contact_law_lane<ContactLaw::kLinearSpringDashpot, false>(in, dt));
+  tangential_spring = Vec3(out.sx, out.sy, out.sz);
+  ContactResponse response;
+  response.force_on_first = Vec3(out.fx, out.fy, out.fz);
+  response.rolling_torque_on_first = Vec3(out.rtx, out.rty, out.rtz);
+  response.normal_force = out.normal_force;
+  response.sliding = out.sliding;
   return response;
 }
+
+/// Touching sphere pairs in structure-of-arrays form, evaluated together by evaluate_sphere_pair_batch.
+constexpr std::size_t kContactBatch = 64;
+struct SpherePairBatch {
+  // Inputs.
+  alignas(64) double dx[kContactBatch], dy[kContactBatch], dz[kContactBatch];     // centre line, first to second
+  alignas(64) double vix[kContactBatch], viy[kContactBatch], viz[kContactBatch];  // centre velocity of the first
+  alignas(64) double vjx[kContactBatch], vjy[kContactBatch], vjz[kContactBatch];  // centre velocity of the second
+  alignas(64) double wix[kContactBatch], wiy[kContactBatch], wiz[kContactBatch];  // angular velocity of the first
+  alignas(64) double wjx[kContactBatch], wjy[kContactBatch], wjz[kContactBatch];  // angular velocity of the second
+  alignas(64) double sx[kContactBatch], sy[kContactBatch], sz[kContactBatch];     // tangential spring (in old, out new)
+  alignas(64) double ri[kContactBatch], rj[kContactBatch], mi[kContactBatch], mj[kContactBatch];
+  // Pair coefficients, as in ContactLaneInput.
+  alignas(64) double stiffness_a[kContactBatch], stiffness_b[kContactBatch];
+  alignas(64) double damping[kContactBatch], damping_ratio[kContactBatch];
+  alignas(64) double friction[kContactBatch], rolling[kContactBatch];
+  // Outputs.
+  alignas(64) double overlap[kContactBatch];
+  alignas(64) double fx[kContactBatch], fy[kContactBatch], fz[kContactBatch];     // force on the first
+  alignas(64) double tix[kContactBatch], tiy[kContactBatch], tiz[kContactBatch];  // torque on the first
+  alignas(64) double tjx[kContactBatch], tjy[kContactBatch], tjz[kContactBatch];  // torque on the second
+  // The caller's bookkeeping, carried along and not read by the kernel.
+  std::uint32_t pair[kContactBatch];
+  std::uint32_t first[kContactBatch];
+  std::uint32_t second[kContactBatch];
+  std::size_t count = 0;
+};
+
+/// Evaluates the first b.count pairs of `b` (sphere i first, sphere j second, touching and at distinct centres):
+/// contact geometry from the centres, contact_law_lane, and the torques about each centre (lever arms R_i n and
+/// -R_j n) plus rolling friction. `rolling`: whether any pair may have mu_r > 0 (false skips that term).
+void evaluate_sphere_pair_batch(SpherePairBatch& b, ContactLaw law, bool rolling, double dt);
 
 /// Fills the derived coefficients of `pair` from its moduli, damping and restitution (call after those are set).
 void prepare_contact_pair(ContactPairParameters& pair, ContactLaw law, double collision_time);

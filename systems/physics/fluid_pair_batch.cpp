@@ -14,17 +14,14 @@ namespace riffle {
 #endif
 
 RIFFLE_PAIR_KERNEL_CLONES void evaluate_pair_geometry(FluidPairBatch& batch, const WendlandKernel& kernel) {
-  const double effective_radius = kernel.effective_radius;
-  const double inverse_radius = kernel.inverse_radius;
+  const WendlandKernel local = kernel;  // by value: the batch stores cannot alias it
+  const double effective_radius = local.effective_radius;
   const std::size_t count = batch.count;
   for (std::size_t k = 0; k < count; ++k) {
     const double distance_squared = batch.distance_squared[k];
     const double distance = std::sqrt(distance_squared);
-    // WendlandKernel::weight, restated branch-free: keep the two in step.
-    const double q = distance * inverse_radius;
-    const double one_minus = 1.0 - q;
-    const double squared = one_minus * one_minus;
-    const double weight = squared * squared * (1.0 + 4.0 * q);
+    // WendlandKernel::weight with its clip at r_e as a select.
+    const double weight = local.weight_inside(distance);
     batch.distance[k] = distance;
     batch.inverse_squared[k] = 1.0 / distance_squared;
     batch.weight[k] = distance >= effective_radius ? 0.0 : weight;

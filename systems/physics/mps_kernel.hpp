@@ -18,6 +18,10 @@ struct WendlandKernel {
   /// w(r) [1]
   double weight(double distance) const {
     if (distance >= effective_radius) return 0.0;
+    return weight_inside(distance);
+  }
+  /// (1 - q)^4 (1 + 4 q), q = r / r_e: w(r) for r < r_e, unclipped (branch-free, for the batched pair loops).
+  double weight_inside(double distance) const {
     const double q = distance * inverse_radius;
     const double one_minus = 1.0 - q;
     const double squared = one_minus * one_minus;

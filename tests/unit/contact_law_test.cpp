@@ -375,3 +375,93 @@ TEST_CASE("a dashpot beyond its explicit stability limit creates energy: e = 0.0
   CHECK(worst_restitution_error(ContactLaw::kLinearSpringDashpot, pair, 1.25e-3, 4.3e-5, 3.9, kCollisionTime / 64.0) <
         0.01);
 }
+
+namespace {
+
+/// One sphere pair for evaluate_sphere_pair_batch: centres, velocities, spins, radii, masses and a spring.
+struct SpherePair {
+  Vec3 centre_line, velocity_i, velocity_j, spin_i, spin_j, spring;
+  double radius_i, radius_j, mass_i, mass_j;
+};
+
+SpherePair sphere_pair(int k) {
+  // Varied per k so that neighbouring lanes of the vectorised loop differ in every input.
+  const double s = 1.0 + 0.1 * k;
+  SpherePair pair;
+  pair.radius_i = 2.5e-3 * (1.0 + 0.01 * k);
+  pair.radius_j = 1.5e-3 * (1.0 + 0.02 * k);
+  pair.mass_i = 8.0e-5 * s;
+  pair.mass_j = 3.0e-5 / s;
+  const double distance = (pair.radius_i + pair.radius_j) * (1.0 - 1e-3 * (1 + k % 7));  // touching
+  pair.centre_line = distance * Vec3(1.0, 2.0 - 0.05 * k, 2.0 + 0.03 * k).normalized();
+  pair.velocity_i = Vec3(0.02 * s, -0.01, 0.03);
+  pair.velocity_j = Vec3(-0.05, 0.01 * k, -0.02 * s);
+  pair.spin_i = Vec3(3.0, -1.0 * s, 2.0);
+  pair.spin_j = Vec3(-1.0, 0.5, 0.1 * k);
+  pair.spring = Vec3(2.0, -1.0, 0.3 * (k % 3)) * 1e-8 * s;  // partly out of the tangent plane
+  return pair;
+}
+
+void put(SpherePairBatch& batch, std::size_t p, const SpherePair& pair, const ContactPairParameters& coefficients,
+         ContactLaw law) {
+  batch.dx[p] = pair.centre_line.x(), batch.dy[p] = pair.centre_line.y(), batch.dz[p] = pair.centre_line.z();
+  batch.vix[p] = pair.velocity_i.x(), batch.viy[p] = pair.velocity_i.y(), batch.viz[p] = pair.velocity_i.z();
+  batch.vjx[p] = pair.velocity_j.x(), batch.vjy[p] = pair.velocity_j.y(), batch.vjz[p] = pair.velocity_j.z();
+  batch.wix[p] = pair.spin_i.x(), batch.wiy[p] = pair.spin_i.y(), batch.wiz[p] = pair.spin_i.z();
+  batch.wjx[p] = pair.spin_j.x(), batch.wjy[p] = pair.spin_j.y(), batch.wjz[p] = pair.spin_j.z();
+  batch.sx[p] = pair.spring.x(), batch.sy[p] = pair.spring.y(), batch.sz[p] = pair.spring.z();
+  batch.ri[p] = pair.radius_i, batch.rj[p] = pair.radius_j, batch.mi[p] = pair.mass_i, batch.mj[p] = pair.mass_j;
+  batch.stiffness_a[p] = coefficients.normal_stiffness_coefficient;
+  batch.stiffness_b[p] = coefficients.tangential_stiffness_coefficient;
+  batch.damping[p] = lane_damping(law, coefficients);
+  batch.damping_ratio[p] = coefficients.tangential_damping_ratio;
+  batch.friction[p] = coefficients.friction;
+  batch.rolling[p] = coefficients.rolling_friction;
+}
+
+}  // namespace
+
+TEST_CASE("the batched sphere-pair kernel is evaluate_contact on the pair's geometry, lane by lane, with its torques") {
+  // evaluate_sphere_pair_batch is what runs for grain-grain pairs: per pair it must give what evaluate_contact gives
+  // for the geometry written out here by hand (normal along the centre line, lever arms R_i n and -R_j n), bit for
+  // bit, whatever the pair's place in the batch (a full batch and a ragged one), sliding or sticking.
+  for (ContactLaw law : kLaws)
+    for (double friction : {50.0, 1e-3})  // sticks, slides
+      for (bool rolling : {false, true})
+        for (std::size_t count : {std::size_t{1}, std::size_t{7}, kContactBatch}) {
+          INFO(name_of(law) << ", mu " << friction << ", rolling " << rolling << ", " << count << " pairs");
+          const ContactPairParameters coefficients = pair_parameters(law, 0.5, friction, rolling ? 0.05 : 0.0);
+          SpherePairBatch batch;
+          batch.count = count;
+          for (std::size_t p = 0; p < count; ++p) put(batch, p, sphere_pair(static_cast<int>(p)), coefficients, law);
+          evaluate_sphere_pair_batch(batch, law, rolling, kDt);
+          int slid = 0;
+          for (std::size_t p = 0; p < count; ++p) {
+            const SpherePair pair = sphere_pair(static_cast<int>(p));
+            const double distance = pair.centre_line.norm();
+            ContactGeometry geometry;
+            geometry.normal = Vec3(pair.centre_line.x() / distance, pair.centre_line.y() / distance,
+                                   pair.centre_line.z() / distance);
+            geometry.overlap = (pair.radius_i + pair.radius_j) - distance;
+            const Vec3 arm_i = pair.radius_i * geometry.normal, arm_j = -pair.radius_j * geometry.normal;
+            geometry.contact_velocity =
+                (pair.velocity_j + pair.spin_j.cross(arm_j)) - (pair.velocity_i + pair.spin_i.cross(arm_i));
+            geometry.relative_angular_velocity = pair.spin_i - pair.spin_j;
+            geometry.effective_radius = pair.radius_i * pair.radius_j / (pair.radius_i + pair.radius_j);
+            geometry.effective_mass = pair.mass_i * pair.mass_j / (pair.mass_i + pair.mass_j);
+            Vec3 spring = pair.spring;
+            const ContactResponse expected = evaluate_contact(law, coefficients, geometry, spring, kDt);
+            slid += expected.sliding;
+            CHECK(batch.overlap[p] == geometry.overlap);
+            CHECK(Vec3(batch.sx[p], batch.sy[p], batch.sz[p]) == spring);
+            CHECK(Vec3(batch.fx[p], batch.fy[p], batch.fz[p]) == expected.force_on_first);
+            CHECK(Vec3(batch.tix[p], batch.tiy[p], batch.tiz[p]) ==
+                  arm_i.cross(expected.force_on_first) + expected.rolling_torque_on_first);
+            CHECK(Vec3(batch.tjx[p], batch.tjy[p], batch.tjz[p]) ==
+                  (pair.radius_j * geometry.normal).cross(expected.force_on_first) -
+                      expected.rolling_torque_on_first);
+            if (rolling) CHECK(expected.rolling_torque_on_first.norm() > 0.0);
+          }
+          CHECK(slid == (friction < 1.0 ? static_cast<int>(count) : 0));  // both regimes were exercised
+        }
+}

@@ -1,9 +1,14 @@
-// MPS operators on a cubic lattice patch and on a perturbed one, against closed forms (numerics.md Sec. 2).
+// MPS operators on a cubic lattice patch and on a perturbed one, against closed forms (numerics.md Sec. 2). The
+// per-pair terms and closures are the functions the fluid systems call (systems/physics/mps_operators.hpp), summed
+// here over the pair geometry of systems/physics/fluid_pair_batch.hpp as the systems' pair loops sum them.
 #include <doctest/doctest.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <random>
+#include <vector>
 
+#include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/mps_operators.hpp"
 
 using namespace riffle;
@@ -35,8 +40,30 @@ Patch lattice_patch(int n, double jitter, unsigned seed) {
   return patch;
 }
 
-NeighbourSpan span(const Patch& patch) {
-  return {patch.centre_neighbours.data(), patch.centre_neighbours.data() + patch.centre_neighbours.size()};
+/// Calls pair(batch, k) for each neighbour of the patch centre within r_e, as the fluid systems' pair loops do.
+template <class Pair>
+void for_each_centre_pair(const Patch& patch, const WendlandKernel& kernel, Pair&& pair) {
+  FluidPairBatch batch;
+  const NeighbourRange list{patch.centre_neighbours.data(),
+                            patch.centre_neighbours.data() + patch.centre_neighbours.size()};
+  for_each_pair_within(
+      list, kernel.effective_radius * kernel.effective_radius, kernel, batch,
+      [&](std::uint32_t j) -> Vec3 { return patch.positions[j] - patch.positions[0]; }, pair);
+}
+
+/// The GC gradient of `values` at the patch centre, as fluid_correct forms it.
+Vec3 corrected_gradient(const Patch& patch, const std::vector<double>& values, const WendlandKernel& kernel,
+                        double n0, Eigen::Matrix3d* correction = nullptr) {
+  GradientMoment moment;
+  Vec3 sum = Vec3::Zero();
+  for_each_centre_pair(patch, kernel, [&](const FluidPairBatch& pair, std::size_t k) {
+    const double weight_over_squared = pair.weight[k] * pair.inverse_squared[k];
+    sum += gradient_term(values[pair.slot[k]] - values[0], weight_over_squared, pair.offset(k));
+    moment.add(pair.weight[k], weight_over_squared, pair.offset(k));
+  });
+  const Eigen::Matrix3d matrix = gradient_correction_matrix(moment, n0);
+  if (correction) *correction = matrix;
+  return matrix * ((3.0 / n0) * sum);
 }
 
 }  // namespace
@@ -45,27 +72,39 @@ TEST_CASE("number density of the lattice centre is n0") {
   const WendlandKernel kernel{kRadius};
   const Patch patch = lattice_patch(3, 0.0, 1);
   const LatticeConstants constants = lattice_constants(3, kSpacing, kRadius);
-  CHECK(number_density(Vec3::Zero(), patch.positions, span(patch), kernel) ==
-        doctest::Approx(constants.number_density).epsilon(1e-12));
-  CHECK(static_cast<std::int64_t>(patch.centre_neighbours.size()) == constants.neighbour_count);
+  double density = 0.0;
+  std::int64_t count = 0;
+  for_each_centre_pair(patch, kernel, [&](const FluidPairBatch& pair, std::size_t k) {
+    density += pair.weight[k];
+    ++count;
+  });
+  CHECK(density == doctest::Approx(constants.number_density).epsilon(1e-12));
+  CHECK(count == constants.neighbour_count);
 }
 
 TEST_CASE("HS divergence and HL Laplacian carry the same lattice bias, so it cancels in the PPE") {
   const WendlandKernel kernel{kRadius};
   const Patch patch = lattice_patch(3, 0.0, 1);
   const LatticeConstants constants = lattice_constants(3, kSpacing, kRadius);
-  // u = x: div u = 3; (1/n0) Dn/Dt = -bias * div u.
-  std::vector<Vec3> velocities = patch.positions;
-  const double rate = number_density_rate(Vec3::Zero(), Vec3::Zero(), patch.positions, velocities, span(patch), kernel);
-  CHECK(rate / constants.number_density == doctest::Approx(-3.0 * constants.operator_bias).epsilon(1e-12));
-  // p = |x|^2: lap p = 6, times the same bias.
-  std::vector<double> values;
-  for (const Vec3& x : patch.positions) values.push_back(x.squaredNorm());
-  CHECK(laplacian(Vec3::Zero(), 0.0, patch.positions, values, span(patch), kernel, constants.number_density) ==
-        doctest::Approx(6.0 * constants.operator_bias).epsilon(1e-12));
-  // A constant field has zero Laplacian and zero gradient whatever the arrangement.
-  std::vector<double> constant(patch.positions.size(), 7.0);
-  CHECK(laplacian(Vec3::Zero(), 7.0, patch.positions, constant, span(patch), kernel, constants.number_density) == 0.0);
+  const double n0 = constants.number_density;
+  // u = x: div u = 3; (1/n0) Dn/Dt = -bias * div u. p = |x|^2: lap p = 6, times the same bias.
+  double rate = 0.0, laplacian = 0.0, linear_laplacian = 0.0;
+  for_each_centre_pair(patch, kernel, [&](const FluidPairBatch& pair, std::size_t k) {
+    const Vec3& x = patch.positions[pair.slot[k]];
+    const double derivative_over_distance = kernel.derivative_over_distance(pair.distance[k]);
+    rate += density_rate_term(true, derivative_over_distance, pair.offset(k), x);
+    laplacian += laplacian_coefficient(derivative_over_distance) * x.squaredNorm();
+    linear_laplacian += laplacian_coefficient(derivative_over_distance) * Vec3(1200.0, -300.0, 9810.0).dot(x);
+  });
+  CHECK(rate / n0 == doctest::Approx(-3.0 * constants.operator_bias).epsilon(1e-12));
+  CHECK(laplacian / n0 == doctest::Approx(6.0 * constants.operator_bias).epsilon(1e-12));
+  // A linear field has zero Laplacian on the lattice (its terms cancel in symmetric pairs): 1e-9 of one term's size.
+  CHECK(std::abs(linear_laplacian / n0) < 1e-9 * 9810.0 / kSpacing);
+  // A wall neighbour stands for itself and its mirror image: twice a fluid one's term.
+  const Vec3 offset(0.3 * kSpacing, -0.2 * kSpacing, 0.9 * kSpacing), velocity(0.1, 0.2, -0.3);
+  const double derivative_over_distance = kernel.derivative_over_distance(offset.norm());
+  CHECK(density_rate_term(false, derivative_over_distance, offset, velocity) ==
+        2.0 * density_rate_term(true, derivative_over_distance, offset, velocity));
 }
 
 TEST_CASE("the corrected gradient is exact for linear fields, on the lattice and on a jittered arrangement") {
@@ -77,10 +116,10 @@ TEST_CASE("the corrected gradient is exact for linear fields, on the lattice and
     const Patch patch = lattice_patch(4, jitter, 7);
     std::vector<double> pressure;
     for (const Vec3& x : patch.positions) pressure.push_back(101325.0 + slope.dot(x));
-    const Eigen::Matrix3d correction = gradient_correction(Vec3::Zero(), patch.positions, span(patch), kernel, n0);
+    Eigen::Matrix3d correction;
+    const Vec3 gradient = corrected_gradient(patch, pressure, kernel, n0, &correction);
     if (jitter == 0.0) CHECK((correction - Eigen::Matrix3d::Identity()).norm() < 1e-12);
-    const Vec3 gradient = corrected_gradient(Vec3::Zero(), pressure[0], correction, patch.positions, pressure,
-                                             span(patch), kernel, n0);
+    if (jitter > 0.0) CHECK(correction != Eigen::Matrix3d::Identity());  // the correction did act
     CHECK((gradient - slope).norm() < 1e-9 * slope.norm());
   }
 }
@@ -95,7 +134,39 @@ TEST_CASE("the gradient correction falls back to the identity for a one-sided, f
       if (i != 0 || j != 0) patch.positions.push_back(kSpacing * Vec3(i, j, 0.0));  // a plane: A is singular in z
   for (std::uint32_t k = 1; k < patch.positions.size(); ++k)
     if (patch.positions[k].norm() < kRadius) patch.centre_neighbours.push_back(k);
-  CHECK(gradient_correction(Vec3::Zero(), patch.positions, span(patch), kernel, n0) == Eigen::Matrix3d::Identity());
+  Eigen::Matrix3d correction;
+  corrected_gradient(patch, std::vector<double>(patch.positions.size(), 0.0), kernel, n0, &correction);
+  CHECK(correction == Eigen::Matrix3d::Identity());
+}
+
+TEST_CASE("the Gershgorin shortcut of the gradient correction decides as the eigenvalue test would") {
+  // Random symmetric moments around the lattice's (D A = I): the result is the inverse of D A exactly where
+  // n >= 0.5 n0, det(D A) >= 0.05 and lambda_min(D A) >= 0.2, and the identity elsewhere.
+  const double n0 = 100.0;
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> entry(-0.6, 0.6);
+  int inverted = 0, identity = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    GradientMoment moment;
+    const double scale = n0 / 3.0;  // D A = (3 / n0) moment
+    moment.xx = scale * (1.0 + entry(random));
+    moment.yy = scale * (1.0 + entry(random));
+    moment.zz = scale * (1.0 + entry(random));
+    moment.xy = scale * 0.5 * entry(random);
+    moment.xz = scale * 0.5 * entry(random);
+    moment.yz = scale * 0.5 * entry(random);
+    moment.density = n0 * (trial % 10 == 0 ? 0.4 : 1.0);
+    const Eigen::Matrix3d scaled = (3.0 / n0) * moment.matrix();
+    const double smallest =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scaled, Eigen::EigenvaluesOnly).eigenvalues()[0];
+    const bool invert = moment.density >= 0.5 * n0 && scaled.determinant() >= 0.05 && smallest >= 0.2;
+    const Eigen::Matrix3d result = gradient_correction_matrix(moment, n0);
+    if (invert) CHECK((result * scaled - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+    else CHECK(result == Eigen::Matrix3d::Identity());
+    (invert ? inverted : identity) += 1;
+  }
+  CHECK(inverted > 100);  // both outcomes were exercised
+  CHECK(identity > 100);
 }
 
 TEST_CASE("dynamic stabilisation pushes particles that came too close apart, and leaves others alone") {
@@ -103,10 +174,16 @@ TEST_CASE("dynamic stabilisation pushes particles that came too close apart, and
   const double n0 = lattice_constants(3, kSpacing, kRadius).number_density;
   const double dt = 1e-3;
   const double closest = 0.9 * kSpacing;  // alpha_DS l0 with C_r = 0.1
-  const std::vector<Vec3> positions = {Vec3::Zero(), Vec3(0.7 * kSpacing, 0.0, 0.0), Vec3(0.0, kSpacing, 0.0)};
-  const std::vector<std::uint32_t> neighbours = {1, 2};
-  const Vec3 push = stabilisation_velocity(Vec3::Zero(), positions, {neighbours.data(), neighbours.data() + 2}, kernel,
-                                           n0, closest, 0.5, dt);
+  Patch patch;
+  patch.positions = {Vec3::Zero(), Vec3(0.7 * kSpacing, 0.0, 0.0), Vec3(0.0, kSpacing, 0.0)};
+  patch.centre_neighbours = {1, 2};
+  Vec3 stabilisation = Vec3::Zero();
+  for_each_centre_pair(patch, kernel, [&](const FluidPairBatch& pair, std::size_t k) {
+    if (pair.distance[k] < closest)
+      stabilisation += stabilisation_term(0.5, closest, pair.distance[k], pair.weight[k] * pair.inverse_squared[k],
+                                          pair.offset(k));
+  });
+  const Vec3 push = stabilisation / (n0 * dt);  // as fluid_correct adds it to the velocity
   // Away from the close partner along -x; the partner at exactly l0 > 0.9 l0 contributes nothing.
   CHECK(push.x() < 0.0);
   CHECK(push.y() == 0.0);
