@@ -7,8 +7,8 @@
 // cycle is an error.
 //
 // The list may be cut into named phases ("step_start", "step", ...). Phases only label the timers and the graph
-// dump, and each phase's wall time is measured (first start to last end): the edges run across phases exactly as
-// within one, so a system of a later phase starts as soon as what it touches is done.
+// dump, and each phase's wall time is measured (phase_spans): the edges run across phases exactly as within one,
+// so a system of a later phase starts as soon as what it touches is done.
 #include <tbb/flow_graph.h>
 
 #include <memory>
@@ -76,8 +76,10 @@ class Scheduler {
   const std::string& phase_of(std::size_t index) const { return phases_[phase_index_[index]].name; }
   /// Per-system timers, phase = the system's phase.
   const std::vector<SystemTimer>& timers() const { return timers_; }
-  /// Wall time of each phase that has systems, one call per run: from the start of its first system to the end of
-  /// its last (name = the phase, phase = "span"). Phases that overlap others add up to more than the run.
+  /// Wall time of each phase that has systems, one call per run (name = the phase, phase = "span"): from the start
+  /// of its first system, or from the end of the earlier phases' last system if that is later, to the end of its
+  /// own last system. Phases that overlap later ones (the fluid beside the grains' loop) add up to more than the
+  /// run.
   const std::vector<SystemTimer>& phase_spans() const { return spans_; }
   const std::string& name() const { return name_; }
 
@@ -109,7 +111,10 @@ class Scheduler {
 
   double time_ = 0.0;
   double dt_ = 0.0;
-  tbb::flow::graph graph_;
+  /// Isolated: a graph run inside another graph's node (the sub-step loop) is not cancelled half way by a failure
+  /// beside it, and never inherits a cancellation into its next run; the loop itself stops between sub-steps.
+  tbb::task_group_context context_{tbb::task_group_context::isolated};
+  tbb::flow::graph graph_{context_};
   std::unique_ptr<tbb::flow::broadcast_node<tbb::flow::continue_msg>> start_;
   std::vector<std::unique_ptr<tbb::flow::continue_node<tbb::flow::continue_msg>>> nodes_;
 };

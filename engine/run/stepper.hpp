@@ -42,9 +42,9 @@ class Stepper {
 
   /// Timers of every system, by phase: step_start, step, solid_step, substep, end_of_step.
   std::vector<SystemTimer> timers() const;
-  /// Wall time of each branch of the step (phase "branch"): the fluid's systems (first start to last end), the
-  /// grains' sub-step loop, the end-of-step systems (first start to last end). Branches that run side by side add
-  /// up to more than the stepping time. A branch the scene does not have has no calls.
+  /// Wall time of each branch of the step (phase "branch"): the fluid's systems (after the step-start copies), the
+  /// grains' sub-step loop, the end-of-step systems once both branches are done (Scheduler::phase_spans). The first
+  /// two run side by side and add up to more than the stepping time. A branch the scene does not have has no calls.
   std::vector<SystemTimer> branch_timers() const;
   /// True if the graph has no path between the fluid's systems and the grains' sub-step loop: they may run beside
   /// each other.

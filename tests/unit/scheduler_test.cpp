@@ -7,6 +7,7 @@
 #include <chrono>
 #include <functional>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "engine/setup/initial_state.hpp"
@@ -190,6 +191,7 @@ struct ProbeStep {
   std::vector<double> substep_times;
   std::int64_t substeps = 3;
   bool stop = false;
+  int throw_at_substep = -1;  ///< the sub-step whose push_grains throws; -1: none
   std::unique_ptr<Scheduler> graph;
 
   ProbeStep(World& world, const Model& model, ComponentId fluid_component) {
@@ -203,7 +205,11 @@ struct ProbeStep {
         "substep",
         systems_of({ProbeSystem("move_walls", {{}, {kWallsId}}, count(substep_runs)),
                     ProbeSystem("push_grains", {{kWallsId}, {kSolidsId}},
-                                [this](SystemContext& context) { substep_times.push_back(context.time); })}),
+                                [this](SystemContext& context) {
+                                  if (static_cast<int>(substep_times.size()) == throw_at_substep)
+                                    throw std::runtime_error("a grain blew up");
+                                  substep_times.push_back(context.time);
+                                })}),
         world, model);
     std::vector<std::unique_ptr<System>> loop;
     loop.push_back(std::make_unique<SubstepLoop>(
@@ -381,4 +387,22 @@ TEST_CASE("cycles, duplicate names, unknown run_after and missing components are
     CHECK_THROWS_WITH_AS(Scheduler("test", systems_of({ProbeSystem("a", {{kSolidsId}, {}}, nothing)}), world, model),
                          doctest::Contains("which this scene does not have"), SchedulerError);
   }
+}
+
+TEST_CASE("an exception inside a sub-step surfaces from the step graph, and the next run is whole") {
+  const Model model = test::small_model();
+  World world = initial_world(model);
+  ProbeStep step(world, model, kFluidId);
+  step.throw_at_substep = 1;
+  CHECK_THROWS_WITH_AS(step.graph->run(0.0, 1.0), "a grain blew up", std::runtime_error);
+  CHECK(step.substep_times.size() == 1);  // the loop stopped at the failing sub-step
+  CHECK(step.end_runs == 0);              // what waits for the loop never started
+  // No cancellation is left behind in the inner graphs: every system of every sub-step runs next time.
+  step.throw_at_substep = -1;
+  step.substep_runs = 0;
+  step.substep_times.clear();
+  step.graph->run(0.0, 1.0);
+  CHECK(step.substep_runs == 3);
+  CHECK(step.substep_times.size() == 3);
+  CHECK(step.end_runs == 1);
 }
