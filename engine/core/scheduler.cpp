@@ -1,33 +1,71 @@
 #include "engine/core/scheduler.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
 
 namespace riffle {
 
+namespace {
+
+std::vector<Scheduler::Phase> one_phase(std::string name, std::vector<std::unique_ptr<System>> systems) {
+  std::vector<Scheduler::Phase> phases;
+  phases.push_back({std::move(name), std::move(systems)});
+  return phases;
+}
+
+/// `text` in double quotes, appended piece by piece (GCC 12 warns falsely, -Wrestrict, on "\"" + string + "\"").
+std::string quoted(std::string_view text) {
+  std::string out;
+  out.reserve(text.size() + 2);
+  out += '"';
+  out += text;
+  out += '"';
+  return out;
+}
+
+}  // namespace
+
 Scheduler::Scheduler(std::string phase, std::vector<std::unique_ptr<System>> systems, World& world,
                      const Model& model)
-    : phase_(std::move(phase)), systems_(std::move(systems)), world_(world), model_(model) {
+    : Scheduler(phase, one_phase(phase, std::move(systems)), world, model) {}
+
+Scheduler::Scheduler(std::string name, std::vector<Phase> phases, World& world, const Model& model)
+    : name_(std::move(name)), world_(world), model_(model) {
+  for (Phase& phase : phases) {
+    phases_.push_back({phase.name, systems_.size(), systems_.size() + phase.systems.size()});
+    for (auto& system : phase.systems) {
+      phase_index_.push_back(phases_.size() - 1);
+      systems_.push_back(std::move(system));
+    }
+    if (!phase.systems.empty()) {
+      spans_.push_back(SystemTimer{phase.name, "span"});
+      span_phase_.push_back(phases_.size() - 1);
+    }
+  }
   std::set<std::string, std::less<>> names;
-  for (const auto& system : systems_) {
-    if (!names.insert(std::string(system->name())).second)
-      throw SchedulerError("two systems are named '" + std::string(system->name()) + "'");
-    access_.push_back(system->access());
+  for (std::size_t index = 0; index < systems_.size(); ++index) {
+    const System& system = *systems_[index];
+    if (!names.insert(std::string(system.name())).second)
+      throw SchedulerError("two systems are named '" + std::string(system.name()) + "'");
+    access_.push_back(system.access());
     for (const auto* list : {&access_.back().reads, &access_.back().writes})
       for (ComponentId id : *list)
         if (!world_.has(id))
-          throw SchedulerError("system '" + std::string(system->name()) + "' declares component '" +
+          throw SchedulerError("system '" + std::string(system.name()) + "' declares component '" +
                                std::string(component_name(id)) + "', which this scene does not have");
-    timers_.push_back(SystemTimer{std::string(system->name()), phase_});
+    timers_.push_back(SystemTimer{std::string(system.name()), phase_of(index)});
   }
+  started_.resize(systems_.size());
+  finished_.resize(systems_.size());
   derive_edges();
   check_acyclic();
   build_graph();
 }
 
 void Scheduler::derive_edges() {
-  std::set<std::pair<std::size_t, std::size_t>> edges;
+  std::map<std::pair<std::size_t, std::size_t>, std::set<std::string>> reasons;
   struct Usage {
     std::optional<std::size_t> last_writer;
     std::vector<std::size_t> readers_since_write;
@@ -38,15 +76,16 @@ void Scheduler::derive_edges() {
     for (ComponentId id : access.reads) {
       if (access.writes_component(id)) continue;  // a writer is handled below
       Usage& use = usage[id];
-      if (use.last_writer) edges.emplace(*use.last_writer, index);
+      if (use.last_writer) reasons[{*use.last_writer, index}].insert(std::string(component_name(id)));
       use.readers_since_write.push_back(index);
     }
     for (ComponentId id : access.writes) {
       Usage& use = usage[id];
       if (!use.readers_since_write.empty()) {
-        for (std::size_t reader : use.readers_since_write) edges.emplace(reader, index);
+        for (std::size_t reader : use.readers_since_write)
+          reasons[{reader, index}].insert(std::string(component_name(id)));
       } else if (use.last_writer) {
-        edges.emplace(*use.last_writer, index);
+        reasons[{*use.last_writer, index}].insert(std::string(component_name(id)));
       }
       use.last_writer = index;
       use.readers_since_write.clear();
@@ -54,34 +93,38 @@ void Scheduler::derive_edges() {
   }
   for (std::size_t index = 0; index < systems_.size(); ++index) {
     for (const std::string& before : systems_[index]->run_after()) {
-      auto found = std::find_if(systems_.begin(), systems_.end(),
-                                [&](const auto& system) { return system->name() == before; });
-      if (found == systems_.end())
+      const std::optional<std::size_t> found = find(before);
+      if (!found)
         throw SchedulerError("system '" + std::string(systems_[index]->name()) + "' runs after '" + before +
-                             "', which is not scheduled in phase '" + phase_ + "'");
-      edges.emplace(static_cast<std::size_t>(found - systems_.begin()), index);
+                             "', which is not scheduled in graph '" + name_ + "'");
+      reasons[{*found, index}].insert("run_after");
     }
   }
-  edges_.assign(edges.begin(), edges.end());
+  for (const auto& [edge, why] : reasons) {
+    edges_.push_back(edge);
+    std::string text;
+    for (const std::string& reason : why) text += (text.empty() ? "" : ",") + reason;
+    edge_reasons_.push_back(text);
+  }
 }
 
-void Scheduler::check_acyclic() const {
+void Scheduler::check_acyclic() {
   // Depth-first search with colours; a grey node reached again closes a cycle.
   const std::size_t count = systems_.size();
-  std::vector<std::vector<std::size_t>> successors(count);
-  for (auto [from, to] : edges_) successors[from].push_back(to);
+  successors_.assign(count, {});
+  for (auto [from, to] : edges_) successors_[from].push_back(to);
   std::vector<int> colour(count, 0);
   std::vector<std::size_t> path;
   std::function<void(std::size_t)> visit = [&](std::size_t node) {
     colour[node] = 1;
     path.push_back(node);
-    for (std::size_t next : successors[node]) {
+    for (std::size_t next : successors_[node]) {
       if (colour[next] == 1) {
         std::string cycle;
         auto start = std::find(path.begin(), path.end(), next);
         for (auto it = start; it != path.end(); ++it) cycle += std::string(systems_[*it]->name()) + " -> ";
         cycle += std::string(systems_[next]->name());
-        throw SchedulerError("the systems of phase '" + phase_ + "' form a cycle: " + cycle);
+        throw SchedulerError("the systems of graph '" + name_ + "' form a cycle: " + cycle);
       }
       if (colour[next] == 0) visit(next);
     }
@@ -99,9 +142,11 @@ void Scheduler::build_graph() {
     nodes_.push_back(std::make_unique<tbb::flow::continue_node<continue_msg>>(
         graph_, [this, index](const continue_msg&) {
           SystemContext context(world_, model_, *systems_[index], access_[index], time_, dt_);
-          const auto start = Clock::now();
+          started_[index] = Clock::now();
           systems_[index]->run(context);
-          timers_[index].add(seconds_since(start), context.items());
+          finished_[index] = Clock::now();
+          timers_[index].add(std::chrono::duration<double>(finished_[index] - started_[index]).count(),
+                             context.items());
         }));
   }
   std::vector<bool> has_predecessor(systems_.size(), false);
@@ -119,11 +164,46 @@ void Scheduler::run(double time, double dt) {
   dt_ = dt;
   start_->try_put(tbb::flow::continue_msg());
   try {
-    graph_.wait_for_all();
+    graph_.wait_for_all();  // returns, or rethrows, only once no node is running
   } catch (...) {
     graph_.reset();  // leave the graph usable; the caller decides whether to go on
     throw;
   }
+  for (std::size_t k = 0; k < spans_.size(); ++k) {
+    const PhaseRange& phase = phases_[span_phase_[k]];
+    Clock::time_point first = started_[phase.begin], last = finished_[phase.begin];
+    for (std::size_t index = phase.begin; index < phase.end; ++index) {
+      first = std::min(first, started_[index]);
+      last = std::max(last, finished_[index]);
+    }
+    // Counted once the earlier phases are done: a system that starts beside them (a check that needs only the
+    // fluid, beside the grains' loop) is not charged to its phase until then.
+    for (std::size_t index = 0; index < phase.begin; ++index) first = std::max(first, finished_[index]);
+    spans_[k].add(std::max(0.0, std::chrono::duration<double>(last - first).count()), 1);
+  }
+}
+
+std::optional<std::size_t> Scheduler::find(std::string_view name) const {
+  for (std::size_t index = 0; index < systems_.size(); ++index)
+    if (systems_[index]->name() == name) return index;
+  return std::nullopt;
+}
+
+bool Scheduler::has_path(std::size_t from, std::size_t to) const {
+  std::vector<bool> seen(systems_.size(), false);
+  std::vector<std::size_t> pending{from};
+  while (!pending.empty()) {
+    const std::size_t node = pending.back();
+    pending.pop_back();
+    for (std::size_t next : successors_[node]) {
+      if (next == to) return true;
+      if (!seen[next]) {
+        seen[next] = true;
+        pending.push_back(next);
+      }
+    }
+  }
+  return false;
 }
 
 std::vector<std::string> Scheduler::edge_names() const {
@@ -133,11 +213,45 @@ std::vector<std::string> Scheduler::edge_names() const {
   return names;
 }
 
+void Scheduler::append_dot_body(std::string& out, const std::string& indent) const {
+  // Sorted by name: the golden file changes when the graph does, not when the registry lists systems differently.
+  std::vector<std::size_t> order(systems_.size());
+  for (std::size_t index = 0; index < order.size(); ++index) order[index] = index;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return systems_[a]->name() < systems_[b]->name(); });
+  const bool phased = phases_.size() > 1;
+  for (std::size_t index : order) {
+    const System& system = *systems_[index];
+    const std::vector<InnerGraph> inner = system.inner_graphs();
+    std::string attributes;
+    if (phased) attributes += "label=\"" + std::string(system.name()) + "\\n" + phase_of(index) + "\"";
+    if (!inner.empty()) attributes += std::string(attributes.empty() ? "" : ", ") + "shape=box";
+    out += indent + quoted(system.name()) + (attributes.empty() ? "" : " [" + attributes + "]") + ";\n";
+    if (inner.empty()) continue;
+    out += indent + "subgraph " + quoted("cluster_" + std::string(system.name())) + " {\n";
+    out += indent + "  label=" + quoted(std::string(system.name()) + ": inner graphs, in turn") + ";\n";
+    for (const InnerGraph& graph : inner) {
+      out += indent + "  subgraph " + quoted("cluster_" + graph.graph->name()) + " {\n";
+      out += indent + "    label=" + quoted(graph.graph->name() + " (" + std::string(graph.runs) + ")") + ";\n";
+      graph.graph->append_dot_body(out, indent + "    ");
+      out += indent + "  }\n";
+    }
+    out += indent + "}\n";
+  }
+  std::vector<std::size_t> edge_order(edges_.size());
+  for (std::size_t k = 0; k < edge_order.size(); ++k) edge_order[k] = k;
+  const auto edge_key = [&](std::size_t k) {
+    return std::make_pair(systems_[edges_[k].first]->name(), systems_[edges_[k].second]->name());
+  };
+  std::sort(edge_order.begin(), edge_order.end(), [&](std::size_t a, std::size_t b) { return edge_key(a) < edge_key(b); });
+  for (std::size_t k : edge_order)
+    out += indent + quoted(systems_[edges_[k].first]->name()) + " -> " + quoted(systems_[edges_[k].second]->name()) +
+           " [label=" + quoted(edge_reasons_[k]) + "];\n";
+}
+
 std::string Scheduler::dot() const {
-  std::string out = "digraph " + phase_ + " {\n";
-  for (const auto& system : systems_) out += "  \"" + std::string(system->name()) + "\";\n";
-  for (auto [from, to] : edges_)
-    out += "  \"" + std::string(systems_[from]->name()) + "\" -> \"" + std::string(systems_[to]->name()) + "\";\n";
+  std::string out = "digraph " + quoted(name_) + " {\n";
+  append_dot_body(out, "  ");
   return out + "}\n";
 }
 
@@ -148,6 +262,17 @@ std::vector<ComponentId> Scheduler::components() const {
       for (const ComponentId component : *list)
         if (std::find(used.begin(), used.end(), component) == used.end()) used.push_back(component);
   return used;
+}
+
+Access Scheduler::access() const {
+  Access all;
+  for (const Access& access : access_)
+    for (const ComponentId component : access.writes)
+      if (!all.writes_component(component)) all.writes.push_back(component);
+  for (const Access& access : access_)
+    for (const ComponentId component : access.reads)
+      if (!all.writes_component(component) && !all.reads_component(component)) all.reads.push_back(component);
+  return all;
 }
 
 }  // namespace riffle

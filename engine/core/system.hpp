@@ -27,6 +27,13 @@ class UndeclaredAccess : public std::logic_error {
 };
 
 class System;
+class Scheduler;
+
+/// A graph that a composite node runs inside itself, and how often ("once", "once per sub-step").
+struct InnerGraph {
+  const Scheduler* graph;
+  std::string_view runs;
+};
 
 /// What a system sees while it runs: the model, the clock of this (sub)step, and checked component access.
 class SystemContext {
@@ -82,6 +89,8 @@ class System {
   /// Names of systems that must finish first even if no data links them (a sync point). Usually empty.
   virtual std::vector<std::string> run_after() const { return {}; }
   virtual void run(SystemContext& context) = 0;
+  /// The graphs a composite node runs inside itself (the grains' sub-step loop), for the graph dump. Usually none.
+  virtual std::vector<InnerGraph> inner_graphs() const { return {}; }
 };
 
 }  // namespace riffle

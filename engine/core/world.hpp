@@ -13,6 +13,7 @@
 #include "components/step_status.hpp"
 #include "components/tank_motion.hpp"
 #include "components/walls.hpp"
+#include "systems/physics/time_step.hpp"
 
 namespace riffle {
 
@@ -20,7 +21,9 @@ class World {
  public:
   double time = 0.0;       ///< [s] simulated time at the start of the next step
   std::uint64_t step = 0;  ///< engine steps completed
-  double last_dt = 0.0;    ///< [s] length of the last step (the fluid's Courant limit may shorten run.dt)
+  /// The last step's length and sub-steps, as decide_step_lengths chose them (zero before the first step; not
+  /// checkpointed: every step decides anew).
+  StepLengths last_step;
 
   std::optional<Solids> solids;
   std::optional<Walls> walls;

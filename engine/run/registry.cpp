@@ -48,9 +48,9 @@ Pipeline build_pipeline(const Model& model) {
     pipeline.end_of_step.push_back(std::make_unique<FluidChecks>(fluid));
     if (model.coupling.enabled) {
       // Staggered by one fluid step (docs/COUPLING.md): the grains' sub-steps of step k+1 use the water at the end
-      // of step k. The grains sample a copy of it, first in their own branch, so the fluid's step graph and the
-      // grains' branch share no component and the stepper runs them side by side; the voidage, which the drag
-      // reaction needs, is read at the end of the step.
+      // of step k. The grains sample a copy of it, first in their own branch, so the fluid's systems and the
+      // grains' sub-step loop share no component and the scheduler lets them run side by side; the voidage, which
+      // the drag reaction needs, is read at the end of the step.
       pipeline.step_start.push_back(std::make_unique<FluidSampleCopy>());
       pipeline.solid_step.push_back(std::make_unique<SolidFluidSampling>(model));
       pipeline.end_of_step.push_back(std::make_unique<SolidVoidage>(model));

@@ -73,11 +73,12 @@ class DiagnosticsWriter {
            const std::vector<SystemTimer>& timers) {
     char text[512];
     const SolidSummary summary = world.solid_summary.value_or(SolidSummary{});
-    const double cfl = min_radius > 0.0 ? summary.max_speed * model.solid_dt() / min_radius : 0.0;
+    // The lengths the step actually used (decide_step_lengths): a Courant-limited step has shorter sub-steps.
+    const StepLengths& lengths = world.last_step;
+    const double cfl = min_radius > 0.0 ? summary.max_speed * lengths.substep / min_radius : 0.0;
     const Vec3 direction = model.tank.motion.direction;
     std::snprintf(text, sizeof text, "%llu,%.17g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.9g,%.9g,%.6g",
-                  static_cast<unsigned long long>(world.step), world.time, world.last_dt > 0.0 ? world.last_dt : model.dt,
-                  model.solid_dt(),
+                  static_cast<unsigned long long>(world.step), world.time, lengths.dt, lengths.substep,
                   summary.translational_energy, summary.rotational_energy, summary.potential_energy,
                   summary.max_speed, cfl, world.tank_motion->displacement.dot(direction),
                   world.tank_motion->velocity.dot(direction), step_wall_seconds);
@@ -212,7 +213,7 @@ std::string diagnosis(const World& world, const Model& model) {
   const DomainBox domain = domain_box(model);
   const std::string when = "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) + " s): ";
   if (status.problem == StepProblem::kTimeStepCollapse)
-    return when + "the fluid's Courant limit gave dt = " + std::to_string(world.last_dt) + " s, below fluid.min_dt = " +
+    return when + "the fluid's Courant limit gave dt = " + std::to_string(world.last_step.dt) + " s, below fluid.min_dt = " +
            std::to_string(model.fluid.min_dt) + " s: the flow blew up; fastest fluid particle id " +
            std::to_string(status.entity) + " at position " + format_vec(status.position) + " m with velocity " +
            format_vec(status.velocity) + " m/s";

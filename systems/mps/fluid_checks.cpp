@@ -50,7 +50,6 @@ void FluidChecks::run(SystemContext& context) {
   double max_speed_squared = 0.0;
   for (std::size_t i = 0; i < fluid_count; ++i) max_speed_squared = std::max(max_speed_squared, particles.velocity[i].squaredNorm());
   summary.max_speed = std::sqrt(max_speed_squared);
-  summary.last_dt = context.dt;
   summary.courant = summary.max_speed * context.dt / constants_.spacing;
   context.count_items(fluid_count);
 

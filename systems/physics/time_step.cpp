@@ -7,9 +7,12 @@
 
 namespace riffle {
 
-double fluid_time_step(const FluidModel& fluid, const FluidParticles& particles, double max_dt) {
+namespace {
+
+/// Largest squared speed of the fluid particles (slots [0, F)); max is exact, so the reduction order does not matter.
+double max_squared_speed(const FluidParticles& particles) {
   const std::size_t fluid_count = fluid_slot_count(particles);
-  const double max_speed = tbb::parallel_reduce(
+  return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, fluid_count, 4096), 0.0,
       [&](const tbb::blocked_range<std::size_t>& range, double found) {
         for (std::size_t i = range.begin(); i < range.end(); ++i)
@@ -17,11 +20,48 @@ double fluid_time_step(const FluidModel& fluid, const FluidParticles& particles,
         return found;
       },
       [](double a, double b) { return std::max(a, b); });
-  double dt = max_dt;
-  if (max_speed > 0.0) dt = std::min(dt, fluid.courant * fluid.spacing / std::sqrt(max_speed));
-  if (fluid.kinematic_viscosity > 0.0)
-    dt = std::min(dt, fluid.diffusion_number * fluid.spacing * fluid.spacing / fluid.kinematic_viscosity);
-  return dt;
+}
+
+/// Takes `candidate` when it is shorter (std::min's rule: ties keep the current step), naming the limit.
+void shorten(StepLengths& lengths, double candidate, StepLimit limit) {
+  if (candidate < lengths.dt) {
+    lengths.dt = candidate;
+    lengths.limit = limit;
+  }
+}
+
+}  // namespace
+
+const char* step_limit_name(StepLimit limit) {
+  switch (limit) {
+    case StepLimit::kRunDt: return "run.dt";
+    case StepLimit::kCourant: return "courant";
+    case StepLimit::kDiffusion: return "diffusion";
+  }
+  return "?";
+}
+
+StepLengths decide_step_lengths(const Model& model, const FluidParticles* fluid) {
+  StepLengths lengths;
+  lengths.dt = model.dt;
+  if (fluid) {
+    const FluidModel& water = model.fluid;
+    const double max_speed_squared = max_squared_speed(*fluid);
+    if (max_speed_squared > 0.0)
+      shorten(lengths, water.courant * water.spacing / std::sqrt(max_speed_squared), StepLimit::kCourant);
+    if (water.kinematic_viscosity > 0.0)
+      shorten(lengths, water.diffusion_number * water.spacing * water.spacing / water.kinematic_viscosity,
+              StepLimit::kDiffusion);
+  }
+  // Sub-steps no longer than the scene's solid_dt(); exactly solid_substeps of them at the full step.
+  // (dt < run.dt otherwise, so the count stays within [1, solid_substeps]; clamped in floating point before the cast.)
+  lengths.substeps =
+      lengths.dt == model.dt
+          ? model.solid_substeps
+          : static_cast<std::int64_t>(std::clamp(std::ceil(lengths.dt / model.solid_dt() - 1e-9), 1.0,
+                                                  static_cast<double>(model.solid_substeps)));
+  lengths.substep = lengths.dt / static_cast<double>(lengths.substeps);
+  return lengths;
 }
 
 }  // namespace riffle

@@ -274,6 +274,13 @@ riffle_as check_seed check "$SRC/scenes/free_fall_box.toml"
 expect_rc "riffle check scenes/free_fall_box.toml exits 0" check_seed 0
 check "riffle check reports the valid scene on stdout" contains check_seed.out "valid scene 'free_fall_box'"
 check "riffle check writes no output directory" test ! -e out
+riffle_as graph_seed graph "$SRC/scenes/free_fall_box.toml"
+expect_rc "riffle graph scenes/free_fall_box.toml exits 0" graph_seed 0
+check "riffle graph prints the step graph as DOT, the sub-step loop as a cluster" \
+  contains graph_seed.out 'digraph "step" {' '"solid_substeps"' 'subgraph "cluster_substep"' '"solid_kick_drift"'
+check "riffle graph writes no output directory" test ! -e out
+riffle_as graph_typo graph typo.toml
+expect_rc "riffle graph on a scene with a typo key exits 2" graph_typo 2
 riffle_as check_typo check typo.toml
 expect_rc "riffle check on a scene with a typo key exits 2" check_typo 2
 check "the typo is reported as file:line:column: key: message" \

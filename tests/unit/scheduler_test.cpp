@@ -7,11 +7,13 @@
 #include <chrono>
 #include <functional>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "engine/setup/initial_state.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/core/scheduler.hpp"
+#include "engine/core/substep_loop.hpp"
 #include "engine/run/stepper.hpp"
 #include "engine/run/registry.hpp"
 #include "tests/test_support.hpp"
@@ -81,16 +83,19 @@ TEST_CASE("scheduler derives writer-reader, reader-writer and writer-writer edge
   CHECK(scheduler.dot().find("\"write_walls\" -> \"rewrite_solids\"") != std::string::npos);
 }
 
-TEST_CASE("the default pipeline's graphs have exactly the pinned edges") {
+TEST_CASE("the default pipeline's step graph has exactly the pinned edges") {
   Model model = test::small_model();
   World world = initial_world(model);
   Stepper stepper(build_pipeline(model), world, model);
-  CHECK(stepper.step_graph().empty());
-  CHECK(stepper.substep_graph().edge_names() == std::vector<std::string>{"solid_kick_drift -> solid_kick"});
-  std::vector<std::string> end_edges = stepper.end_of_step_graph().edge_names();
-  std::sort(end_edges.begin(), end_edges.end());
-  CHECK(end_edges == std::vector<std::string>{"solid_domain_check -> solid_cell_sort",
-                                              "solid_summary -> solid_cell_sort"});
+  REQUIRE(stepper.substep_loop() != nullptr);
+  CHECK(stepper.substep_loop()->once().empty());
+  CHECK(stepper.substep_loop()->repeated().edge_names() ==
+        std::vector<std::string>{"solid_kick_drift -> solid_kick"});
+  std::vector<std::string> edges = stepper.step_graph().edge_names();
+  std::sort(edges.begin(), edges.end());
+  CHECK(edges == std::vector<std::string>{"solid_domain_check -> solid_cell_sort", "solid_substeps -> solid_domain_check",
+                                          "solid_substeps -> solid_summary", "solid_summary -> solid_cell_sort"});
+  CHECK_FALSE(stepper.concurrent_branches());  // no fluid
 }
 
 TEST_CASE("a scene without solids schedules no solid system") {
@@ -99,15 +104,15 @@ TEST_CASE("a scene without solids schedules no solid system") {
   World world = initial_world(model);
   CHECK_FALSE(world.solids.has_value());
   Stepper stepper(build_pipeline(model), world, model);
-  CHECK(stepper.substep_graph().empty());
-  CHECK(stepper.end_of_step_graph().empty());
+  CHECK(stepper.substep_loop() == nullptr);
   REQUIRE(stepper.step_graph().size() == 1);
   CHECK(stepper.step_graph().system(0).name() == "wall_motion");
+  CHECK(stepper.step_graph().phase_of(0) == "step");
 }
 
-TEST_CASE("a coupled scene's fluid step graph and grain sub-steps share no component and run side by side") {
+TEST_CASE("a coupled scene's fluid systems and the grains' sub-step loop share no component and run side by side") {
   // docs/COUPLING.md: the coupling is staggered by one fluid step, so the exchange happens through the step-start
-  // copy and the end-of-step graph.
+  // copy and the end-of-step systems.
   const Model model = parse_scene(R"(
 [run]
 end_time = 0.01
@@ -135,29 +140,153 @@ high = [0.05, 0.05, 0.03]
   World world = initial_world(model);
   Stepper stepper(build_pipeline(model), world, model);
   CHECK(stepper.concurrent_branches());
-  // The grains' branch (its once-a-step graph, then the sub-steps) touches nothing the fluid's step graph touches.
-  std::vector<ComponentId> solid_side = stepper.substep_graph().components();
-  for (const ComponentId component : stepper.solid_step_graph().components()) solid_side.push_back(component);
-  for (const ComponentId component : stepper.step_graph().components())
-    CHECK(std::find(solid_side.begin(), solid_side.end(), component) == solid_side.end());
-  // The grains sample a copy of the water taken before the branches start, first thing in their branch.
-  REQUIRE(stepper.step_start_graph().size() == 1);
-  CHECK(stepper.step_start_graph().system(0).name() == "fluid_sample_copy");
-  REQUIRE(stepper.solid_step_graph().size() == 1);
-  CHECK(stepper.solid_step_graph().system(0).name() == "solid_fluid_sampling");
-  std::vector<std::string> end_edges = stepper.end_of_step_graph().edge_names();
-  const auto has = [&](const std::string& edge) {
-    return std::find(end_edges.begin(), end_edges.end(), edge) != end_edges.end();
-  };
+  const Scheduler& graph = stepper.step_graph();
+  const std::optional<std::size_t> loop = graph.find(Stepper::kLoopName);
+  REQUIRE(loop);
+  // The scheduler, not the stepper, finds it: no path joins any fluid system to the loop, and the loop touches
+  // nothing the fluid's systems touch.
+  const std::vector<ComponentId> grains = stepper.substep_loop()->once().components();
+  std::size_t fluid_systems = 0;
+  for (std::size_t index = 0; index < graph.size(); ++index) {
+    if (graph.phase_of(index) != "step") continue;
+    ++fluid_systems;
+    CHECK_FALSE(graph.has_path(index, *loop));
+    CHECK_FALSE(graph.has_path(*loop, index));
+  }
+  CHECK(fluid_systems == 8);
+  // The grains sample a copy of the water taken first in the step, first thing in their loop.
+  REQUIRE(graph.find("fluid_sample_copy"));
+  CHECK(graph.phase_of(*graph.find("fluid_sample_copy")) == "step_start");
+  CHECK(graph.has_path(*graph.find("fluid_sample_copy"), *loop));
+  REQUIRE(stepper.substep_loop()->once().size() == 1);
+  CHECK(stepper.substep_loop()->once().system(0).name() == "solid_fluid_sampling");
+  const std::vector<std::string> edges = graph.edge_names();
+  const auto has = [&](const std::string& edge) { return std::find(edges.begin(), edges.end(), edge) != edges.end(); };
   // The voidage at the grains' new positions comes first, then the drag impulse goes back divided by it.
+  CHECK(has("solid_substeps -> solid_voidage"));
   CHECK(has("solid_voidage -> fluid_drag_reaction"));
-  // The step graph opens with the neighbour search; the cell sort runs right before the search at r*.
-  CHECK(stepper.step_graph().system(0).name() == "fluid_neighbours");
-  CHECK(stepper.step_graph().system(3).name() == "fluid_cell_sort");
-  CHECK(stepper.step_graph().system(4).name() == "fluid_neighbours_predicted");
+  // The fluid's checks need only the fluid: they may start while the grains still step.
+  CHECK_FALSE(graph.has_path(*loop, *graph.find("fluid_checks")));
+  // The fluid's systems keep the registry's order: the neighbour search first, the cell sort right before the
+  // search at r*.
+  CHECK(graph.has_path(*graph.find("fluid_neighbours"), *graph.find("fluid_cell_sort")));
+  CHECK(has("fluid_cell_sort -> fluid_neighbours_predicted"));
   for (int step = 0; step < 3; ++step) stepper.step();
   CHECK(world.step_status.ok());
   for (const SystemTimer& branch : stepper.branch_timers()) CHECK(branch.calls == 3);
+  // 10 sub-steps a step at run.dt: the loop's timer counts them.
+  CHECK(stepper.branch_timers()[1].items == 30);
+  CHECK(world.last_step.substeps == 10);
+}
+
+namespace {
+
+constexpr ComponentId kFluidId = ComponentId::kTankMotion;  // stands in for the fluid's component in a dry world
+constexpr ComponentId kSummaryId = ComponentId::kSolidSummary;
+
+/// A step graph of the stepper's shape from probes: a "fluid" chain over `fluid_component`, then a sub-step loop
+/// (a once graph and a repeated one over solids and walls), then an end-of-step reader of both.
+struct ProbeStep {
+  std::atomic<int> fluid_runs{0}, once_runs{0}, substep_runs{0}, end_runs{0};
+  std::vector<double> substep_times;
+  std::int64_t substeps = 3;
+  bool stop = false;
+  int throw_at_substep = -1;  ///< the sub-step whose push_grains throws; -1: none
+  std::unique_ptr<Scheduler> graph;
+
+  ProbeStep(World& world, const Model& model, ComponentId fluid_component) {
+    std::vector<Scheduler::Phase> phases;
+    phases.push_back({"step", systems_of({ProbeSystem("fluid_a", {{}, {fluid_component}}, count(fluid_runs)),
+                                          ProbeSystem("fluid_b", {{fluid_component}, {kSummaryId}},
+                                                      count(fluid_runs))})});
+    auto once = std::make_unique<Scheduler>(
+        "solid_step", systems_of({ProbeSystem("sample", {{}, {kSolidsId}}, count(once_runs))}), world, model);
+    auto repeated = std::make_unique<Scheduler>(
+        "substep",
+        systems_of({ProbeSystem("move_walls", {{}, {kWallsId}}, count(substep_runs)),
+                    ProbeSystem("push_grains", {{kWallsId}, {kSolidsId}},
+                                [this](SystemContext& context) {
+                                  if (static_cast<int>(substep_times.size()) == throw_at_substep)
+                                    throw std::runtime_error("a grain blew up");
+                                  substep_times.push_back(context.time);
+                                })}),
+        world, model);
+    std::vector<std::unique_ptr<System>> loop;
+    loop.push_back(std::make_unique<SubstepLoop>(
+        "loop", std::move(once), std::move(repeated), [this] { return SubstepLoop::Plan{substeps, 0.25}; },
+        [this] { return stop; }));
+    phases.push_back({"grains", std::move(loop)});
+    phases.push_back(
+        {"end_of_step", systems_of({ProbeSystem("check", {{kSolidsId, kSummaryId}, {kStatusId}}, count(end_runs))})});
+    graph = std::make_unique<Scheduler>("step", std::move(phases), world, model);
+  }
+
+  static std::function<void(SystemContext&)> count(std::atomic<int>& runs) {
+    return [&runs](SystemContext&) { runs.fetch_add(1); };
+  }
+  std::size_t at(const char* name) const { return *graph->find(name); }
+};
+
+}  // namespace
+
+TEST_CASE("one step graph: a fluid branch and a sub-step loop with disjoint access get no path between them") {
+  const Model model = test::small_model();
+  World world = initial_world(model);
+  ProbeStep step(world, model, kFluidId);
+  const Scheduler& graph = *step.graph;
+  // The loop declares the union of its inner graphs' access: solids and walls written, nothing only read.
+  const Access loop = graph.system(step.at("loop")).access();
+  CHECK(loop.writes == std::vector<ComponentId>{kSolidsId, kWallsId});
+  CHECK(loop.reads.empty());
+  CHECK_FALSE(graph.has_path(step.at("fluid_a"), step.at("loop")));
+  CHECK_FALSE(graph.has_path(step.at("fluid_b"), step.at("loop")));
+  CHECK_FALSE(graph.has_path(step.at("loop"), step.at("fluid_a")));
+  std::vector<std::string> edges = graph.edge_names();
+  std::sort(edges.begin(), edges.end());
+  CHECK(edges == std::vector<std::string>{"fluid_a -> fluid_b", "fluid_b -> check", "loop -> check"});
+  CHECK(graph.edge_reasons() == std::vector<std::string>{"tank_motion", "solid_summary", "solids"});
+
+  step.graph->run(1.0, 0.75);
+  CHECK(step.fluid_runs == 2);
+  CHECK(step.once_runs == 1);
+  CHECK(step.substep_runs == 3);
+  CHECK(step.end_runs == 1);
+  // Sub-step k starts at the step's start plus k sub-steps.
+  CHECK(step.substep_times == std::vector<double>{1.0, 1.25, 1.5});
+  // Each phase's span is timed once per run.
+  REQUIRE(graph.phase_spans().size() == 3);
+  for (const SystemTimer& span : graph.phase_spans()) CHECK(span.calls == 1);
+}
+
+TEST_CASE("one step graph: a component the fluid branch and the loop both write serialises them in list order") {
+  const Model model = test::small_model();
+  World world = initial_world(model);
+  ProbeStep step(world, model, kWallsId);  // the "fluid" now writes the walls the sub-steps move
+  const Scheduler& graph = *step.graph;
+  CHECK(graph.has_path(step.at("fluid_a"), step.at("loop")));
+  std::vector<std::string> edges = graph.edge_names();
+  const auto has = [&](const std::string& edge) { return std::find(edges.begin(), edges.end(), edge) != edges.end(); };
+  // fluid_a writes the walls, fluid_b reads them, then the loop writes them: reader before the next writer.
+  CHECK(has("fluid_b -> loop"));
+  CHECK_FALSE(has("fluid_a -> loop"));
+}
+
+TEST_CASE("a loop told to stop abandons the step: the systems after it do not run, and the graph stays usable") {
+  const Model model = test::small_model();
+  World world = initial_world(model);
+  ProbeStep step(world, model, kFluidId);
+  step.stop = true;
+  CHECK_THROWS_AS(step.graph->run(0.0, 1.0), StepAbandoned);
+  CHECK(step.substep_runs == 0);
+  CHECK(step.end_runs == 0);
+  const auto* loop = dynamic_cast<const SubstepLoop*>(&step.graph->system(step.at("loop")));
+  REQUIRE(loop != nullptr);
+  CHECK(loop->timer().calls == 1);  // an abandoned loop is still timed, with no sub-step done
+  CHECK(loop->timer().items == 0);
+  step.stop = false;
+  step.graph->run(0.0, 1.0);
+  CHECK(step.substep_runs == 3);
+  CHECK(step.end_runs == 1);
 }
 
 TEST_CASE("dependent systems always run in declared order") {
@@ -258,4 +387,22 @@ TEST_CASE("cycles, duplicate names, unknown run_after and missing components are
     CHECK_THROWS_WITH_AS(Scheduler("test", systems_of({ProbeSystem("a", {{kSolidsId}, {}}, nothing)}), world, model),
                          doctest::Contains("which this scene does not have"), SchedulerError);
   }
+}
+
+TEST_CASE("an exception inside a sub-step surfaces from the step graph, and the next run is whole") {
+  const Model model = test::small_model();
+  World world = initial_world(model);
+  ProbeStep step(world, model, kFluidId);
+  step.throw_at_substep = 1;
+  CHECK_THROWS_WITH_AS(step.graph->run(0.0, 1.0), "a grain blew up", std::runtime_error);
+  CHECK(step.substep_times.size() == 1);  // the loop stopped at the failing sub-step
+  CHECK(step.end_runs == 0);              // what waits for the loop never started
+  // No cancellation is left behind in the inner graphs: every system of every sub-step runs next time.
+  step.throw_at_substep = -1;
+  step.substep_runs = 0;
+  step.substep_times.clear();
+  step.graph->run(0.0, 1.0);
+  CHECK(step.substep_runs == 3);
+  CHECK(step.substep_times.size() == 3);
+  CHECK(step.end_runs == 1);
 }

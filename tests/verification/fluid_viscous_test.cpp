@@ -84,7 +84,7 @@ TEST_CASE("viscous decay of a shear mode in a closed box matches exp(-nu k^2 t)"
   double dt = 0.0;
   while (run.world.time < 0.3 - 1e-12) {
     REQUIRE_MESSAGE(run.step(), run.diagnosis());
-    dt = run.world.fluid_summary->last_dt;
+    dt = run.world.last_step.dt;
     const double a = amplitude();
     REQUIRE(a > 0.0);
     if (run.world.time > 0.02) {  // after the first projection has turned the flow at the ends
