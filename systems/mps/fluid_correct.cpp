@@ -26,7 +26,9 @@ Eigen::Matrix3d gradient_correction_matrix(const Eigen::Matrix3d& moment, double
 }
 
 void FluidCorrect::run(SystemContext& context) {
-  FluidParticles& particles = context.write<FluidParticles>();
+  ParticleState& particles = context.write<ParticleState>();
+  const ParticlePrediction& prediction = context.read<ParticlePrediction>();
+  ParticlePressure& pressures = context.write<ParticlePressure>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const FluidSchemes& schemes = fluid_.schemes;
@@ -43,16 +45,16 @@ void FluidCorrect::run(SystemContext& context) {
   const Vec3 wall_pressure_gradient = rho * body_acceleration;
 
   for_each_particle(fluid_count, [&](std::size_t i) {
-    const Vec3 position = particles.predicted_position[i];
-    const double pressure = particles.pressure[i];
+    const Vec3 position = prediction.predicted_position[i];
+    const double pressure = pressures.pressure[i];
     const auto partner_pressure = [&](std::uint32_t j, const Vec3& offset) {
-      return particles.kind[j] == kFluidKind ? particles.pressure[j] : pressure + wall_pressure_gradient.dot(offset);
+      return particles.kind[j] == kFluidKind ? pressures.pressure[j] : pressure + wall_pressure_gradient.dot(offset);
     };
     // Classic gradient (GC off): p_j - min p over the support, which keeps the pressure force repulsive.
     double base_pressure = pressure;
     if (!schemes.gradient_correction) {
       for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
-        const Vec3 offset = particles.predicted_position[j] - position;
+        const Vec3 offset = prediction.predicted_position[j] - position;
         if (offset.squaredNorm() < radius_squared) base_pressure = std::min(base_pressure, partner_pressure(j, offset));
       }
     }
@@ -62,7 +64,7 @@ void FluidCorrect::run(SystemContext& context) {
     FluidPairBatch batch;
     for_each_near_pair(
         near_neighbours_of(neighbours, i), kernel, batch,
-        [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
+        [&](std::uint32_t j) -> Vec3 { return prediction.predicted_position[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           if (pair.distance_squared[k] == 0.0) return;
           const std::uint32_t j = pair.slot[k];
@@ -94,7 +96,7 @@ void FluidCorrect::run(SystemContext& context) {
       moment << moment_xx, moment_xy, moment_xz, moment_xy, moment_yy, moment_yz, moment_xz, moment_yz, moment_zz;
       gradient = gradient_correction_matrix(moment, density, n0) * gradient;
     }
-    particles.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
+    pressures.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
     const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;
     particles.position[i] = position + dt * change;

@@ -7,7 +7,7 @@
 
 namespace riffle {
 
-double fluid_time_step(const FluidModel& fluid, const FluidParticles& particles, double max_dt) {
+double fluid_time_step(const FluidModel& fluid, const ParticleState& particles, double max_dt) {
   const std::size_t fluid_count = fluid_slot_count(particles);
   const double max_speed = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, fluid_count, 4096), 0.0,

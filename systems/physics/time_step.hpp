@@ -7,6 +7,6 @@
 namespace riffle {
 
 /// Largest step the fluid allows: min(max_dt, C_r l0 / |u|max, diffusion l0^2 / nu).
-double fluid_time_step(const FluidModel& fluid, const FluidParticles& particles, double max_dt);
+double fluid_time_step(const FluidModel& fluid, const ParticleState& particles, double max_dt);
 
 }  // namespace riffle

@@ -38,9 +38,9 @@ class ProbeSystem final : public System {
   std::vector<std::string> after_;
 };
 
-constexpr ComponentId kSolidsId = ComponentId::kSolids;
-constexpr ComponentId kWallsId = ComponentId::kWalls;
-constexpr ComponentId kStatusId = ComponentId::kStepStatus;
+constexpr ComponentId kSolidsId = component_id<GrainState>;
+constexpr ComponentId kWallsId = component_id<Walls>;
+constexpr ComponentId kStatusId = component_id<StepStatus>;
 
 std::vector<std::unique_ptr<System>> systems_of(std::vector<ProbeSystem> probes) {
   std::vector<std::unique_ptr<System>> systems;
@@ -214,15 +214,24 @@ TEST_CASE("an undeclared write or read is an error raised from run") {
   SUBCASE("write of a component declared read-only") {
     Scheduler scheduler("test",
                         systems_of({ProbeSystem("sneaky_writer", {{kSolidsId}, {}},
-                                                [](SystemContext& context) { context.write<Solids>(); })}),
+                                                [](SystemContext& context) { context.write<GrainState>(); })}),
                         world, model);
     CHECK_THROWS_WITH_AS(scheduler.run(0.0, 1e-3),
-                         "system 'sneaky_writer' writes component 'solids' without declaring it", UndeclaredAccess);
+                         "system 'sneaky_writer' writes component 'grain_state' without declaring it", UndeclaredAccess);
+  }
+  SUBCASE("write of another role of the same entities") {
+    // Writing the grains' state does not let a system write their drag: roles are separate components.
+    Scheduler scheduler("test",
+                        systems_of({ProbeSystem("role_crosser", {{}, {kSolidsId}},
+                                                [](SystemContext& context) { context.write<GrainDrag>(); })}),
+                        world, model);
+    CHECK_THROWS_WITH_AS(scheduler.run(0.0, 1e-3),
+                         "system 'role_crosser' writes component 'grain_drag' without declaring it", UndeclaredAccess);
   }
   SUBCASE("read of a component not declared at all") {
     Scheduler scheduler("test",
                         systems_of({ProbeSystem("sneaky_reader", {{}, {kWallsId}},
-                                                [](SystemContext& context) { context.read<Solids>(); })}),
+                                                [](SystemContext& context) { context.read<GrainState>(); })}),
                         world, model);
     CHECK_THROWS_AS(scheduler.run(0.0, 1e-3), UndeclaredAccess);
     // The graph stays usable after a failed run.
