@@ -125,8 +125,8 @@ struct FluidParticles
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order).
   static constexpr std::array<const char*, 13> kFieldOrder = {
-      "id",       "kind",           "position",          "velocity",      "rest_position",
-      "predicted_position", "density_rate", "pressure",  "previous_pressure", "pressure_gradient",
+      "id",          "kind",          "position",          "velocity",          "rest_position",
+      "predicted_position", "density_rate", "pressure", "previous_pressure", "pressure_gradient",
       "drag_reaction", "number_density", "free_surface"};
 
   EntityId next_id = 0;  ///< the id the next added particle gets

@@ -157,10 +157,10 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order).
   static constexpr std::array<const char*, 19> kFieldOrder = {
-      "id",           "position",       "velocity",      "angular_velocity", "radius",         "mass",
-      "moment_of_inertia", "force",     "torque",        "contact_force",    "contact_torque", "drag_force",
-      "drag_impulse", "pressure_force", "fluid_velocity", "voidage",         "fluid_weight",   "material",
-      "size_class"};
+      "id",           "position",       "velocity",       "angular_velocity", "radius",
+      "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
+      "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
+      "voidage",      "fluid_weight",   "material",       "size_class"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 
