@@ -4,14 +4,30 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <memory>
 #include <fstream>
 #include <iterator>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "engine/core/system.hpp"
 #include "engine/output/checkpoint.hpp"
 #include "engine/setup/initial_state.hpp"
+#include "systems/coupling/solid_drag.hpp"
+#include "systems/coupling/solid_fluid_sampling.hpp"
+#include "systems/dem/solid_contacts.hpp"
+#include "systems/dem/solid_force_sum.hpp"
+#include "systems/dem/solid_integrate.hpp"
+#include "systems/dem/solid_neighbours.hpp"
+#include "systems/dem/wall_motion.hpp"
+#include "systems/mps/fluid_cell_sort.hpp"
+#include "systems/mps/fluid_correct.hpp"
+#include "systems/mps/fluid_free_surface.hpp"
+#include "systems/mps/fluid_neighbours.hpp"
+#include "systems/mps/fluid_predict.hpp"
+#include "systems/mps/fluid_pressure.hpp"
+#include "systems/mps/fluid_wall_motion.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;
@@ -45,7 +61,61 @@ std::vector<std::string> group_field_names() {
   return names;
 }
 
+/// True if one of the two writes a component the other reads or writes: they cannot run side by side.
+bool conflict(const System& a, const System& b) {
+  const Access first = a.access(), second = b.access();
+  const auto touches = [](const Access& access, ComponentId id) {
+    return access.reads_component(id) || access.writes_component(id);
+  };
+  for (const ComponentId id : first.writes)
+    if (touches(second, id)) return true;
+  for (const ComponentId id : second.writes)
+    if (touches(first, id)) return true;
+  return false;
+}
+
 }  // namespace
+
+TEST_CASE("the role split lets contact beside drag, and the fluid's step beside the grains' sub-steps") {
+  const Model model = test::fluid_model();
+  const SolidContactForces contact_forces;
+  const SolidContactGather contact_gather;
+  const SolidDrag drag(model);
+  CHECK_FALSE(conflict(contact_forces, drag));
+  CHECK_FALSE(conflict(contact_gather, drag));
+  // ... but the sum waits for both, and the sampling's result is read by the drag.
+  const SolidForceSum force_sum;
+  const SolidFluidSampling sampling(model);
+  CHECK(conflict(contact_gather, force_sum));
+  CHECK(conflict(drag, force_sum));
+  CHECK(conflict(sampling, drag));
+
+  using At = FluidNeighbourSearch::Positions;
+  std::vector<std::unique_ptr<System>> fluid_step, grain_substep;
+  fluid_step.push_back(std::make_unique<FluidNeighbourSearch>(0.01, 0.001, 0.001, At::kCurrent));
+  fluid_step.push_back(std::make_unique<FluidPredict>(model.fluid));
+  fluid_step.push_back(std::make_unique<FluidWallMotion>());
+  fluid_step.push_back(std::make_unique<FluidCellSort>(10, 1, 0.01, 0.001));
+  fluid_step.push_back(std::make_unique<FluidNeighbourSearch>(0.01, 0.001, 0.001, At::kPredicted));
+  fluid_step.push_back(std::make_unique<FluidFreeSurface>(model.fluid));
+  fluid_step.push_back(std::make_unique<FluidPressureSolve>(model.fluid));
+  fluid_step.push_back(std::make_unique<FluidCorrect>(model.fluid));
+  grain_substep.push_back(std::make_unique<SolidFluidSampling>(model));
+  grain_substep.push_back(std::make_unique<SolidKickDrift>());
+  grain_substep.push_back(std::make_unique<WallMotion>());
+  grain_substep.push_back(std::make_unique<SolidNeighbours>());
+  grain_substep.push_back(std::make_unique<SolidContactForces>());
+  grain_substep.push_back(std::make_unique<SolidContactGather>());
+  grain_substep.push_back(std::make_unique<SolidDrag>(model));
+  grain_substep.push_back(std::make_unique<SolidForceSum>());
+  grain_substep.push_back(std::make_unique<SolidKick>());
+  for (const auto& fluid : fluid_step)
+    for (const auto& grain : grain_substep) {
+      CAPTURE(fluid->name());
+      CAPTURE(grain->name());
+      CHECK_FALSE(conflict(*fluid, *grain));
+    }
+}
 
 TEST_CASE("the component list names every component once and the World stores each") {
   CHECK(kComponentNames.size() == kComponentCount);
