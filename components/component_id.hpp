@@ -1,29 +1,81 @@
 #pragma once
-// Names of the components a system can declare access to. The scheduler orders systems by these declarations.
-#include <array>
+// The component list: every component a system can declare access to, named once, here. A component's id is its
+// place in this list, its name is its `kName`; the World finds it, the scheduler orders systems by it, and the graph
+// dump names it from this list (components/component_list.hpp checks the rest against it at compile time).
+//
+// The per-entity tables of the grains (components/solids.hpp) and of the MPS particles (components/fluid.hpp) are
+// split into role components, one per set of fields that systems write together, so that two systems that write
+// different roles of the same entities (contact and drag forces, say) need not wait for each other.
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
+#include <type_traits>
+#include <vector>
 
 namespace riffle {
 
-enum class ComponentId : std::uint8_t {
-  kSolids,       ///< solid grains (components/solids.hpp)
-  kWalls,        ///< wall planes (components/walls.hpp)
-  kTankMotion,   ///< prescribed tank kinematics (components/tank_motion.hpp)
-  kStepStatus,   ///< per-step problem flags raised by checks (components/step_status.hpp)
-  kSolidSummary, ///< per-step reductions over the solids: energy, max speed (components/solid_summary.hpp)
-  kContacts,     ///< contact candidates and histories (components/contacts.hpp)
-  kFluid,        ///< MPS fluid, wall and dummy particles (components/fluid.hpp)
-  kFluidNeighbours, ///< MPS neighbour lists within r_e, rebuilt every step (components/fluid.hpp)
-  kFluidSummary,    ///< per-step reductions over the fluid and the PPE solver report (components/fluid.hpp)
-  kFluidSample,     ///< the water at the step start as the grains sample it, a copy (components/fluid.hpp)
-  kCount
-};
+template <class... Types>
+struct TypeList {};
 
-inline constexpr std::array<std::string_view, static_cast<std::size_t>(ComponentId::kCount)> kComponentNames = {
-    "solids", "walls", "tank_motion", "step_status", "solid_summary", "contacts", "fluid",
-    "fluid_neighbours", "fluid_summary", "fluid_sample"};
+// Grains (components/solids.hpp): the roles of the `Solids` table.
+struct GrainState;
+struct GrainProperties;
+struct GrainTotalForce;
+struct GrainContactForce;
+struct GrainDrag;
+struct GrainSampledFluid;
+struct GrainVoidage;
+// MPS particles (components/fluid.hpp): the roles of the `FluidParticles` table.
+struct ParticleState;
+struct ParticlePrediction;
+struct ParticlePressure;
+struct ParticleDensity;
+struct ParticleDragReaction;
+// Whole components.
+struct Walls;
+struct TankMotion;
+struct StepStatus;
+struct SolidSummary;
+struct Contacts;
+struct FluidNeighbours;
+struct FluidSummary;
+struct FluidSample;
 
-constexpr std::string_view component_name(ComponentId id) { return kComponentNames[static_cast<std::size_t>(id)]; }
+using ComponentList =
+    TypeList<GrainState, GrainProperties, GrainTotalForce, GrainContactForce, GrainDrag, GrainSampledFluid,
+             GrainVoidage, Walls, TankMotion, StepStatus, SolidSummary, Contacts, ParticleState, ParticlePrediction,
+             ParticlePressure, ParticleDensity, ParticleDragReaction, FluidNeighbours, FluidSummary, FluidSample>;
+
+/// A component's place in ComponentList (no enumerators: every value comes from the list).
+enum class ComponentId : std::uint8_t {};
+
+namespace detail {
+template <class C, class... Types>
+constexpr std::size_t index_in(TypeList<Types...>) {
+  constexpr bool matches[] = {std::is_same_v<C, Types>...};
+  std::size_t index = 0;
+  while (index < sizeof...(Types) && !matches[index]) ++index;
+  return index;
+}
+template <class... Types>
+constexpr std::size_t list_size(TypeList<Types...>) {
+  return sizeof...(Types);
+}
+}  // namespace detail
+
+inline constexpr std::size_t kComponentCount = detail::list_size(ComponentList{});
+
+template <class C>
+inline constexpr bool is_component = detail::index_in<C>(ComponentList{}) < kComponentCount;
+
+/// The id of component C: `component_id<GrainState>`.
+template <class C>
+inline constexpr ComponentId component_id = [] {
+  static_assert(is_component<C>, "not in ComponentList (components/component_id.hpp)");
+  return static_cast<ComponentId>(detail::index_in<C>(ComponentList{}));
+}();
+
+/// The component's snake_case name (its kName), for messages and the graph dump.
+inline std::string_view component_name(ComponentId id);  // defined in components/component_list.hpp
 
 }  // namespace riffle

@@ -16,7 +16,9 @@
 namespace riffle {
 
 struct Contacts {
-  static constexpr ComponentId kId = ComponentId::kContacts;
+  static constexpr ComponentId kId = component_id<Contacts>;
+  static constexpr std::string_view kName = "contacts";
+  static constexpr bool kPersistent = true;
 
   // Grain-grain candidates.
   std::vector<std::uint32_t> pair_offsets;     ///< grains + 1: pairs of first grain i are [offsets[i], offsets[i+1])
@@ -53,11 +55,39 @@ struct Contacts {
   std::size_t pair_count() const { return pair_second.size(); }
   std::size_t wall_pair_count() const { return wall_pair_wall.size(); }
 
+  /// Every member once, in checkpoint order: `visit(name, persistent, member)`. The arrays are not one value per
+  /// grain throughout (pairs, CSR offsets), so this table drives the checkpoint only, not resize or reorder.
+  template <class Self, class Visit>
+  static void for_each_member(Self& self, Visit&& visit) {
+    visit("pair_offsets", true, self.pair_offsets);
+    visit("pair_second", true, self.pair_second);
+    visit("pair_spring", true, self.pair_spring);
+    visit("pair_force", true, self.pair_force);
+    visit("pair_torque_first", true, self.pair_torque_first);
+    visit("pair_torque_second", true, self.pair_torque_second);
+    visit("pair_overlap", true, self.pair_overlap);
+    visit("second_offsets", true, self.second_offsets);
+    visit("second_pairs", true, self.second_pairs);
+    visit("first_force", false, self.first_force);  // scratch, rewritten every sub-step
+    visit("first_torque", false, self.first_torque);
+    visit("wall_pair_offsets", true, self.wall_pair_offsets);
+    visit("wall_pair_wall", true, self.wall_pair_wall);
+    visit("wall_pair_spring", true, self.wall_pair_spring);
+    visit("wall_pair_force", true, self.wall_pair_force);
+    visit("wall_pair_torque", true, self.wall_pair_torque);
+    visit("wall_pair_overlap", true, self.wall_pair_overlap);
+    visit("build_position", true, self.build_position);
+    visit("build_tank_displacement", true, self.build_tank_displacement);
+    visit("skin", true, self.skin);
+    visit("rebuilds", true, self.rebuilds);
+    visit("valid", true, self.valid);
+  }
+
   template <class Archive>
   void serialize(Archive& archive) {
-    archive(pair_offsets, pair_second, pair_spring, pair_force, pair_torque_first, pair_torque_second, pair_overlap,
-            second_offsets, second_pairs, wall_pair_offsets, wall_pair_wall, wall_pair_spring, wall_pair_force,
-            wall_pair_torque, wall_pair_overlap, build_position, build_tank_displacement, skin, rebuilds, valid);
+    for_each_member(*this, [&](const char*, bool persistent, auto& member) {
+      if (persistent) archive(member);
+    });
   }
 };
 

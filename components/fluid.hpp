@@ -1,11 +1,13 @@
 #pragma once
 // MPS particles (numerics.md Secs. 1.1 and 3.1): fluid particles and the tank's wall and dummy particles in one
 // structure-of-arrays table, so one neighbour search and one number-density pass cover all of them. One entry per
-// particle; slot order may change (a later cell sort), `id` never does.
+// particle; slot order may change (a later cell sort), `id` never does. The table is split into roles, each written
+// by its own systems; `FluidParticles` is every role at once (set-up, output, checkpoints, the cell sort).
 //
 // FluidNeighbours holds the neighbour lists (CSR, slots, self excluded) built by systems/fluid_neighbours.*. It is a
 // separate component, like Contacts for the grains, so that the scheduler orders the build before every system
 // that reads the lists, and so that it can be rebuilt from positions alone (never persistent).
+#include <array>
 #include <cereal/types/vector.hpp>
 #include <cstdint>
 #include <vector>
@@ -21,24 +23,19 @@ namespace riffle {
 /// number density and the HS source, and are never free-surface particles.
 enum class FluidKind : std::int32_t { kFluid = 0, kWall = 1, kDummy = 2 };
 
-struct FluidParticles {
-  static constexpr ComponentId kId = ComponentId::kFluid;
+/// Identity, kind and motion at the step start: written by fluid_wall_motion (walls and dummies) and fluid_correct
+/// (fluid); fluid_predict updates the fluid's velocity.
+struct ParticleState {
+  static constexpr ComponentId kId = component_id<ParticleState>;
+  static constexpr std::string_view kName = "particle_state";
 
   std::vector<EntityId> id;                 ///< [1] stable identity
   std::vector<std::int32_t> kind;           ///< [1] FluidKind: 0 fluid, 1 wall, 2 dummy
   std::vector<Vec3> position;               ///< [m] lab frame, at the start of the step
   std::vector<Vec3> velocity;               ///< [m/s] lab frame; walls and dummies carry the wall velocity
   std::vector<Vec3> rest_position;          ///< [m] walls and dummies: position with the tank at rest (moved analytically)
-  std::vector<Vec3> predicted_position;     ///< [m] r* after the explicit prediction (numerics 2.1)
-  std::vector<double> density_rate;         ///< [1/s] ECS input: (Dn/Dt)^k of fluid particles at the step start
-  std::vector<double> pressure;             ///< [Pa] gauge pressure (0 at the free surface)
-  std::vector<double> previous_pressure;    ///< [Pa] pressure of the step before (the PPE's warm start extrapolates)
-  std::vector<Vec3> pressure_gradient;      ///< [Pa/m] fluid: the GC gradient of p^{k+1} (without DS), sampled by grains
-  std::vector<Vec3> drag_reaction;          ///< [N s/m^3] fluid: impulse per volume the grains' drag gives back, applied in the next prediction
-  std::vector<double> number_density;       ///< [1] n_i = sum_j w(r_ij) over fluid, wall and dummy neighbours
-  std::vector<std::int32_t> free_surface;   ///< [1] 1 if n_i < beta n0 (fluid particles only), else 0
 
-  EntityId next_id = 0;  ///< the id the next added particle gets
+  std::size_t size() const { return id.size(); }
 
   template <class Self, class Visit>
   static void for_each_field(Self& self, Visit&& visit) {
@@ -47,15 +44,92 @@ struct FluidParticles {
     visit(FieldInfo{"position", "m", false}, self.position);  // VTK points, not a point-data array
     visit(FieldInfo{"velocity", "m/s", true}, self.velocity);
     visit(FieldInfo{"rest_position", "m", false}, self.rest_position);
+  }
+};
+
+/// The explicit prediction (numerics 2.1): written by fluid_predict (fluid_wall_motion for walls and dummies).
+struct ParticlePrediction {
+  static constexpr ComponentId kId = component_id<ParticlePrediction>;
+  static constexpr std::string_view kName = "particle_prediction";
+
+  std::vector<Vec3> predicted_position;  ///< [m] r* after the explicit prediction
+  std::vector<double> density_rate;      ///< [1/s] ECS input: (Dn/Dt)^k of fluid particles at the step start
+
+  std::size_t size() const { return predicted_position.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"predicted_position", "m", false}, self.predicted_position);
     visit(FieldInfo{"density_rate", "1/s", false}, self.density_rate);
+  }
+};
+
+/// The pressure solve's result: pressure written by fluid_pressure_solve, the gradient by fluid_correct.
+struct ParticlePressure {
+  static constexpr ComponentId kId = component_id<ParticlePressure>;
+  static constexpr std::string_view kName = "particle_pressure";
+
+  std::vector<double> pressure;           ///< [Pa] gauge pressure (0 at the free surface)
+  std::vector<double> previous_pressure;  ///< [Pa] pressure of the step before (the PPE's warm start extrapolates)
+  std::vector<Vec3> pressure_gradient;    ///< [Pa/m] fluid: the GC gradient of p^{k+1} (without DS), sampled by grains
+
+  std::size_t size() const { return pressure.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"pressure", "Pa", true}, self.pressure);
     visit(FieldInfo{"previous_pressure", "Pa", false}, self.previous_pressure);
     visit(FieldInfo{"pressure_gradient", "Pa/m", true}, self.pressure_gradient);
-    visit(FieldInfo{"drag_reaction", "N s/m^3", true}, self.drag_reaction);
+  }
+};
+
+/// Number density at the predicted positions and the free-surface flags: written by fluid_free_surface.
+struct ParticleDensity {
+  static constexpr ComponentId kId = component_id<ParticleDensity>;
+  static constexpr std::string_view kName = "particle_density";
+
+  std::vector<double> number_density;      ///< [1] n_i = sum_j w(r_ij) over fluid, wall and dummy neighbours
+  std::vector<std::int32_t> free_surface;  ///< [1] 1 if n_i < beta n0 (fluid particles only), else 0
+
+  std::size_t size() const { return number_density.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"number_density", "1", true}, self.number_density);
     visit(FieldInfo{"free_surface", "1", true}, self.free_surface);
   }
+};
+
+/// The grains' drag given back to the fluid: written by fluid_drag_reaction at the step end, applied and cleared by
+/// the next fluid_predict.
+struct ParticleDragReaction {
+  static constexpr ComponentId kId = component_id<ParticleDragReaction>;
+  static constexpr std::string_view kName = "particle_drag_reaction";
+
+  std::vector<Vec3> drag_reaction;  ///< [N s/m^3] fluid: impulse per volume, applied in the next prediction
+
+  std::size_t size() const { return drag_reaction.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"drag_reaction", "N s/m^3", true}, self.drag_reaction);
+  }
+};
+
+/// Every role of the MPS particles: the whole table.
+struct FluidParticles
+    : EntityGroup<ParticleState, ParticlePrediction, ParticlePressure, ParticleDensity, ParticleDragReaction> {
+  static constexpr std::string_view kName = "fluid";
+  static constexpr bool kPersistent = true;
+
+  /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
+  /// before the split into roles (for_each_field_in_order).
+  static constexpr std::array<const char*, 13> kFieldOrder = {
+      "id",          "kind",          "position",          "velocity",          "rest_position",
+      "predicted_position", "density_rate", "pressure", "previous_pressure", "pressure_gradient",
+      "drag_reaction", "number_density", "free_surface"};
+
+  EntityId next_id = 0;  ///< the id the next added particle gets
 
   std::size_t size() const { return id.size(); }
 
@@ -69,27 +143,22 @@ struct FluidParticles {
     velocity[slot] = velocity_m_s;
     rest_position[slot] = position_m;
     predicted_position[slot] = position_m;
-    density_rate[slot] = 0.0;
-    pressure[slot] = 0.0;
-    previous_pressure[slot] = 0.0;
-    number_density[slot] = 0.0;
-    pressure_gradient[slot] = Vec3::Zero();
-    drag_reaction[slot] = Vec3::Zero();
-    free_surface[slot] = 0;
     return slot;
   }
 
   template <class Archive>
   void serialize(Archive& archive) {
     archive(next_id);
-    for_each_field(*this, [&](const FieldInfo&, auto& field) { archive(field); });
+    for_each_field_in_order(*this, [&](const FieldInfo&, auto& field) { archive(field); });
   }
 };
 
 /// Reductions over the fluid after each step and the pressure solver's report; diagnostics.csv and the time-step
 /// control read them.
 struct FluidSummary {
-  static constexpr ComponentId kId = ComponentId::kFluidSummary;
+  static constexpr ComponentId kId = component_id<FluidSummary>;
+  static constexpr std::string_view kName = "fluid_summary";
+  static constexpr bool kPersistent = true;
 
   std::size_t fluid_count = 0;        ///< fluid particles
   std::size_t surface_count = 0;      ///< of which flagged free surface in the last solve
@@ -104,10 +173,28 @@ struct FluidSummary {
   double last_dt = 0.0;               ///< [s] length of the last step
   double courant = 0.0;               ///< [1] max |u| dt / l0 of the last step
 
+  /// Every member once, in checkpoint order: `visit(name, persistent, member)`.
+  template <class Self, class Visit>
+  static void for_each_member(Self& self, Visit&& visit) {
+    visit("fluid_count", true, self.fluid_count);
+    visit("surface_count", true, self.surface_count);
+    visit("kinetic_energy", true, self.kinetic_energy);
+    visit("max_speed", true, self.max_speed);
+    visit("mean_density_ratio", true, self.mean_density_ratio);
+    visit("volume", true, self.volume);
+    visit("solver_iterations", true, self.solver_iterations);
+    visit("solver_residual", true, self.solver_residual);
+    visit("solver_unknowns", true, self.solver_unknowns);
+    visit("solver_converged", true, self.solver_converged);
+    visit("last_dt", true, self.last_dt);
+    visit("courant", true, self.courant);
+  }
+
   template <class Archive>
   void serialize(Archive& archive) {
-    archive(fluid_count, surface_count, kinetic_energy, max_speed, mean_density_ratio, volume, solver_iterations,
-            solver_residual, solver_unknowns, solver_converged, last_dt, courant);
+    for_each_member(*this, [&](const char*, bool persistent, auto& member) {
+      if (persistent) archive(member);
+    });
   }
 };
 
@@ -116,7 +203,9 @@ struct FluidSummary {
 /// branch samples them while the fluid's branch advances `FluidParticles` beside it. Slots [0, F) of the fluid
 /// particles at the copy; never persistent (copied again from `fluid` at every step).
 struct FluidSample {
-  static constexpr ComponentId kId = ComponentId::kFluidSample;
+  static constexpr ComponentId kId = component_id<FluidSample>;
+  static constexpr std::string_view kName = "fluid_sample";
+  static constexpr bool kPersistent = false;  // copied again from the particles at every step
 
   std::vector<Vec3> position;           ///< [m]
   std::vector<Vec3> velocity;           ///< [m/s]
@@ -128,7 +217,9 @@ struct FluidSample {
 /// Neighbours of the fluid particles (slots [0, F)) among all MPS particles within `radius` (self excluded), CSR by
 /// particle slot, each list ascending.
 struct FluidNeighbours {
-  static constexpr ComponentId kId = ComponentId::kFluidNeighbours;
+  static constexpr ComponentId kId = component_id<FluidNeighbours>;
+  static constexpr std::string_view kName = "fluid_neighbours";
+  static constexpr bool kPersistent = false;  // rebuilt from the positions
 
   double radius = 0.0;                  ///< [m] search radius the lists were built with (>= r_e)
   std::vector<std::uint32_t> offsets;   ///< particles + 1: neighbours of i are slots[offsets[i] .. offsets[i+1])

@@ -2,14 +2,25 @@
 // Generic operations over structure-of-arrays components.
 //
 // Each component lists its per-entity fields exactly once, in a static `for_each_field(self, visit)` that calls
-// `visit(FieldInfo, std::vector<T>&)` for every field. Resizing, reordering, size checks, checkpointing and VTK
-// export all walk that one table, so no hand-kept field list can drift from the struct.
+// `visit(FieldInfo, std::vector<T>&)` for every field. Resizing (with each field's default), reordering, size checks,
+// checkpointing and VTK export all walk that one table, so no hand-kept field list can drift from the struct.
+//
+// An entity table split into role components (the grains' `Solids`, the MPS particles' `FluidParticles`) is an
+// `EntityGroup` of its roles: it derives from every role, and its table is the roles' tables one after the other. A
+// system that writes one role sees only that role's fields; one that reorders the entities writes every role and
+// gets the whole group back with `whole_group`.
 #include <algorithm>
+#include <array>
 #include <cstddef>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
+
+#include "components/component_id.hpp"
+#include "components/vec.hpp"
 
 namespace riffle {
 
@@ -18,7 +29,16 @@ struct FieldInfo {
   const char* name;  ///< snake_case name, also the VTK array name
   const char* unit;  ///< SI unit, "1" for dimensionless or ids
   bool output;       ///< written to VTK frames
+  double fill = 0.0; ///< value of a new entity's field until set (a Vec3 gets it in every component)
 };
+
+/// The value a new entity's field of type Value starts with.
+template <class Value>
+Value field_default(const FieldInfo& info) {
+  if constexpr (std::is_same_v<Value, Vec3>) return Vec3::Constant(info.fill);
+  else if constexpr (std::is_arithmetic_v<Value>) return static_cast<Value>(info.fill);
+  else return Value{};
+}
 
 /// Number of entities, taken from the first field.
 template <class Component>
@@ -43,9 +63,13 @@ void check_field_sizes(const Component& component, const char* component_name) {
   });
 }
 
+/// Every field holds `count` values; new entities get each field's default (FieldInfo::fill).
 template <class Component>
 void resize_fields(Component& component, std::size_t count) {
-  Component::for_each_field(component, [&](const FieldInfo&, auto& field) { field.resize(count); });
+  Component::for_each_field(component, [&](const FieldInfo& info, auto& field) {
+    using Value = typename std::decay_t<decltype(field)>::value_type;
+    field.resize(count, field_default<Value>(info));
+  });
 }
 
 /// New slot k of `values` holds what slot order[k] held, for k < order.size(); `order` is a permutation of
@@ -63,6 +87,71 @@ void permute_prefix(std::vector<Value>& values, const std::vector<std::size_t>& 
 template <class Component>
 void permute_fields(Component& component, const std::vector<std::size_t>& order) {
   Component::for_each_field(component, [&](const FieldInfo&, auto& field) { permute_prefix(field, order); });
+}
+
+/// An entity table made of role components: it is every role at once, and its field table is the roles' tables in
+/// the order of `Roles`. So resize_fields, permute_fields and check_field_sizes on the group cover every role.
+template <class... Roles>
+struct EntityGroup : Roles... {
+  using RoleList = TypeList<Roles...>;
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    (Roles::for_each_field(static_cast<std::conditional_t<std::is_const_v<Self>, const Roles, Roles>&>(self), visit),
+     ...);
+  }
+};
+
+namespace detail {
+template <class Group, class... Given, class... Roles>
+constexpr bool names_every_role(TypeList<Roles...>) {
+  return sizeof...(Given) == sizeof...(Roles) &&
+         ((detail::index_in<Roles>(TypeList<Given...>{}) < sizeof...(Given)) && ...);
+}
+}  // namespace detail
+
+/// The group that the role references belong to, for systems that must touch every role at once (the sorts that
+/// reorder the entities): every role of the group must be given (checked when compiling), each fetched through the
+/// system's declared access, and all must be parts of one group object (checked when running).
+template <class Group, class... Roles>
+Group& whole_group(Roles&... roles) {
+  static_assert(detail::names_every_role<Group, Roles...>(typename Group::RoleList{}),
+                "give every role of the group, each once");
+  Group* group = nullptr;
+  bool same = true;
+  ((same = same && (group == nullptr || group == &static_cast<Group&>(roles)), group = &static_cast<Group&>(roles)),
+   ...);
+  if (!same) throw std::logic_error("whole_group: the roles belong to different groups");
+  return *group;
+}
+
+/// Visits the fields of the whole table in its written order: a group that declares `kFieldOrder` (the order its
+/// fields had as one table, before the split into roles) is visited in that order, so that checkpoints and VTK frames
+/// keep their bytes; any other table in its for_each_field order. Every field of the table must be named exactly once.
+template <class Component, class Visit>
+void for_each_field_in_order(Component& component, Visit&& visit) {
+  using Table = std::remove_const_t<Component>;
+  if constexpr (requires { Table::kFieldOrder; }) {
+    std::size_t fields = 0;
+    Table::for_each_field(component, [&](const FieldInfo&, auto&) { ++fields; });
+    if (fields != Table::kFieldOrder.size())
+      throw std::logic_error(std::string(Table::kName) + "::kFieldOrder names " +
+                             std::to_string(Table::kFieldOrder.size()) + " fields, the table has " +
+                             std::to_string(fields));
+    for (const char* name : Table::kFieldOrder) {
+      std::size_t found = 0;
+      Table::for_each_field(component, [&](const FieldInfo& info, auto& field) {
+        if (std::strcmp(info.name, name) != 0) return;
+        ++found;
+        visit(info, field);
+      });
+      if (found != 1)
+        throw std::logic_error(std::string(Table::kName) + "::kFieldOrder names '" + name + "', found " +
+                               std::to_string(found) + " times in the table");
+    }
+  } else {
+    Table::for_each_field(component, visit);
+  }
 }
 
 /// True if `order` is a permutation of 0..n-1.

@@ -5,7 +5,9 @@
 namespace riffle {
 
 struct SolidSummary {
-  static constexpr ComponentId kId = ComponentId::kSolidSummary;
+  static constexpr ComponentId kId = component_id<SolidSummary>;
+  static constexpr std::string_view kName = "solid_summary";
+  static constexpr bool kPersistent = false;
 
   double translational_energy = 0.0;  ///< [J] sum of m |v|^2 / 2
   double rotational_energy = 0.0;     ///< [J] sum of I |w|^2 / 2

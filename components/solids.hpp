@@ -1,6 +1,11 @@
 #pragma once
 // Solid grains (DEM spheres) as structure-of-arrays data. One entry per sphere; slot order may change when the
 // grains are sorted by grid cell, `id` never does.
+//
+// The table is split into roles, each written by its own systems (docs/ARCHITECTURE.md, "Components"), so that the
+// scheduler can run the writers of different roles side by side: contact and drag forces, say. `Solids` is the whole
+// table: every role at once, for set-up, output, checkpoints and the sorts that reorder the grains.
+#include <array>
 #include <cereal/types/vector.hpp>
 #include <cstdint>
 #include <vector>
@@ -11,31 +16,17 @@
 
 namespace riffle {
 
-struct Solids {
-  static constexpr ComponentId kId = ComponentId::kSolids;
+/// Identity and motion: written by the integrator (solid_kick_drift, solid_kick).
+struct GrainState {
+  static constexpr ComponentId kId = component_id<GrainState>;
+  static constexpr std::string_view kName = "grain_state";
 
   std::vector<EntityId> id;            ///< [1] stable identity
   std::vector<Vec3> position;          ///< [m] centre, lab frame; filled by the integrator
   std::vector<Vec3> velocity;          ///< [m/s] centre velocity, lab frame
   std::vector<Vec3> angular_velocity;  ///< [rad/s]
-  std::vector<double> radius;          ///< [m]
-  std::vector<double> mass;            ///< [kg]
-  std::vector<double> moment_of_inertia;  ///< [kg m^2] about the centre (solid sphere: 2/5 m r^2)
-  std::vector<Vec3> force;             ///< [N] sum of the non-gravity force sources below (solid_force_sum)
-  std::vector<Vec3> torque;            ///< [N m] sum of the torque sources below
-  std::vector<Vec3> contact_force;     ///< [N] from grain-grain and grain-wall contacts (solid_contact_gather)
-  std::vector<Vec3> contact_torque;    ///< [N m] from contacts, rolling friction included
-  // Fluid coupling (seed 000 Sec. 3.2-3.3): fields sampled from the fluid once per fluid step, and the drag.
-  std::vector<Vec3> drag_force;        ///< [N] drag of the fluid on the grain, recomputed every sub-step (solid_drag)
-  std::vector<Vec3> drag_impulse;      ///< [N s] drag integrated over the sub-steps since the fluid last took it back
-  std::vector<Vec3> pressure_force;    ///< [N] -V <grad p>, held over the fluid step (solid_fluid_sampling)
-  std::vector<Vec3> fluid_velocity;    ///< [m/s] averaged fluid velocity (seed Eq. 23) at the step start
-  std::vector<double> voidage;         ///< [1] fluid volume fraction epsilon at the step end; 1 if dry
-  std::vector<double> fluid_weight;    ///< [1] sum of the sampling weights of the fluid around the grain; 0 = dry
-  std::vector<std::int32_t> material;  ///< [1] index into the scene's material table
-  std::vector<std::int32_t> size_class;  ///< [1] index into the scene's size classes (for per-class output)
 
-  EntityId next_id = 0;  ///< the id the next added sphere gets
+  std::size_t size() const { return id.size(); }
 
   template <class Self, class Visit>
   static void for_each_field(Self& self, Visit&& visit) {
@@ -43,26 +34,139 @@ struct Solids {
     visit(FieldInfo{"position", "m", false}, self.position);  // VTK points, not a point-data array
     visit(FieldInfo{"velocity", "m/s", true}, self.velocity);
     visit(FieldInfo{"angular_velocity", "rad/s", true}, self.angular_velocity);
+  }
+};
+
+/// What a grain is: set once by the bed generation, never written by a system.
+struct GrainProperties {
+  static constexpr ComponentId kId = component_id<GrainProperties>;
+  static constexpr std::string_view kName = "grain_properties";
+
+  std::vector<double> radius;             ///< [m]
+  std::vector<double> mass;               ///< [kg]
+  std::vector<double> moment_of_inertia;  ///< [kg m^2] about the centre (solid sphere: 2/5 m r^2)
+  std::vector<std::int32_t> material;     ///< [1] index into the scene's material table
+  std::vector<std::int32_t> size_class;   ///< [1] index into the scene's size classes (for per-class output)
+
+  std::size_t size() const { return radius.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"radius", "m", true}, self.radius);
     visit(FieldInfo{"mass", "kg", true}, self.mass);
     visit(FieldInfo{"moment_of_inertia", "kg m^2", false}, self.moment_of_inertia);
-    visit(FieldInfo{"force", "N", true}, self.force);
-    visit(FieldInfo{"torque", "N m", true}, self.torque);
-    visit(FieldInfo{"contact_force", "N", true}, self.contact_force);
-    visit(FieldInfo{"contact_torque", "N m", false}, self.contact_torque);
-    visit(FieldInfo{"drag_force", "N", true}, self.drag_force);
-    visit(FieldInfo{"drag_impulse", "N s", false}, self.drag_impulse);
-    visit(FieldInfo{"pressure_force", "N", true}, self.pressure_force);
-    visit(FieldInfo{"fluid_velocity", "m/s", true}, self.fluid_velocity);
-    visit(FieldInfo{"voidage", "1", true}, self.voidage);
-    visit(FieldInfo{"fluid_weight", "1", true}, self.fluid_weight);
     visit(FieldInfo{"material", "1", true}, self.material);
     visit(FieldInfo{"size_class", "1", true}, self.size_class);
   }
+};
+
+/// The sum of the non-gravity force sources below: written by solid_force_sum, read by the integrator.
+struct GrainTotalForce {
+  static constexpr ComponentId kId = component_id<GrainTotalForce>;
+  static constexpr std::string_view kName = "grain_total_force";
+
+  std::vector<Vec3> force;   ///< [N] contact + drag + pressure force
+  std::vector<Vec3> torque;  ///< [N m] contact torque
+
+  std::size_t size() const { return force.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"force", "N", true}, self.force);
+    visit(FieldInfo{"torque", "N m", true}, self.torque);
+  }
+};
+
+/// Grain-grain and grain-wall contact forces: written by solid_contact_gather.
+struct GrainContactForce {
+  static constexpr ComponentId kId = component_id<GrainContactForce>;
+  static constexpr std::string_view kName = "grain_contact_force";
+
+  std::vector<Vec3> contact_force;   ///< [N] from grain-grain and grain-wall contacts
+  std::vector<Vec3> contact_torque;  ///< [N m] from contacts, rolling friction included
+
+  std::size_t size() const { return contact_force.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"contact_force", "N", true}, self.contact_force);
+    visit(FieldInfo{"contact_torque", "N m", false}, self.contact_torque);
+  }
+};
+
+/// The fluid's drag on the grain (seed 000 Sec. 3.3): written by solid_drag every sub-step; fluid_drag_reaction
+/// hands the impulse to the fluid and clears it.
+struct GrainDrag {
+  static constexpr ComponentId kId = component_id<GrainDrag>;
+  static constexpr std::string_view kName = "grain_drag";
+
+  std::vector<Vec3> drag_force;    ///< [N] drag of the fluid on the grain, recomputed every sub-step
+  std::vector<Vec3> drag_impulse;  ///< [N s] drag integrated over the sub-steps since the fluid last took it back
+
+  std::size_t size() const { return drag_force.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"drag_force", "N", true}, self.drag_force);
+    visit(FieldInfo{"drag_impulse", "N s", false}, self.drag_impulse);
+  }
+};
+
+/// The fluid around the grain as sampled once per fluid step at the step start (seed 000 Sec. 3.2): written by
+/// solid_fluid_sampling, held over the sub-steps.
+struct GrainSampledFluid {
+  static constexpr ComponentId kId = component_id<GrainSampledFluid>;
+  static constexpr std::string_view kName = "grain_sampled_fluid";
+
+  std::vector<Vec3> pressure_force;  ///< [N] -V <grad p>
+  std::vector<Vec3> fluid_velocity;  ///< [m/s] averaged fluid velocity (seed Eq. 23)
+  std::vector<double> fluid_weight;  ///< [1] sum of the sampling weights of the fluid around the grain; 0 = dry
+
+  std::size_t size() const { return pressure_force.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"pressure_force", "N", true}, self.pressure_force);
+    visit(FieldInfo{"fluid_velocity", "m/s", true}, self.fluid_velocity);
+    visit(FieldInfo{"fluid_weight", "1", true}, self.fluid_weight);
+  }
+};
+
+/// The fluid volume fraction around the grain at the step end: written by solid_voidage after the fluid's step,
+/// while the sampled fluid above belongs to the step start.
+struct GrainVoidage {
+  static constexpr ComponentId kId = component_id<GrainVoidage>;
+  static constexpr std::string_view kName = "grain_voidage";
+
+  std::vector<double> voidage;  ///< [1] fluid volume fraction epsilon; 1 if dry
+
+  std::size_t size() const { return voidage.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"voidage", "1", true, 1.0}, self.voidage);
+  }
+};
+
+/// Every role of the grains: the whole table.
+struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainContactForce, GrainDrag,
+                            GrainSampledFluid, GrainVoidage> {
+  static constexpr std::string_view kName = "solids";
+  static constexpr bool kPersistent = true;
+
+  /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
+  /// before the split into roles (for_each_field_in_order).
+  static constexpr std::array<const char*, 19> kFieldOrder = {
+      "id",           "position",       "velocity",       "angular_velocity", "radius",
+      "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
+      "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
+      "voidage",      "fluid_weight",   "material",       "size_class"};
+
+  EntityId next_id = 0;  ///< the id the next added sphere gets
 
   std::size_t size() const { return id.size(); }
 
-  /// Appends one sphere at rest-free state; returns its slot.
+  /// Appends one sphere at rest, every other field at its default; returns its slot.
   std::size_t add(const Vec3& position_m, const Vec3& velocity_m_s, double radius_m, double density_kg_m3,
                   std::int32_t material_index, std::int32_t size_class_index) {
     const std::size_t slot = size();
@@ -71,20 +175,9 @@ struct Solids {
     id[slot] = next_id++;
     position[slot] = position_m;
     velocity[slot] = velocity_m_s;
-    angular_velocity[slot] = Vec3::Zero();
     radius[slot] = radius_m;
     mass[slot] = density_kg_m3 * 4.0 / 3.0 * kPi * radius_m * radius_m * radius_m;
     moment_of_inertia[slot] = 0.4 * mass[slot] * radius_m * radius_m;
-    force[slot] = Vec3::Zero();
-    torque[slot] = Vec3::Zero();
-    contact_force[slot] = Vec3::Zero();
-    contact_torque[slot] = Vec3::Zero();
-    drag_force[slot] = Vec3::Zero();
-    drag_impulse[slot] = Vec3::Zero();
-    pressure_force[slot] = Vec3::Zero();
-    fluid_velocity[slot] = Vec3::Zero();
-    voidage[slot] = 1.0;
-    fluid_weight[slot] = 0.0;
     material[slot] = material_index;
     size_class[slot] = size_class_index;
     return slot;
@@ -93,7 +186,7 @@ struct Solids {
   template <class Archive>
   void serialize(Archive& archive) {
     archive(next_id);
-    for_each_field(*this, [&](const FieldInfo&, auto& field) { archive(field); });
+    for_each_field_in_order(*this, [&](const FieldInfo&, auto& field) { archive(field); });
   }
 };
 

@@ -18,7 +18,9 @@ enum class StepProblem : std::uint8_t {
 };
 
 struct StepStatus {
-  static constexpr ComponentId kId = ComponentId::kStepStatus;
+  static constexpr ComponentId kId = component_id<StepStatus>;
+  static constexpr std::string_view kName = "step_status";
+  static constexpr bool kPersistent = false;
 
   StepProblem problem = StepProblem::kNone;
   std::string phase;                ///< "solids", ...

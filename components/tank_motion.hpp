@@ -7,7 +7,9 @@
 namespace riffle {
 
 struct TankMotion {
-  static constexpr ComponentId kId = ComponentId::kTankMotion;
+  static constexpr ComponentId kId = component_id<TankMotion>;
+  static constexpr std::string_view kName = "tank_motion";
+  static constexpr bool kPersistent = true;
 
   double time = 0.0;                        ///< [s] the time these kinematics belong to
   Vec3 displacement = Vec3::Zero();         ///< [m] from the rest position

@@ -14,7 +14,9 @@
 namespace riffle {
 
 struct Walls {
-  static constexpr ComponentId kId = ComponentId::kWalls;
+  static constexpr ComponentId kId = component_id<Walls>;
+  static constexpr std::string_view kName = "walls";
+  static constexpr bool kPersistent = true;
 
   std::vector<EntityId> id;            ///< [1] stable identity
   std::vector<std::string> name;       ///< "floor", "left", ... as named in the scene
@@ -45,6 +47,7 @@ struct Walls {
 
   std::size_t size() const { return id.size(); }
 
+  /// Appends one plane, at rest; returns its slot.
   std::size_t add(const std::string& wall_name, const Vec3& centre, const Vec3& inward_normal, const Vec3& half_u,
                   const Vec3& half_v, bool follows_tank, std::int32_t material_index) {
     const std::size_t slot = size();
@@ -54,7 +57,6 @@ struct Walls {
     rest_point[slot] = centre;
     point[slot] = centre;
     normal[slot] = inward_normal.normalized();
-    velocity[slot] = Vec3::Zero();
     half_extent_u[slot] = half_u;
     half_extent_v[slot] = half_v;
     moves_with_tank[slot] = follows_tank ? 1 : 0;

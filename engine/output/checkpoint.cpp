@@ -41,9 +41,14 @@ T get(const std::string& in, std::size_t offset) {
 template <class Archive>
 void archive_checkpoint(Archive& archive, CheckpointData& data) {
   World& world = data.world;
-  // fluid_neighbours is left out: it is rebuilt from the positions.
-  archive(data.scene_file, data.scene_text, world.time, world.step, world.solids, world.walls, world.tank_motion,
-          world.contacts, world.fluid, world.fluid_summary, data.output);
+  archive(data.scene_file, data.scene_text, world.time, world.step);
+  // The persistent parts, in World::kParts order; the others (neighbour lists, summaries, the fluid sample) are
+  // rebuilt from these.
+  World::for_each_part(world, [&](auto& part) {
+    using Stored = typename detail::unwrap_optional<std::decay_t<decltype(part)>>::type;
+    if constexpr (Stored::kPersistent) archive(part);
+  });
+  archive(data.output);
 }
 }  // namespace
 
@@ -96,9 +101,11 @@ CheckpointData decode_checkpoint(const std::string& bytes, const std::string& na
     archive_checkpoint(archive, data);
     if (archive.bytes_left() != 0)
       throw std::runtime_error(std::to_string(archive.bytes_left()) + " bytes left over after the last field");
-    if (data.world.solids) check_field_sizes(*data.world.solids, "solids");
-    if (data.world.walls) check_field_sizes(*data.world.walls, "walls");
-    if (data.world.fluid) check_field_sizes(*data.world.fluid, "fluid");
+    World::for_each_part(data.world, [&](const auto& part) {
+      using Stored = typename detail::unwrap_optional<std::decay_t<decltype(part)>>::type;
+      if constexpr (Stored::kPersistent && requires(const Stored& table) { table.next_id; })  // entity tables
+        if (part) check_field_sizes(*part, std::string(Stored::kName).c_str());
+    });
   } catch (const std::exception& error) {
     throw CheckpointError(name + ": checkpoint payload cannot be read: " + error.what());
   }

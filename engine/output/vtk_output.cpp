@@ -46,7 +46,7 @@ std::string field_array(const char* name, const std::vector<T>& field) {
 template <class Component>
 std::string field_arrays(const Component& component) {
   std::string out;
-  Component::for_each_field(component, [&](const FieldInfo& info, const auto& field) {
+  for_each_field_in_order(component, [&](const FieldInfo& info, const auto& field) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     if constexpr (!std::is_same_v<T, std::string>)
       if (info.output) out += field_array(info.name, field);

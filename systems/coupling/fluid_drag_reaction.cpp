@@ -7,46 +7,50 @@
 namespace riffle {
 
 void FluidDragReaction::run(SystemContext& context) {
-  Solids& solids = context.write<Solids>();
-  FluidParticles& fluid = context.write<FluidParticles>();
-  const std::size_t fluid_count = fluid_slot_count(fluid);
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  const GrainVoidage& voidages = context.read<GrainVoidage>();
+  GrainDrag& drag = context.write<GrainDrag>();
+  const ParticleState& particles = context.read<ParticleState>();
+  ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
   double largest_radius = 0.0;
-  for (const double radius : solids.radius) largest_radius = std::max(largest_radius, radius);
+  for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
   // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
   // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
   const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
-  volumes_.assign(solids.size(), 0.0);
+  volumes_.assign(grains.size(), 0.0);
   const DomainBox domain = domain_box(context.model);
-  grid_.build(solids.position, volumes_, fluid.position, fluid_count, constants_.particle_volume, cell_size, domain.low,
+  grid_.build(grains.position, volumes_, particles.position, fluid_count, constants_.particle_volume, cell_size, domain.low,
               domain.high);
 
   // Impulses to the nodes (slot order), then each fluid particle takes its weight's share of its nodes' impulse:
   // sum_j w_jn / W_n = 1 at every node with water, so the water receives exactly minus the grains' impulse.
   node_impulse_.assign(grid_.node_count(), Vec3::Zero());
-  for (std::size_t grain = 0; grain < solids.size(); ++grain) {
-    if (solids.drag_impulse[grain].isZero(0.0)) continue;
-    const CloudInCellStencil stencil = grid_.stencil(solids.position[grain]);
+  for (std::size_t grain = 0; grain < grains.size(); ++grain) {
+    if (drag.drag_impulse[grain].isZero(0.0)) continue;
+    const CloudInCellStencil stencil = grid_.stencil(grains.position[grain]);
     double wet = 0.0;  // weight of the nodes that hold water: a grain at the water's edge gives all to those
     for (std::size_t c = 0; c < 8; ++c) wet += grid_.fluid_volume(stencil.node[c]) > 0.0 ? stencil.weight[c] : 0.0;
     if (wet <= 0.0) continue;  // out of the water since the sampling: its drag was zero while dry
     // Mixture reading: the pore water's relative momentum balance, divided by eps, has -grad p + rho g and the
     // drag per volume over eps (docs/COUPLING.md).
-    const double share = mixture_velocity_ ? 1.0 / (wet * solids.voidage[grain]) : 1.0 / wet;
+    const double share = mixture_velocity_ ? 1.0 / (wet * voidages.voidage[grain]) : 1.0 / wet;
     for (std::size_t c = 0; c < 8; ++c)
       if (grid_.fluid_volume(stencil.node[c]) > 0.0)
-        node_impulse_[stencil.node[c]] -= (stencil.weight[c] * share) * solids.drag_impulse[grain];
-    solids.drag_impulse[grain] = Vec3::Zero();
+        node_impulse_[stencil.node[c]] -= (stencil.weight[c] * share) * drag.drag_impulse[grain];
+    drag.drag_impulse[grain] = Vec3::Zero();
   }
   for_each_particle(fluid_count, [&](std::size_t j) {
-    const CloudInCellStencil stencil = grid_.stencil(fluid.position[j]);
+    const CloudInCellStencil stencil = grid_.stencil(particles.position[j]);
     Vec3 received = Vec3::Zero();
     // fluid_volume(n) = l0^3 sum_k w_kn, so this particle's share of node n is l0^3 w_jn / fluid_volume(n); per
     // volume l0^3, that is w_jn / fluid_volume(n).
     for (std::size_t c = 0; c < 8; ++c)
       if (stencil.weight[c] > 0.0) received += (stencil.weight[c] / grid_.fluid_volume(stencil.node[c])) * node_impulse_[stencil.node[c]];
-    fluid.drag_reaction[j] += received;
+    reaction.drag_reaction[j] += received;
   });
-  context.count_items(solids.size());
+  context.count_items(grains.size());
 }
 
 }  // namespace riffle

@@ -17,7 +17,10 @@ class FluidDragReaction final : public System {
   explicit FluidDragReaction(const Model& model)
       : constants_(MpsConstants::from(model.fluid)), mixture_velocity_(model.coupling.mixture_velocity) {}
   std::string_view name() const override { return "fluid_drag_reaction"; }
-  Access access() const override { return {{}, {ComponentId::kSolids, ComponentId::kFluid}}; }
+  Access access() const override {
+    return {component_ids<GrainState, GrainProperties, GrainVoidage, ParticleState>(),
+            component_ids<GrainDrag, ParticleDragReaction>()};
+  }
   void run(SystemContext& context) override;
 
  private:

@@ -5,12 +5,13 @@
 namespace riffle {
 
 void FluidSampleCopy::run(SystemContext& context) {
-  const FluidParticles& fluid = context.read<FluidParticles>();
+  const ParticleState& particles = context.read<ParticleState>();
+  const ParticlePressure& pressures = context.read<ParticlePressure>();
   FluidSample& sample = context.write<FluidSample>();
-  const auto fluid_count = static_cast<std::ptrdiff_t>(fluid_slot_count(fluid));
-  sample.position.assign(fluid.position.begin(), fluid.position.begin() + fluid_count);
-  sample.velocity.assign(fluid.velocity.begin(), fluid.velocity.begin() + fluid_count);
-  sample.pressure_gradient.assign(fluid.pressure_gradient.begin(), fluid.pressure_gradient.begin() + fluid_count);
+  const auto fluid_count = static_cast<std::ptrdiff_t>(fluid_slot_count(particles));
+  sample.position.assign(particles.position.begin(), particles.position.begin() + fluid_count);
+  sample.velocity.assign(particles.velocity.begin(), particles.velocity.begin() + fluid_count);
+  sample.pressure_gradient.assign(pressures.pressure_gradient.begin(), pressures.pressure_gradient.begin() + fluid_count);
   context.count_items(static_cast<std::size_t>(fluid_count));
 }
 

@@ -10,7 +10,9 @@ namespace riffle {
 class FluidSampleCopy final : public System {
  public:
   std::string_view name() const override { return "fluid_sample_copy"; }
-  Access access() const override { return {{ComponentId::kFluid}, {ComponentId::kFluidSample}}; }
+  Access access() const override {
+    return {component_ids<ParticleState, ParticlePressure>(), component_ids<FluidSample>()};
+  }
   void run(SystemContext& context) override;
 };
 

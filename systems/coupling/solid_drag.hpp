@@ -11,7 +11,9 @@ class SolidDrag final : public System {
  public:
   explicit SolidDrag(const Model& model) : model_(model.coupling), fluid_(model.fluid) {}
   std::string_view name() const override { return "solid_drag"; }
-  Access access() const override { return {{}, {ComponentId::kSolids}}; }
+  Access access() const override {
+    return {component_ids<GrainState, GrainProperties, GrainSampledFluid, GrainVoidage>(), component_ids<GrainDrag>()};
+  }
   void run(SystemContext& context) override;
 
  private:

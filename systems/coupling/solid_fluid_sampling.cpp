@@ -15,21 +15,23 @@ SolidFluidSampling::SolidFluidSampling(const Model& model)
 
 void SolidFluidSampling::run(SystemContext& context) {
   const FluidSample& fluid = context.read<FluidSample>();
-  Solids& solids = context.write<Solids>();
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  GrainSampledFluid& sampled = context.write<GrainSampledFluid>();
   const std::size_t fluid_count = fluid.size();
   const double effective_radius = constants_.kernel.effective_radius;
   double smallest_radius = std::numeric_limits<double>::infinity();
-  for (const double radius : solids.radius) smallest_radius = std::min(smallest_radius, radius);
+  for (const double radius : properties.radius) smallest_radius = std::min(smallest_radius, radius);
   // Cells of half the smallest sampling radius: a query scans about 5^3 cells holding about twice the sphere's
   // volume; cells of the largest radius made every small grain test ten times the particles it keeps.
   const DomainBox domain = domain_box(context.model);
-  if (!solids.radius.empty())
+  if (!properties.radius.empty())
     fluid_grid_.build(fluid.position, 0, fluid_count, 0.5 * (smallest_radius + effective_radius), domain.low,
                       domain.high);
 
-  for_each_particle(solids.size(), [&](std::size_t grain) {
-    const Vec3 centre = solids.position[grain];
-    const WendlandKernel sampling_kernel(solids.radius[grain] + effective_radius);
+  for_each_particle(grains.size(), [&](std::size_t grain) {
+    const Vec3 centre = grains.position[grain];
+    const WendlandKernel sampling_kernel(properties.radius[grain] + effective_radius);
     const double radius_squared = sampling_kernel.effective_radius * sampling_kernel.effective_radius;
     double weight_sum = 0.0;
     Vec3 velocity = Vec3::Zero(), gradient = Vec3::Zero();
@@ -60,17 +62,17 @@ void SolidFluidSampling::run(SystemContext& context) {
                                          }
                                        });
     if (batch.count > 0) flush();
-    solids.fluid_weight[grain] = weight_sum;
+    sampled.fluid_weight[grain] = weight_sum;
     if (weight_sum <= 0.0) {  // out of the water: no fluid forces
-      solids.fluid_velocity[grain] = Vec3::Zero();
-      solids.pressure_force[grain] = Vec3::Zero();
+      sampled.fluid_velocity[grain] = Vec3::Zero();
+      sampled.pressure_force[grain] = Vec3::Zero();
       return;
     }
-    solids.fluid_velocity[grain] = velocity / weight_sum;
-    solids.pressure_force[grain] =
-        pressure_gradient_ ? Vec3(-grain_volume(solids.radius[grain]) * gradient / weight_sum) : Vec3::Zero();
+    sampled.fluid_velocity[grain] = velocity / weight_sum;
+    sampled.pressure_force[grain] =
+        pressure_gradient_ ? Vec3(-grain_volume(properties.radius[grain]) * gradient / weight_sum) : Vec3::Zero();
   });
-  context.count_items(solids.size());
+  context.count_items(grains.size());
 }
 
 }  // namespace riffle

@@ -14,7 +14,9 @@ class SolidFluidSampling final : public System {
  public:
   explicit SolidFluidSampling(const Model& model);
   std::string_view name() const override { return "solid_fluid_sampling"; }
-  Access access() const override { return {{ComponentId::kFluidSample}, {ComponentId::kSolids}}; }
+  Access access() const override {
+    return {component_ids<FluidSample, GrainState, GrainProperties>(), component_ids<GrainSampledFluid>()};
+  }
   void run(SystemContext& context) override;
 
  private:

@@ -16,7 +16,9 @@ class SolidVoidage final : public System {
  public:
   explicit SolidVoidage(const Model& model);
   std::string_view name() const override { return "solid_voidage"; }
-  Access access() const override { return {{ComponentId::kFluid}, {ComponentId::kSolids}}; }
+  Access access() const override {
+    return {component_ids<ParticleState, GrainState, GrainProperties>(), component_ids<GrainVoidage>()};
+  }
   void run(SystemContext& context) override;
 
  private:

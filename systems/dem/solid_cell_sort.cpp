@@ -9,7 +9,10 @@ namespace riffle {
 void SolidCellSort::run(SystemContext& context) {
   const std::int64_t every = context.model.solids.sort_every;
   if (every <= 0 || (context.step() + 1) % static_cast<std::uint64_t>(every) != 0) return;
-  Solids& solids = context.write<Solids>();
+  Solids& solids = whole_group<Solids>(
+      context.write<GrainState>(), context.write<GrainProperties>(), context.write<GrainTotalForce>(),
+      context.write<GrainContactForce>(), context.write<GrainDrag>(), context.write<GrainSampledFluid>(),
+      context.write<GrainVoidage>());
   if (solids.size() < 2) return;
   const double largest_radius = *std::max_element(solids.radius.begin(), solids.radius.end());
   const DomainBox domain = domain_box(context.model);

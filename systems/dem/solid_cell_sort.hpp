@@ -18,7 +18,7 @@ inline std::vector<std::size_t> cell_order(const Solids& solids, const Vec3& ori
 class SolidCellSort final : public System {
  public:
   std::string_view name() const override { return "solid_cell_sort"; }
-  Access access() const override { return {{}, {ComponentId::kSolids}}; }
+  Access access() const override { return {{}, component_ids<Solids>()}; }
   void run(SystemContext& context) override;
 };
 

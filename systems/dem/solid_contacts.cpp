@@ -25,21 +25,22 @@ void clear_separated(double& overlap, Vec3& spring, Vec3& force, Vec3& torque) {
   torque = Vec3::Zero();
 }
 
-void flush_batch(SpherePairBatch& b, const Solids& solids, const ContactModel& model, bool rolling, double dt,
+void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProperties& properties,
+                 const ContactModel& model, bool rolling, double dt,
                  Contacts& contacts) {
   // Gather the remaining inputs of the touching pairs.
   for (std::size_t p = 0; p < b.count; ++p) {
     const std::uint32_t i = b.first[p], j = b.second[p];
-    const Vec3& velocity_i = solids.velocity[i];
-    const Vec3& velocity_j = solids.velocity[j];
+    const Vec3& velocity_i = grains.velocity[i];
+    const Vec3& velocity_j = grains.velocity[j];
     b.vix[p] = velocity_i.x();
     b.viy[p] = velocity_i.y();
     b.viz[p] = velocity_i.z();
     b.vjx[p] = velocity_j.x();
     b.vjy[p] = velocity_j.y();
     b.vjz[p] = velocity_j.z();
-    const Vec3& angular_velocity_i = solids.angular_velocity[i];
-    const Vec3& angular_velocity_j = solids.angular_velocity[j];
+    const Vec3& angular_velocity_i = grains.angular_velocity[i];
+    const Vec3& angular_velocity_j = grains.angular_velocity[j];
     b.wix[p] = angular_velocity_i.x();
     b.wiy[p] = angular_velocity_i.y();
     b.wiz[p] = angular_velocity_i.z();
@@ -50,9 +51,9 @@ void flush_batch(SpherePairBatch& b, const Solids& solids, const ContactModel& m
     b.sx[p] = spring.x();
     b.sy[p] = spring.y();
     b.sz[p] = spring.z();
-    b.mi[p] = solids.mass[i];
-    b.mj[p] = solids.mass[j];
-    const ContactPairParameters& pair = model.pair(solids.material[i], solids.material[j]);
+    b.mi[p] = properties.mass[i];
+    b.mj[p] = properties.mass[j];
+    const ContactPairParameters& pair = model.pair(properties.material[i], properties.material[j]);
     b.stiffness_a[p] = pair.normal_stiffness_coefficient;
     b.stiffness_b[p] = pair.tangential_stiffness_coefficient;
     b.damping[p] = lane_damping(model.law, pair);
@@ -79,32 +80,33 @@ void flush_batch(SpherePairBatch& b, const Solids& solids, const ContactModel& m
 }  // namespace
 
 void SolidContactForces::run(SystemContext& context) {
-  const Solids& solids = context.read<Solids>();
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
   const Walls& walls = context.read<Walls>();
   Contacts& contacts = context.write<Contacts>();
   const ContactModel& law = context.model.contact;
   const double dt = context.dt;
   bool rolling = false;
   for (const ContactPairParameters& pair : law.pairs) rolling = rolling || pair.rolling_friction > 0.0;
-  contacts.first_force.resize(solids.size());
-  contacts.first_torque.resize(solids.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, solids.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+  contacts.first_force.resize(grains.size());
+  contacts.first_torque.resize(grains.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     SpherePairBatch batch;
     std::size_t count = 0;  // batch.count, in a register while filling
     // Raw pointers held in registers: the compiler cannot tell the batch stores from the vectors' own fields.
     const std::uint32_t* const pair_offsets = contacts.pair_offsets.data();
     const std::uint32_t* const pair_second = contacts.pair_second.data();
     const double* const pair_overlap = contacts.pair_overlap.data();
-    const Vec3* const positions = solids.position.data();
-    const double* const radii = solids.radius.data();
+    const Vec3* const positions = grains.position.data();
+    const double* const radii = properties.radius.data();
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       // Local copies: the pair arrays written below could alias the grain arrays as far as the compiler knows.
-      const Vec3 position = solids.position[i];
-      const Vec3 velocity = solids.velocity[i];
-      const Vec3 angular_velocity = solids.angular_velocity[i];
-      const double radius = solids.radius[i];
-      const double mass = solids.mass[i];
-      const std::int32_t material = solids.material[i];
+      const Vec3 position = grains.position[i];
+      const Vec3 velocity = grains.velocity[i];
+      const Vec3 angular_velocity = grains.angular_velocity[i];
+      const double radius = properties.radius[i];
+      const double mass = properties.mass[i];
+      const std::int32_t material = properties.material[i];
       contacts.first_force[i] = Vec3::Zero();
       contacts.first_torque[i] = Vec3::Zero();
       const std::uint32_t pair_end = pair_offsets[i + 1];
@@ -137,7 +139,7 @@ void SolidContactForces::run(SystemContext& context) {
         }
         if (count == kContactBatch) {
           batch.count = count;
-          flush_batch(batch, solids, law, rolling, dt, contacts);
+          flush_batch(batch, grains, properties, law, rolling, dt, contacts);
           count = 0;
         }
       }
@@ -169,17 +171,17 @@ void SolidContactForces::run(SystemContext& context) {
       }
     }
     batch.count = count;
-    flush_batch(batch, solids, law, rolling, dt, contacts);
+    flush_batch(batch, grains, properties, law, rolling, dt, contacts);
   });
-  context.count_items(solids.size());
+  context.count_items(grains.size());
 }
 
 void SolidContactGather::run(SystemContext& context) {
   const Contacts& contacts = context.read<Contacts>();
-  Solids& solids = context.write<Solids>();
+  GrainContactForce& contact = context.write<GrainContactForce>();
   // The per-grain first sums exist once solid_contact_forces has run on this list (not yet right after a restore).
-  const bool fused = contacts.first_force.size() == solids.size();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, solids.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+  const bool fused = contacts.first_force.size() == contact.size();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, contact.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       // The pairs where i is first were summed, in pair order, by solid_contact_forces; separated pairs carry zero.
       Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
@@ -201,11 +203,11 @@ void SolidContactGather::run(SystemContext& context) {
         force += contacts.wall_pair_force[k];
         torque += contacts.wall_pair_torque[k];
       }
-      solids.contact_force[i] = force;
-      solids.contact_torque[i] = torque;
+      contact.contact_force[i] = force;
+      contact.contact_torque[i] = torque;
     }
   });
-  context.count_items(solids.size());
+  context.count_items(contact.size());
 }
 
 }  // namespace riffle

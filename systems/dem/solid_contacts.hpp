@@ -14,14 +14,16 @@ namespace riffle {
 class SolidContactForces final : public System {
  public:
   std::string_view name() const override { return "solid_contact_forces"; }
-  Access access() const override { return {{ComponentId::kSolids, ComponentId::kWalls}, {ComponentId::kContacts}}; }
+  Access access() const override {
+    return {component_ids<GrainState, GrainProperties, Walls>(), component_ids<Contacts>()};
+  }
   void run(SystemContext& context) override;
 };
 
 class SolidContactGather final : public System {
  public:
   std::string_view name() const override { return "solid_contact_gather"; }
-  Access access() const override { return {{ComponentId::kContacts}, {ComponentId::kSolids}}; }
+  Access access() const override { return {component_ids<Contacts>(), component_ids<GrainContactForce>()}; }
   void run(SystemContext& context) override;
 };
 

@@ -8,7 +8,7 @@ namespace riffle {
 class SolidDomainCheck final : public System {
  public:
   std::string_view name() const override { return "solid_domain_check"; }
-  Access access() const override { return {{ComponentId::kSolids}, {ComponentId::kStepStatus}}; }
+  Access access() const override { return {component_ids<GrainState>(), component_ids<StepStatus>()}; }
   void run(SystemContext& context) override;
 };
 

@@ -6,14 +6,17 @@
 namespace riffle {
 
 void SolidForceSum::run(SystemContext& context) {
-  Solids& solids = context.write<Solids>();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, solids.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+  const GrainContactForce& contact = context.read<GrainContactForce>();
+  const GrainDrag& drag = context.read<GrainDrag>();
+  const GrainSampledFluid& sampled = context.read<GrainSampledFluid>();
+  GrainTotalForce& total = context.write<GrainTotalForce>();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, total.size(), 4096), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      solids.force[i] = solids.contact_force[i] + solids.drag_force[i] + solids.pressure_force[i];
-      solids.torque[i] = solids.contact_torque[i];
+      total.force[i] = contact.contact_force[i] + drag.drag_force[i] + sampled.pressure_force[i];
+      total.torque[i] = contact.contact_torque[i];
     }
   });
-  context.count_items(solids.size());
+  context.count_items(total.size());
 }
 
 }  // namespace riffle

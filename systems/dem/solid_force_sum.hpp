@@ -8,7 +8,9 @@ namespace riffle {
 class SolidForceSum final : public System {
  public:
   std::string_view name() const override { return "solid_force_sum"; }
-  Access access() const override { return {{}, {ComponentId::kSolids}}; }
+  Access access() const override {
+    return {component_ids<GrainContactForce, GrainDrag, GrainSampledFluid>(), component_ids<GrainTotalForce>()};
+  }
   void run(SystemContext& context) override;
 };
 

@@ -12,14 +12,18 @@ namespace riffle {
 class SolidKickDrift final : public System {
  public:
   std::string_view name() const override { return "solid_kick_drift"; }
-  Access access() const override { return {{}, {ComponentId::kSolids}}; }
+  Access access() const override {
+    return {component_ids<GrainProperties, GrainTotalForce>(), component_ids<GrainState>()};
+  }
   void run(SystemContext& context) override;
 };
 
 class SolidKick final : public System {
  public:
   std::string_view name() const override { return "solid_kick"; }
-  Access access() const override { return {{}, {ComponentId::kSolids}}; }
+  Access access() const override {
+    return {component_ids<GrainProperties, GrainTotalForce>(), component_ids<GrainState>()};
+  }
   void run(SystemContext& context) override;
 };
 

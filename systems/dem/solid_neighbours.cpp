@@ -263,7 +263,10 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
 }
 
 void SolidNeighbours::run(SystemContext& context) {
-  Solids& solids = context.write<Solids>();
+  Solids& solids = whole_group<Solids>(
+      context.write<GrainState>(), context.write<GrainProperties>(), context.write<GrainTotalForce>(),
+      context.write<GrainContactForce>(), context.write<GrainDrag>(), context.write<GrainSampledFluid>(),
+      context.write<GrainVoidage>());
   Contacts& contacts = context.write<Contacts>();
   const TankMotion& tank = context.read<TankMotion>();
   context.count_items(solids.size());

@@ -44,7 +44,7 @@ class SolidNeighbours final : public System {
  public:
   std::string_view name() const override { return "solid_neighbours"; }
   Access access() const override {
-    return {{ComponentId::kWalls, ComponentId::kTankMotion}, {ComponentId::kSolids, ComponentId::kContacts}};
+    return {component_ids<Walls, TankMotion>(), component_ids<Solids, Contacts>()};
   }
   void run(SystemContext& context) override;
 };

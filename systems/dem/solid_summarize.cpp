@@ -13,7 +13,8 @@ constexpr std::size_t kGrain = 2048;
 }  // namespace
 
 void SolidSummarize::run(SystemContext& context) {
-  const Solids& solids = context.read<Solids>();
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
   const Vec3 gravity = context.model.gravity;
   struct Sums {
     double translational = 0.0, rotational = 0.0, potential = 0.0, max_speed = 0.0;
@@ -21,13 +22,13 @@ void SolidSummarize::run(SystemContext& context) {
   // Deterministic reduce: the split tree depends only on the range and grain size, not on the thread count,
   // so the floating-point sums are identical for any --threads.
   const Sums sums = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, solids.size(), kGrain), Sums{},
+      tbb::blocked_range<std::size_t>(0, grains.size(), kGrain), Sums{},
       [&](const tbb::blocked_range<std::size_t>& range, Sums partial) {
         for (std::size_t i = range.begin(); i < range.end(); ++i) {
-          const double speed_squared = solids.velocity[i].squaredNorm();
-          partial.translational += 0.5 * solids.mass[i] * speed_squared;
-          partial.rotational += 0.5 * solids.moment_of_inertia[i] * solids.angular_velocity[i].squaredNorm();
-          partial.potential -= solids.mass[i] * gravity.dot(solids.position[i]);
+          const double speed_squared = grains.velocity[i].squaredNorm();
+          partial.translational += 0.5 * properties.mass[i] * speed_squared;
+          partial.rotational += 0.5 * properties.moment_of_inertia[i] * grains.angular_velocity[i].squaredNorm();
+          partial.potential -= properties.mass[i] * gravity.dot(grains.position[i]);
           partial.max_speed = std::max(partial.max_speed, std::sqrt(speed_squared));
         }
         return partial;
@@ -44,7 +45,7 @@ void SolidSummarize::run(SystemContext& context) {
   summary.rotational_energy = sums.rotational;
   summary.potential_energy = sums.potential;
   summary.max_speed = sums.max_speed;
-  context.count_items(solids.size());
+  context.count_items(grains.size());
 }
 
 }  // namespace riffle

@@ -8,7 +8,9 @@ namespace riffle {
 class SolidSummarize final : public System {
  public:
   std::string_view name() const override { return "solid_summary"; }
-  Access access() const override { return {{ComponentId::kSolids}, {ComponentId::kSolidSummary}}; }
+  Access access() const override {
+    return {component_ids<GrainState, GrainProperties>(), component_ids<SolidSummary>()};
+  }
   void run(SystemContext& context) override;
 };
 

@@ -8,7 +8,7 @@ namespace riffle {
 class WallMotion final : public System {
  public:
   std::string_view name() const override { return "wall_motion"; }
-  Access access() const override { return {{}, {ComponentId::kTankMotion, ComponentId::kWalls}}; }
+  Access access() const override { return {{}, component_ids<TankMotion, Walls>()}; }
   void run(SystemContext& context) override;
 };
 

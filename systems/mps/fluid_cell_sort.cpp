@@ -30,7 +30,9 @@ bool FluidCellSort::due(const SystemContext& context, const FluidParticles& part
 }
 
 void FluidCellSort::run(SystemContext& context) {
-  FluidParticles& particles = context.write<FluidParticles>();
+  FluidParticles& particles = whole_group<FluidParticles>(
+      context.write<ParticleState>(), context.write<ParticlePrediction>(), context.write<ParticlePressure>(),
+      context.write<ParticleDensity>(), context.write<ParticleDragReaction>());
   const std::size_t fluid_count = fluid_slot_count(particles);
   if (!due(context, particles, fluid_count)) return;
   const double cell_size = fluid_search_cell_size(search_radius_);

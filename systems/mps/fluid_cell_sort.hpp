@@ -28,7 +28,7 @@ class FluidCellSort final : public System {
   FluidCellSort(std::int64_t every, std::int64_t every_fast, double search_radius, double fast_displacement)
       : every_(every), every_fast_(every_fast), search_radius_(search_radius), fast_displacement_(fast_displacement) {}
   std::string_view name() const override { return "fluid_cell_sort"; }
-  Access access() const override { return {{}, {ComponentId::kFluid, ComponentId::kFluidNeighbours}}; }
+  Access access() const override { return {{}, component_ids<FluidParticles, FluidNeighbours>()}; }
   void run(SystemContext& context) override;
 
  private:

@@ -15,7 +15,8 @@ bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) &
 }  // namespace
 
 void FluidChecks::run(SystemContext& context) {
-  const FluidParticles& particles = context.read<FluidParticles>();
+  const ParticleState& particles = context.read<ParticleState>();
+  const ParticleDensity& densities = context.read<ParticleDensity>();
   FluidSummary& summary = context.write<FluidSummary>();
   StepStatus& status = context.write<StepStatus>();
   const std::size_t fluid_count = fluid_slot_count(particles);
@@ -38,14 +39,14 @@ void FluidChecks::run(SystemContext& context) {
   summary.kinetic_energy =
       deterministic_sum(fluid_count, [&](std::size_t i) { return half_mass * particles.velocity[i].squaredNorm(); });
   summary.volume = deterministic_sum(fluid_count, [&](std::size_t i) {
-    return particles.free_surface[i] || !(particles.number_density[i] > 0.0) ? volume
-                                                                             : volume * n0 / particles.number_density[i];
+    return densities.free_surface[i] || !(densities.number_density[i] > 0.0) ? volume
+                                                                             : volume * n0 / densities.number_density[i];
   });
   const std::size_t interior = fluid_count - std::min(fluid_count, summary.surface_count);
   summary.mean_density_ratio =
       interior == 0 ? 1.0
                     : deterministic_sum(fluid_count, [&](std::size_t i) {
-                        return particles.free_surface[i] ? 0.0 : particles.number_density[i] / n0;
+                        return densities.free_surface[i] ? 0.0 : densities.number_density[i] / n0;
                       }) / static_cast<double>(interior);
   double max_speed_squared = 0.0;
   for (std::size_t i = 0; i < fluid_count; ++i) max_speed_squared = std::max(max_speed_squared, particles.velocity[i].squaredNorm());

@@ -13,7 +13,7 @@ class FluidChecks final : public System {
   explicit FluidChecks(const FluidModel& fluid) : constants_(MpsConstants::from(fluid)) {}
   std::string_view name() const override { return "fluid_checks"; }
   Access access() const override {
-    return {{ComponentId::kFluid}, {ComponentId::kFluidSummary, ComponentId::kStepStatus}};
+    return {component_ids<ParticleState, ParticleDensity>(), component_ids<FluidSummary, StepStatus>()};
   }
   void run(SystemContext& context) override;
 

@@ -11,7 +11,9 @@
 namespace riffle {
 
 void FluidCorrect::run(SystemContext& context) {
-  FluidParticles& particles = context.write<FluidParticles>();
+  ParticleState& particles = context.write<ParticleState>();
+  const ParticlePrediction& prediction = context.read<ParticlePrediction>();
+  ParticlePressure& pressures = context.write<ParticlePressure>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const FluidSchemes& schemes = fluid_.schemes;
@@ -27,17 +29,17 @@ void FluidCorrect::run(SystemContext& context) {
       rho, context.model.gravity, tank_kinematics(context.model.tank.motion, context.time + dt).acceleration);
 
   for_each_particle(fluid_count, [&](std::size_t i) {
-    const Vec3 position = particles.predicted_position[i];
-    const double pressure = particles.pressure[i];
+    const Vec3 position = prediction.predicted_position[i];
+    const double pressure = pressures.pressure[i];
     const auto partner_pressure = [&](std::uint32_t j, const Vec3& offset) {
-      return particles.kind[j] == kFluidKind ? particles.pressure[j]
+      return particles.kind[j] == kFluidKind ? pressures.pressure[j]
                                              : hydrostatic_extrapolation(pressure, wall_pressure_gradient, offset);
     };
     // Classic gradient (GC off): p_j - min p over the support, which keeps the pressure force repulsive.
     double base_pressure = pressure;
     if (!schemes.gradient_correction) {
       for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
-        const Vec3 offset = particles.predicted_position[j] - position;
+        const Vec3 offset = prediction.predicted_position[j] - position;
         if (offset.squaredNorm() < radius_squared) base_pressure = std::min(base_pressure, partner_pressure(j, offset));
       }
     }
@@ -46,7 +48,7 @@ void FluidCorrect::run(SystemContext& context) {
     FluidPairBatch batch;
     for_each_near_pair(
         near_neighbours_of(neighbours, i), kernel, batch,
-        [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
+        [&](std::uint32_t j) -> Vec3 { return prediction.predicted_position[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           if (pair.distance_squared[k] == 0.0) return;
           const std::uint32_t j = pair.slot[k];
@@ -65,7 +67,7 @@ void FluidCorrect::run(SystemContext& context) {
         });
     Vec3 gradient = (3.0 / n0) * gradient_sum;
     if (schemes.gradient_correction) gradient = gradient_correction_matrix(moment, n0) * gradient;
-    particles.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
+    pressures.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
     const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;
     particles.position[i] = position + dt * change;

@@ -13,7 +13,9 @@ class FluidCorrect final : public System {
  public:
   explicit FluidCorrect(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
   std::string_view name() const override { return "fluid_correct"; }
-  Access access() const override { return {{ComponentId::kFluidNeighbours}, {ComponentId::kFluid}}; }
+  Access access() const override {
+    return {component_ids<FluidNeighbours, ParticlePrediction>(), component_ids<ParticleState, ParticlePressure>()};
+  }
   void run(SystemContext& context) override;
 
  private:

@@ -5,7 +5,9 @@
 namespace riffle {
 
 void FluidFreeSurface::run(SystemContext& context) {
-  FluidParticles& particles = context.write<FluidParticles>();
+  const ParticleState& particles = context.read<ParticleState>();
+  const ParticlePrediction& prediction = context.read<ParticlePrediction>();
+  ParticleDensity& densities = context.write<ParticleDensity>();
   FluidNeighbours& neighbours = context.write<FluidNeighbours>();
   neighbours.near_count.resize(neighbours.particle_count());
   neighbours.near_slots.resize(neighbours.slots.size());
@@ -14,21 +16,21 @@ void FluidFreeSurface::run(SystemContext& context) {
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double surface_below = threshold_ * constants_.reference_density;
   for_each_particle(fluid_count, [&](std::size_t i) {
-    const Vec3 position = particles.predicted_position[i];
+    const Vec3 position = prediction.predicted_position[i];
     double density = 0.0;
     std::uint32_t* near = neighbours.near_slots.data() + neighbours.offsets[i];
     std::uint32_t near_count = 0;
     FluidPairBatch batch;
     for_each_pair_within(
         neighbours_of(neighbours, i), radius_squared, kernel, batch,
-        [&](std::uint32_t j) -> Vec3 { return particles.predicted_position[j] - position; },
+        [&](std::uint32_t j) -> Vec3 { return prediction.predicted_position[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           density += pair.weight[k];
           near[near_count++] = pair.slot[k];
         });
     neighbours.near_count[i] = near_count;
-    particles.number_density[i] = density;
-    particles.free_surface[i] = density < surface_below ? 1 : 0;
+    densities.number_density[i] = density;
+    densities.free_surface[i] = density < surface_below ? 1 : 0;
   });
   context.count_items(fluid_count);
 }

@@ -15,7 +15,9 @@ class FluidFreeSurface final : public System {
   explicit FluidFreeSurface(const FluidModel& fluid)
       : constants_(MpsConstants::from(fluid)), threshold_(fluid.surface_threshold) {}
   std::string_view name() const override { return "fluid_free_surface"; }
-  Access access() const override { return {{}, {ComponentId::kFluid, ComponentId::kFluidNeighbours}}; }
+  Access access() const override {
+    return {component_ids<ParticleState, ParticlePrediction>(), component_ids<ParticleDensity, FluidNeighbours>()};
+  }
   void run(SystemContext& context) override;
 
  private:

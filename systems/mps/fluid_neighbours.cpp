@@ -428,9 +428,10 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
 }
 
 void FluidNeighbourSearch::run(SystemContext& context) {
-  const FluidParticles& particles = context.read<FluidParticles>();
+  const ParticleState& particles = context.read<ParticleState>();
+  const ParticlePrediction& prediction = context.read<ParticlePrediction>();
   FluidNeighbours& neighbours = context.write<FluidNeighbours>();
-  const std::vector<Vec3>& positions = at_ == Positions::kCurrent ? particles.position : particles.predicted_position;
+  const std::vector<Vec3>& positions = at_ == Positions::kCurrent ? particles.position : prediction.predicted_position;
   const std::size_t queries = fluid_slot_count(particles);
   // Displacements are measured in the tank's frame: pair distances do not change under a common translation, and
   // the walls, which ride with the tank, then never use up the skin (otherwise the tank alone forces a rebuild

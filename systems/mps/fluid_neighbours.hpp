@@ -54,7 +54,9 @@ class FluidNeighbourSearch final : public System {
   std::string_view name() const override {
     return at_ == Positions::kCurrent ? "fluid_neighbours" : "fluid_neighbours_predicted";
   }
-  Access access() const override { return {{ComponentId::kFluid}, {ComponentId::kFluidNeighbours}}; }
+  Access access() const override {
+    return {component_ids<ParticleState, ParticlePrediction>(), component_ids<FluidNeighbours>()};
+  }
   void run(SystemContext& context) override;
 
  private:

@@ -8,7 +8,9 @@
 namespace riffle {
 
 void FluidPredict::run(SystemContext& context) {
-  FluidParticles& particles = context.write<FluidParticles>();
+  ParticleState& particles = context.write<ParticleState>();
+  ParticlePrediction& prediction = context.write<ParticlePrediction>();
+  ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const WendlandKernel kernel = constants_.kernel;
@@ -46,16 +48,16 @@ void FluidPredict::run(SystemContext& context) {
     acceleration_[i] = viscous_factor * viscous + gravity;
     if (error_compensation) {
       const double error = (density - n0) / n0;
-      particles.density_rate[i] = std::abs(error) * rate + std::abs(rate) * error;
+      prediction.density_rate[i] = std::abs(error) * rate + std::abs(rate) * error;
     }
   });
   const double dt = context.dt;
   const double inverse_density = 1.0 / fluid_.density;
   for_each_particle(fluid_count, [&](std::size_t i) {
     // The grains' drag from the last step comes back as an impulse per volume (fluid_drag_reaction).
-    particles.velocity[i] += dt * acceleration_[i] + inverse_density * particles.drag_reaction[i];
-    particles.drag_reaction[i] = Vec3::Zero();
-    particles.predicted_position[i] = particles.position[i] + dt * particles.velocity[i];
+    particles.velocity[i] += dt * acceleration_[i] + inverse_density * reaction.drag_reaction[i];
+    reaction.drag_reaction[i] = Vec3::Zero();
+    prediction.predicted_position[i] = particles.position[i] + dt * particles.velocity[i];
   });
   context.count_items(fluid_count);
 }

@@ -16,7 +16,9 @@ class FluidPredict final : public System {
  public:
   explicit FluidPredict(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
   std::string_view name() const override { return "fluid_predict"; }
-  Access access() const override { return {{ComponentId::kFluidNeighbours}, {ComponentId::kFluid}}; }
+  Access access() const override {
+    return {component_ids<FluidNeighbours>(), component_ids<ParticleState, ParticlePrediction, ParticleDragReaction>()};
+  }
   void run(SystemContext& context) override;
 
  private:

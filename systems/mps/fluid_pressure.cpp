@@ -9,7 +9,10 @@
 namespace riffle {
 
 void FluidPressureSolve::run(SystemContext& context) {
-  FluidParticles& particles = context.write<FluidParticles>();
+  const ParticleState& particles = context.read<ParticleState>();
+  const ParticlePrediction& prediction = context.read<ParticlePrediction>();
+  const ParticleDensity& densities = context.read<ParticleDensity>();
+  ParticlePressure& pressures = context.write<ParticlePressure>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   FluidSummary& summary = context.write<FluidSummary>();
   const std::size_t fluid_count = fluid_slot_count(particles);
@@ -23,7 +26,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   row_of_.assign(fluid_count, -1);
   slot_of_.clear();
   for (std::size_t i = 0; i < fluid_count; ++i) {
-    if (particles.free_surface[i]) continue;
+    if (densities.free_surface[i]) continue;
     row_of_[i] = static_cast<std::int32_t>(slot_of_.size());
     slot_of_.push_back(static_cast<std::uint32_t>(i));
   }
@@ -50,14 +53,14 @@ void FluidPressureSolve::run(SystemContext& context) {
   const double classic_coefficient = 6.0 / constants_.laplacian_lambda;  // a_ij = 2D w_ij / lambda0
   for_each_particle(unknowns, [&](std::size_t row) {
     const std::size_t i = slot_of_[row];
-    const Vec3 position = particles.predicted_position[i];
+    const Vec3 position = prediction.predicted_position[i];
     const Vec3 velocity = particles.velocity[i];
     const std::size_t first_entry = row_start_[row];
     std::size_t entries = 0;
     std::uint32_t fluid_neighbours = 0;
     double diagonal = compressibility_diagonal, rate = 0.0;
     for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {  // all within r_e at r* (fluid_free_surface)
-      const Vec3 offset = particles.predicted_position[j] - position;
+      const Vec3 offset = prediction.predicted_position[j] - position;
       const double distance = std::sqrt(offset.squaredNorm());
       const double derivative_over_distance = kernel.derivative_over_distance(distance);
       const bool fluid = particles.kind[j] == kFluidKind;
@@ -76,9 +79,9 @@ void FluidPressureSolve::run(SystemContext& context) {
       if (schemes.higher_order_source)
         rate += density_rate_term(fluid, derivative_over_distance, offset, particles.velocity[j] - velocity);
     }
-    double rhs = rho * gamma * (particles.number_density[i] - n0) / (dt * dt);
+    double rhs = rho * gamma * (densities.number_density[i] - n0) / (dt * dt);
     if (schemes.higher_order_source) rhs += rho / dt * rate;
-    if (schemes.error_compensating_source) rhs += rho / dt * particles.density_rate[i];
+    if (schemes.error_compensating_source) rhs += rho / dt * prediction.density_rate[i];
     if (fluid_neighbours == 0) {  // only walls around: nothing to couple to, hold it at zero
       diagonal = 1.0;
       rhs = 0.0;
@@ -87,13 +90,13 @@ void FluidPressureSolve::run(SystemContext& context) {
     inverse_diagonal_[row] = 1.0 / diagonal;
     rhs_[row] = rhs;
     // Warm start: p^k extrapolated linearly in time (p^{k-1} is kept per particle), clamped at zero like p.
-    solution_[row] = std::max(0.0, 2.0 * particles.pressure[i] - particles.previous_pressure[i]);
+    solution_[row] = std::max(0.0, 2.0 * pressures.pressure[i] - pressures.previous_pressure[i]);
   });
 
   const bool two_level = fluid_.preconditioner == FluidModel::Preconditioner::kTwoLevel;
   if (two_level) {
     row_positions_.resize(unknowns);
-    for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = particles.predicted_position[slot_of_[row]]; });
+    for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = prediction.predicted_position[slot_of_[row]]; });
     // Coarse cells of at least 4 l0, wider for big problems so the coarse factorisation stays small.
     const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
     const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
@@ -171,11 +174,11 @@ void FluidPressureSolve::run(SystemContext& context) {
 
   const bool clamp = fluid_.clamp_negative_pressure;
   std::size_t surface = 0;
-  for (std::size_t i = 0; i < fluid_count; ++i) surface += particles.free_surface[i] ? 1 : 0;
+  for (std::size_t i = 0; i < fluid_count; ++i) surface += densities.free_surface[i] ? 1 : 0;
   for_each_particle(fluid_count, [&](std::size_t i) {
-    particles.previous_pressure[i] = particles.pressure[i];
+    pressures.previous_pressure[i] = pressures.pressure[i];
     const double pressure = row_of_[i] >= 0 ? solution_[static_cast<std::size_t>(row_of_[i])] : 0.0;
-    particles.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
+    pressures.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
   });
   summary.solver_iterations = iterations;
   summary.solver_residual = rhs_norm > 0.0 ? residual_norm / rhs_norm : 0.0;

@@ -18,7 +18,8 @@ class FluidPressureSolve final : public System {
   explicit FluidPressureSolve(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
   std::string_view name() const override { return "fluid_pressure"; }
   Access access() const override {
-    return {{ComponentId::kFluidNeighbours}, {ComponentId::kFluid, ComponentId::kFluidSummary}};
+    return {component_ids<FluidNeighbours, ParticleState, ParticlePrediction, ParticleDensity>(),
+            component_ids<ParticlePressure, FluidSummary>()};
   }
   void run(SystemContext& context) override;
 

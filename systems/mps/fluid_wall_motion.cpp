@@ -5,13 +5,14 @@
 namespace riffle {
 
 void FluidWallMotion::run(SystemContext& context) {
-  FluidParticles& particles = context.write<FluidParticles>();
+  ParticleState& particles = context.write<ParticleState>();
+  ParticlePrediction& prediction = context.write<ParticlePrediction>();
   const std::size_t first_wall = fluid_slot_count(particles);
   const TankMotion tank = tank_kinematics(context.model.tank.motion, context.time + context.dt);
   for_each_particle(particles.size() - first_wall, [&](std::size_t k) {
     const std::size_t i = first_wall + k;
     particles.position[i] = particles.rest_position[i] + tank.displacement;
-    particles.predicted_position[i] = particles.position[i];
+    prediction.predicted_position[i] = particles.position[i];
     particles.velocity[i] = tank.velocity;
   });
   context.count_items(particles.size() - first_wall);

@@ -11,7 +11,7 @@ namespace riffle {
 class FluidWallMotion final : public System {
  public:
   std::string_view name() const override { return "fluid_wall_motion"; }
-  Access access() const override { return {{}, {ComponentId::kFluid}}; }
+  Access access() const override { return {{}, component_ids<ParticleState, ParticlePrediction>()}; }
   void run(SystemContext& context) override;
 };
 

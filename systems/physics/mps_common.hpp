@@ -39,7 +39,7 @@ inline constexpr std::int32_t kFluidKind = static_cast<std::int32_t>(FluidKind::
 
 /// Fluid particles occupy slots [0, F), walls and dummies follow (the initial state lays them out so and nothing
 /// reorders them); returns F.
-inline std::size_t fluid_slot_count(const FluidParticles& particles) {
+inline std::size_t fluid_slot_count(const ParticleState& particles) {
   return static_cast<std::size_t>(
       std::partition_point(particles.kind.begin(), particles.kind.end(), [](std::int32_t kind) { return kind == kFluidKind; }) -
       particles.kind.begin());

@@ -10,7 +10,7 @@ namespace riffle {
 namespace {
 
 /// Largest squared speed of the fluid particles (slots [0, F)); max is exact, so the reduction order does not matter.
-double max_squared_speed(const FluidParticles& particles) {
+double max_squared_speed(const ParticleState& particles) {
   const std::size_t fluid_count = fluid_slot_count(particles);
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, fluid_count, 4096), 0.0,
@@ -41,7 +41,7 @@ const char* step_limit_name(StepLimit limit) {
   return "?";
 }
 
-StepLengths decide_step_lengths(const Model& model, const FluidParticles* fluid) {
+StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid) {
   StepLengths lengths;
   lengths.dt = model.dt;
   if (fluid) {

@@ -28,6 +28,6 @@ struct StepLengths {
 
 /// The lengths of the next step. `fluid` is the scene's MPS particles (nullptr without a fluid): its largest speed
 /// and the viscosity may shorten run.dt. A step below fluid.min_dt is returned as it is; the stepper stops on it.
-StepLengths decide_step_lengths(const Model& model, const FluidParticles* fluid);
+StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid);
 
 }  // namespace riffle

@@ -40,9 +40,9 @@ class ProbeSystem final : public System {
   std::vector<std::string> after_;
 };
 
-constexpr ComponentId kSolidsId = ComponentId::kSolids;
-constexpr ComponentId kWallsId = ComponentId::kWalls;
-constexpr ComponentId kStatusId = ComponentId::kStepStatus;
+constexpr ComponentId kSolidsId = component_id<GrainState>;
+constexpr ComponentId kWallsId = component_id<Walls>;
+constexpr ComponentId kStatusId = component_id<StepStatus>;
 
 std::vector<std::unique_ptr<System>> systems_of(std::vector<ProbeSystem> probes) {
   std::vector<std::unique_ptr<System>> systems;
@@ -181,8 +181,8 @@ high = [0.05, 0.05, 0.03]
 
 namespace {
 
-constexpr ComponentId kFluidId = ComponentId::kTankMotion;  // stands in for the fluid's component in a dry world
-constexpr ComponentId kSummaryId = ComponentId::kSolidSummary;
+constexpr ComponentId kFluidId = component_id<TankMotion>;  // stands in for the fluid's component in a dry world
+constexpr ComponentId kSummaryId = component_id<SolidSummary>;
 
 /// A step graph of the stepper's shape from probes: a "fluid" chain over `fluid_component`, then a sub-step loop
 /// (a once graph and a repeated one over solids and walls), then an end-of-step reader of both.
@@ -343,15 +343,24 @@ TEST_CASE("an undeclared write or read is an error raised from run") {
   SUBCASE("write of a component declared read-only") {
     Scheduler scheduler("test",
                         systems_of({ProbeSystem("sneaky_writer", {{kSolidsId}, {}},
-                                                [](SystemContext& context) { context.write<Solids>(); })}),
+                                                [](SystemContext& context) { context.write<GrainState>(); })}),
                         world, model);
     CHECK_THROWS_WITH_AS(scheduler.run(0.0, 1e-3),
-                         "system 'sneaky_writer' writes component 'solids' without declaring it", UndeclaredAccess);
+                         "system 'sneaky_writer' writes component 'grain_state' without declaring it", UndeclaredAccess);
+  }
+  SUBCASE("write of another role of the same entities") {
+    // Writing the grains' state does not let a system write their drag: roles are separate components.
+    Scheduler scheduler("test",
+                        systems_of({ProbeSystem("role_crosser", {{}, {kSolidsId}},
+                                                [](SystemContext& context) { context.write<GrainDrag>(); })}),
+                        world, model);
+    CHECK_THROWS_WITH_AS(scheduler.run(0.0, 1e-3),
+                         "system 'role_crosser' writes component 'grain_drag' without declaring it", UndeclaredAccess);
   }
   SUBCASE("read of a component not declared at all") {
     Scheduler scheduler("test",
                         systems_of({ProbeSystem("sneaky_reader", {{}, {kWallsId}},
-                                                [](SystemContext& context) { context.read<Solids>(); })}),
+                                                [](SystemContext& context) { context.read<GrainState>(); })}),
                         world, model);
     CHECK_THROWS_AS(scheduler.run(0.0, 1e-3), UndeclaredAccess);
     // The graph stays usable after a failed run.
