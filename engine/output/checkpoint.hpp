@@ -56,9 +56,10 @@ std::uint64_t fnv1a64(std::string_view bytes);
 
 /// Serialises `data` into the checkpoint byte format.
 std::string encode_checkpoint(const CheckpointData& data);
-/// Parses checkpoint bytes of format kOldestCheckpointVersionRead to kCheckpointVersion; `name` is used in messages. Throws CheckpointError for anything but a well-formed file:
-/// every length prefix is checked against the bytes left before it is allocated. What the fields say is checked
-/// separately, against the scene (engine/output/checkpoint_validation.hpp).
+/// Parses checkpoint bytes of format kOldestCheckpointVersionRead to kCheckpointVersion; `name` is used in messages.
+/// Throws CheckpointError for anything but a well-formed file: every length prefix is checked against the bytes left
+/// before it is allocated. What the fields say is checked separately, against the scene
+/// (engine/output/checkpoint_validation.hpp).
 CheckpointData decode_checkpoint(const std::string& bytes, const std::string& name);
 
 /// Writes atomically (unique temporary file, fsync, rename). Throws CheckpointError on I/O failure.

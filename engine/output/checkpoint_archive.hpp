@@ -6,12 +6,12 @@
 // stored as 0 or 1 (any other byte is not a bool; reading it as one is undefined behaviour).
 //
 // Only the types checkpoints hold are supported: arithmetic values, std::string, std::vector of those or of Vec3 or of
-// std::string, std::optional, and classes with a serialize member.
+// std::string, std::optional, and classes with a serialize member. Anything else does not compile (no size tag
+// overload exists for this archive), so a new field of another type cannot slip past the bounds.
 //
 // The archive knows the format version of the file it reads (format_version()): a component whose layout changed
 // between formats asks it, and reads a retired slot of an older file with skip_retired_real (FluidSummary's last_dt,
-// stored up to format 4). Anything else does not compile (no size tag
-// overload exists for this archive), so a new field of another type cannot slip past the bounds.
+// stored up to format 4).
 #include <cereal/cereal.hpp>
 #include <cereal/types/optional.hpp>
 
