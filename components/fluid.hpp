@@ -10,6 +10,7 @@
 #include <array>
 #include <cereal/types/vector.hpp>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "components/component_id.hpp"
@@ -170,7 +171,6 @@ struct FluidSummary {
   double solver_residual = 0.0;       ///< [1] |r| / |b| at the end of the last solve
   std::size_t solver_unknowns = 0;    ///< PPE rows of the last solve
   bool solver_converged = true;
-  double last_dt = 0.0;               ///< [s] length of the last step
   double courant = 0.0;               ///< [1] max |u| dt / l0 of the last step
 
   /// Every member once, in checkpoint order: `visit(name, persistent, member)`.
@@ -186,14 +186,24 @@ struct FluidSummary {
     visit("solver_residual", true, self.solver_residual);
     visit("solver_unknowns", true, self.solver_unknowns);
     visit("solver_converged", true, self.solver_converged);
-    visit("last_dt", true, self.last_dt);
     visit("courant", true, self.courant);
   }
 
+  /// Checkpoint format 4 also stored `last_dt` [s], the length of the last step, right after solver_converged. The
+  /// step length is decided once and kept in World::last_step now (issue 20), so nothing wrote last_dt any more and
+  /// format 5 dropped it. Format-4 files must still load (settled beds read as [solids] initial_state, runs to
+  /// resume): the checkpoint reader's archive says which format it reads (format_version(),
+  /// engine/output/checkpoint_archive.hpp), and for format 4 the slot is read, checked and let go. Writing always
+  /// gives the current format; cereal's output archive has no format_version().
+  static constexpr std::uint32_t kLastFormatWithLastDt = 4;
+
   template <class Archive>
   void serialize(Archive& archive) {
-    for_each_member(*this, [&](const char*, bool persistent, auto& member) {
+    for_each_member(*this, [&](const char* name, bool persistent, auto& member) {
       if (persistent) archive(member);
+      if constexpr (requires { archive.format_version(); })
+        if (archive.format_version() <= kLastFormatWithLastDt && std::string_view(name) == "solver_converged")
+          archive.skip_retired_real("fluid_summary.last_dt");
     });
   }
 };

@@ -81,9 +81,10 @@ CheckpointData decode_checkpoint(const std::string& bytes, const std::string& na
   if (bytes.size() < kHeaderSize || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw CheckpointError(name + ": not a riffle checkpoint (missing RIFFLECP header)");
   const auto version = get<std::uint32_t>(bytes, 8);
-  if (version != kCheckpointVersion)
+  if (version < kOldestCheckpointVersionRead || version > kCheckpointVersion)
     throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
-                          ", but this riffle reads version " + std::to_string(kCheckpointVersion));
+                          ", but this riffle reads version " + std::to_string(kCheckpointVersion) + " (and " +
+                          std::to_string(kOldestCheckpointVersionRead) + ")");
   const auto payload_size = get<std::uint64_t>(bytes, 16);
   const auto checksum = get<std::uint64_t>(bytes, 24);
   const std::size_t found = bytes.size() - kHeaderSize;
@@ -97,7 +98,7 @@ CheckpointData decode_checkpoint(const std::string& bytes, const std::string& na
   CheckpointData data;
   try {
     // Bounded: no length prefix may claim more than the bytes left (engine/output/checkpoint_archive.hpp).
-    BoundedInputArchive archive(payload, found);
+    BoundedInputArchive archive(payload, found, version);
     archive_checkpoint(archive, data);
     if (archive.bytes_left() != 0)
       throw std::runtime_error(std::to_string(archive.bytes_left()) + " bytes left over after the last field");

@@ -20,7 +20,12 @@
 
 namespace riffle {
 
-inline constexpr std::uint32_t kCheckpointVersion = 4;  // 2: contacts; 3: fluid and fluid summary; 4: coupling fields
+// 2: contacts; 3: fluid and fluid summary; 4: coupling fields; 5: without fluid_summary.last_dt (World::last_step
+// holds the step length).
+inline constexpr std::uint32_t kCheckpointVersion = 5;
+/// The oldest format still read: format 4 differs from 5 only by FluidSummary's last_dt (components/fluid.hpp), and
+/// users' settled beds and runs to resume are in it. Reading one gives the same data; writing it back gives format 5.
+inline constexpr std::uint32_t kOldestCheckpointVersionRead = 4;
 
 /// Output bookkeeping that must survive a resume so the frame series and diagnostics continue seamlessly.
 struct OutputState {
@@ -51,9 +56,10 @@ std::uint64_t fnv1a64(std::string_view bytes);
 
 /// Serialises `data` into the checkpoint byte format.
 std::string encode_checkpoint(const CheckpointData& data);
-/// Parses checkpoint bytes; `name` is used in messages. Throws CheckpointError for anything but a well-formed file:
-/// every length prefix is checked against the bytes left before it is allocated. What the fields say is checked
-/// separately, against the scene (engine/output/checkpoint_validation.hpp).
+/// Parses checkpoint bytes of format kOldestCheckpointVersionRead to kCheckpointVersion; `name` is used in messages.
+/// Throws CheckpointError for anything but a well-formed file: every length prefix is checked against the bytes left
+/// before it is allocated. What the fields say is checked separately, against the scene
+/// (engine/output/checkpoint_validation.hpp).
 CheckpointData decode_checkpoint(const std::string& bytes, const std::string& name);
 
 /// Writes atomically (unique temporary file, fsync, rename). Throws CheckpointError on I/O failure.

@@ -8,10 +8,16 @@
 // Only the types checkpoints hold are supported: arithmetic values, std::string, std::vector of those or of Vec3 or of
 // std::string, std::optional, and classes with a serialize member. Anything else does not compile (no size tag
 // overload exists for this archive), so a new field of another type cannot slip past the bounds.
+//
+// The archive knows the format version of the file it reads (format_version()): a component whose layout changed
+// between formats asks it, and reads a retired slot of an older file with skip_retired_real (FluidSummary's last_dt,
+// stored up to format 4).
 #include <cereal/cereal.hpp>
 #include <cereal/types/optional.hpp>
 
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <type_traits>
@@ -23,10 +29,25 @@ namespace riffle {
 
 class BoundedInputArchive : public cereal::InputArchive<BoundedInputArchive, cereal::AllowEmptyClassElision> {
  public:
-  BoundedInputArchive(const char* data, std::size_t size)
-      : cereal::InputArchive<BoundedInputArchive, cereal::AllowEmptyClassElision>(this), data_(data), left_(size) {}
+  BoundedInputArchive(const char* data, std::size_t size, std::uint32_t format_version)
+      : cereal::InputArchive<BoundedInputArchive, cereal::AllowEmptyClassElision>(this),
+        data_(data),
+        left_(size),
+        format_version_(format_version) {}
 
   std::size_t bytes_left() const { return left_; }
+  /// The checkpoint format of the bytes read (the file header's version).
+  std::uint32_t format_version() const { return format_version_; }
+
+  /// Reads a double an older format stored and the current one no longer holds, and lets it go. It must still be a
+  /// finite number: a file whose bytes there are not one is malformed and refused like any other.
+  void skip_retired_real(const char* what) {
+    double value = 0.0;
+    load_bytes(&value, sizeof value);
+    if (!std::isfinite(value))
+      throw cereal::Exception(std::string(what) + " (format " + std::to_string(format_version_) + ") = " +
+                              std::to_string(value) + ": must be finite");
+  }
 
   void load_bytes(void* out, std::size_t count) {
     if (count > left_)
@@ -51,6 +72,7 @@ class BoundedInputArchive : public cereal::InputArchive<BoundedInputArchive, cer
  private:
   const char* data_;
   std::size_t left_;
+  std::uint32_t format_version_;
 };
 
 /// The fewest bytes one encoded element of type T takes (a string: its own length prefix).

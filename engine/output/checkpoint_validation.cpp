@@ -300,7 +300,7 @@ void check_fluid(const Refusal& refusal, const FluidParticles& fluid, const Flui
   const std::pair<const char*, double> reals[] = {
       {"kinetic_energy", summary.kinetic_energy}, {"max_speed", summary.max_speed},
       {"mean_density_ratio", summary.mean_density_ratio}, {"volume", summary.volume},
-      {"solver_residual", summary.solver_residual}, {"last_dt", summary.last_dt}, {"courant", summary.courant}};
+      {"solver_residual", summary.solver_residual}, {"courant", summary.courant}};
   for (const auto& [field, value] : reals)
     if (!std::isfinite(value) || value < 0.0)
       refusal.fail(std::string("fluid_summary.") + field + " = " + show(value), "must be finite and not negative");

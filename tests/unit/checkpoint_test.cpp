@@ -2,6 +2,8 @@
 #include <doctest/doctest.h>
 
 #include <cstring>
+#include <iterator>
+#include <limits>
 #include <type_traits>
 #include <fstream>
 
@@ -138,7 +140,7 @@ TEST_CASE("a checkpoint with a fluid round trips bit for bit and resumes into th
   summary.solver_iterations = 42;
   summary.solver_residual = 1.0 / 7.0;
   summary.solver_converged = false;
-  summary.last_dt = 1e-3 / 3.0;
+  summary.courant = 1.0 / 9.0;  // after solver_converged, where format 4 stored last_dt
 
   const CheckpointData original = simulation->checkpoint_data();
   const std::string bytes = encode_checkpoint(original);
@@ -153,7 +155,7 @@ TEST_CASE("a checkpoint with a fluid round trips bit for bit and resumes into th
   CHECK(restored.world.fluid_summary->kinetic_energy == 1.0 / 3.0);
   CHECK(restored.world.fluid_summary->solver_residual == 1.0 / 7.0);
   CHECK_FALSE(restored.world.fluid_summary->solver_converged);
-  CHECK(restored.world.fluid_summary->last_dt == 1e-3 / 3.0);
+  CHECK(restored.world.fluid_summary->courant == 1.0 / 9.0);
   CHECK(encode_checkpoint(restored) == bytes);
 
   // Resuming puts the stored fluid back and an empty neighbour list beside it.
@@ -170,12 +172,80 @@ TEST_CASE("a checkpoint with a fluid round trips bit for bit and resumes into th
   CHECK(encode_checkpoint(resumed->checkpoint_data()) == bytes);
 }
 
-TEST_CASE("a checkpoint of the previous format version is refused") {
-  std::string bytes = encode_checkpoint(sample_checkpoint());
-  const std::uint32_t previous = kCheckpointVersion - 1;
-  std::memcpy(bytes.data() + 8, &previous, sizeof previous);
-  const std::string expected = "x.ckpt: checkpoint format version " + std::to_string(previous) +
-                               ", but this riffle reads version " + std::to_string(kCheckpointVersion);
-  CHECK(kCheckpointVersion == 4);
-  CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "x.ckpt"), doctest::Contains(expected.c_str()), CheckpointError);
+TEST_CASE("checkpoints of a format before 4 or after 5 are refused") {
+  CHECK(kCheckpointVersion == 5);
+  CHECK(kOldestCheckpointVersionRead == 4);
+  for (const std::uint32_t version : {3u, 6u}) {
+    std::string bytes = encode_checkpoint(sample_checkpoint());
+    std::memcpy(bytes.data() + 8, &version, sizeof version);
+    const std::string expected = "x.ckpt: checkpoint format version " + std::to_string(version) +
+                                 ", but this riffle reads version 5 (and 4)";
+    CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "x.ckpt"), doctest::Contains(expected.c_str()), CheckpointError);
+  }
+}
+
+namespace {
+std::string file_bytes(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+}
+
+/// A checkpoint's bytes with a new payload: the header's size and checksum made right again.
+std::string with_payload(const std::string& bytes, const std::string& payload) {
+  std::string out = bytes.substr(0, 32) + payload;
+  const std::uint64_t size = payload.size(), checksum = fnv1a64(payload);
+  std::memcpy(out.data() + 16, &size, sizeof size);
+  std::memcpy(out.data() + 24, &checksum, sizeof checksum);
+  return out;
+}
+}  // namespace
+
+TEST_CASE("a format-4 checkpoint with a fluid loads without its last_dt, resumes, and is written as format 5") {
+  // Written by riffle before format 5 (tests/fuzz/make_checkpoint_corpus.sh): FluidSummary held last_dt there.
+  const std::string path = RIFFLE_SOURCE_DIR "/tests/fuzz/corpus/checkpoint/v4_tiny_fluid.ckpt";
+  const std::string v4 = file_bytes(path);
+  std::uint32_t version = 0;
+  std::memcpy(&version, v4.data() + 8, sizeof version);
+  REQUIRE(version == 4);
+  const CheckpointData data = read_checkpoint(path);
+  REQUIRE(data.world.fluid_summary.has_value());
+  CHECK(data.world.fluid_summary->fluid_count > 0);
+  CHECK(data.world.fluid_summary->courant > 0.0);  // read from its own slot, after the skipped one
+  const std::string v5 = encode_checkpoint(data);
+  std::memcpy(&version, v5.data() + 8, sizeof version);
+  CHECK(version == 5);
+
+  // Everything but the 8 bytes of last_dt is the same: the format-5 payload is the format-4 one without them.
+  REQUIRE(v5.size() + 8 == v4.size());
+  std::size_t slot = 32;
+  while (slot < v5.size() && v5[slot] == v4[slot]) ++slot;
+  CHECK(v4.substr(32, slot - 32) + v4.substr(slot + 8) == v5.substr(32));
+  double skipped = 0.0;  // the riffle that wrote the fixture still stored the step there: the scene's dt
+  std::memcpy(&skipped, v4.data() + slot, sizeof skipped);
+  REQUIRE(skipped == 1e-3);
+
+  // The skipped slot must still hold a finite number: the bounded reader refuses a malformed file.
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    std::string payload = v4.substr(32);
+    std::memcpy(payload.data() + (slot - 32), &bad, sizeof bad);
+    CHECK_THROWS_WITH_AS(decode_checkpoint(with_payload(v4, payload), "old.ckpt"),
+                         doctest::Contains("old.ckpt: checkpoint payload cannot be read: fluid_summary.last_dt"),
+                         CheckpointError);
+  }
+  // A finite value there is any old run's step length: it loads, and is not kept.
+  std::string payload = v4.substr(32);
+  const double old_dt = 1e-3 / 3.0;
+  std::memcpy(payload.data() + (slot - 32), &old_dt, sizeof old_dt);
+  CHECK(encode_checkpoint(decode_checkpoint(with_payload(v4, payload), "old.ckpt")) == v5);
+  // A format-5 file is not read with the slot (that would shift every later field): the same bytes as format 5 are
+  // 8 bytes short of what format 4 needs.
+  std::string as_v5 = v4;
+  version = 5;
+  std::memcpy(as_v5.data() + 8, &version, sizeof version);
+  CHECK_THROWS_AS(decode_checkpoint(as_v5, "x.ckpt"), CheckpointError);
+
+  // Resuming from it gives the world it stored, and the next checkpoint is format 5.
+  auto resumed = Simulation::from_checkpoint(path);
+  CHECK(resumed->world().fluid->position == data.world.fluid->position);
+  CHECK(encode_checkpoint(resumed->checkpoint_data()) == v5);
 }

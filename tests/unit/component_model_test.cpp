@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <fstream>
@@ -219,9 +220,18 @@ TEST_CASE("whole_group gives back the group of its roles and resizes, permutes a
                   std::logic_error);
 }
 
-TEST_CASE("format-4 checkpoints of the corpus read and write back byte for byte") {
+TEST_CASE("checkpoints of the corpus read and write back: format 5 byte for byte, format 4 as the same data in 5") {
   const std::filesystem::path corpus = RIFFLE_SOURCE_DIR "/tests/fuzz/corpus/checkpoint";
-  std::size_t checked = 0;
+  auto contents = [](const std::filesystem::path& path) {
+    std::ifstream file(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  };
+  auto version_of = [](const std::string& bytes) {
+    std::uint32_t version = 0;
+    std::memcpy(&version, bytes.data() + 8, sizeof version);
+    return version;
+  };
+  std::size_t current = 0, legacy = 0, legacy_fluid = 0;
   for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
     CAPTURE(entry.path().string());
     CheckpointData data;
@@ -230,10 +240,32 @@ TEST_CASE("format-4 checkpoints of the corpus read and write back byte for byte"
     } catch (const CheckpointError&) {
       continue;  // a fuzz find damaged below the format (refused before any field is read)
     }
-    std::ifstream file(entry.path(), std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-    CHECK(encode_checkpoint(data) == bytes);
-    ++checked;
+    const std::string bytes = contents(entry.path());
+    const std::string written = encode_checkpoint(data);
+    CHECK(version_of(written) == kCheckpointVersion);
+    if (version_of(bytes) == kCheckpointVersion) {
+      CHECK(written == bytes);
+      ++current;
+      continue;
+    }
+    // A format-4 file (the compatibility fixtures v4_*.ckpt, and fuzz finds of that time) is the same data: written
+    // back, it is format 5, which reads back to the same bytes again, and its payload is the old one without the 8
+    // bytes of FluidSummary's last_dt (where there is a fluid) and byte for byte the old one otherwise.
+    REQUIRE(version_of(bytes) == kOldestCheckpointVersionRead);
+    CHECK(encode_checkpoint(decode_checkpoint(written, "rewritten")) == written);
+    const std::string old_payload = bytes.substr(32), new_payload = written.substr(32);
+    if (data.world.fluid_summary) {
+      REQUIRE(old_payload.size() == new_payload.size() + 8);
+      const auto slot = static_cast<std::size_t>(
+          std::mismatch(new_payload.begin(), new_payload.end(), old_payload.begin()).first - new_payload.begin());
+      CHECK(old_payload.substr(0, slot) + old_payload.substr(slot + 8) == new_payload);
+      ++legacy_fluid;
+    } else {
+      CHECK(old_payload == new_payload);
+    }
+    ++legacy;
   }
-  CHECK(checked >= 5);  // dry_contacts, dry_contacts_early, tiny_coupled, tiny_fluid, tiny_fluid_early at least
+  CHECK(current >= 5);  // dry_contacts, dry_contacts_early, tiny_coupled, tiny_fluid, tiny_fluid_early at least
+  CHECK(legacy >= 5);   // and their v4_ fixtures
+  CHECK(legacy_fluid >= 3);
 }
