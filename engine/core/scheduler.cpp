@@ -135,34 +135,93 @@ void Scheduler::check_acyclic() {
     if (colour[node] == 0) visit(node);
 }
 
+void Scheduler::run_system(std::size_t index) {
+  SystemContext context(world_, model_, *systems_[index], access_[index], time_, dt_);
+  started_[index] = Clock::now();
+  systems_[index]->run(context);
+  finished_[index] = Clock::now();
+  timers_[index].add(std::chrono::duration<double>(finished_[index] - started_[index]).count(), context.items());
+}
+
 void Scheduler::build_graph() {
   using tbb::flow::continue_msg;
+  nodes_.clear();
+  caller_done_.reset();
   start_ = std::make_unique<tbb::flow::broadcast_node<continue_msg>>(graph_);
+  // The caller's system and its ancestors are run by the calling thread, not by nodes of the flow graph.
+  std::vector<bool> by_caller(systems_.size(), false);
+  if (caller_) {
+    by_caller[*caller_] = true;
+    for (std::size_t index : caller_first_) by_caller[index] = true;
+    caller_done_ = std::make_unique<tbb::flow::broadcast_node<continue_msg>>(graph_);
+  }
   for (std::size_t index = 0; index < systems_.size(); ++index) {
+    if (by_caller[index]) {
+      nodes_.push_back(nullptr);
+      continue;
+    }
     nodes_.push_back(std::make_unique<tbb::flow::continue_node<continue_msg>>(
-        graph_, [this, index](const continue_msg&) {
-          SystemContext context(world_, model_, *systems_[index], access_[index], time_, dt_);
-          started_[index] = Clock::now();
-          systems_[index]->run(context);
-          finished_[index] = Clock::now();
-          timers_[index].add(std::chrono::duration<double>(finished_[index] - started_[index]).count(),
-                             context.items());
-        }));
+        graph_, [this, index](const continue_msg&) { run_system(index); }));
   }
   std::vector<bool> has_predecessor(systems_.size(), false);
-  for (auto [from, to] : edges_) {
-    tbb::flow::make_edge(*nodes_[from], *nodes_[to]);
+  for (const auto& edge : edges_) {
+    const std::size_t from = edge.first, to = edge.second;
+    if (by_caller[to]) continue;  // into the caller's chain: the calling thread runs it in order
+    if (caller_ && from == *caller_) {
+      tbb::flow::make_edge(*caller_done_, *nodes_[to]);
+    } else if (by_caller[from]) {
+      continue;  // from an ancestor of the caller's system: done before the graph starts
+    } else {
+      tbb::flow::make_edge(*nodes_[from], *nodes_[to]);
+    }
     has_predecessor[to] = true;
   }
   for (std::size_t index = 0; index < systems_.size(); ++index)
-    if (!has_predecessor[index]) tbb::flow::make_edge(*start_, *nodes_[index]);
+    if (!by_caller[index] && !has_predecessor[index]) tbb::flow::make_edge(*start_, *nodes_[index]);
+}
+
+void Scheduler::run_on_caller(std::string_view name) {
+  const std::optional<std::size_t> found = find(name);
+  if (!found) throw SchedulerError("graph '" + name_ + "' has no system '" + std::string(name) + "' to run");
+  caller_ = *found;
+  // Ancestors in an order that respects the edges: depth-first, predecessors first.
+  std::vector<std::vector<std::size_t>> predecessors(systems_.size());
+  for (const auto& edge : edges_) predecessors[edge.second].push_back(edge.first);
+  std::vector<char> state(systems_.size(), 0);
+  caller_first_.clear();
+  std::function<void(std::size_t)> visit = [&](std::size_t node) {
+    state[node] = 1;
+    for (std::size_t before : predecessors[node])
+      if (state[before] == 0) visit(before);
+    if (node != *caller_) caller_first_.push_back(node);
+  };
+  visit(*caller_);
+  build_graph();
 }
 
 void Scheduler::run(double time, double dt) {
   if (systems_.empty()) return;
   time_ = time;
   dt_ = dt;
-  start_->try_put(tbb::flow::continue_msg());
+  if (caller_) {
+    for (std::size_t index : caller_first_) run_system(index);  // nothing else has started: a throw just leaves
+    start_->try_put(tbb::flow::continue_msg());
+    try {
+      run_system(*caller_);
+    } catch (...) {
+      // Never leave the graph running on a world that is being unwound: the systems not started are skipped.
+      graph_.cancel();
+      try {
+        graph_.wait_for_all();
+      } catch (...) {
+      }
+      graph_.reset();
+      throw;
+    }
+    caller_done_->try_put(tbb::flow::continue_msg());
+  } else {
+    start_->try_put(tbb::flow::continue_msg());
+  }
   try {
     graph_.wait_for_all();  // returns, or rethrows, only once no node is running
   } catch (...) {

@@ -49,6 +49,15 @@ class Scheduler {
   /// every system already running has returned (the systems not started yet are skipped).
   void run(double time, double dt);
 
+  /// From now on run() runs the system `name` on the calling thread, and its ancestors before it, while the rest of
+  /// the graph runs around it on the pool. Why: a thread that called run() and has nothing to do sleeps until the
+  /// whole graph is done, and is not woken for tasks spawned later; with the grains' loop on a worker, the loop's
+  /// parallel loops got no help from it once the fluid beside it was done (measured: the loop took its one-thread
+  /// time on two threads). The calling thread running the longest chain itself keeps both threads busy. Edges stay
+  /// as derived; the ancestors (the step-start copies) run in list order first, alone. Throws SchedulerError if
+  /// there is no such system.
+  void run_on_caller(std::string_view name);
+
   /// Dependency edges as (from, to) indices into the system list, sorted.
   const std::vector<std::pair<std::size_t, std::size_t>>& edges() const { return edges_; }
   /// The same edges by name, "a -> b", for tests and logs.
@@ -92,6 +101,7 @@ class Scheduler {
   void derive_edges();
   void check_acyclic();
   void build_graph();
+  void run_system(std::size_t index);
   void append_dot_body(std::string& out, const std::string& indent) const;
 
   std::string name_;
@@ -116,7 +126,11 @@ class Scheduler {
   tbb::task_group_context context_{tbb::task_group_context::isolated};
   tbb::flow::graph graph_{context_};
   std::unique_ptr<tbb::flow::broadcast_node<tbb::flow::continue_msg>> start_;
-  std::vector<std::unique_ptr<tbb::flow::continue_node<tbb::flow::continue_msg>>> nodes_;
+  std::vector<std::unique_ptr<tbb::flow::continue_node<tbb::flow::continue_msg>>> nodes_;  ///< null: caller runs it
+  std::optional<std::size_t> caller_;       ///< the system run_on_caller named
+  std::vector<std::size_t> caller_first_;   ///< its ancestors, in an order that respects the edges
+  /// Stands for the caller's system in the flow graph: put once it has run, it starts the systems after it.
+  std::unique_ptr<tbb::flow::broadcast_node<tbb::flow::continue_msg>> caller_done_;
 };
 
 }  // namespace riffle

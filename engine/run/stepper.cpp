@@ -41,7 +41,10 @@ std::unique_ptr<Scheduler> Stepper::build_step_graph(Pipeline& pipeline) {
   }
   phases.push_back({kLoopPhase, std::move(grains)});
   phases.push_back({"end_of_step", std::move(pipeline.end_of_step)});
-  return std::make_unique<Scheduler>("step", std::move(phases), world_, model_);
+  auto graph = std::make_unique<Scheduler>("step", std::move(phases), world_, model_);
+  // The grains' loop is the step's longest chain: the calling thread runs it (Scheduler::run_on_caller says why).
+  if (loop_) graph->run_on_caller(kLoopName);
+  return graph;
 }
 
 void Stepper::set_stop_flag(const std::atomic<int>* stop_signal, double grace_seconds) {

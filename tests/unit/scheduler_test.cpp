@@ -222,6 +222,7 @@ struct ProbeStep {
     phases.push_back(
         {"end_of_step", systems_of({ProbeSystem("check", {{kSolidsId, kSummaryId}, {kStatusId}}, count(end_runs))})});
     graph = std::make_unique<Scheduler>("step", std::move(phases), world, model);
+    graph->run_on_caller("loop");  // as the stepper runs its loop
   }
 
   static std::function<void(SystemContext&)> count(std::atomic<int>& runs) {
