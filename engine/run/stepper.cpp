@@ -70,8 +70,9 @@ void Stepper::step() {
   if (world_.fluid && dt < model_.fluid.min_dt) {
     // Name the fastest fluid particle: that is where the flow blew up.
     const FluidParticles& fluid = *world_.fluid;
+    const std::size_t fluid_count = fluid_slot_count(fluid);
     std::size_t fastest = 0;
-    for (std::size_t i = 1; i < fluid_slot_count(fluid); ++i)
+    for (std::size_t i = 1; i < fluid_count; ++i)
       if (fluid.velocity[i].squaredNorm() > fluid.velocity[fastest].squaredNorm()) fastest = i;
     world_.step_status.problem = StepProblem::kTimeStepCollapse;
     world_.step_status.phase = "fluid";
