@@ -25,6 +25,8 @@ struct GrainContactForce;
 struct GrainDrag;
 struct GrainSampledFluid;
 struct GrainVoidage;
+struct GrainAddedMass;
+struct GrainLubrication;
 // MPS particles (components/fluid.hpp): the roles of the `FluidParticles` table.
 struct ParticleState;
 struct ParticlePrediction;
@@ -43,7 +45,7 @@ struct FluidSample;
 
 using ComponentList =
     TypeList<GrainState, GrainProperties, GrainTotalForce, GrainContactForce, GrainDrag, GrainSampledFluid,
-             GrainVoidage, Walls, TankMotion, StepStatus, SolidSummary, Contacts, ParticleState, ParticlePrediction,
+             GrainVoidage, GrainAddedMass, GrainLubrication, Walls, TankMotion, StepStatus, SolidSummary, Contacts, ParticleState, ParticlePrediction,
              ParticlePressure, ParticleDensity, ParticleDragReaction, FluidNeighbours, FluidSummary, FluidSample>;
 
 /// A component's place in ComponentList (no enumerators: every value comes from the list).

@@ -30,6 +30,8 @@ struct FieldInfo {
   const char* unit;  ///< SI unit, "1" for dimensionless or ids
   bool output;       ///< written to VTK frames
   double fill = 0.0; ///< value of a new entity's field until set (a Vec3 gets it in every component)
+  /// The checkpoint format that first stored this field: reading an older file leaves it at `fill`.
+  unsigned since_format = 0;
 };
 
 /// The value a new entity's field of type Value starts with.

@@ -102,6 +102,8 @@ struct GrainDrag {
 
   std::vector<Vec3> drag_force;    ///< [N] drag of the fluid on the grain, recomputed every sub-step
   std::vector<Vec3> drag_impulse;  ///< [N s] drag integrated over the sub-steps since the fluid last took it back
+  /// [m/s] the fluid velocity the drag used: the sampled one less the grain's own disturbance (docs/COUPLING.md)
+  std::vector<Vec3> undisturbed_velocity;
 
   std::size_t size() const { return drag_force.size(); }
 
@@ -109,6 +111,7 @@ struct GrainDrag {
   static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"drag_force", "N", true}, self.drag_force);
     visit(FieldInfo{"drag_impulse", "N s", false}, self.drag_impulse);
+    visit(FieldInfo{"undisturbed_velocity", "m/s", true, 0.0, 6}, self.undisturbed_velocity);
   }
 };
 
@@ -121,6 +124,7 @@ struct GrainSampledFluid {
   std::vector<Vec3> pressure_force;  ///< [N] -V <grad p>
   std::vector<Vec3> fluid_velocity;  ///< [m/s] averaged fluid velocity (seed Eq. 23)
   std::vector<double> fluid_weight;  ///< [1] sum of the sampling weights of the fluid around the grain; 0 = dry
+  std::vector<Vec3> fluid_acceleration;  ///< [m/s^2] the water's acceleration Du/Dt around the grain
 
   std::size_t size() const { return pressure_force.size(); }
 
@@ -129,6 +133,7 @@ struct GrainSampledFluid {
     visit(FieldInfo{"pressure_force", "N", true}, self.pressure_force);
     visit(FieldInfo{"fluid_velocity", "m/s", true}, self.fluid_velocity);
     visit(FieldInfo{"fluid_weight", "1", true}, self.fluid_weight);
+    visit(FieldInfo{"fluid_acceleration", "m/s^2", true, 0.0, 6}, self.fluid_acceleration);
   }
 };
 
@@ -148,19 +153,53 @@ struct GrainVoidage {
   }
 };
 
+/// The added-mass and history (Basset) forces of the water on the grain: written by the grains' sub-steps.
+struct GrainAddedMass {
+  static constexpr ComponentId kId = component_id<GrainAddedMass>;
+  static constexpr std::string_view kName = "grain_added_mass";
+
+  std::vector<Vec3> added_mass_force;  ///< [N] C_a rho V (Du/Dt - dv/dt)
+  std::vector<Vec3> history_force;     ///< [N] windowed Basset history force
+
+  std::size_t size() const { return added_mass_force.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"added_mass_force", "N", true, 0.0, 6}, self.added_mass_force);
+    visit(FieldInfo{"history_force", "N", true, 0.0, 6}, self.history_force);
+  }
+};
+
+/// Lubrication forces of the water squeezed between a grain and its neighbours or the walls: written by
+/// solid_lubrication every sub-step.
+struct GrainLubrication {
+  static constexpr ComponentId kId = component_id<GrainLubrication>;
+  static constexpr std::string_view kName = "grain_lubrication";
+
+  std::vector<Vec3> lubrication_force;  ///< [N] normal lubrication from grain-grain and grain-wall gaps
+
+  std::size_t size() const { return lubrication_force.size(); }
+
+  template <class Self, class Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit(FieldInfo{"lubrication_force", "N", true, 0.0, 6}, self.lubrication_force);
+  }
+};
+
 /// Every role of the grains: the whole table.
 struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainContactForce, GrainDrag,
-                            GrainSampledFluid, GrainVoidage> {
+                            GrainSampledFluid, GrainVoidage, GrainAddedMass, GrainLubrication> {
   static constexpr std::string_view kName = "solids";
   static constexpr bool kPersistent = true;
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
-  /// before the split into roles (for_each_field_in_order).
-  static constexpr std::array<const char*, 19> kFieldOrder = {
+  /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
+  static constexpr std::array<const char*, 24> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
-      "voidage",      "fluid_weight",   "material",       "size_class"};
+      "voidage",      "fluid_weight",   "material",       "size_class",
+      "undisturbed_velocity", "fluid_acceleration", "added_mass_force", "history_force", "lubrication_force"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 
@@ -183,10 +222,21 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
     return slot;
   }
 
+  /// A field newer than the file read (FieldInfo::since_format) is not in it: it gets its default for every grain.
   template <class Archive>
   void serialize(Archive& archive) {
     archive(next_id);
-    for_each_field_in_order(*this, [&](const FieldInfo&, auto& field) { archive(field); });
+    bool absent_fields = false;
+    for_each_field_in_order(*this, [&](const FieldInfo& info, auto& field) {
+      if constexpr (requires { archive.format_version(); })
+        if (archive.format_version() < info.since_format) {
+          field.clear();
+          absent_fields = true;
+          return;
+        }
+      archive(field);
+    });
+    if (absent_fields) resize_fields(*this, id.size());
   }
 };
 

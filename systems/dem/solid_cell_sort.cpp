@@ -12,7 +12,7 @@ void SolidCellSort::run(SystemContext& context) {
   Solids& solids = whole_group<Solids>(
       context.write<GrainState>(), context.write<GrainProperties>(), context.write<GrainTotalForce>(),
       context.write<GrainContactForce>(), context.write<GrainDrag>(), context.write<GrainSampledFluid>(),
-      context.write<GrainVoidage>());
+      context.write<GrainVoidage>(), context.write<GrainAddedMass>(), context.write<GrainLubrication>());
   if (solids.size() < 2) return;
   const double largest_radius = *std::max_element(solids.radius.begin(), solids.radius.end());
   const DomainBox domain = domain_box(context.model);

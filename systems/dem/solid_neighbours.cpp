@@ -266,7 +266,7 @@ void SolidNeighbours::run(SystemContext& context) {
   Solids& solids = whole_group<Solids>(
       context.write<GrainState>(), context.write<GrainProperties>(), context.write<GrainTotalForce>(),
       context.write<GrainContactForce>(), context.write<GrainDrag>(), context.write<GrainSampledFluid>(),
-      context.write<GrainVoidage>());
+      context.write<GrainVoidage>(), context.write<GrainAddedMass>(), context.write<GrainLubrication>());
   Contacts& contacts = context.write<Contacts>();
   const TankMotion& tank = context.read<TankMotion>();
   context.count_items(solids.size());

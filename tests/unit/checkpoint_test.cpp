@@ -172,14 +172,14 @@ TEST_CASE("a checkpoint with a fluid round trips bit for bit and resumes into th
   CHECK(encode_checkpoint(resumed->checkpoint_data()) == bytes);
 }
 
-TEST_CASE("checkpoints of a format before 4 or after 5 are refused") {
-  CHECK(kCheckpointVersion == 5);
+TEST_CASE("checkpoints of a format before 4 or after 6 are refused") {
+  CHECK(kCheckpointVersion == 6);
   CHECK(kOldestCheckpointVersionRead == 4);
-  for (const std::uint32_t version : {3u, 6u}) {
+  for (const std::uint32_t version : {3u, 7u}) {
     std::string bytes = encode_checkpoint(sample_checkpoint());
     std::memcpy(bytes.data() + 8, &version, sizeof version);
     const std::string expected = "x.ckpt: checkpoint format version " + std::to_string(version) +
-                                 ", but this riffle reads version 5 (and 4)";
+                                 ", but this riffle reads version 6 (and 4)";
     CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "x.ckpt"), doctest::Contains(expected.c_str()), CheckpointError);
   }
 }
@@ -200,7 +200,7 @@ std::string with_payload(const std::string& bytes, const std::string& payload) {
 }
 }  // namespace
 
-TEST_CASE("a format-4 checkpoint with a fluid loads without its last_dt, resumes, and is written as format 5") {
+TEST_CASE("a format-4 checkpoint with a fluid loads without its last_dt, resumes, and is written in the current format") {
   // Written by riffle before format 5 (tests/fuzz/make_checkpoint_corpus.sh): FluidSummary held last_dt there.
   const std::string path = RIFFLE_SOURCE_DIR "/tests/fuzz/corpus/checkpoint/v4_tiny_fluid.ckpt";
   const std::string v4 = file_bytes(path);
@@ -213,7 +213,7 @@ TEST_CASE("a format-4 checkpoint with a fluid loads without its last_dt, resumes
   CHECK(data.world.fluid_summary->courant > 0.0);  // read from its own slot, after the skipped one
   const std::string v5 = encode_checkpoint(data);
   std::memcpy(&version, v5.data() + 8, sizeof version);
-  CHECK(version == 5);
+  CHECK(version == kCheckpointVersion);
 
   // Everything but the 8 bytes of last_dt is the same: the format-5 payload is the format-4 one without them.
   REQUIRE(v5.size() + 8 == v4.size());

@@ -122,7 +122,7 @@ TEST_CASE("the component list names every component once and the World stores ea
   CHECK(kComponentNames.size() == kComponentCount);
   CHECK(component_name(component_id<GrainState>) == "grain_state");
   CHECK(component_name(component_id<FluidSample>) == "fluid_sample");
-  CHECK(component_ids<Solids>().size() == 7);
+  CHECK(component_ids<Solids>().size() == 9);
   CHECK(component_ids<FluidParticles, Walls>().size() == 6);
   const std::set<std::string_view> distinct(kComponentNames.begin(), kComponentNames.end());
   CHECK(distinct.size() == kComponentCount);
@@ -160,14 +160,17 @@ TEST_CASE("each role's table lists every field of its struct, and the group's wr
     CHECK(std::set<std::string>(names.begin(), names.end()).size() == names.size());
     CHECK(std::is_permutation(names.begin(), names.end(), order.begin(), order.end()));
   }
-  // The written order is the one table's order before the split (checkpoint format 4, VTK frames).
+  // The written order is the one table's order before the split (checkpoint format 4, VTK frames), then the fields
+  // added since, each from the format that first stored it.
   Solids solids;
   std::vector<std::string> written;
   for_each_field_in_order(solids, [&](const FieldInfo& info, auto&) { written.emplace_back(info.name); });
   CHECK(written == std::vector<std::string>{"id", "position", "velocity", "angular_velocity", "radius", "mass",
                                             "moment_of_inertia", "force", "torque", "contact_force",
                                             "contact_torque", "drag_force", "drag_impulse", "pressure_force",
-                                            "fluid_velocity", "voidage", "fluid_weight", "material", "size_class"});
+                                            "fluid_velocity", "voidage", "fluid_weight", "material", "size_class",
+                                            "undisturbed_velocity", "fluid_acceleration", "added_mass_force",
+                                            "history_force", "lubrication_force"});
 }
 
 TEST_CASE("a new entity's fields start at their table defaults") {
@@ -197,7 +200,8 @@ TEST_CASE("whole_group gives back the group of its roles and resizes, permutes a
   Solids& solids = whole_group<Solids>(*world.find<GrainState>(), *world.find<GrainProperties>(),
                                        *world.find<GrainTotalForce>(), *world.find<GrainContactForce>(),
                                        *world.find<GrainDrag>(), *world.find<GrainSampledFluid>(),
-                                       *world.find<GrainVoidage>());
+                                       *world.find<GrainVoidage>(), *world.find<GrainAddedMass>(),
+                                       *world.find<GrainLubrication>());
   CHECK(&solids == &*world.solids);
   REQUIRE(solids.size() >= 2);
   solids.drag_impulse[0] = Vec3(7, 0, 0);
@@ -216,11 +220,12 @@ TEST_CASE("whole_group gives back the group of its roles and resizes, permutes a
   CHECK_THROWS_AS(whole_group<Solids>(static_cast<GrainState&>(other), static_cast<GrainProperties&>(solids),
                                       static_cast<GrainTotalForce&>(solids), static_cast<GrainContactForce&>(solids),
                                       static_cast<GrainDrag&>(solids), static_cast<GrainSampledFluid&>(solids),
-                                      static_cast<GrainVoidage&>(solids)),
+                                      static_cast<GrainVoidage&>(solids), static_cast<GrainAddedMass&>(solids),
+                                      static_cast<GrainLubrication&>(solids)),
                   std::logic_error);
 }
 
-TEST_CASE("checkpoints of the corpus read and write back: format 5 byte for byte, format 4 as the same data in 5") {
+TEST_CASE("checkpoints of the corpus read and write back: the current format byte for byte, older ones as the same data") {
   const std::filesystem::path corpus = RIFFLE_SOURCE_DIR "/tests/fuzz/corpus/checkpoint";
   auto contents = [](const std::filesystem::path& path) {
     std::ifstream file(path, std::ios::binary);
@@ -231,7 +236,7 @@ TEST_CASE("checkpoints of the corpus read and write back: format 5 byte for byte
     std::memcpy(&version, bytes.data() + 8, sizeof version);
     return version;
   };
-  std::size_t current = 0, legacy = 0, legacy_fluid = 0;
+  std::size_t current = 0, legacy = 0, legacy_fluid = 0, legacy_grains = 0;
   for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
     CAPTURE(entry.path().string());
     CheckpointData data;
@@ -248,13 +253,29 @@ TEST_CASE("checkpoints of the corpus read and write back: format 5 byte for byte
       ++current;
       continue;
     }
-    // A format-4 file (the compatibility fixtures v4_*.ckpt, and fuzz finds of that time) is the same data: written
-    // back, it is format 5, which reads back to the same bytes again, and its payload is the old one without the 8
-    // bytes of FluidSummary's last_dt (where there is a fluid) and byte for byte the old one otherwise.
-    REQUIRE(version_of(bytes) == kOldestCheckpointVersionRead);
+    // An older file (the compatibility fixtures v4_*.ckpt and v5_*.ckpt, and fuzz finds of their time) is the same
+    // data: written back, it is the current format, which reads back to the same bytes again. Its payload is the old
+    // one with the grains' fields added since its format (each a cereal vector: an 8-byte count and the values, at
+    // their defaults) inserted after the old ones, and, for format 4, without the 8 bytes of FluidSummary's last_dt.
+    const std::uint32_t old_version = version_of(bytes);
+    REQUIRE(old_version >= kOldestCheckpointVersionRead);
     CHECK(encode_checkpoint(decode_checkpoint(written, "rewritten")) == written);
-    const std::string old_payload = bytes.substr(32), new_payload = written.substr(32);
-    if (data.world.fluid_summary) {
+    std::string old_payload = bytes.substr(32), new_payload = written.substr(32);
+    if (data.world.solids) {
+      std::size_t added = 0;
+      for_each_field_in_order(*data.world.solids, [&](const FieldInfo& info, const auto& field) {
+        using Value = typename std::decay_t<decltype(field)>::value_type;
+        if (info.since_format <= old_version) return;
+        for (const Value& value : field) CHECK(value == field_default<Value>(info));
+        added += 8 + field.size() * sizeof(Value);
+      });
+      const auto slot = static_cast<std::size_t>(
+          std::mismatch(old_payload.begin(), old_payload.end(), new_payload.begin()).first - old_payload.begin());
+      REQUIRE(slot + added <= new_payload.size());
+      new_payload.erase(slot, added);
+      legacy_grains += added > 0 ? 1 : 0;
+    }
+    if (data.world.fluid_summary && old_version == 4) {
       REQUIRE(old_payload.size() == new_payload.size() + 8);
       const auto slot = static_cast<std::size_t>(
           std::mismatch(new_payload.begin(), new_payload.end(), old_payload.begin()).first - new_payload.begin());
@@ -266,6 +287,7 @@ TEST_CASE("checkpoints of the corpus read and write back: format 5 byte for byte
     ++legacy;
   }
   CHECK(current >= 5);  // dry_contacts, dry_contacts_early, tiny_coupled, tiny_fluid, tiny_fluid_early at least
-  CHECK(legacy >= 5);   // and their v4_ fixtures
+  CHECK(legacy >= 6);   // their v4_ fixtures and v5_tiny_coupled
   CHECK(legacy_fluid >= 3);
+  CHECK(legacy_grains >= 3);
 }
