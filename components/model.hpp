@@ -153,6 +153,10 @@ struct CouplingModel {
   bool pressure_gradient = true;         ///< -V <grad p> on each grain (Eq. 13): buoyancy and pressure forces
   double voidage_radius = 0.0;           ///< [m] R_eps of the voidage kernel; 0 = max(3 l0, 2 d_max) (numerics 5.3)
   double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
+  /// true ("self_corrected", docs/COUPLING.md "The voidage at a grain"): smoothed grid, the grain's own volume taken
+  /// out exactly and put back times 1 - S(0) (a lone grain reads 1); false ("cloud_in_cell"): main's trilinear grid
+  /// reading with the grain's own volume included (a lone grain reads 0.93-0.96, rippling with its place in a cell).
+  bool self_corrected_voidage = true;
   double ergun_inertial_exponent = 1.5;  ///< [1] n in F_ch = 1.75 / (sqrt(150) eps^n): 1.5 = Ergun/Gidaspow; the seed prints 3 (numerics 5.1)
   double newton_drag_coefficient = 0.44; ///< [1] C_D above Re_p = 1000 (the seed prints 0.4)
   /// What the MPS velocity u stands for inside the bed (docs/COUPLING.md, "The water inside the bed").

@@ -10,6 +10,7 @@
 #include "engine/setup/initial_state.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/physics/cell_grid.hpp"
+#include "systems/coupling/solid_voidage.hpp"
 #include "systems/physics/voidage_grid.hpp"
 #include "systems/physics/domain.hpp"
 #include "systems/dem/solid_neighbours.hpp"
@@ -173,12 +174,15 @@ SceneBudget estimate_budget(const Model& model) {
   }
 
   if (model.coupling.enabled && grains.count > 0.0 && fluid.spacing > 0.0) {
-    // systems/coupling/solid_voidage.cpp and systems/coupling/fluid_drag_reaction.cpp: 0.668 R_eps and 0.668 (r_max + r_e) cells.
+    // systems/coupling/solid_voidage.cpp and systems/coupling/fluid_drag_reaction.cpp: 0.42 R_eps (0.668 R_eps for the
+    // cloud-in-cell estimate) and 0.668 (r_max + r_e) cells.
     const double voidage_radius = model.coupling.voidage_radius > 0.0
                                       ? model.coupling.voidage_radius
                                       : std::max(3.0 * fluid.spacing, 4.0 * grains.largest);
     const double node_limit = voidage_node_limit(static_cast<std::size_t>(grains.count + budget.fluid_particles));
-    budget.voidage_nodes = std::min(voidage_nodes(extent, 0.668 * voidage_radius), node_limit) +
+    const double voidage_cell = model.coupling.self_corrected_voidage ? SolidVoidage::kSmoothCell
+                                                                      : SolidVoidage::kCloudInCellCell;
+    budget.voidage_nodes = std::min(voidage_nodes(extent, voidage_cell * voidage_radius), node_limit) +
                            std::min(voidage_nodes(extent, 0.668 * (grains.largest + fluid_reach)), node_limit);
     // systems/coupling/solid_fluid_sampling.cpp: cells of 0.5 (r_min + r_e) over the fluid, bounded by cell_grid.hpp.
     const double cell = 0.5 * (grains.smallest + fluid_reach);

@@ -525,6 +525,8 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.pressure_gradient = coupling.boolean("pressure_gradient", true);
   out.voidage_radius = coupling.number("voidage_radius", 0.0, "m", Bounds::non_negative());
   out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
+  out.self_corrected_voidage =
+      coupling.choice("voidage_estimate", "self_corrected", {"self_corrected", "cloud_in_cell"}) == "self_corrected";
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
   out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";

@@ -14,6 +14,8 @@ namespace riffle {
 
 class SolidVoidage final : public System {
  public:
+  /// Cell width over R_eps: the self-corrected estimate (smoothed), and main's trilinear one ((2 pi / 21)^(1/3)).
+  static constexpr double kSmoothCell = 0.668, kCloudInCellCell = 0.668;
   explicit SolidVoidage(const Model& model);
   std::string_view name() const override { return "solid_voidage"; }
   Access access() const override {
@@ -26,6 +28,7 @@ class SolidVoidage final : public System {
   double spacing_;          ///< [m] l0
   double voidage_radius_;   ///< [m] R_eps; 0 until the first run picks it from the grains present
   double min_voidage_;      ///< [1]
+  bool self_corrected_;     ///< false: main's trilinear reading with the grain's own volume included
   VoidageGrid grid_;
   std::vector<double> grain_volumes_;
 };

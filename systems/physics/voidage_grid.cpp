@@ -19,6 +19,7 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
     base[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(clamped));
     fraction[static_cast<std::size_t>(axis)] = clamped - std::floor(clamped);
   }
+  result.fraction = fraction;
   for (int corner = 0; corner < 8; ++corner) {
     const std::int64_t x = base[0] + (corner & 1), y = base[1] + ((corner >> 1) & 1), z = base[2] + ((corner >> 2) & 1);
     result.node[static_cast<std::size_t>(corner)] = static_cast<std::size_t>((z * nodes_[1] + y) * nodes_[0] + x);
@@ -57,6 +58,7 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
   for (int axis = 0; axis < 3; ++axis)
     nodes_[static_cast<std::size_t>(axis)] = fits ? static_cast<std::int64_t>(axis_nodes(axis)) : 2;
   const std::size_t total = static_cast<std::size_t>(nodes_[0] * nodes_[1] * nodes_[2]);
+  smoothed_ = false;
   solid_.assign(total, 0.0);
   fluid_.assign(total, 0.0);
   for (std::size_t grain = 0; grain < grain_positions.size(); ++grain) {
@@ -79,6 +81,77 @@ double VoidageGrid::solid_fraction(const Vec3& point) const {
     weight += s.weight[static_cast<std::size_t>(c)];
   }
   return weight > 0.0 ? fraction / weight : 0.0;
+}
+
+namespace {
+
+/// One binomial (1/4, 1/2, 1/4) pass along `axis` of a field of nodes[0] x nodes[1] x nodes[2] values (x fastest),
+/// zero beyond the ends. `line` is scratch.
+void binomial_pass(std::vector<double>& field, const std::array<std::int64_t, 3>& nodes, int axis,
+                   std::vector<double>& line) {
+  const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? nodes[0] : nodes[0] * nodes[1];
+  const std::int64_t length = nodes[static_cast<std::size_t>(axis)];
+  line.resize(static_cast<std::size_t>(length));
+  const std::int64_t total = nodes[0] * nodes[1] * nodes[2];
+  for (std::int64_t start = 0; start < total; ++start) {
+    // `start` begins a line when its coordinate along `axis` is 0.
+    if ((start / stride) % length != 0) continue;
+    for (std::int64_t k = 0; k < length; ++k) line[static_cast<std::size_t>(k)] = field[static_cast<std::size_t>(start + k * stride)];
+    for (std::int64_t k = 0; k < length; ++k) {
+      const double below = k > 0 ? line[static_cast<std::size_t>(k - 1)] : 0.0;
+      const double above = k + 1 < length ? line[static_cast<std::size_t>(k + 1)] : 0.0;
+      field[static_cast<std::size_t>(start + k * stride)] = 0.25 * below + 0.5 * line[static_cast<std::size_t>(k)] + 0.25 * above;
+    }
+  }
+}
+
+}  // namespace
+
+double hard_sphere_structure_factor(double solid_fraction) {
+  const double phi = std::clamp(solid_fraction, 0.0, 1.0);
+  const double open = 1.0 - phi;
+  return open * open * open * open / (1.0 + phi * (4.0 + phi * (4.0 + phi * (-4.0 + phi))));
+}
+
+double self_corrected_solid_fraction(double others, double own) {
+  double phi = others;
+  for (int iteration = 0; iteration < 3; ++iteration) phi = others + own * (1.0 - hard_sphere_structure_factor(phi));
+  return phi;
+}
+
+void VoidageGrid::smooth() {
+  std::vector<double> line;
+  for (int axis = 0; axis < 3; ++axis) {
+    binomial_pass(solid_, nodes_, axis, line);
+    binomial_pass(fluid_, nodes_, axis, line);
+  }
+  smoothed_ = true;
+}
+
+GrainSolidFraction VoidageGrid::grain_fraction(const Vec3& point, double volume) const {
+  const CloudInCellStencil s = stencil(point);
+  // The grain's own deposit at the two nodes of its cell along each axis, after the smoothing: with trilinear weights
+  // (w0, w1) on (b, b + 1), the filter leaves w0/2 + w1/4 at b and w0/4 + w1/2 at b + 1 (and the rest outside the
+  // cell, which the read back does not reach).
+  std::array<std::array<double, 2>, 3> own_axis{};
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    const double w0 = 1.0 - s.fraction[axis], w1 = s.fraction[axis];
+    own_axis[axis] = smoothed_ ? std::array<double, 2>{0.5 * w0 + 0.25 * w1, 0.25 * w0 + 0.5 * w1} : std::array<double, 2>{w0, w1};
+  }
+  GrainSolidFraction result;
+  double weight = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const std::size_t node = s.node[static_cast<std::size_t>(c)];
+    if (fluid_[node] <= 0.0) continue;
+    const double w = s.weight[static_cast<std::size_t>(c)];
+    const double own = volume * own_axis[0][static_cast<std::size_t>(c & 1)] *
+                       own_axis[1][static_cast<std::size_t>((c >> 1) & 1)] * own_axis[2][static_cast<std::size_t>((c >> 2) & 1)];
+    result.included += w * solid_[node] / fluid_[node];
+    result.own += w * own / fluid_[node];
+    weight += w;
+  }
+  if (weight > 0.0) result.included /= weight, result.own /= weight;
+  return result;
 }
 
 }  // namespace riffle

@@ -19,7 +19,26 @@ namespace riffle {
 struct CloudInCellStencil {
   std::array<std::size_t, 8> node;
   std::array<double, 8> weight;  ///< sum to 1
+  std::array<double, 3> fraction;  ///< the point's place in its cell along each axis, [0, 1]: corner bit 1's weight
 };
+
+/// A grain's solid fraction read back at its own centre: all grains' deposits, and its own deposit alone
+/// (read the same way), so `included - own` is the fraction of the other grains (systems/coupling/solid_voidage.hpp).
+struct GrainSolidFraction {
+  double included = 0.0;  ///< [1] every grain's volume, the grain's own included; 0 where no node around holds water
+  double own = 0.0;       ///< [1] the grain's own volume alone
+};
+
+/// Hard spheres' structure factor at zero wavenumber, S(0) = (1 - phi)^4 / (1 + 4 phi + 4 phi^2 - 4 phi^3 + phi^4)
+/// (the Carnahan-Starling compressibility, Carnahan & Starling 1969): 1 for a dilute suspension, 0.006 at phi = 0.6.
+/// phi is clamped to [0, 1].
+double hard_sphere_structure_factor(double solid_fraction);
+
+/// The self-corrected solid fraction at a grain (docs/COUPLING.md, "The voidage at a grain"): the other grains'
+/// fraction `others` plus the grain's own `own` times 1 - S(0) at the result (three fixed-point iterations from
+/// `others`). The expected kernel sum over the other grains of a random arrangement is phi - own (1 - S(0)): a
+/// grain's neighbours are missing from its excluded volume. A lone grain (others = 0) reads 0 exactly.
+double self_corrected_solid_fraction(double others, double own);
 
 /// The most nodes a VoidageGrid over `points` grains and fluid particles may have: 64 per point, at least 4e6.
 inline double voidage_node_limit(std::size_t points) { return std::max(64.0 * static_cast<double>(points), 4.0e6); }
@@ -36,6 +55,16 @@ class VoidageGrid {
   /// Solid volume fraction at `point`: interpolated over the surrounding nodes that hold water; 0 if none does.
   double solid_fraction(const Vec3& point) const;
 
+  /// Smooths both deposits with one binomial (1/4, 1/2, 1/4) pass along each axis: the kernel of deposit, filter and
+  /// read back becomes a smooth bump (a quadratic-spline-like filter between two trilinear ones) instead of a tent
+  /// whose peak is wherever a node falls. Call once, after build; the deposits stay on the grid (the build leaves a
+  /// free node at each end of every axis).
+  void smooth();
+
+  /// The solid fraction at the centre `point` of a grain of `volume`, and that grain's own share of it (its deposit
+  /// alone, through the same weights, smoothing and read back; exact up to rounding).
+  GrainSolidFraction grain_fraction(const Vec3& point, double volume) const;
+
   /// The nodes and weights of `point` (clamped into the grid).
   CloudInCellStencil stencil(const Vec3& point) const;
   std::size_t node_count() const { return solid_.size(); }
@@ -46,6 +75,7 @@ class VoidageGrid {
   Vec3 origin_ = Vec3::Zero();
   double cell_size_ = 1.0;
   std::array<std::int64_t, 3> nodes_{1, 1, 1};
+  bool smoothed_ = false;
   std::vector<double> solid_, fluid_;
 };
 
