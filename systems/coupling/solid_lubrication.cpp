@@ -44,16 +44,20 @@ void SolidLubrication::run(SystemContext& context) {
           const std::uint32_t j = contacts.pair_second[k];
           if (!(sampled.fluid_weight[j] > 0.0)) continue;
           const Vec3 centre_line = grains.position[j] - grains.position[i];
-          const double distance = centre_line.norm();
-          if (!(distance > 0.0)) continue;
           const double radius_j = properties.radius[j];
           const double a = reduced_radius(radius, radius_j);
-          const double gap = distance - radius - radius_j;
           const double cutoff = model_.lubrication_cutoff_gap(a);
-          if (!(gap < cutoff)) continue;
-          const double roughness = model_.roughness_gap(a);
+          // Many candidates of a bed are beyond the cut-off: settled without a root.
+          const double reach = radius + radius_j + cutoff;
+          const double distance_squared = centre_line.squaredNorm();
+          if (!(distance_squared < reach * reach) || !(distance_squared > 0.0)) continue;
+          const double distance = std::sqrt(distance_squared);
+          const double gap = distance - radius - radius_j;
           const Vec3 normal = centre_line / distance;  // from i to j
           const double approach = (grains.velocity[i] - grains.velocity[j]).dot(normal);
+          // Touching over the whole sub-step: the contact law's (swept_coefficient counts only the film).
+          if (gap + 0.5 * std::abs(approach) * dt <= 0.0) continue;
+          const double roughness = model_.roughness_gap(a);
           const double at_gap = pair_lubrication_coefficient(radius, radius_j, gap, mu, roughness, cutoff);
           const double swept = swept_coefficient(at_gap, 6.0 * kPi * mu * a * a, gap, approach, dt, roughness, cutoff);
           const double mass_i = properties.mass[i], mass_j = properties.mass[j];
@@ -67,10 +71,11 @@ void SolidLubrication::run(SystemContext& context) {
           const Vec3& normal = walls.normal[wall];  // into the domain, away from the wall
           const double gap = (grains.position[i] - walls.point[wall]).dot(normal) - radius;
           const double cutoff = model_.lubrication_cutoff_gap(radius);
-          if (!(gap < cutoff) || gap < -radius) continue;  // beyond the cut-off, or behind the wall
-          const double roughness = model_.roughness_gap(radius);
           // Moving tank walls: the approach speed relative to the wall.
           const double approach = -(grains.velocity[i] - walls.velocity[wall]).dot(normal);
+          // Beyond the cut-off, or touching over the whole sub-step (the contact law's).
+          if (!(gap < cutoff) || gap + 0.5 * std::abs(approach) * dt <= 0.0) continue;
+          const double roughness = model_.roughness_gap(radius);
           const double at_gap = wall_lubrication_coefficient(radius, gap, mu, roughness, cutoff);
           const double swept =
               swept_coefficient(at_gap, 6.0 * kPi * mu * radius * radius, gap, approach, dt, roughness, cutoff);
