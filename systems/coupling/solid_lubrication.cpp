@@ -27,7 +27,7 @@ void SolidLubrication::run(SystemContext& context) {
   const double dt = context.dt;
   const double mu = viscosity_;
   const std::size_t count = grains.size();
-  pair_force_.assign(contacts.pair_count(), Vec3::Zero());
+  pair_force_.resize(contacts.pair_count());  // every entry is written below
   if (contacts.pair_offsets.size() != count + 1) {  // no list yet (the contacts build it first)
     for (Vec3& force : lubrication.lubrication_force) force = Vec3::Zero();
     return;
@@ -38,9 +38,12 @@ void SolidLubrication::run(SystemContext& context) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       Vec3 force = Vec3::Zero();
+      if (!(sampled.fluid_weight[i] > 0.0))
+        for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) pair_force_[k] = Vec3::Zero();
       if (sampled.fluid_weight[i] > 0.0) {
         const double radius = properties.radius[i];
         for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+          pair_force_[k] = Vec3::Zero();
           const std::uint32_t j = contacts.pair_second[k];
           if (!(sampled.fluid_weight[j] > 0.0)) continue;
           const Vec3 centre_line = grains.position[j] - grains.position[i];
