@@ -168,6 +168,22 @@ struct CouplingModel {
   /// so steady Darcy-Forchheimer flow and the seepage force are right; the pore water's relative inertia is eps
   /// too small.
   bool mixture_velocity = false;
+  /// Normal lubrication of the water squeezed between grains and between a grain and a wall (docs/COUPLING.md,
+  /// "Lubrication"): the excess over the drag law's Stokes drag, for gaps below the cut-off, the gap held at the
+  /// roughness below it. Both lengths are in reduced radii a* = a_1 a_2 / (a_1 + a_2) (a grain's radius for a wall),
+  /// or in metres when the scene gives them in metres (`*_absolute`).
+  bool lubrication = false;
+  double lubrication_cutoff = 1.0;            ///< [1] gap cut-off / a*, or [m] if lubrication_cutoff_absolute
+  bool lubrication_cutoff_absolute = false;
+  double roughness = 1.0e-3;                  ///< [1] roughness / a*, or [m] if roughness_absolute
+  bool roughness_absolute = false;
+
+  double lubrication_cutoff_gap(double reduced_radius) const {
+    return lubrication_cutoff_absolute ? lubrication_cutoff : lubrication_cutoff * reduced_radius;
+  }
+  double roughness_gap(double reduced_radius) const {
+    return roughness_absolute ? roughness : roughness * reduced_radius;
+  }
 };
 
 struct SphereSpec {

@@ -6,6 +6,7 @@
 #include "systems/coupling/fluid_drag_reaction.hpp"
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
+#include "systems/coupling/solid_lubrication.hpp"
 #include "systems/mps/fluid_free_surface.hpp"
 #include "systems/coupling/fluid_sample_copy.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
@@ -78,7 +79,9 @@ Pipeline build_pipeline(const Model& model) {
         phase->push_back(std::make_unique<SolidVoidage>(model));
         phase->push_back(std::make_unique<SolidFluidSampling>(model));
       }
-      phase->push_back(std::make_unique<SolidForceSum>());
+      const bool lubrication = coupled && contacts && model.coupling.lubrication;
+      if (lubrication) phase->push_back(std::make_unique<SolidLubrication>(model));
+      phase->push_back(std::make_unique<SolidForceSum>(lubrication));
     }
   }
   if (model.solids.enabled) {

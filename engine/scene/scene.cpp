@@ -519,6 +519,30 @@ void check_budget(TableReader& scene, const Model& model) {
 }  // namespace
 
 /// [coupling]: grains and fluid together (seed 000 Secs. 3.2-3.3; numerics.md 5).
+/// [coupling] lubrication keys: each length in reduced radii (`lubrication_cutoff`, `roughness`) or in metres
+/// (`lubrication_cutoff_m`, `roughness_m`), not both.
+void read_lubrication(TableReader& coupling, Model& model) {
+  CouplingModel& out = model.coupling;
+  out.lubrication = coupling.boolean("lubrication", false);
+  const auto length = [&](const std::string& key, double fallback, double& value, bool& absolute) {
+    const std::string metres = key + "_m";
+    if (coupling.has(key) && coupling.has(metres)) {
+      coupling.number(key, fallback, "1", Bounds::positive());  // read, so that only this problem is reported
+      coupling.problem(metres, "give " + key + " (in reduced radii) or " + metres + " (in metres), not both");
+    }
+    absolute = coupling.has(metres);
+    value = absolute ? coupling.number(metres, 0.0, "m", Bounds::positive())
+                     : coupling.number(key, fallback, "1", Bounds::positive());
+  };
+  length("lubrication_cutoff", 1.0, out.lubrication_cutoff, out.lubrication_cutoff_absolute);
+  length("roughness", 1.0e-3, out.roughness, out.roughness_absolute);
+  if (out.lubrication_cutoff_absolute == out.roughness_absolute && out.roughness >= out.lubrication_cutoff)
+    coupling.problem(out.roughness_absolute ? "roughness_m" : "roughness",
+                     "the roughness must be below the lubrication cut-off");
+  if (out.lubrication && !model.contact.enabled)
+    coupling.problem("lubrication", "lubrication needs [contact] (it uses the contacts' neighbour list)");
+}
+
 void read_coupling(TableReader& coupling, Model& model) {
   CouplingModel& out = model.coupling;
   out.drag = coupling.boolean("drag", true);
@@ -530,6 +554,7 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
   out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";
+  read_lubrication(coupling, model);
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

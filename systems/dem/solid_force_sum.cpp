@@ -16,6 +16,10 @@ void SolidForceSum::run(SystemContext& context) {
       total.torque[i] = contact.contact_torque[i];
     }
   });
+  if (lubrication_) {
+    const GrainLubrication& lubrication = context.read<GrainLubrication>();
+    for (std::size_t i = 0; i < total.size(); ++i) total.force[i] += lubrication.lubrication_force[i];
+  }
   context.count_items(total.size());
 }
 

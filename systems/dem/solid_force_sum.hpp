@@ -1,17 +1,25 @@
 #pragma once
-// solid_force_sum: each grain's force = contact + drag + pressure force, torque = contact torque. The one place the
-// force sources meet, so that each source system writes only its own field.
+// solid_force_sum: each grain's force = contact + drag + pressure force (+ lubrication when the scene has it on),
+// torque = contact torque. The one place the force sources meet, so that each source system writes only its own
+// field.
 #include "engine/core/system.hpp"
 
 namespace riffle {
 
 class SolidForceSum final : public System {
  public:
+  /// `lubrication`: add GrainLubrication (read only then, so the step graph without it is unchanged).
+  explicit SolidForceSum(bool lubrication = false) : lubrication_(lubrication) {}
   std::string_view name() const override { return "solid_force_sum"; }
   Access access() const override {
-    return {component_ids<GrainContactForce, GrainDrag, GrainSampledFluid>(), component_ids<GrainTotalForce>()};
+    Access access{component_ids<GrainContactForce, GrainDrag, GrainSampledFluid>(), component_ids<GrainTotalForce>()};
+    if (lubrication_) access.reads.push_back(GrainLubrication::kId);
+    return access;
   }
   void run(SystemContext& context) override;
+
+ private:
+  bool lubrication_;
 };
 
 }  // namespace riffle

@@ -63,12 +63,22 @@ CellGrid build_grid(const Solids& solids, const DomainBox& domain, double cell_s
   return grid;
 }
 
-/// Calls visit(j) for every grain j > i within r_i + r_j + skin of grain i, in a fixed order.
+/// The gap below which a pair (or a grain and a wall: radius_2 = infinity) feels lubrication; 0 when it is off.
+/// The list reaches skin beyond it, so a pair that comes within it before the next rebuild is in the list.
+double lubrication_reach(const CouplingModel& coupling, double radius_1, double radius_2) {
+  if (!coupling.lubrication) return 0.0;
+  return coupling.lubrication_cutoff_gap(std::isinf(radius_2) ? radius_1 : radius_1 * radius_2 / (radius_1 + radius_2));
+}
+
+/// Calls visit(j) for every grain j > i within r_i + r_j + skin of grain i (plus the lubrication cut-off when on),
+/// in a fixed order.
 template <class Visit>
 void for_each_candidate(const Solids& solids, const CellGrid& grid, double largest_radius, double skin,
-                        std::size_t i, Visit&& visit) {
+                        const CouplingModel& coupling, std::size_t i, Visit&& visit) {
   const Vec3& position = solids.position[i];
-  const double reach = solids.radius[i] + largest_radius + skin;
+  // a* < r_i: the reach of r_i bounds every pair of grain i.
+  const double reach = solids.radius[i] + largest_radius + skin + lubrication_reach(coupling, solids.radius[i],
+                                                                                     std::numeric_limits<double>::infinity());
   const auto low = grid.cell_of(position - Vec3::Constant(reach));
   const auto high = grid.cell_of(position + Vec3::Constant(reach));
   for (std::int64_t z = low[2]; z <= high[2]; ++z)
@@ -78,7 +88,8 @@ void for_each_candidate(const Solids& solids, const CellGrid& grid, double large
         for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
           const std::uint32_t j = grid.grains[k];
           if (j <= i) continue;
-          const double cutoff = solids.radius[i] + solids.radius[j] + skin;
+          const double cutoff = solids.radius[i] + solids.radius[j] + skin +
+                                lubrication_reach(coupling, solids.radius[i], solids.radius[j]);
           if ((solids.position[j] - position).squaredNorm() < cutoff * cutoff) visit(j);
         }
       }
@@ -190,7 +201,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       std::uint32_t found = 0;
-      for_each_candidate(solids, grid, largest_radius, skin, i, [&](std::uint32_t) { ++found; });
+      for_each_candidate(solids, grid, largest_radius, skin, model.coupling, i, [&](std::uint32_t) { ++found; });
       contacts.pair_offsets[i + 1] = found;
     }
   });
@@ -200,7 +211,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       std::uint32_t next = contacts.pair_offsets[i];
-      for_each_candidate(solids, grid, largest_radius, skin, i,
+      for_each_candidate(solids, grid, largest_radius, skin, model.coupling, i,
                          [&](std::uint32_t j) { contacts.pair_second[next++] = j; });
       std::sort(contacts.pair_second.begin() + contacts.pair_offsets[i], contacts.pair_second.begin() + next);
     }
@@ -227,7 +238,9 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   for (std::size_t i = 0; i < count; ++i) {
     for (std::size_t wall = 0; wall < walls.size(); ++wall) {
       const double height = (solids.position[i] - walls.point[wall]).dot(walls.normal[wall]);
-      if (height < solids.radius[i] + skin) contacts.wall_pair_wall.push_back(static_cast<std::uint32_t>(wall));
+      const double reach = solids.radius[i] + skin +
+                           lubrication_reach(model.coupling, solids.radius[i], std::numeric_limits<double>::infinity());
+      if (height < reach) contacts.wall_pair_wall.push_back(static_cast<std::uint32_t>(wall));
     }
     contacts.wall_pair_offsets[i + 1] = static_cast<std::uint32_t>(contacts.wall_pair_wall.size());
   }

@@ -1,0 +1,101 @@
+#include "systems/coupling/solid_lubrication.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+#include "systems/physics/lubrication.hpp"
+
+namespace riffle {
+
+namespace {
+constexpr std::size_t kGrain = 256;
+constexpr double kPi = 3.14159265358979323846;
+}  // namespace
+
+SolidLubrication::SolidLubrication(const Model& model)
+    : model_(model.coupling), viscosity_(model.fluid.kinematic_viscosity * model.fluid.density) {}
+
+void SolidLubrication::run(SystemContext& context) {
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  const GrainSampledFluid& sampled = context.read<GrainSampledFluid>();
+  const Contacts& contacts = context.read<Contacts>();
+  const Walls& walls = context.read<Walls>();
+  GrainLubrication& lubrication = context.write<GrainLubrication>();
+  const double dt = context.dt;
+  const double mu = viscosity_;
+  const std::size_t count = grains.size();
+  pair_force_.resize(contacts.pair_count());  // every entry is written below
+  if (contacts.pair_offsets.size() != count + 1) {  // no list yet (the contacts build it first)
+    for (Vec3& force : lubrication.lubrication_force) force = Vec3::Zero();
+    return;
+  }
+
+  // 1. Each grain-grain candidate once, from its first grain: the force on the first grain into the pair scratch,
+  //    and each grain's sum over its wall candidates and the pairs where it is first, in pair order.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      Vec3 force = Vec3::Zero();
+      if (!(sampled.fluid_weight[i] > 0.0))
+        for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) pair_force_[k] = Vec3::Zero();
+      if (sampled.fluid_weight[i] > 0.0) {
+        const double radius = properties.radius[i];
+        for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+          pair_force_[k] = Vec3::Zero();
+          const std::uint32_t j = contacts.pair_second[k];
+          if (!(sampled.fluid_weight[j] > 0.0)) continue;
+          const Vec3 centre_line = grains.position[j] - grains.position[i];
+          const double radius_j = properties.radius[j];
+          const double a = reduced_radius(radius, radius_j);
+          const double cutoff = model_.lubrication_cutoff_gap(a);
+          // Many candidates of a bed are beyond the cut-off: settled without a root.
+          const double reach = radius + radius_j + cutoff;
+          const double distance_squared = centre_line.squaredNorm();
+          if (!(distance_squared < reach * reach) || !(distance_squared > 0.0)) continue;
+          const double distance = std::sqrt(distance_squared);
+          const double gap = distance - radius - radius_j;
+          const Vec3 normal = centre_line / distance;  // from i to j
+          const double approach = (grains.velocity[i] - grains.velocity[j]).dot(normal);
+          // Touching over the whole sub-step: the contact law's (swept_coefficient counts only the film).
+          if (gap + 0.5 * std::abs(approach) * dt <= 0.0) continue;
+          const double roughness = model_.roughness_gap(a);
+          const double at_gap = pair_lubrication_coefficient(radius, radius_j, gap, mu, roughness, cutoff);
+          const double swept = swept_coefficient(at_gap, 6.0 * kPi * mu * a * a, gap, approach, dt, roughness, cutoff);
+          const double mass_i = properties.mass[i], mass_j = properties.mass[j];
+          const double reduced_mass = mass_i * mass_j / (mass_i + mass_j);
+          const Vec3 on_first = -implicit_coefficient(swept, dt, reduced_mass) * approach * normal;
+          pair_force_[k] = on_first;
+          force += on_first;
+        }
+        for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
+          const std::uint32_t wall = contacts.wall_pair_wall[k];
+          const Vec3& normal = walls.normal[wall];  // into the domain, away from the wall
+          const double gap = (grains.position[i] - walls.point[wall]).dot(normal) - radius;
+          const double cutoff = model_.lubrication_cutoff_gap(radius);
+          // Moving tank walls: the approach speed relative to the wall.
+          const double approach = -(grains.velocity[i] - walls.velocity[wall]).dot(normal);
+          // Beyond the cut-off, or touching over the whole sub-step (the contact law's).
+          if (!(gap < cutoff) || gap + 0.5 * std::abs(approach) * dt <= 0.0) continue;
+          const double roughness = model_.roughness_gap(radius);
+          const double at_gap = wall_lubrication_coefficient(radius, gap, mu, roughness, cutoff);
+          const double swept =
+              swept_coefficient(at_gap, 6.0 * kPi * mu * radius * radius, gap, approach, dt, roughness, cutoff);
+          force += implicit_coefficient(swept, dt, properties.mass[i]) * approach * normal;
+        }
+      }
+      lubrication.lubrication_force[i] = force;
+    }
+  });
+  // 2. Each grain takes minus the pairs where it is second, ascending: equal and opposite to the bit, thread-count
+  //    independent.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i)
+      for (std::uint32_t s = contacts.second_offsets[i]; s < contacts.second_offsets[i + 1]; ++s)
+        lubrication.lubrication_force[i] -= pair_force_[contacts.second_pairs[s]];
+  });
+  context.count_items(count);
+}
+
+}  // namespace riffle
