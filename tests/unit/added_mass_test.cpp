@@ -141,3 +141,43 @@ TEST_CASE("the implicit kick is stable for added mass far above the grain's mass
   }
   CHECK(grain.velocity[0].norm() < 1e-6);
 }
+
+TEST_CASE("the scene's added-mass and history switches: off by default, and a window too short is refused") {
+  const std::string scene = R"(
+[run]
+end_time = 0.1
+dt = 1.0e-3
+[materials.grain]
+density = 1318.0
+[tank]
+size = [0.1, 0.1, 0.1]
+wall_material = "grain"
+[solids]
+[[solids.spheres]]
+position = [0.05, 0.05, 0.05]
+radius = 0.005
+material = "grain"
+[fluid]
+spacing = 0.01
+[[fluid.boxes]]
+low = [0.0, 0.0, 0.0]
+high = [0.1, 0.1, 0.08]
+)";
+  const Model off = parse_scene(scene, "coupled.toml");
+  CHECK_FALSE(off.coupling.added_mass);
+  CHECK_FALSE(off.coupling.history_force);
+  CHECK(off.coupling.history_window == 0.1);
+  const Model on = parse_scene(scene + "[coupling]\nadded_mass = true\nhistory_force = true\nhistory_window = 0.2\n",
+                               "coupled.toml");
+  CHECK(on.coupling.added_mass);
+  CHECK(on.coupling.history_force);
+  CHECK(on.coupling.history_window == 0.2);
+  // A window of a few steps would be no history at all: refused, naming the key; harmless while the force is off.
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nhistory_force = true\nhistory_window = 0.005\n", "coupled.toml"),
+                    doctest::Contains("coupling.history_window: must be at least 10 run.dt"));
+  CHECK_NOTHROW(parse_scene(scene + "[coupling]\nhistory_window = 0.005\n", "coupled.toml"));
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nhistory_window = -1\n", "coupled.toml"),
+                    doctest::Contains("coupling.history_window"));
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nadded_mass = 1\n", "coupled.toml"),
+                    doctest::Contains("coupling.added_mass"));
+}
