@@ -184,6 +184,12 @@ struct CouplingModel {
   double roughness_gap(double reduced_radius) const {
     return roughness_absolute ? roughness : roughness * reduced_radius;
   }
+  /// Added mass C_a(eps) rho V (Du/Dt - dv/dt), C_a = 1/2 (1 + 2 phi)/(1 - phi) (Zuber 1964), integrated
+  /// implicitly in the grains' kicks; the water takes it back (docs/COUPLING.md, "Added mass and history force").
+  bool added_mass = false;
+  /// The history (Basset) force with a windowed kernel of exponential modes (solid_history_force).
+  bool history_force = false;
+  double history_window = 0.1;  ///< [s] the kernel is t^(-1/2) up to about window/30 and decays as exp(-t/window)
 };
 
 struct SphereSpec {
@@ -208,7 +214,7 @@ struct SolidsModel {
 /// One [[output.probes]] entry: a CSV written while the run goes (engine/output/probes.hpp).
 struct ProbeModel {
   enum class Kind {
-    kGrains,         ///< chosen grains by id: position, velocity, angular velocity, contact force
+    kGrains,         ///< chosen grains by id: motion, voidage, undisturbed fluid velocity, each force by source
     kWallForces,     ///< reaction force on each wall: minus the sum of its grain-wall contact forces
     kFluidPressure,  ///< pressure at sensors fixed to the tank (hydrostatically extrapolated Shepard average)
     kWaveGauge,      ///< height of the free surface above horizontal points of the tank

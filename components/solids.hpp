@@ -153,13 +153,23 @@ struct GrainVoidage {
   }
 };
 
-/// The added-mass and history (Basset) forces of the water on the grain: written by the grains' sub-steps.
+/// The added-mass and history (Basset) forces of the water on the grain: the added-mass force written by the
+/// grains' kicks (solid_kick_drift, solid_kick), the history force and its state by solid_history_force once per
+/// fluid step.
 struct GrainAddedMass {
   static constexpr ComponentId kId = component_id<GrainAddedMass>;
   static constexpr std::string_view kName = "grain_added_mass";
+  static constexpr std::size_t kHistoryModes = 8;  ///< BassetModes::kCount
+  static constexpr std::array<const char*, kHistoryModes> kHistoryModeNames = {
+      "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
+      "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7"};
 
-  std::vector<Vec3> added_mass_force;  ///< [N] C_a rho V (Du/Dt - dv/dt)
-  std::vector<Vec3> history_force;     ///< [N] windowed Basset history force
+  std::vector<Vec3> added_mass_force;  ///< [N] C_a rho V (Du/Dt - dv/dt), as applied by the last half kick
+  std::vector<Vec3> history_force;     ///< [N] windowed Basset history force, held over a fluid step
+  /// [m/s] the relative velocity u - v at the last history update (the slip of the drag law)
+  std::vector<Vec3> history_relative_velocity;
+  /// [m/s] the states z_k = int exp(-s_k (t - tau)) dw/dtau dtau of the history kernel's exponential modes
+  std::array<std::vector<Vec3>, kHistoryModes> history_mode;
 
   std::size_t size() const { return added_mass_force.size(); }
 
@@ -167,6 +177,9 @@ struct GrainAddedMass {
   static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"added_mass_force", "N", true, 0.0, 6}, self.added_mass_force);
     visit(FieldInfo{"history_force", "N", true, 0.0, 6}, self.history_force);
+    visit(FieldInfo{"history_relative_velocity", "m/s", false, 0.0, 6}, self.history_relative_velocity);
+    for (std::size_t k = 0; k < kHistoryModes; ++k)
+      visit(FieldInfo{kHistoryModeNames[k], "m/s", false, 0.0, 6}, self.history_mode[k]);
   }
 };
 
@@ -194,12 +207,14 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
-  static constexpr std::array<const char*, 24> kFieldOrder = {
+  static constexpr std::array<const char*, 33> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
       "voidage",      "fluid_weight",   "material",       "size_class",
-      "undisturbed_velocity", "fluid_acceleration", "added_mass_force", "history_force", "lubrication_force"};
+      "undisturbed_velocity", "fluid_acceleration", "added_mass_force", "history_force", "lubrication_force",
+      "history_relative_velocity", "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
+      "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 

@@ -149,10 +149,8 @@ double surge_front_position(const FluidParticles& particles, const FluidProbeSet
 std::string probe_header(const ProbeModel& probe, const World& world) {
   std::string header = "time_s,step";
   if (probe.kind == ProbeModel::Kind::kGrains) {
-    static const char* const kColumns[] = {"x_m",      "y_m",      "z_m",      "vx_m_s", "vy_m_s", "vz_m_s",
-                                           "wx_rad_s", "wy_rad_s", "wz_rad_s", "fx_N",   "fy_N",   "fz_N"};
     for (EntityId id : probe.ids)
-      for (const char* column : kColumns) header += ",grain" + std::to_string(id) + "_" + column;
+      for (const char* column : kGrainProbeColumns) header += ",grain" + std::to_string(id) + "_" + column;
   } else if (probe.kind == ProbeModel::Kind::kWallForces) {
     if (world.walls)
       for (const std::string& name : world.walls->name)
@@ -201,13 +199,20 @@ void ProbeWriter::write(const World& world) {
       for (std::size_t k = 0; k < probe_.ids.size(); ++k) {
         const std::size_t slot = solids ? slots_.slot(k) : GrainSlotMap::kNone;
         if (slot == GrainSlotMap::kNone) {
-          append_empty(12);  // the grain is gone (or never was): empty fields, not made-up numbers
+          append_empty(kGrainProbeColumns.size());  // the grain is gone (or never was): empty, not made up
           continue;
         }
         append(solids->position[slot]);
         append(solids->velocity[slot]);
         append(solids->angular_velocity[slot]);
         append(solids->contact_force[slot]);
+        append_field(row, format_value(solids->voidage[slot]));
+        append(solids->undisturbed_velocity[slot]);
+        append(solids->drag_force[slot]);
+        append(solids->pressure_force[slot]);
+        append(solids->added_mass_force[slot]);
+        append(solids->history_force[slot]);
+        append(solids->lubrication_force[slot]);
       }
       break;
     }

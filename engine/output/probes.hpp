@@ -1,8 +1,10 @@
 #pragma once
 // Probes: CSV files written while the run goes, declared in the scene as [[output.probes]] (docs/SCENES.md).
 //
-//   kind = "grains"       chosen grains by id: position, velocity, angular velocity and the total contact force
-//                         (Solids::contact_force), 12 columns per grain;
+//   kind = "grains"       chosen grains by id: position, velocity, angular velocity, the total contact force
+//                         (Solids::contact_force), then the voidage, the undisturbed fluid velocity the drag used
+//                         and each fluid force by source (drag, pressure gradient, added mass, history,
+//                         lubrication): kGrainProbeColumns, 31 columns per grain, the first 12 as before;
 //   kind = "wall_forces"  the reaction force on each wall, minus the sum of its grain-wall contact forces,
 //                         3 columns per wall, named after it;
 //   kind = "fluid_pressure", "wave_gauge", "surge_front", "fluid_totals"  the MPS fluid (need [fluid]): pressure
@@ -12,6 +14,7 @@
 // (t = 0), then one per `interval` (IntervalSchedule). On resume, the rows after the checkpoint's time are dropped
 // and the series continues (CsvSeries). Grains are named by their stable id; their slots change when grains are
 // reordered, so the writer keeps an id -> slot map and rebuilds it when a slot no longer holds its id.
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -22,6 +25,16 @@
 #include "engine/core/world.hpp"
 
 namespace riffle {
+
+/// The columns of a "grains" probe for each grain, after "grain<id>_". The first 12 are the original ones (tools
+/// that read them by position still work); the contact force keeps its name fx_N.
+inline constexpr std::array<const char*, 31> kGrainProbeColumns = {
+    "x_m",           "y_m",           "z_m",           "vx_m_s",         "vy_m_s",         "vz_m_s",
+    "wx_rad_s",      "wy_rad_s",      "wz_rad_s",      "fx_N",           "fy_N",           "fz_N",
+    "voidage_1",     "ux_m_s",        "uy_m_s",        "uz_m_s",         "drag_fx_N",      "drag_fy_N",
+    "drag_fz_N",     "pressure_fx_N", "pressure_fy_N", "pressure_fz_N",  "added_mass_fx_N", "added_mass_fy_N",
+    "added_mass_fz_N", "history_fx_N", "history_fy_N", "history_fz_N",  "lubrication_fx_N", "lubrication_fy_N",
+    "lubrication_fz_N"};
 
 /// The slots of chosen grain ids, kept up to date across reorderings: refresh() checks each cached slot still
 /// holds its id and rebuilds the whole map with one pass over the grains only when one does not.

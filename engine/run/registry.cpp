@@ -7,6 +7,7 @@
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
 #include "systems/coupling/solid_lubrication.hpp"
+#include "systems/coupling/solid_history_force.hpp"
 #include "systems/mps/fluid_free_surface.hpp"
 #include "systems/coupling/fluid_sample_copy.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
@@ -54,12 +55,14 @@ Pipeline build_pipeline(const Model& model) {
       // the drag reaction needs, is read at the end of the step.
       pipeline.step_start.push_back(std::make_unique<FluidSampleCopy>());
       pipeline.solid_step.push_back(std::make_unique<SolidFluidSampling>(model));
+      // The history force of the step start, from the relative velocity just sampled; held over the sub-steps.
+      if (model.coupling.history_force) pipeline.solid_step.push_back(std::make_unique<SolidHistoryForce>(model));
       pipeline.end_of_step.push_back(std::make_unique<SolidVoidage>(model));
       pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model));
     }
   }
   // Order matters only where systems share a component: the scheduler derives the edges from it.
-  if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>());
+  if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>(model));
   // The walls move once per sub-step when grains feel them, otherwise once per engine step.
   (model.solids.enabled ? pipeline.substep : pipeline.step).push_back(std::make_unique<WallMotion>());
   const bool contacts = model.solids.enabled && model.contact.enabled;
@@ -85,7 +88,7 @@ Pipeline build_pipeline(const Model& model) {
     }
   }
   if (model.solids.enabled) {
-    pipeline.substep.push_back(std::make_unique<SolidKick>());
+    pipeline.substep.push_back(std::make_unique<SolidKick>(model));
     pipeline.end_of_step.push_back(std::make_unique<SolidDomainCheck>());
     pipeline.end_of_step.push_back(std::make_unique<SolidSummarize>());
     // With contacts the neighbour list reorders the grains itself, at rebuilds, where slots may change.

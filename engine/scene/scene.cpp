@@ -555,6 +555,12 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
   out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";
   read_lubrication(coupling, model);
+  out.added_mass = coupling.boolean("added_mass", false);
+  out.history_force = coupling.boolean("history_force", false);
+  out.history_window = coupling.number("history_window", 0.1, "s", Bounds::positive());
+  // The modes resolve the kernel from the fluid step up: a window of a few steps would be no history at all.
+  if (out.history_force && out.history_window < 10.0 * model.dt)
+    coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

@@ -11,7 +11,10 @@
 namespace riffle {
 
 SolidFluidSampling::SolidFluidSampling(const Model& model)
-    : constants_(MpsConstants::from(model.fluid)), pressure_gradient_(model.coupling.pressure_gradient) {}
+    : constants_(MpsConstants::from(model.fluid)),
+      pressure_gradient_(model.coupling.pressure_gradient),
+      fluid_acceleration_(model.coupling.added_mass || model.coupling.history_force),
+      density_(model.fluid.density) {}
 
 void SolidFluidSampling::run(SystemContext& context) {
   const FluidSample& fluid = context.read<FluidSample>();
@@ -66,11 +69,17 @@ void SolidFluidSampling::run(SystemContext& context) {
     if (weight_sum <= 0.0) {  // out of the water: no fluid forces
       sampled.fluid_velocity[grain] = Vec3::Zero();
       sampled.pressure_force[grain] = Vec3::Zero();
+      if (fluid_acceleration_) sampled.fluid_acceleration[grain] = Vec3::Zero();
       return;
     }
     sampled.fluid_velocity[grain] = velocity / weight_sum;
     sampled.pressure_force[grain] =
         pressure_gradient_ ? Vec3(-grain_volume(properties.radius[grain]) * gradient / weight_sum) : Vec3::Zero();
+    // Du/Dt of the water at the grain in the Maxey-Riley form (Maxey & Riley 1983): the inviscid momentum balance
+    // -<grad p>/rho + g, from the same pressure gradient as the pressure force (docs/COUPLING.md, "Added mass and
+    // history force"). Only when a force uses it: with both off the field stays as it was (bit-identical runs).
+    if (fluid_acceleration_)
+      sampled.fluid_acceleration[grain] = context.model.gravity - gradient / (weight_sum * density_);
   });
   context.count_items(grains.size());
 }

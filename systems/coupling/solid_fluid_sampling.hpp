@@ -3,7 +3,8 @@
 // fluid velocity (seed Eq. 23) and pressure gradient (Shepard averages with the Wendland kernel on
 // R_I = d_I/2 + r_e) and the pressure force -V <grad p> (Eq. 13). It reads the water of the step start from
 // FluidSample and runs first in the grains' branch (phase solid_step, docs/COUPLING.md), beside the fluid's step
-// graph; the sub-steps then hold these fixed (solid_drag). The voidage is solid_voidage's.
+// graph; the sub-steps then hold these fixed (solid_drag). The voidage is solid_voidage's. With added mass or the
+// history force on, also the water's acceleration -<grad p>/rho + g (Maxey & Riley 1983).
 #include "engine/core/system.hpp"
 #include "systems/physics/cell_grid.hpp"
 #include "systems/physics/mps_common.hpp"
@@ -22,6 +23,8 @@ class SolidFluidSampling final : public System {
  private:
   MpsConstants constants_;
   bool pressure_gradient_;  ///< the grains feel -V <grad p> (CouplingModel::pressure_gradient)
+  bool fluid_acceleration_; ///< the water's acceleration is sampled (added mass or history force on)
+  double density_;          ///< [kg/m^3] the water's
   CellGrid fluid_grid_;
 };
 

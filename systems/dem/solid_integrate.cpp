@@ -3,12 +3,30 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "systems/physics/added_mass.hpp"
+#include "systems/physics/drag_law.hpp"
 #include "systems/physics/tank_kinematics.hpp"
 
 namespace riffle {
 
+KickSettings KickSettings::from(const Model& model) {
+  KickSettings settings;
+  settings.added_mass = model.coupling.enabled && model.coupling.added_mass;
+  settings.history = model.coupling.enabled && model.coupling.history_force;
+  settings.fluid_density = model.fluid.density;
+  return settings;
+}
+
 namespace {
 constexpr std::size_t kGrain = 1024;
+
+Access kick_access(const KickSettings& settings) {
+  // Without the inertial forces the kicks touch only the motion, as before they existed (the step graph is
+  // unchanged with both switches off).
+  if (!settings.any()) return {component_ids<GrainProperties, GrainTotalForce>(), component_ids<GrainState>()};
+  return {component_ids<GrainProperties, GrainTotalForce, GrainSampledFluid, GrainVoidage>(),
+          component_ids<GrainState, GrainDrag, GrainAddedMass>()};
+}
 
 void half_kick(GrainState& grains, const GrainProperties& properties, const GrainTotalForce& total, const Vec3& gravity, double half_dt, std::size_t begin, std::size_t end) {
   for (std::size_t i = begin; i < end; ++i) {
@@ -16,15 +34,74 @@ void half_kick(GrainState& grains, const GrainProperties& properties, const Grai
     grains.angular_velocity[i] += (half_dt / properties.moment_of_inertia[i]) * total.torque[i];
   }
 }
-}  // namespace
 
-void SolidKickDrift::run(SystemContext& context) {
+/// The fluid's inertial forces on the grains, for the half kick with them.
+struct InertialForces {
+  const KickSettings& settings;
+  const GrainSampledFluid& sampled;
+  const GrainVoidage& voidages;
+  GrainDrag& drag;
+  GrainAddedMass& added;
+};
+
+/// A half kick with added mass (implicit) and the history force: the linear momentum the fluid gave the grain
+/// beyond F (m_a (a_f - dv/dt) + F_H, times half_dt) goes to its drag impulse for the water to take back.
+void half_kick_inertial(GrainState& grains, const GrainProperties& properties, const GrainTotalForce& total,
+                        const InertialForces& fluid, const Vec3& gravity, double half_dt, std::size_t begin,
+                        std::size_t end) {
+  for (std::size_t i = begin; i < end; ++i) {
+    const bool wet = fluid.sampled.fluid_weight[i] > 0.0;
+    const Vec3 history = fluid.settings.history && wet ? fluid.added.history_force[i] : Vec3::Zero();
+    const double added_mass = fluid.settings.added_mass && wet
+                                  ? added_mass_coefficient(fluid.voidages.voidage[i]) * fluid.settings.fluid_density *
+                                        grain_volume(properties.radius[i])
+                                  : 0.0;
+    const AddedMassKick kick = added_mass_kick(total.force[i] + history, properties.mass[i], added_mass, gravity,
+                                               fluid.sampled.fluid_acceleration[i], half_dt);
+    grains.velocity[i] += kick.velocity_change;
+    grains.angular_velocity[i] += (half_dt / properties.moment_of_inertia[i]) * total.torque[i];
+    fluid.added.added_mass_force[i] = kick.force;
+    fluid.drag.drag_impulse[i] += half_dt * (kick.force + history);
+  }
+}
+
+/// Both kinds of half kick over a range of grains.
+void kick_range(SystemContext& context, const KickSettings& settings, double half_dt, bool drift) {
   GrainState& grains = context.write<GrainState>();
   const GrainProperties& properties = context.read<GrainProperties>();
   const GrainTotalForce& total = context.read<GrainTotalForce>();
   const Vec3 gravity = context.model.gravity;
   const double dt = context.dt;
+  if (!settings.any()) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        half_kick(grains, properties, total, gravity, half_dt, range.begin(), range.end());
+                        if (drift)
+                          for (std::size_t i = range.begin(); i < range.end(); ++i)
+                            grains.position[i] += dt * grains.velocity[i];
+                      });
+    return;
+  }
+  const InertialForces fluid{settings, context.read<GrainSampledFluid>(), context.read<GrainVoidage>(),
+                             context.write<GrainDrag>(), context.write<GrainAddedMass>()};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      half_kick_inertial(grains, properties, total, fluid, gravity, half_dt, range.begin(),
+                                         range.end());
+                      if (drift)
+                        for (std::size_t i = range.begin(); i < range.end(); ++i)
+                          grains.position[i] += dt * grains.velocity[i];
+                    });
+}
+}  // namespace
+
+Access SolidKickDrift::access() const { return kick_access(settings_); }
+Access SolidKick::access() const { return kick_access(settings_); }
+
+void SolidKickDrift::run(SystemContext& context) {
+  const double dt = context.dt;
   if (context.model.solids.fixed_to_tank) {  // a fixed bed: the tank's displacement over the sub-step, exactly
+    GrainState& grains = context.write<GrainState>();
     const TankMotion start = tank_kinematics(context.model.tank.motion, context.time);
     const TankMotion end = tank_kinematics(context.model.tank.motion, context.time + dt);
     for (std::size_t i = 0; i < grains.size(); ++i) {
@@ -32,30 +109,24 @@ void SolidKickDrift::run(SystemContext& context) {
       grains.velocity[i] = end.velocity;
       grains.angular_velocity[i] = Vec3::Zero();
     }
+    // The held grains still feel the history force (no added mass: they do not accelerate by the fluid's
+    // forces); the water takes it back, as it takes their drag.
+    if (settings_.history) {
+      GrainDrag& drag = context.write<GrainDrag>();
+      const GrainAddedMass& added = context.read<GrainAddedMass>();
+      for (std::size_t i = 0; i < grains.size(); ++i) drag.drag_impulse[i] += dt * added.history_force[i];
+    }
     context.count_items(grains.size());
     return;
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      half_kick(grains, properties, total, gravity, 0.5 * dt, range.begin(), range.end());
-                      for (std::size_t i = range.begin(); i < range.end(); ++i)
-                        grains.position[i] += dt * grains.velocity[i];
-                    });
-  context.count_items(grains.size());
+  kick_range(context, settings_, 0.5 * dt, true);
+  context.count_items(context.read<GrainProperties>().size());
 }
 
 void SolidKick::run(SystemContext& context) {
-  GrainState& grains = context.write<GrainState>();
-  const GrainProperties& properties = context.read<GrainProperties>();
-  const GrainTotalForce& total = context.read<GrainTotalForce>();
-  const Vec3 gravity = context.model.gravity;
-  const double half_dt = 0.5 * context.dt;
   if (context.model.solids.fixed_to_tank) return;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      half_kick(grains, properties, total, gravity, half_dt, range.begin(), range.end());
-                    });
-  context.count_items(grains.size());
+  kick_range(context, settings_, 0.5 * context.dt, false);
+  context.count_items(context.read<GrainProperties>().size());
 }
 
 }  // namespace riffle

@@ -102,14 +102,14 @@ TEST_CASE("the role split lets contact beside drag, and the fluid's step beside 
   fluid_step.push_back(std::make_unique<FluidPressureSolve>(model.fluid));
   fluid_step.push_back(std::make_unique<FluidCorrect>(model.fluid));
   grain_substep.push_back(std::make_unique<SolidFluidSampling>(model));
-  grain_substep.push_back(std::make_unique<SolidKickDrift>());
+  grain_substep.push_back(std::make_unique<SolidKickDrift>(model));
   grain_substep.push_back(std::make_unique<WallMotion>());
   grain_substep.push_back(std::make_unique<SolidNeighbours>());
   grain_substep.push_back(std::make_unique<SolidContactForces>());
   grain_substep.push_back(std::make_unique<SolidContactGather>());
   grain_substep.push_back(std::make_unique<SolidDrag>(model));
   grain_substep.push_back(std::make_unique<SolidForceSum>());
-  grain_substep.push_back(std::make_unique<SolidKick>());
+  grain_substep.push_back(std::make_unique<SolidKick>(model));
   for (const auto& fluid : fluid_step)
     for (const auto& grain : grain_substep) {
       CAPTURE(fluid->name());
@@ -170,7 +170,10 @@ TEST_CASE("each role's table lists every field of its struct, and the group's wr
                                             "contact_torque", "drag_force", "drag_impulse", "pressure_force",
                                             "fluid_velocity", "voidage", "fluid_weight", "material", "size_class",
                                             "undisturbed_velocity", "fluid_acceleration", "added_mass_force",
-                                            "history_force", "lubrication_force"});
+                                            "history_force", "lubrication_force", "history_relative_velocity",
+                                            "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
+                                            "history_mode_4", "history_mode_5", "history_mode_6",
+                                            "history_mode_7"});
 }
 
 TEST_CASE("a new entity's fields start at their table defaults") {

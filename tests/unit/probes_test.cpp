@@ -313,15 +313,24 @@ interval = 0.005
   options.threads = 2;
   REQUIRE(simulation->run(options).exit_code == kExitOk);
 
-  // Grains: a row at t = 0 and every 0.01 s up to 0.04: 5 rows, 2 + 3 x 12 columns.
+  // Grains: a row at t = 0 and every 0.01 s up to 0.04: 5 rows, 2 + 3 x 31 columns, the first 12 of each grain as
+  // before the fluid's forces were added (tools read them by position), then the voidage, the undisturbed fluid
+  // velocity and each force by source.
   const std::vector<std::string> grains = lines_of(a / "probe_grains.csv");
   REQUIRE(grains.size() == 6);
-  CHECK(grains[0].rfind("time_s,step,grain0_x_m,grain0_y_m,grain0_z_m,grain0_vx_m_s,", 0) == 0);
-  CHECK(grains[0].find(",grain17_fz_N") != std::string::npos);
+  CHECK(grains[0].rfind("time_s,step,grain0_x_m,grain0_y_m,grain0_z_m,grain0_vx_m_s,grain0_vy_m_s,grain0_vz_m_s,"
+                        "grain0_wx_rad_s,grain0_wy_rad_s,grain0_wz_rad_s,grain0_fx_N,grain0_fy_N,grain0_fz_N,"
+                        "grain0_voidage_1,grain0_ux_m_s,grain0_uy_m_s,grain0_uz_m_s,grain0_drag_fx_N,grain0_drag_fy_N,"
+                        "grain0_drag_fz_N,grain0_pressure_fx_N,grain0_pressure_fy_N,grain0_pressure_fz_N,"
+                        "grain0_added_mass_fx_N,grain0_added_mass_fy_N,grain0_added_mass_fz_N,grain0_history_fx_N,"
+                        "grain0_history_fy_N,grain0_history_fz_N,grain0_lubrication_fx_N,grain0_lubrication_fy_N,"
+                        "grain0_lubrication_fz_N,grain5_x_m,", 0) == 0);
+  CHECK(grains[0].find(",grain17_fz_N,grain17_voidage_1,") != std::string::npos);
+  CHECK(grains[0].size() - grains[0].rfind(",grain17_lubrication_fz_N") == std::string(",grain17_lubrication_fz_N").size());
   const std::vector<std::string> steps = {"0", "10", "20", "30", "40"};
   for (std::size_t row = 1; row < grains.size(); ++row) {
     CAPTURE(grains[row]);
-    CHECK(std::count(grains[row].begin(), grains[row].end(), ',') == 37);
+    CHECK(std::count(grains[row].begin(), grains[row].end(), ',') == 1 + 3 * 31);
     CHECK(grains[row].substr(grains[row].find(',') + 1, steps[row - 1].size() + 1) == steps[row - 1] + ",");
   }
   CHECK(grains[1].rfind("0,0,0.005,0.005,0.005,", 0) == 0);  // grain 0 starts at (0.005, 0.005, 0.005)

@@ -1,0 +1,43 @@
+#include "systems/coupling/solid_history_force.hpp"
+
+#include "systems/physics/mps_common.hpp"
+
+namespace riffle {
+
+static_assert(BassetModes::kCount == GrainAddedMass::kHistoryModes, "one grain field per mode");
+
+SolidHistoryForce::SolidHistoryForce(const Model& model)
+    : modes_(BassetModes::make(model.coupling.history_window, model.dt)),
+      density_(model.fluid.density),
+      viscosity_(model.fluid.kinematic_viscosity * model.fluid.density),
+      mixture_velocity_(model.coupling.mixture_velocity) {}
+
+void SolidHistoryForce::run(SystemContext& context) {
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  const GrainSampledFluid& sampled = context.read<GrainSampledFluid>();
+  const GrainVoidage& voidages = context.read<GrainVoidage>();
+  GrainAddedMass& added = context.write<GrainAddedMass>();
+  const double dt = context.dt;
+  for_each_particle(grains.size(), [&](std::size_t grain) {
+    if (sampled.fluid_weight[grain] <= 0.0) {  // dry: no history; it starts afresh when the grain enters the water
+      added.history_force[grain] = Vec3::Zero();
+      added.history_relative_velocity[grain] = Vec3::Zero();
+      for (auto& mode : added.history_mode) mode[grain] = Vec3::Zero();
+      return;
+    }
+    const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
+    const Vec3 slip = mixture_velocity_ ? Vec3(relative / voidages.voidage[grain]) : relative;
+    const Vec3 change = slip - added.history_relative_velocity[grain];
+    added.history_relative_velocity[grain] = slip;
+    Vec3 integral = Vec3::Zero();
+    for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
+      advance_basset_mode(added.history_mode[k][grain], modes_.rate[k], dt, change);
+      integral += modes_.weight[k] * added.history_mode[k][grain];
+    }
+    added.history_force[grain] = basset_prefactor(2.0 * properties.radius[grain], density_, viscosity_) * integral;
+  });
+  context.count_items(grains.size());
+}
+
+}  // namespace riffle

@@ -1,0 +1,31 @@
+#pragma once
+// The history (Basset) force on every grain, once per fluid step, right after the sampling (phase solid_step;
+// docs/COUPLING.md, "Added mass and history force"):
+//   F_H = 3/2 d^2 sqrt(pi rho mu) int K(t - tau) dw/dtau dtau,  w = u - v (the drag's slip),
+// with the windowed kernel K of BassetModes (systems/physics/added_mass.hpp): each mode's state advances exactly for
+// a w that changed linearly since the last update. The states are grain fields (GrainAddedMass), so they follow the
+// grains through reorderings and checkpoints. The force is held over the step's sub-steps; the kicks add it to the
+// grain's force and to its drag impulse, which the water takes back.
+#include "engine/core/system.hpp"
+#include "systems/physics/added_mass.hpp"
+
+namespace riffle {
+
+class SolidHistoryForce final : public System {
+ public:
+  explicit SolidHistoryForce(const Model& model);
+  std::string_view name() const override { return "solid_history_force"; }
+  Access access() const override {
+    return {component_ids<GrainState, GrainProperties, GrainSampledFluid, GrainVoidage>(),
+            component_ids<GrainAddedMass>()};
+  }
+  void run(SystemContext& context) override;
+
+ private:
+  BassetModes modes_;
+  double density_;           ///< [kg/m^3]
+  double viscosity_;         ///< [Pa s]
+  bool mixture_velocity_;    ///< the slip is (u - v) / eps (CouplingModel::mixture_velocity), as the drag's
+};
+
+}  // namespace riffle

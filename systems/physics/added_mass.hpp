@@ -1,0 +1,66 @@
+#pragma once
+// The added-mass and history (Basset) forces of the water on a grain (docs/COUPLING.md, "Added mass and history
+// force"): pure functions, used by the grains' kicks (systems/dem/solid_integrate.cpp) and by
+// solid_history_force (systems/coupling).
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+#include "components/vec.hpp"
+
+namespace riffle {
+
+/// [1] The added-mass coefficient of a sphere among others at voidage eps (Zuber 1964, Chem. Eng. Sci. 19, 897):
+/// C_a = 1/2 (1 + 2 phi) / (1 - phi) with the solid fraction phi = 1 - eps; 1/2 for a lone sphere. eps is
+/// clipped to (0, 1]: a voidage above 1 is a lone grain.
+double added_mass_coefficient(double voidage);
+
+/// One half kick of a grain with added mass m_a, done implicitly (docs/COUPLING.md): the grain obeys
+///   (m + m_a) dv/dt = F + m g + m_a a_f,
+/// so the added-mass force actually applied is m_a (a_f - dv/dt) = m_a (m a_f - F - m g) / (m + m_a), finite for
+/// any m_a / m (an explicit force from the last acceleration is unstable for m_a > m).
+struct AddedMassKick {
+  Vec3 velocity_change;  ///< [m/s] dv over the half kick
+  Vec3 force;            ///< [N] the added-mass force m_a (a_f - dv/dt) over it
+};
+inline AddedMassKick added_mass_kick(const Vec3& force, double mass, double added_mass, const Vec3& gravity,
+                                     const Vec3& fluid_acceleration, double half_dt) {
+  const Vec3 acceleration = (force + mass * gravity + added_mass * fluid_acceleration) / (mass + added_mass);
+  return {half_dt * acceleration, added_mass * (fluid_acceleration - acceleration)};
+}
+
+/// The Basset kernel (t - tau)^(-1/2), windowed, as a sum of decaying exponentials
+///   K(t) = sum_k weight_k exp(-rate_k t),
+/// the trapezoidal rule in x = ln s of t^(-1/2) = pi^(-1/2) int exp(x/2 - e^x t) dx (the approach of the
+/// exponential-sum kernels of Beylkin & Monzon 2005, Appl. Comput. Harmon. Anal. 19, 17, which van Hinsberg, ten
+/// Thije Boonkkamp & Clercx 2011, J. Comput. Phys. 230, 1465 use for the history tail). Nodes from rate 1/window
+/// up: beyond the window the kernel decays like exp(-t / window) instead of t^(-1/2) (a windowed kernel, as
+/// Dorgan & Loth 2007, Int. J. Multiphase Flow 33, 833, argue for finite Reynolds numbers): the integral over the
+/// nodes left out below 1/window, 2 (s_0 / pi)^(1/2), goes to the lowest mode, so for t << window the sum is still
+/// t^(-1/2) and beyond the window it decays like exp(-t / window). The node spacing h spans 1/window to
+/// 20/shortest with kCount nodes, at most 1.5 (the trapezoidal error is about 2 exp(-pi^2 / h), 1e-3 at h = 1.5).
+struct BassetModes {
+  static constexpr std::size_t kCount = 8;
+  std::array<double, kCount> rate{};    ///< [1/s]
+  std::array<double, kCount> weight{};  ///< [1/s^(1/2)]
+  /// Modes for a window [s] and the shortest time the kernel must resolve [s] (the update interval): the rates
+  /// run from 1/window up in steps of e (h = 1), at most kCount of them, the top one at least 1/shortest if the
+  /// count allows.
+  static BassetModes make(double window, double shortest);
+};
+
+/// The history force F_H = 3/2 d^2 sqrt(pi rho mu) int K(t - tau) dw/dtau dtau over the modes' states z_k:
+/// F_H = 3/2 d^2 sqrt(pi rho mu) sum_k weight_k z_k, with z_k = int exp(-rate_k (t - tau)) dw/dtau dtau.
+/// Advancing z_k over an interval dt in which the relative velocity w = u - v changed by dw at a constant rate is
+/// exact: z_k <- exp(-rate_k dt) z_k + dw (1 - exp(-rate_k dt)) / (rate_k dt).
+inline void advance_basset_mode(Vec3& state, double rate, double dt, const Vec3& relative_velocity_change) {
+  const double x = rate * dt;
+  const double decay = std::exp(-x);
+  const double gain = x > 1e-8 ? (1.0 - decay) / x : 1.0 - 0.5 * x;
+  state = decay * state + gain * relative_velocity_change;
+}
+
+/// [kg / s^(1/2)] 3/2 d^2 sqrt(pi rho mu), the history force's prefactor.
+double basset_prefactor(double diameter, double density, double viscosity);
+
+}  // namespace riffle
