@@ -127,6 +127,7 @@ TEST_CASE("a sphere moving towards a wall: drag law + lubrication give Brenner's
     const Solids& solids = *bench.world.solids;
     const double written = solids.force[0].z();  // drag + lubrication (no contact, no pressure force)
     const double exact = stokes(spec.viscosity, a, speed) * brenner_wall_resistance(h_over_a);
+    std::printf("wall approach: h/a %.2f  force / Brenner %.5f\n", h_over_a, written / exact);
     CHECK(std::abs(written / exact - 1.0) < 2e-3);
     CHECK(solids.lubrication_force[0].z() > 0.0);
     CHECK(std::abs(solids.lubrication_force[0].x()) + std::abs(solids.lubrication_force[0].y()) == 0.0);
