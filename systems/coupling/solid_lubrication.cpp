@@ -35,50 +35,59 @@ void SolidLubrication::run(SystemContext& context) {
 
   // 1. Each grain-grain candidate once, from its first grain: the force on the first grain into the pair scratch,
   //    and each grain's sum over its wall candidates and the pairs where it is first, in pair order.
+  // Locals: the pair scratch written below could alias the model and the grain arrays as far as the compiler knows.
+  const CouplingModel settings = model_;
+  Vec3* const pair_force = pair_force_.data();
+  const Vec3* const positions = grains.position.data();
+  const double* const radii = properties.radius.data();
+  const double* const weights = sampled.fluid_weight.data();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       Vec3 force = Vec3::Zero();
-      if (!(sampled.fluid_weight[i] > 0.0))
-        for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) pair_force_[k] = Vec3::Zero();
-      if (sampled.fluid_weight[i] > 0.0) {
-        const double radius = properties.radius[i];
-        for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
-          pair_force_[k] = Vec3::Zero();
+      const std::uint32_t pair_begin = contacts.pair_offsets[i], pair_end = contacts.pair_offsets[i + 1];
+      const bool wet = weights[i] > 0.0;
+      if (!wet)
+        for (std::uint32_t k = pair_begin; k < pair_end; ++k) pair_force[k] = Vec3::Zero();
+      if (wet) {
+        const double radius = radii[i];
+        const Vec3 position = positions[i];
+        for (std::uint32_t k = pair_begin; k < pair_end; ++k) {
+          pair_force[k] = Vec3::Zero();
           const std::uint32_t j = contacts.pair_second[k];
-          if (!(sampled.fluid_weight[j] > 0.0)) continue;
-          const Vec3 centre_line = grains.position[j] - grains.position[i];
-          const double radius_j = properties.radius[j];
+          const Vec3 centre_line = positions[j] - position;
+          const double radius_j = radii[j];
           const double a = reduced_radius(radius, radius_j);
-          const double cutoff = model_.lubrication_cutoff_gap(a);
+          const double cutoff = settings.lubrication_cutoff_gap(a);
           // Many candidates of a bed are beyond the cut-off: settled without a root.
           const double reach = radius + radius_j + cutoff;
           const double distance_squared = centre_line.squaredNorm();
           if (!(distance_squared < reach * reach) || !(distance_squared > 0.0)) continue;
+          if (!(weights[j] > 0.0)) continue;
           const double distance = std::sqrt(distance_squared);
           const double gap = distance - radius - radius_j;
           const Vec3 normal = centre_line / distance;  // from i to j
           const double approach = (grains.velocity[i] - grains.velocity[j]).dot(normal);
           // Touching over the whole sub-step: the contact law's (swept_coefficient counts only the film).
           if (gap + 0.5 * std::abs(approach) * dt <= 0.0) continue;
-          const double roughness = model_.roughness_gap(a);
+          const double roughness = settings.roughness_gap(a);
           const double at_gap = pair_lubrication_coefficient(radius, radius_j, gap, mu, roughness, cutoff);
           const double swept = swept_coefficient(at_gap, 6.0 * kPi * mu * a * a, gap, approach, dt, roughness, cutoff);
           const double mass_i = properties.mass[i], mass_j = properties.mass[j];
           const double reduced_mass = mass_i * mass_j / (mass_i + mass_j);
           const Vec3 on_first = -implicit_coefficient(swept, dt, reduced_mass) * approach * normal;
-          pair_force_[k] = on_first;
+          pair_force[k] = on_first;
           force += on_first;
         }
         for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
           const std::uint32_t wall = contacts.wall_pair_wall[k];
           const Vec3& normal = walls.normal[wall];  // into the domain, away from the wall
-          const double gap = (grains.position[i] - walls.point[wall]).dot(normal) - radius;
-          const double cutoff = model_.lubrication_cutoff_gap(radius);
+          const double gap = (position - walls.point[wall]).dot(normal) - radius;
+          const double cutoff = settings.lubrication_cutoff_gap(radius);
           // Moving tank walls: the approach speed relative to the wall.
           const double approach = -(grains.velocity[i] - walls.velocity[wall]).dot(normal);
           // Beyond the cut-off, or touching over the whole sub-step (the contact law's).
           if (!(gap < cutoff) || gap + 0.5 * std::abs(approach) * dt <= 0.0) continue;
-          const double roughness = model_.roughness_gap(radius);
+          const double roughness = settings.roughness_gap(radius);
           const double at_gap = wall_lubrication_coefficient(radius, gap, mu, roughness, cutoff);
           const double swept =
               swept_coefficient(at_gap, 6.0 * kPi * mu * radius * radius, gap, approach, dt, roughness, cutoff);

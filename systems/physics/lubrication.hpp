@@ -55,7 +55,8 @@ double swept_coefficient(double coefficient_at_gap, double singular, double gap,
 
 /// [kg/s] Backward Euler along the normal: c / (1 + c dt / m*). The force -c V with V from the sub-step's end
 /// instead of its start, so the relative approach decays as 1/(1 + c dt/m*) per sub-step and never reverses or
-/// grows, however stiff c is (c dt/m* reaches 1e3 for a steel grain at 1 um from a wall in glycerol).
+/// grows, however stiff c is (c dt/m* = 3 for a 5 mm steel grain 1 um from a wall in glycerol at dt = 10 us, 5e3 at
+/// 2.5 nm in mu = 10 Pa s).
 inline double implicit_coefficient(double coefficient, double dt, double reduced_mass) {
   return coefficient / (1.0 + coefficient * dt / reduced_mass);
 }
