@@ -529,7 +529,8 @@ void read_coupling(TableReader& coupling, Model& model) {
       coupling.choice("voidage_estimate", "self_corrected", {"self_corrected", "cloud_in_cell"}) == "self_corrected";
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
-  out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";
+  out.wen_yu_dense = coupling.choice("dense_drag", "ergun", {"ergun", "wen_yu"}) == "wen_yu";
+  out.mixture_velocity = coupling.choice("fluid_velocity", "mixture", {"pore", "mixture"}) == "mixture";
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }
