@@ -159,15 +159,21 @@ struct CouplingModel {
   bool self_corrected_voidage = true;
   double ergun_inertial_exponent = 1.5;  ///< [1] n in F_ch = 1.75 / (sqrt(150) eps^n): 1.5 = Ergun/Gidaspow; the seed prints 3 (numerics 5.1)
   double newton_drag_coefficient = 0.44; ///< [1] C_D above Re_p = 1000 (the seed prints 0.4)
+  /// false ("ergun", the seed's Gidaspow switch): Ergun at eps <= 0.8, Wen & Yu above. true ("wen_yu"): Wen & Yu at
+  /// every voidage (their eps^-4.7 was fitted to fluidised beds and suspensions over 0.4 < eps < 1; Ergun's packed-bed
+  /// law makes a suspension at eps = 0.7 settle 28 % slower than Richardson & Zaki; docs/COUPLING.md).
+  bool wen_yu_dense = false;
   /// What the MPS velocity u stands for inside the bed (docs/COUPLING.md, "The water inside the bed").
-  /// false ("pore", the seed): the pore water's velocity; the water filling all space then passes 1/eps^2 too much
-  /// Darcy flux for a pressure gradient and loads the grains with (2 - eps) times the seepage force.
+  /// false ("pore", the seed's reading): the pore water's velocity; the water filling all space then passes 1/eps^2
+  /// too much Darcy flux for a pressure gradient and loads the grains with (2 - eps) times the seepage force.
   /// true ("mixture"): the volume flux of the mixture, eps u_pore + (1 - eps) u_s, which is what an incompressible
   /// fluid filling all space (div u = 0, wall velocity at the walls) can carry exactly. The pore water moves
   /// relative to a grain at (u - u_s) / eps (the drag's slip), and the water receives the drag per volume over eps,
   /// so steady Darcy-Forchheimer flow and the seepage force are right; the pore water's relative inertia is eps
-  /// too small.
-  bool mixture_velocity = false;
+  /// too small. The default is the mixture reading since issue 21: it passes hindered settling (docs/COUPLING.md,
+  /// "Hindered settling"), where the pore reading's water does not flow back up and the suspension falls 1/eps too
+  /// fast.
+  bool mixture_velocity = true;
   /// Normal lubrication of the water squeezed between grains and between a grain and a wall (docs/COUPLING.md,
   /// "Lubrication"): the excess over the drag law's Stokes drag, for gaps below the cut-off, the gap held at the
   /// roughness below it. Both lengths are in reduced radii a* = a_1 a_2 / (a_1 + a_2) (a grain's radius for a wall),

@@ -553,7 +553,6 @@ void read_coupling(TableReader& coupling, Model& model) {
       coupling.choice("voidage_estimate", "self_corrected", {"self_corrected", "cloud_in_cell"}) == "self_corrected";
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
-  out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";
   read_lubrication(coupling, model);
   out.added_mass = coupling.boolean("added_mass", false);
   out.history_force = coupling.boolean("history_force", false);
@@ -561,6 +560,8 @@ void read_coupling(TableReader& coupling, Model& model) {
   // The modes resolve the kernel from the fluid step up: a window of a few steps would be no history at all.
   if (out.history_force && out.history_window < 10.0 * model.dt)
     coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
+  out.wen_yu_dense = coupling.choice("dense_drag", "ergun", {"ergun", "wen_yu"}) == "wen_yu";
+  out.mixture_velocity = coupling.choice("fluid_velocity", "mixture", {"pore", "mixture"}) == "mixture";
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

@@ -1,10 +1,12 @@
 #pragma once
-// The voidage at every grain at the end of each fluid step (numerics.md 5.3 in grid form, docs/COUPLING.md): solid
-// volume over the space the fluid particles fill, both deposited on a grid of cells 0.67 R_eps wide
-// (systems/physics/voidage_grid.hpp; the fluid particles are the space quadrature, so walls and the free surface truncate
-// both alike), read back at the grain's centre and clipped to [min_voidage, 1]; 1 where no node around the grain
-// holds water. It runs at the end of the step, before fluid_drag_reaction divides the drag by it; the grains'
-// next sub-steps use the same value (solid_drag).
+// The voidage at every grain at the end of each fluid step (numerics.md 5.3 in grid form; docs/COUPLING.md, "The
+// voidage at a grain"): solid volume over the space the fluid particles fill, both deposited on a grid of cells
+// 0.668 R_eps wide (systems/physics/voidage_grid.hpp; the fluid particles are the space quadrature, so walls and the
+// free surface truncate both alike), smoothed by one binomial pass, read back at the grain's centre without the
+// grain's own deposit, which comes back times 1 - S(0) (a lone grain reads 1 wherever it is), and clipped to
+// [min_voidage, 1]; 1 where no node around the grain holds water. `voidage_estimate = "cloud_in_cell"`: main's
+// reading (no smoothing, the own volume included). It runs at the end of the step, before fluid_drag_reaction
+// divides the drag by it; the grains' next sub-steps use the same value (solid_drag).
 #include <vector>
 
 #include "engine/core/system.hpp"

@@ -1,7 +1,8 @@
 #pragma once
 // The drag law of seed 000 Eqs. 20-25 (numerics.md 5.1): F = beta V / (1 - eps) (u_fluid - u_grain), with Ergun's
-// beta for eps <= 0.8 and Wen & Yu's above. Written as the drag per unit grain volume and slip velocity,
-// k = beta / (1 - eps), which stays finite as eps -> 1 (a single sphere: k = 3/4 C_D rho |du| / d).
+// beta for eps <= 0.8 and Wen & Yu's above ([coupling] dense_drag = "wen_yu": Wen & Yu's at every voidage). Written
+// as the drag per unit grain volume and slip velocity, k = beta / (1 - eps), which stays finite as eps -> 1 (a
+// single sphere: k = 3/4 C_D rho |du| / d).
 #include <cmath>
 
 #include "components/model.hpp"

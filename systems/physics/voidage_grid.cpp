@@ -86,23 +86,22 @@ double VoidageGrid::solid_fraction(const Vec3& point) const {
 namespace {
 
 /// One binomial (1/4, 1/2, 1/4) pass along `axis` of a field of nodes[0] x nodes[1] x nodes[2] values (x fastest),
-/// zero beyond the ends. `line` is scratch.
-void binomial_pass(std::vector<double>& field, const std::array<std::int64_t, 3>& nodes, int axis,
-                   std::vector<double>& line) {
-  const std::int64_t stride = axis == 0 ? 1 : axis == 1 ? nodes[0] : nodes[0] * nodes[1];
-  const std::int64_t length = nodes[static_cast<std::size_t>(axis)];
-  line.resize(static_cast<std::size_t>(length));
-  const std::int64_t total = nodes[0] * nodes[1] * nodes[2];
-  for (std::int64_t start = 0; start < total; ++start) {
-    // `start` begins a line when its coordinate along `axis` is 0.
-    if ((start / stride) % length != 0) continue;
-    for (std::int64_t k = 0; k < length; ++k) line[static_cast<std::size_t>(k)] = field[static_cast<std::size_t>(start + k * stride)];
-    for (std::int64_t k = 0; k < length; ++k) {
-      const double below = k > 0 ? line[static_cast<std::size_t>(k - 1)] : 0.0;
-      const double above = k + 1 < length ? line[static_cast<std::size_t>(k + 1)] : 0.0;
-      field[static_cast<std::size_t>(start + k * stride)] = 0.25 * below + 0.5 * line[static_cast<std::size_t>(k)] + 0.25 * above;
+/// zero beyond the ends, in place: each line is filtered with a running copy of the value below.
+void binomial_pass(std::vector<double>& field, const std::array<std::int64_t, 3>& nodes, int axis) {
+  const std::array<std::int64_t, 3> stride{1, nodes[0], nodes[0] * nodes[1]};
+  const auto a = static_cast<std::size_t>(axis), b = (a + 1) % 3, c = (a + 2) % 3;
+  const std::int64_t length = nodes[a], step = stride[a];
+  for (std::int64_t j = 0; j < nodes[c]; ++j)
+    for (std::int64_t i = 0; i < nodes[b]; ++i) {
+      double* line = field.data() + i * stride[b] + j * stride[c];
+      double below = 0.0;
+      for (std::int64_t k = 0; k < length; ++k) {
+        const double here = line[k * step];
+        const double above = k + 1 < length ? line[(k + 1) * step] : 0.0;
+        line[k * step] = 0.25 * below + 0.5 * here + 0.25 * above;
+        below = here;
+      }
     }
-  }
 }
 
 }  // namespace
@@ -120,10 +119,9 @@ double self_corrected_solid_fraction(double others, double own) {
 }
 
 void VoidageGrid::smooth() {
-  std::vector<double> line;
   for (int axis = 0; axis < 3; ++axis) {
-    binomial_pass(solid_, nodes_, axis, line);
-    binomial_pass(fluid_, nodes_, axis, line);
+    binomial_pass(solid_, nodes_, axis);
+    binomial_pass(fluid_, nodes_, axis);
   }
   smoothed_ = true;
 }

@@ -4,8 +4,8 @@
 // (trilinear) weights; the solid fraction at a node is their ratio, and a grain reads it back by trilinear
 // interpolation over the nodes that hold water. The cost is linear in the particle counts (the kernel form of
 // numerics 5.3 costs hundreds of grain pairs per grain at R_eps = 2 d_max), walls and the free surface truncate
-// both deposits alike, and each grain sees a fraction averaged over about two cells in each direction.
-// Deposits run in slot order, so the field does not depend on the thread count.
+// both deposits alike, and each grain sees a fraction averaged over about two cells in each direction (three once
+// smooth() has run). Deposits run in slot order, so the field does not depend on the thread count.
 #include <algorithm>
 #include <array>
 #include <cstdint>

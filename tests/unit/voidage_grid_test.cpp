@@ -1,0 +1,87 @@
+// The smoothed voidage grid (systems/physics/voidage_grid.hpp; docs/COUPLING.md, "The voidage at a grain"): the
+// binomial pass keeps both deposits' totals, a grain's own share read back is its whole reading when it is alone
+// (whatever its place in a cell), and points outside the bounds or not finite stay safe.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "systems/physics/voidage_grid.hpp"
+
+namespace {
+double total_fluid(const riffle::VoidageGrid& grid) {
+  double sum = 0.0;
+  for (std::size_t n = 0; n < grid.node_count(); ++n) sum += grid.fluid_volume(n);
+  return sum;
+}
+
+/// A 10 x 10 x 10 lattice of fluid points, 1 cm apart.
+std::vector<riffle::Vec3> fluid_lattice() {
+  std::vector<riffle::Vec3> fluid;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) fluid.emplace_back(0.005 + 0.01 * i, 0.005 + 0.01 * j, 0.005 + 0.01 * k);
+  return fluid;
+}
+}  // namespace
+
+TEST_CASE("voidage grid: smoothing keeps the deposits' totals") {
+  const std::vector<riffle::Vec3> fluid = fluid_lattice();
+  riffle::VoidageGrid grid;
+  grid.build({{0.05, 0.05, 0.05}}, {1e-6}, fluid, fluid.size(), 1e-6, 0.013, riffle::Vec3::Constant(-1.0),
+             riffle::Vec3::Constant(1.0));
+  const double before = total_fluid(grid);
+  CHECK(before == doctest::Approx(1e-3).epsilon(1e-12));
+  grid.smooth();
+  // The build leaves a free node at each end of every axis, so nothing is filtered off the grid.
+  CHECK(total_fluid(grid) == doctest::Approx(before).epsilon(1e-12));
+}
+
+TEST_CASE("voidage grid: a lone grain's own share is its whole reading, smoothed or not") {
+  const std::vector<riffle::Vec3> fluid = fluid_lattice();
+  for (const bool smoothed : {false, true})
+    for (const riffle::Vec3& point : {riffle::Vec3(0.05, 0.05, 0.05), riffle::Vec3(0.0131, 0.0477, 0.0912),
+                                      riffle::Vec3(0.005, 0.005, 0.005)}) {
+      CAPTURE(smoothed);
+      riffle::VoidageGrid grid;
+      grid.build({point}, {5.2e-7}, fluid, fluid.size(), 1e-6, 0.0134, riffle::Vec3::Constant(-1.0),
+                 riffle::Vec3::Constant(1.0));
+      if (smoothed) grid.smooth();
+      const riffle::GrainSolidFraction read = grid.grain_fraction(point, 5.2e-7);
+      CHECK(read.included > 0.0);
+      CHECK(read.own == doctest::Approx(read.included).epsilon(1e-12));
+      if (!smoothed) CHECK(read.included == doctest::Approx(grid.solid_fraction(point)).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("voidage grid: points outside the bounds or not finite read safely") {
+  const std::vector<riffle::Vec3> fluid = fluid_lattice();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<riffle::Vec3> grains = {{0.05, 0.05, 0.05}, {nan, 0.0, 0.0}, {1e300, -1e300, 0.0}};
+  riffle::VoidageGrid grid;
+  grid.build(grains, {1e-7, 1e-7, 1e-7}, fluid, fluid.size(), 1e-6, 0.013, riffle::Vec3::Zero(),
+             riffle::Vec3::Constant(0.1));
+  grid.smooth();
+  for (const riffle::Vec3& point : grains) {
+    const riffle::GrainSolidFraction read = grid.grain_fraction(point, 1e-7);
+    CHECK(std::isfinite(read.included));
+    CHECK(std::isfinite(read.own));
+  }
+  CHECK(static_cast<double>(grid.node_count()) <= riffle::voidage_node_limit(grains.size() + fluid.size()));
+}
+
+TEST_CASE("voidage: the hard-sphere structure factor and the self correction") {
+  // Carnahan-Starling: S(0) = 1 - 8 phi + O(phi^2) for a dilute suspension (the excluded volume of a sphere is 8 V).
+  CHECK(riffle::hard_sphere_structure_factor(0.0) == 1.0);
+  CHECK(riffle::hard_sphere_structure_factor(1e-4) == doctest::Approx(1.0 - 8e-4).epsilon(1e-6));
+  CHECK(riffle::hard_sphere_structure_factor(0.6) ==
+        doctest::Approx(std::pow(0.4, 4) / (1 + 2.4 + 1.44 - 0.864 + 0.1296)));
+  // A lone grain (no others) reads nothing, whatever its own share.
+  CHECK(riffle::self_corrected_solid_fraction(0.0, 0.2) == 0.0);
+  // In a dense packing (S(0) ~ 0) the grain's own volume comes back nearly whole.
+  CHECK(riffle::self_corrected_solid_fraction(0.55, 0.05) == doctest::Approx(0.6).epsilon(1e-3));
+  // The fixed point: phi = others + own (1 - S(phi)).
+  const double others = 0.08, own = 0.04, phi = riffle::self_corrected_solid_fraction(others, own);
+  CHECK(phi == doctest::Approx(others + own * (1.0 - riffle::hard_sphere_structure_factor(phi))).epsilon(1e-3));
+}
