@@ -12,6 +12,7 @@ KickSettings KickSettings::from(const Model& model) {
   KickSettings settings;
   settings.added_mass = model.coupling.enabled && model.coupling.added_mass;
   settings.history = model.coupling.enabled && model.coupling.history_force;
+  settings.mixture_velocity = model.coupling.mixture_velocity;
   settings.fluid_density = model.fluid.density;
   return settings;
 }
@@ -55,7 +56,8 @@ void half_kick_inertial(GrainState& grains, const GrainProperties& properties, c
     const Vec3 history = fluid.settings.history && wet ? fluid.added.history_force[i] : Vec3::Zero();
     const double r = properties.radius[i];
     const double added_mass = fluid.settings.added_mass && wet
-                                  ? added_mass_coefficient(fluid.voidages.voidage[i]) * density_volume * (r * r * r)
+                                  ? stable_added_mass_coefficient(fluid.voidages.voidage[i], fluid.settings.mixture_velocity) *
+                                        density_volume * (r * r * r)
                                   : 0.0;
     const AddedMassKick kick = added_mass_kick(total.force[i] + history, properties.mass[i], added_mass, gravity,
                                                fluid.sampled.fluid_acceleration[i], half_dt);
