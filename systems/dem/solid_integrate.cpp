@@ -55,10 +55,11 @@ void half_kick_inertial(GrainState& grains, const GrainProperties& properties, c
     const bool wet = fluid.sampled.fluid_weight[i] > 0.0;
     const Vec3 history = fluid.settings.history && wet ? fluid.added.history_force[i] : Vec3::Zero();
     const double r = properties.radius[i];
-    const double added_mass = fluid.settings.added_mass && wet
-                                  ? stable_added_mass_coefficient(fluid.voidages.voidage[i], fluid.settings.mixture_velocity) *
-                                        density_volume * (r * r * r)
-                                  : 0.0;
+    const double coefficient =
+        fluid.settings.added_mass && wet
+            ? stable_added_mass_coefficient(fluid.voidages.voidage[i], fluid.settings.mixture_velocity)
+            : 0.0;
+    const double added_mass = coefficient * density_volume * (r * r * r);
     const AddedMassKick kick = added_mass_kick(total.force[i] + history, properties.mass[i], added_mass, gravity,
                                                fluid.sampled.fluid_acceleration[i], half_dt);
     grains.velocity[i] += kick.velocity_change;
