@@ -760,7 +760,23 @@ def fig20(run, out, args):
             save(figure, out / "fig20_granular_temperature.png")]
 
 
-FORCES = ["pressure_force", "drag_force", "contact_force", "gravity", "total"]
+FORCES = ["pressure_force", "drag_force", "contact_force", "added_mass_force", "history_force", "gravity", "total"]
+# Applied by the grains' kicks, not part of `force` (solid_force_sum): docs/COUPLING.md, "Added mass and history
+# force". Frames written before issue 21 lack them (zero then), as do runs with both switched off (zero fields).
+KICK_FORCES = ("added_mass_force", "history_force")
+
+
+def field_or_zero(frame, name):
+    """frame[name], or zeros shaped like the frame's points when the frames do not have the field."""
+    return frame[name] if name in frame else np.zeros_like(frame["points"])
+
+
+def solids_with_kick_forces(run, index, fields):
+    """The frame's `fields` and, where the frame has them, KICK_FORCES."""
+    try:
+        return run.solids(index, tuple(fields) + KICK_FORCES)
+    except vtp.VtpError:
+        return run.solids(index, fields)
 
 
 def fig17_19(run, out, args):
@@ -773,16 +789,17 @@ def fig17_19(run, out, args):
     rows = []
     series = {}
     for index in range(len(times)):
-        frame = run.solids(index, fields)
+        frame = solids_with_kick_forces(run, index, fields)
         t = frame["time"]
         for k in sorted(set(frame["size_class"].tolist())):
             mask = frame["size_class"] == k
             m = frame["mass"][mask]
             buoyancy[k] = water / float(np.mean(m / (4.0 / 3.0 * math.pi * frame["radius"][mask] ** 3)))
-            per_mass = {name: frame[name][mask] / m[:, None] for name in ("pressure_force", "drag_force",
-                                                                          "contact_force")}
+            per_mass = {name: field_or_zero(frame, name)[mask] / m[:, None]
+                        for name in ("pressure_force", "drag_force", "contact_force") + KICK_FORCES}
             per_mass["gravity"] = np.tile([0.0, 0.0, -G], (int(mask.sum()), 1))
-            per_mass["total"] = frame["force"][mask] / m[:, None] + per_mass["gravity"]
+            per_mass["total"] = (frame["force"][mask] / m[:, None] + per_mass["gravity"]
+                                 + sum(per_mass[name] for name in KICK_FORCES))
             row = [t, t * run.frequency, float(run.phase(t)), k, int(mask.sum()), float(np.mean(m)),
                    float(np.mean(frame["velocity"][mask, 0])), float(np.mean(frame["velocity"][mask, 2])),
                    float(run.tank_velocity(t)), float(run.tank_acceleration(t))]
@@ -803,7 +820,8 @@ def fig17_19(run, out, args):
     figure, axes = plt.subplots(2, len(classes), figsize=(5 * len(classes), 7), sharex=True, squeeze=False,
                                 constrained_layout=True)
     styles = {"pressure_force": ("C0", "pressure gradient"), "drag_force": ("C2", "drag"),
-              "contact_force": ("C3", "contact"), "gravity": ("C7", "gravity"), "total": ("k", "total (m a)")}
+              "contact_force": ("C3", "contact"), "added_mass_force": ("C4", "added mass"),
+              "history_force": ("C5", "history"), "gravity": ("C7", "gravity"), "total": ("k", "total (m a)")}
     for j, k in enumerate(classes):
         for name in FORCES:
             data = np.array(series[(k, name)])
@@ -853,11 +871,13 @@ def fig19(run, out, args):
     def values(frame):
         weight = frame["mass"] * G
         per_weight = {name: frame[name][:, 2] / weight for name in ("pressure_force", "drag_force", "contact_force")}
-        # force is contact + drag + pressure (solid_force_sum); gravity is added by the integrator
-        per_weight["total"] = frame["force"][:, 2] / weight
+        # force is contact + drag + pressure (solid_force_sum); gravity, added mass and history are added by the
+        # integrator's kicks
+        per_weight["total"] = (frame["force"][:, 2] + sum(field_or_zero(frame, name)[:, 2] for name in KICK_FORCES)) \
+            / weight
         return per_weight
 
-    results = phase_profiles(run, times, stages, lambda i: run.solids(i, fields), select, values,
+    results = phase_profiles(run, times, stages, lambda i: solids_with_kick_forces(run, i, fields), select, values,
                              args.phase_tolerance, count)
     rows = []
     classes = sorted({k for _, _, accumulated in results.values() for k in accumulated})

@@ -1,5 +1,7 @@
 #include "systems/coupling/solid_history_force.hpp"
 
+#include <array>
+
 #include "systems/physics/mps_common.hpp"
 
 namespace riffle {
@@ -19,6 +21,16 @@ void SolidHistoryForce::run(SystemContext& context) {
   const GrainVoidage& voidages = context.read<GrainVoidage>();
   GrainAddedMass& added = context.write<GrainAddedMass>();
   const double dt = context.dt;
+  // The modes' decay and gain over this step are the same for every grain (advance_basset_mode, once per mode).
+  std::array<double, BassetModes::kCount> decay{}, gain{};
+  for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
+    Vec3 unit = Vec3::UnitX(), response = Vec3::Zero();
+    advance_basset_mode(unit, modes_.rate[k], dt, Vec3::Zero());
+    advance_basset_mode(response, modes_.rate[k], dt, Vec3::UnitX());
+    decay[k] = unit.x();
+    gain[k] = response.x();
+  }
+  const double root = basset_prefactor(1.0, density_, viscosity_);  // 3/2 (pi rho mu)^(1/2); times d^2 per grain
   for_each_particle(grains.size(), [&](std::size_t grain) {
     if (sampled.fluid_weight[grain] <= 0.0) {  // dry: no history; it starts afresh when the grain enters the water
       added.history_force[grain] = Vec3::Zero();
@@ -32,10 +44,12 @@ void SolidHistoryForce::run(SystemContext& context) {
     added.history_relative_velocity[grain] = slip;
     Vec3 integral = Vec3::Zero();
     for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
-      advance_basset_mode(added.history_mode[k][grain], modes_.rate[k], dt, change);
-      integral += modes_.weight[k] * added.history_mode[k][grain];
+      Vec3& mode = added.history_mode[k][grain];
+      mode = decay[k] * mode + gain[k] * change;
+      integral += modes_.weight[k] * mode;
     }
-    added.history_force[grain] = basset_prefactor(2.0 * properties.radius[grain], density_, viscosity_) * integral;
+    const double diameter = 2.0 * properties.radius[grain];
+    added.history_force[grain] = (root * diameter * diameter) * integral;
   });
   context.count_items(grains.size());
 }

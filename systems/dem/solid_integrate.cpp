@@ -4,7 +4,6 @@
 #include <tbb/parallel_for.h>
 
 #include "systems/physics/added_mass.hpp"
-#include "systems/physics/drag_law.hpp"
 #include "systems/physics/tank_kinematics.hpp"
 
 namespace riffle {
@@ -13,6 +12,7 @@ KickSettings KickSettings::from(const Model& model) {
   KickSettings settings;
   settings.added_mass = model.coupling.enabled && model.coupling.added_mass;
   settings.history = model.coupling.enabled && model.coupling.history_force;
+  settings.mixture_velocity = model.coupling.mixture_velocity;
   settings.fluid_density = model.fluid.density;
   return settings;
 }
@@ -49,13 +49,17 @@ struct InertialForces {
 void half_kick_inertial(GrainState& grains, const GrainProperties& properties, const GrainTotalForce& total,
                         const InertialForces& fluid, const Vec3& gravity, double half_dt, std::size_t begin,
                         std::size_t end) {
+  // rho 4/3 pi: the grain's volume as grain_volume() counts it, without its pow (this loop runs twice a sub-step).
+  const double density_volume = fluid.settings.fluid_density * 4.0 / 3.0 * 3.14159265358979323846;
   for (std::size_t i = begin; i < end; ++i) {
     const bool wet = fluid.sampled.fluid_weight[i] > 0.0;
     const Vec3 history = fluid.settings.history && wet ? fluid.added.history_force[i] : Vec3::Zero();
-    const double added_mass = fluid.settings.added_mass && wet
-                                  ? added_mass_coefficient(fluid.voidages.voidage[i]) * fluid.settings.fluid_density *
-                                        grain_volume(properties.radius[i])
-                                  : 0.0;
+    const double r = properties.radius[i];
+    const double coefficient =
+        fluid.settings.added_mass && wet
+            ? stable_added_mass_coefficient(fluid.voidages.voidage[i], fluid.settings.mixture_velocity)
+            : 0.0;
+    const double added_mass = coefficient * density_volume * (r * r * r);
     const AddedMassKick kick = added_mass_kick(total.force[i] + history, properties.mass[i], added_mass, gravity,
                                                fluid.sampled.fluid_acceleration[i], half_dt);
     grains.velocity[i] += kick.velocity_change;

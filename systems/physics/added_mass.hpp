@@ -15,6 +15,15 @@ namespace riffle {
 /// clipped to (0, 1]: a voidage above 1 is a lone grain.
 double added_mass_coefficient(double voidage);
 
+/// [1] The added-mass coefficient the grains use: Zuber's, capped where the water could not take its reaction
+/// stably. The reaction m_a (a_f dt - dv) goes to the water explicitly, one step later, and a_f is the water's own
+/// acceleration: per volume of mixture the water (mass rho, or eps rho in the mixture reading, which hands it the
+/// impulse over eps) takes back C_a phi rho times its own last acceleration. Where C_a phi (pore) or C_a phi / eps
+/// (mixture) nears 1 that feedback grows from step to step (measured: the quick seed scene, phi = 0.6 in the bed,
+/// blew up in 110 steps). The cap keeps it at half the receiving water's inertia: C_a <= 1/2 eps / phi (pore),
+/// 1/2 eps^2 / phi (mixture). It binds above phi = 0.33 (pore) and 0.25 (mixture); a lone grain is never capped.
+double stable_added_mass_coefficient(double voidage, bool mixture_velocity);
+
 /// One half kick of a grain with added mass m_a, done implicitly (docs/COUPLING.md): the grain obeys
 ///   (m + m_a) dv/dt = F + m g + m_a a_f,
 /// so the added-mass force actually applied is m_a (a_f - dv/dt) = m_a (m a_f - F - m g) / (m + m_a), finite for

@@ -345,3 +345,13 @@ TEST_CASE("grains in water: one and two threads, and a resumed run, give byte-id
   // The grains sample a copy of the water taken at each step start: the resumed run takes it from the restored water.
   CHECK(resumed_checkpoint_bytes(coupled_scene(), "coupled.toml", 13, 30) == uninterrupted);
 }
+
+TEST_CASE("grains in water with added mass and the history force: threads and a resumed run give the same bytes") {
+  // The history force's state lives in grain fields (GrainAddedMass), so a checkpoint carries it; the water's
+  // acceleration is sampled afresh at each step start.
+  const std::string scene = coupled_scene() + "added_mass = true\nhistory_force = true\nhistory_window = 0.02\n";
+  const std::string uninterrupted = checkpoint_bytes_after(scene, "coupled.toml", 2, 30);
+  CHECK(checkpoint_bytes_after(scene, "coupled.toml", 1, 30) == uninterrupted);
+  CHECK(resumed_checkpoint_bytes(scene, "coupled.toml", 13, 30) == uninterrupted);
+  CHECK(uninterrupted != checkpoint_bytes_after(coupled_scene(), "coupled.toml", 2, 30));  // the forces act
+}

@@ -29,6 +29,24 @@ TEST_CASE("Zuber's added-mass coefficient: 1/2 for a lone sphere, (1 + 2 phi) / 
   CHECK(added_mass_coefficient(0.9) == doctest::Approx(0.5 * 1.2 / 0.9).epsilon(1e-15));
 }
 
+TEST_CASE("the added-mass coefficient the grains use: Zuber's, capped where the water's reaction would not be stable") {
+  // A lone grain and a dilute suspension: Zuber's.
+  CHECK(stable_added_mass_coefficient(1.0, false) == 0.5);
+  CHECK(stable_added_mass_coefficient(1.0, true) == 0.5);
+  CHECK(stable_added_mass_coefficient(0.9, true) == added_mass_coefficient(0.9));
+  // A packed bed, phi = 0.6: Zuber's 2.75 would feed back C_a phi = 1.65 (pore) or 4.1 (mixture) times the water's
+  // own acceleration; capped at half the water's inertia.
+  CHECK(added_mass_coefficient(0.4) == doctest::Approx(2.75).epsilon(1e-14));
+  CHECK(stable_added_mass_coefficient(0.4, false) == doctest::Approx(0.5 * 0.4 / 0.6).epsilon(1e-14));
+  CHECK(stable_added_mass_coefficient(0.4, true) == doctest::Approx(0.5 * 0.16 / 0.6).epsilon(1e-14));
+  for (const double eps : {0.3, 0.5, 0.7, 0.9, 0.99})
+    for (const bool mixture : {false, true}) {
+      const double fed_back = stable_added_mass_coefficient(eps, mixture) * (1.0 - eps) / (mixture ? eps : 1.0);
+      CHECK(fed_back <= 0.5 + 1e-12);
+      CHECK(stable_added_mass_coefficient(eps, mixture) <= added_mass_coefficient(eps));
+    }
+}
+
 TEST_CASE("the history kernel's exponential modes are t^(-1/2) up to the window and integrate it over a step") {
   for (const double window : {0.05, 0.1, 1.0}) {
     CAPTURE(window);

@@ -326,7 +326,8 @@ interval = 0.005
                         "grain0_history_fy_N,grain0_history_fz_N,grain0_lubrication_fx_N,grain0_lubrication_fy_N,"
                         "grain0_lubrication_fz_N,grain5_x_m,", 0) == 0);
   CHECK(grains[0].find(",grain17_fz_N,grain17_voidage_1,") != std::string::npos);
-  CHECK(grains[0].size() - grains[0].rfind(",grain17_lubrication_fz_N") == std::string(",grain17_lubrication_fz_N").size());
+  const std::string last_column = ",grain17_lubrication_fz_N";
+  CHECK(grains[0].size() - grains[0].rfind(last_column) == last_column.size());
   const std::vector<std::string> steps = {"0", "10", "20", "30", "40"};
   for (std::size_t row = 1; row < grains.size(); ++row) {
     CAPTURE(grains[row]);
