@@ -80,14 +80,14 @@ struct Bench {
                      false, 0);
     world.tank_motion.emplace();
     world.contacts.emplace();
-    systems.push_back(std::make_unique<SolidKickDrift>());
+    systems.push_back(std::make_unique<SolidKickDrift>(model));
     systems.push_back(std::make_unique<SolidNeighbours>());
     systems.push_back(std::make_unique<SolidContactForces>());
     systems.push_back(std::make_unique<SolidContactGather>());
     systems.push_back(std::make_unique<SolidDrag>(model));
     systems.push_back(std::make_unique<SolidLubrication>(model));
     systems.push_back(std::make_unique<SolidForceSum>(true));
-    systems.push_back(std::make_unique<SolidKick>());
+    systems.push_back(std::make_unique<SolidKick>(model));
   }
 
   /// Runs the systems from `first` to `last` (indices above) once with sub-step dt.
