@@ -164,6 +164,11 @@ struct CouplingModel {
   /// so steady Darcy-Forchheimer flow and the seepage force are right; the pore water's relative inertia is eps
   /// too small.
   bool mixture_velocity = false;
+  /// Drag and pressure force from the water the grain would see without its own disturbance (docs/COUPLING.md,
+  /// "The undisturbed fluid velocity"): the drag reaction is spread with the sampling kernel, and the grain's own
+  /// regularised Stokes/Oseen disturbance (Balachandar et al. 2019), built up over time, is taken out of the sampled
+  /// velocity and pressure gradient. Dilute grains only (voidage above 0.8, Wen & Yu's branch).
+  bool self_induced_velocity = false;
 };
 
 struct SphereSpec {

@@ -528,6 +528,7 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
   out.mixture_velocity = coupling.choice("fluid_velocity", "pore", {"pore", "mixture"}) == "mixture";
+  out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

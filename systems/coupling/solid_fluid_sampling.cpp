@@ -3,6 +3,8 @@
 #include "systems/physics/drag_law.hpp"
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/self_induced.hpp"
+#include "systems/coupling/solid_drag.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +13,11 @@
 namespace riffle {
 
 SolidFluidSampling::SolidFluidSampling(const Model& model)
-    : constants_(MpsConstants::from(model.fluid)), pressure_gradient_(model.coupling.pressure_gradient) {}
+    : constants_(MpsConstants::from(model.fluid)),
+      pressure_gradient_(model.coupling.pressure_gradient),
+      self_induced_velocity_(model.coupling.self_induced_velocity),
+      mixture_velocity_(model.coupling.mixture_velocity),
+      overlap_(model.coupling.self_induced_velocity ? self_induced_overlap() : 0.0) {}
 
 void SolidFluidSampling::run(SystemContext& context) {
   const FluidSample& fluid = context.read<FluidSample>();
@@ -71,6 +77,20 @@ void SolidFluidSampling::run(SystemContext& context) {
     sampled.fluid_velocity[grain] = velocity / weight_sum;
     sampled.pressure_force[grain] =
         pressure_gradient_ ? Vec3(-grain_volume(properties.radius[grain]) * gradient / weight_sum) : Vec3::Zero();
+    if (self_induced_velocity_ && pressure_gradient_) {
+      // The water's pressure answers the irrotational part of the grain's spread reaction -F rho_s / flux_share:
+      // at the centre of the isotropic blob, grad p = -F <rho_s rho_w> / 3 sampled, which adds
+      // V F <rho_s rho_w> / 3 to -V <grad p> (docs/COUPLING.md). F is the last sub-step's drag, which the water
+      // received over the last step; only for the dilute grains whose drag the correction applies to.
+      const double voidage = context.read<GrainVoidage>().voidage[grain];
+      if (voidage > kSelfInducedMinVoidage) {
+        const double flux_share = mixture_velocity_ ? voidage : 1.0;
+        const double kernel_radius = properties.radius[grain] + effective_radius;
+        const double own = grain_volume(properties.radius[grain]) * overlap_ /
+                           (3.0 * kernel_radius * kernel_radius * kernel_radius * flux_share);
+        sampled.pressure_force[grain] -= own * context.read<GrainDrag>().drag_force[grain];
+      }
+    }
   });
   context.count_items(grains.size());
 }
