@@ -4,6 +4,7 @@
 
 #include "systems/physics/domain.hpp"
 #include "systems/physics/mps_kernel.hpp"
+#include "systems/coupling/solid_drag.hpp"
 
 namespace riffle {
 
@@ -19,10 +20,9 @@ void FluidDragReaction::run(SystemContext& context) {
   for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
   // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
   // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
-  if (self_induced_velocity_) {
-    spread_with_sampling_kernel(context, largest_radius);
-    return;
-  }
+  // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
+  // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
+  if (self_induced_velocity_) spread_with_sampling_kernel(context, largest_radius);
   const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
   volumes_.assign(grains.size(), 0.0);
   const DomainBox domain = domain_box(context.model);
@@ -33,7 +33,7 @@ void FluidDragReaction::run(SystemContext& context) {
   // sum_j w_jn / W_n = 1 at every node with water, so the water receives exactly minus the grains' impulse.
   node_impulse_.assign(grid_.node_count(), Vec3::Zero());
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
-    if (drag.drag_impulse[grain].isZero(0.0)) continue;
+    if (drag.drag_impulse[grain].isZero(0.0)) continue;  // also the dilute grains the kernel spreading took
     const CloudInCellStencil stencil = grid_.stencil(grains.position[grain]);
     double wet = 0.0;  // weight of the nodes that hold water: a grain at the water's edge gives all to those
     for (std::size_t c = 0; c < 8; ++c) wet += grid_.fluid_volume(stencil.node[c]) > 0.0 ? stencil.weight[c] : 0.0;
@@ -76,7 +76,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, doub
   const DomainBox domain = domain_box(context.model);
   fluid_grid_.build(particles.position, 0, fluid_count, largest_radius + effective_radius, domain.low, domain.high);
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
-    if (drag.drag_impulse[grain].isZero(0.0)) continue;
+    if (drag.drag_impulse[grain].isZero(0.0) || voidages.voidage[grain] <= kSelfInducedMinVoidage) continue;
     const Vec3 centre = grains.position[grain];
     const WendlandKernel kernel(properties.radius[grain] + effective_radius);
     double weight_sum = 0.0;
@@ -93,7 +93,6 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, doub
     });
     drag.drag_impulse[grain] = Vec3::Zero();
   }
-  context.count_items(grains.size());
 }
 
 }  // namespace riffle
