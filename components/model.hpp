@@ -196,6 +196,11 @@ struct CouplingModel {
   /// The history (Basset) force with a windowed kernel of exponential modes (solid_history_force).
   bool history_force = false;
   double history_window = 0.1;  ///< [s] the kernel is t^(-1/2) up to about window/30 and decays as exp(-t/window)
+  /// Drag and pressure force from the water the grain would see without its own disturbance (docs/COUPLING.md,
+  /// "The undisturbed fluid velocity"): the drag reaction is spread with the sampling kernel, and the grain's own
+  /// regularised Stokes/Oseen disturbance (Balachandar et al. 2019), built up over time, is taken out of the sampled
+  /// velocity and pressure gradient. Dilute grains only (voidage above 0.8, Wen & Yu's branch).
+  bool self_induced_velocity = false;
 };
 
 struct SphereSpec {

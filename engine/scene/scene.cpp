@@ -562,6 +562,7 @@ void read_coupling(TableReader& coupling, Model& model) {
     coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
   out.wen_yu_dense = coupling.choice("dense_drag", "ergun", {"ergun", "wen_yu"}) == "wen_yu";
   out.mixture_velocity = coupling.choice("fluid_velocity", "mixture", {"pore", "mixture"}) == "mixture";
+  out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

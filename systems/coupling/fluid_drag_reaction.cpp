@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "systems/physics/domain.hpp"
+#include "systems/physics/mps_kernel.hpp"
+#include "systems/coupling/solid_drag.hpp"
 
 namespace riffle {
 
@@ -18,6 +20,9 @@ void FluidDragReaction::run(SystemContext& context) {
   for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
   // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
   // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
+  // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
+  // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
+  if (self_induced_velocity_) spread_with_sampling_kernel(context, largest_radius);
   const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
   volumes_.assign(grains.size(), 0.0);
   const DomainBox domain = domain_box(context.model);
@@ -28,7 +33,7 @@ void FluidDragReaction::run(SystemContext& context) {
   // sum_j w_jn / W_n = 1 at every node with water, so the water receives exactly minus the grains' impulse.
   node_impulse_.assign(grid_.node_count(), Vec3::Zero());
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
-    if (drag.drag_impulse[grain].isZero(0.0)) continue;
+    if (drag.drag_impulse[grain].isZero(0.0)) continue;  // also the dilute grains the kernel spreading took
     const CloudInCellStencil stencil = grid_.stencil(grains.position[grain]);
     double wet = 0.0;  // weight of the nodes that hold water: a grain at the water's edge gives all to those
     for (std::size_t c = 0; c < 8; ++c) wet += grid_.fluid_volume(stencil.node[c]) > 0.0 ? stencil.weight[c] : 0.0;
@@ -51,6 +56,43 @@ void FluidDragReaction::run(SystemContext& context) {
     reaction.drag_reaction[j] += received;
   });
   context.count_items(grains.size());
+}
+
+// With the self-induced correction (docs/COUPLING.md, "The undisturbed fluid velocity"), each grain's impulse goes
+// to the fluid particles within R_I = r_I + r_e with the normalised Wendland weights it samples with (seed Eq. 26's
+// own form): the water's answer to it is then centred on the grain and isotropic wherever the grain sits, which is
+// what the correction's <1/r> and <rho_s rho_w> assume; the grid form's footprint moves with the grain's place in
+// its cell. Grains deposit in slot order, one after the other (the sums then do not depend on the thread count),
+// and each grain's weights sum to one, so the water receives exactly minus the grains' impulse.
+void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, double largest_radius) {
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  const GrainVoidage& voidages = context.read<GrainVoidage>();
+  GrainDrag& drag = context.write<GrainDrag>();
+  const ParticleState& particles = context.read<ParticleState>();
+  ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  const double effective_radius = constants_.kernel.effective_radius;
+  const DomainBox domain = domain_box(context.model);
+  fluid_grid_.build(particles.position, 0, fluid_count, largest_radius + effective_radius, domain.low, domain.high);
+  for (std::size_t grain = 0; grain < grains.size(); ++grain) {
+    if (drag.drag_impulse[grain].isZero(0.0) || voidages.voidage[grain] <= kSelfInducedMinVoidage) continue;
+    const Vec3 centre = grains.position[grain];
+    const WendlandKernel kernel(properties.radius[grain] + effective_radius);
+    double weight_sum = 0.0;
+    fluid_grid_.for_each_within(particles.position, centre, kernel.effective_radius, [&](std::uint32_t j) {
+      weight_sum += kernel.weight((particles.position[j] - centre).norm());
+    });
+    if (weight_sum <= 0.0) continue;  // out of the water since the sampling: its drag was zero while dry
+    // Per volume l0^3; the mixture reading gives the water the drag over eps (docs/COUPLING.md).
+    const double share = (mixture_velocity_ ? 1.0 / voidages.voidage[grain] : 1.0) /
+                         (weight_sum * constants_.particle_volume);
+    const Vec3 impulse = drag.drag_impulse[grain];
+    fluid_grid_.for_each_within(particles.position, centre, kernel.effective_radius, [&](std::uint32_t j) {
+      reaction.drag_reaction[j] -= (kernel.weight((particles.position[j] - centre).norm()) * share) * impulse;
+    });
+    drag.drag_impulse[grain] = Vec3::Zero();
+  }
 }
 
 }  // namespace riffle

@@ -8,6 +8,7 @@
 // from its own nodes, so nothing depends on the thread count.
 #include "engine/core/system.hpp"
 #include "systems/physics/voidage_grid.hpp"
+#include "systems/physics/cell_grid.hpp"
 #include "systems/physics/mps_common.hpp"
 
 namespace riffle {
@@ -15,7 +16,9 @@ namespace riffle {
 class FluidDragReaction final : public System {
  public:
   explicit FluidDragReaction(const Model& model)
-      : constants_(MpsConstants::from(model.fluid)), mixture_velocity_(model.coupling.mixture_velocity) {}
+      : constants_(MpsConstants::from(model.fluid)),
+        mixture_velocity_(model.coupling.mixture_velocity),
+        self_induced_velocity_(model.coupling.self_induced_velocity) {}
   std::string_view name() const override { return "fluid_drag_reaction"; }
   Access access() const override {
     return {component_ids<GrainState, GrainProperties, GrainVoidage, ParticleState>(),
@@ -24,8 +27,12 @@ class FluidDragReaction final : public System {
   void run(SystemContext& context) override;
 
  private:
+  void spread_with_sampling_kernel(SystemContext& context, double largest_radius);
+
   MpsConstants constants_;
   bool mixture_velocity_ = false;  ///< the water takes the drag per volume over eps (CouplingModel)
+  bool self_induced_velocity_ = false;  ///< spread with the sampling kernel (CouplingModel::self_induced_velocity)
+  CellGrid fluid_grid_;          ///< the fluid particles, for the kernel spreading
   VoidageGrid grid_;             ///< its fluid deposit is the normalisation; the solid deposit is unused (zero volumes)
   std::vector<double> volumes_;
   std::vector<Vec3> node_impulse_;

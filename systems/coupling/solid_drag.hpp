@@ -2,14 +2,23 @@
 // Drag on every grain at every sub-step (seed 000 Eqs. 20-25; numerics.md 5.1, 5.6 step 8): from the fluid velocity
 // and voidage sampled at the last fluid step (solid_fluid_sampling) and the grain's current velocity. The drag is
 // also integrated over the sub-steps (drag_impulse), so the fluid can take back exactly what the grains received
-// (fluid_drag_reaction).
+// (fluid_drag_reaction). With coupling.self_induced_velocity, the drag uses the undisturbed velocity: the sampled
+// one less the grain's own disturbance (systems/physics/self_induced.hpp), solved together with the drag.
+#include <array>
+#include <vector>
+
 #include "engine/core/system.hpp"
 
 namespace riffle {
 
+/// The self-induced correction holds for dilute grains: at or below this voidage (Ergun's branch, a bed) the
+/// water's answer to a grain's drag is screened by its neighbours, and the drag laws already refer to the mean
+/// pore velocity.
+inline constexpr double kSelfInducedMinVoidage = 0.8;
+
 class SolidDrag final : public System {
  public:
-  explicit SolidDrag(const Model& model) : model_(model.coupling), fluid_(model.fluid) {}
+  explicit SolidDrag(const Model& model);
   std::string_view name() const override { return "solid_drag"; }
   Access access() const override {
     return {component_ids<GrainState, GrainProperties, GrainSampledFluid, GrainVoidage>(), component_ids<GrainDrag>()};
@@ -17,8 +26,22 @@ class SolidDrag final : public System {
   void run(SystemContext& context) override;
 
  private:
+  /// The grain's own disturbance, one first-order lag per mode of its build-up (SelfInducedModes: fast, middle,
+  /// slow); their sum is fluid_velocity - undisturbed_velocity.
+  using Disturbance = std::array<Vec3, 3>;
+
+  void clear_disturbance(GrainDrag& drag, std::size_t grain, EntityId id);
+  void drag_without_own_disturbance(std::size_t grain, const GrainState& grains, const GrainProperties& properties,
+                                    const GrainSampledFluid& sampled, double voidage, double flux_share, double dt,
+                                    GrainDrag& drag);
+
   CouplingModel model_;
   FluidModel fluid_;
+  double fluid_step_;        ///< [s] run.dt: the exchange's delay is about two of them (solid_drag.cpp)
+  double inverse_distance_;  ///< R <1/r> of the spreading and sampling kernels (self_induced.hpp)
+  /// Per grain id: the state of the build-up. Held here, not in the checkpoint (its format is shared with the other
+  /// issue-21 fields): a resumed run starts each grain's build-up again from zero (docs/COUPLING.md).
+  std::vector<Disturbance> disturbance_;
 };
 
 }  // namespace riffle

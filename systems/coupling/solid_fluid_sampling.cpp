@@ -3,6 +3,8 @@
 #include "systems/physics/drag_law.hpp"
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/self_induced.hpp"
+#include "systems/coupling/solid_drag.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +16,10 @@ SolidFluidSampling::SolidFluidSampling(const Model& model)
     : constants_(MpsConstants::from(model.fluid)),
       pressure_gradient_(model.coupling.pressure_gradient),
       fluid_acceleration_(model.coupling.added_mass || model.coupling.history_force),
-      density_(model.fluid.density) {}
+      density_(model.fluid.density),
+      self_induced_velocity_(model.coupling.self_induced_velocity),
+      mixture_velocity_(model.coupling.mixture_velocity),
+      overlap_(model.coupling.self_induced_velocity ? self_induced_overlap() : 0.0) {}
 
 void SolidFluidSampling::run(SystemContext& context) {
   const FluidSample& fluid = context.read<FluidSample>();
@@ -80,6 +85,24 @@ void SolidFluidSampling::run(SystemContext& context) {
     // history force"). Only when a force uses it: with both off the field stays as it was (bit-identical runs).
     if (fluid_acceleration_)
       sampled.fluid_acceleration[grain] = context.model.gravity - gradient / (weight_sum * density_);
+    if (self_induced_velocity_ && pressure_gradient_) {
+      // The water's pressure answers the irrotational part of the grain's spread reaction -F rho_s / flux_share:
+      // at the centre of the isotropic blob, grad p = -F <rho_s rho_w> / 3 sampled, which adds
+      // V F <rho_s rho_w> / 3 to -V <grad p> (docs/COUPLING.md). F is the last sub-step's drag, which the water
+      // received over the last step; only for the dilute grains whose drag the correction applies to.
+      const double voidage = context.read<GrainVoidage>().voidage[grain];
+      if (voidage > kSelfInducedMinVoidage) {
+        const double flux_share = mixture_velocity_ ? voidage : 1.0;
+        const double kernel_radius = properties.radius[grain] + effective_radius;
+        const double own = grain_volume(properties.radius[grain]) * overlap_ /
+                           (3.0 * kernel_radius * kernel_radius * kernel_radius * flux_share);
+        const Vec3 own_force = own * context.read<GrainDrag>().drag_force[grain];
+        sampled.pressure_force[grain] -= own_force;
+        // The water's acceleration the added mass and history forces use is the undisturbed one too.
+        if (fluid_acceleration_)
+          sampled.fluid_acceleration[grain] += own_force / (density_ * grain_volume(properties.radius[grain]));
+      }
+    }
   });
   context.count_items(grains.size());
 }

@@ -16,6 +16,11 @@ class SolidFluidSampling final : public System {
   explicit SolidFluidSampling(const Model& model);
   std::string_view name() const override { return "solid_fluid_sampling"; }
   Access access() const override {
+    // With the self-induced correction, the pressure force loses the grain's own drag reaction (GrainDrag's last
+    // drag, GrainVoidage's reading of it), docs/COUPLING.md.
+    if (self_induced_velocity_)
+      return {component_ids<FluidSample, GrainState, GrainProperties, GrainDrag, GrainVoidage>(),
+              component_ids<GrainSampledFluid>()};
     return {component_ids<FluidSample, GrainState, GrainProperties>(), component_ids<GrainSampledFluid>()};
   }
   void run(SystemContext& context) override;
@@ -25,6 +30,9 @@ class SolidFluidSampling final : public System {
   bool pressure_gradient_;  ///< the grains feel -V <grad p> (CouplingModel::pressure_gradient)
   bool fluid_acceleration_; ///< the water's acceleration is sampled (added mass or history force on)
   double density_;          ///< [kg/m^3] the water's
+  bool self_induced_velocity_;  ///< CouplingModel::self_induced_velocity
+  bool mixture_velocity_;       ///< CouplingModel::mixture_velocity: the water took the drag over eps
+  double overlap_;              ///< R^3 <rho_s rho_w> (self_induced.hpp), with the correction on
   CellGrid fluid_grid_;
 };
 
