@@ -104,6 +104,10 @@ struct GrainDrag {
   std::vector<Vec3> drag_impulse;  ///< [N s] drag integrated over the sub-steps since the fluid last took it back
   /// [m/s] the fluid velocity the drag used: the sampled one less the grain's own disturbance (docs/COUPLING.md)
   std::vector<Vec3> undisturbed_velocity;
+  /// [m/s] the grain's own disturbance of the sampled velocity, one first-order lag per mode of its build-up (fast,
+  /// middle, slow: systems/physics/self_induced.hpp); their sum is fluid_velocity - undisturbed_velocity. Grain
+  /// fields, so a resumed run continues each build-up where it was.
+  std::vector<Vec3> self_induced_fast, self_induced_middle, self_induced_slow;
 
   std::size_t size() const { return drag_force.size(); }
 
@@ -112,6 +116,9 @@ struct GrainDrag {
     visit(FieldInfo{"drag_force", "N", true}, self.drag_force);
     visit(FieldInfo{"drag_impulse", "N s", false}, self.drag_impulse);
     visit(FieldInfo{"undisturbed_velocity", "m/s", true, 0.0, 6}, self.undisturbed_velocity);
+    visit(FieldInfo{"self_induced_fast", "m/s", false, 0.0, 6}, self.self_induced_fast);
+    visit(FieldInfo{"self_induced_middle", "m/s", false, 0.0, 6}, self.self_induced_middle);
+    visit(FieldInfo{"self_induced_slow", "m/s", false, 0.0, 6}, self.self_induced_slow);
   }
 };
 
@@ -207,14 +214,15 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
-  static constexpr std::array<const char*, 33> kFieldOrder = {
+  static constexpr std::array<const char*, 36> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
       "voidage",      "fluid_weight",   "material",       "size_class",
       "undisturbed_velocity", "fluid_acceleration", "added_mass_force", "history_force", "lubrication_force",
       "history_relative_velocity", "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
-      "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7"};
+      "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7",
+      "self_induced_fast", "self_induced_middle", "self_induced_slow"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 

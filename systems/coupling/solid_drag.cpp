@@ -25,16 +25,10 @@ void SolidDrag::run(SystemContext& context) {
   const double viscosity = fluid_.kinematic_viscosity * density;
   const double dt = context.dt;
   const double kPi = 3.14159265358979323846;
-  if (model_.self_induced_velocity) {  // one entry per grain id (ids are dense and never reused), made serially
-    EntityId largest = 0;
-    for (const EntityId id : grains.id) largest = std::max(largest, id);
-    if (disturbance_.size() <= largest)
-      disturbance_.resize(static_cast<std::size_t>(largest) + 1, Disturbance{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
-  }
   for_each_particle(grains.size(), [&](std::size_t grain) {
     if (sampled.fluid_weight[grain] <= 0.0) {
       drag.drag_force[grain] = Vec3::Zero();
-      if (model_.self_induced_velocity) clear_disturbance(drag, grain, grains.id[grain]);
+      if (model_.self_induced_velocity) clear_disturbance(drag, grain);
       return;
     }
     const double voidage = voidages.voidage[grain];
@@ -51,7 +45,7 @@ void SolidDrag::run(SystemContext& context) {
       const double coefficient = drag_per_volume(voidage, diameter, slip.norm(), density, viscosity, model_);
       drag.drag_force[grain] = coefficient * volume * slip;
       if (model_.self_induced_velocity) {  // a grain in a dense bed: no correction (its validity: dilute grains)
-        clear_disturbance(drag, grain, grains.id[grain]);
+        clear_disturbance(drag, grain);
         drag.undisturbed_velocity[grain] = sampled.fluid_velocity[grain];
       }
     }
@@ -60,8 +54,8 @@ void SolidDrag::run(SystemContext& context) {
   context.count_items(grains.size());
 }
 
-void SolidDrag::clear_disturbance(GrainDrag& drag, std::size_t grain, EntityId id) {
-  disturbance_[static_cast<std::size_t>(id)] = Disturbance{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+void SolidDrag::clear_disturbance(GrainDrag& drag, std::size_t grain) {
+  drag.self_induced_fast[grain] = drag.self_induced_middle[grain] = drag.self_induced_slow[grain] = Vec3::Zero();
   drag.undisturbed_velocity[grain] = Vec3::Zero();
 }
 
@@ -96,8 +90,8 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // step's prediction, sampled at the start of the one after, used over it): each lag also waits that long (a
   // delay d ahead of a lag tau is a lag tau + d to first order).
   const double exchange_delay = 2.0 * fluid_step_;
-  Disturbance& state = disturbance_[static_cast<std::size_t>(grains.id[grain])];
-  std::array<Vec3*, SelfInducedModes::kCount> modes = {&state[0], &state[1], &state[2]};
+  std::array<Vec3*, SelfInducedModes::kCount> modes = {&drag.self_induced_fast[grain], &drag.self_induced_middle[grain],
+                                                       &drag.self_induced_slow[grain]};
   std::array<double, SelfInducedModes::kCount> keep{};
   Vec3 carried = Vec3::Zero();
   double alpha = 0.0;

@@ -26,11 +26,7 @@ class SolidDrag final : public System {
   void run(SystemContext& context) override;
 
  private:
-  /// The grain's own disturbance, one first-order lag per mode of its build-up (SelfInducedModes: fast, middle,
-  /// slow); their sum is fluid_velocity - undisturbed_velocity.
-  using Disturbance = std::array<Vec3, 3>;
-
-  void clear_disturbance(GrainDrag& drag, std::size_t grain, EntityId id);
+  void clear_disturbance(GrainDrag& drag, std::size_t grain);
   void drag_without_own_disturbance(std::size_t grain, const GrainState& grains, const GrainProperties& properties,
                                     const GrainSampledFluid& sampled, double voidage, double flux_share, double dt,
                                     GrainDrag& drag);
@@ -39,9 +35,6 @@ class SolidDrag final : public System {
   FluidModel fluid_;
   double fluid_step_;        ///< [s] run.dt: the exchange's delay is about two of them (solid_drag.cpp)
   double inverse_distance_;  ///< R <1/r> of the spreading and sampling kernels (self_induced.hpp)
-  /// Per grain id: the state of the build-up. Held here, not in the checkpoint (its format is shared with the other
-  /// issue-21 fields): a resumed run starts each grain's build-up again from zero (docs/COUPLING.md).
-  std::vector<Disturbance> disturbance_;
 };
 
 }  // namespace riffle
