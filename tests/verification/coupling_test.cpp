@@ -404,7 +404,12 @@ high = [0.12, 0.08, 0.1]
 added_mass = true
 history_force = true
 history_window = 0.05
+self_induced_velocity = true
+fluid_velocity = "pore"
 )";
+  // The pore reading: there the water's momentum is the pore water's, one-for-one with the grains'. (In the mixture
+  // reading, the default, the water stands for the mixture's volume flux and takes each grain's impulse over its
+  // voidage by design: docs/COUPLING.md, "The water inside the bed".)
   auto simulation = Simulation::from_model(parse_scene(scene, "closed.toml"));
   const Model& model = simulation->model();
   REQUIRE(model.coupling.drag);
