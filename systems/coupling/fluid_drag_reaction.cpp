@@ -73,10 +73,17 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, doub
   ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const double effective_radius = constants_.kernel.effective_radius;
+  const auto spreads_here = [&](std::size_t grain) {
+    return !drag.drag_impulse[grain].isZero(0.0) && voidages.voidage[grain] > kSelfInducedMinVoidage;
+  };
+  // A bed has no dilute grain (the seed's never does): then the fluid grid is not built at all.
+  bool any = false;
+  for (std::size_t grain = 0; grain < grains.size() && !any; ++grain) any = spreads_here(grain);
+  if (!any) return;
   const DomainBox domain = domain_box(context.model);
   fluid_grid_.build(particles.position, 0, fluid_count, largest_radius + effective_radius, domain.low, domain.high);
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
-    if (drag.drag_impulse[grain].isZero(0.0) || voidages.voidage[grain] <= kSelfInducedMinVoidage) continue;
+    if (!spreads_here(grain)) continue;
     const Vec3 centre = grains.position[grain];
     const WendlandKernel kernel(properties.radius[grain] + effective_radius);
     double weight_sum = 0.0;
