@@ -230,16 +230,25 @@ struct ProbeModel {
     kFluidPressure,  ///< pressure at sensors fixed to the tank (hydrostatically extrapolated Shepard average)
     kWaveGauge,      ///< height of the free surface above horizontal points of the tank
     kSurgeFront,     ///< furthest reach of the connected fluid along a horizontal direction
-    kFluidTotals     ///< the fluid's per-step summary (FluidSummary): count, volume, energy, PPE report
+    kFluidTotals,    ///< the fluid's per-step summary (FluidSummary): count, volume, energy, PPE report
+    kPressureTransducer  ///< pressure averaged over discs on the tank's walls, optionally over a time window
   };
   Kind kind = Kind::kGrains;
   std::string name;                 ///< unique among the probes
   std::string file;                 ///< file name inside the output directory
   double interval = 0.0;            ///< [s] between rows; 0 = every engine step
   std::vector<std::uint64_t> ids;   ///< grains: grain ids (stable, not slots), in the order of the columns
-  /// [m] fluid_pressure: sensor positions; wave_gauge: (x, y, 0) gauge positions. Tank frame (rest coordinates):
-  /// the lab position is point + tank displacement, so a sensor on a wall moves with it.
+  /// [m] fluid_pressure: sensor positions; wave_gauge: (x, y, 0) gauge positions; pressure_transducer: disc centres
+  /// on the walls' inner faces. Tank frame (rest coordinates): the lab position is point + tank displacement, so a
+  /// sensor on a wall moves with it.
   std::vector<Vec3> points;
+  /// [1] pressure_transducer: for each disc, the unit normal of its wall pointing out of the water into the wall
+  /// (x_min: -x); the disc lies in the plane through its point normal to it.
+  std::vector<Vec3> normals;
+  double diameter = 0.0;            ///< [m] pressure_transducer: the discs' diameter
+  /// [s] pressure_transducer: each row is the time-weighted mean of the readings of the steps that ended in
+  /// (t - average_window, t]; 0 = the reading at t alone
+  double average_window = 0.0;
   double radius = 0.0;              ///< [m] wave_gauge: horizontal search radius around each gauge (default l0)
   Vec3 direction = Vec3::UnitX();   ///< [1] surge_front: unit horizontal direction of the front
   /// [m] surge_front: only particles less than this above the tank floor count (infinity = the whole depth)

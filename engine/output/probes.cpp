@@ -10,6 +10,7 @@
 
 #include "systems/physics/hydrostatic.hpp"
 #include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/pressure_sensor.hpp"
 
 namespace riffle {
 
@@ -51,8 +52,51 @@ FluidProbeSettings fluid_probe_settings(const Model& model) {
   settings.reference_number_density =
       lattice_constants(3, settings.spacing, settings.effective_radius).number_density;
   settings.floor_height = model.tank.origin.z();
+  settings.allow_tension = !model.fluid.clamp_negative_pressure;
   return settings;
 }
+
+namespace {
+
+/// The sums a pressure sensor at a lab position needs over the MPS particles within r_e of it.
+struct SensorSums {
+  double weighted_pressure = 0.0;  ///< [Pa] sum over fluid j of w_j (p_j + grad p . (x_s - x_j))
+  double fluid_weight = 0.0;       ///< [1] sum over fluid j of w_j
+  double solid_weight = 0.0;       ///< [1] sum over wall and dummy j of w_j
+};
+
+/// Adds particle j's share to the sums of a sensor at `sensor`.
+void add_to_sensor(SensorSums& sums, const FluidParticles& particles, std::size_t j, const Vec3& sensor,
+                   const WendlandKernel& kernel, const Vec3& gradient) {
+  const Vec3 offset = sensor - particles.position[j];
+  const double distance_squared = offset.squaredNorm();
+  if (distance_squared >= kernel.effective_radius * kernel.effective_radius) return;
+  const double weight = kernel.weight(std::sqrt(distance_squared));
+  if (particles.kind[j] == static_cast<std::int32_t>(FluidKind::kFluid)) {
+    sums.weighted_pressure += weight * hydrostatic_extrapolation(particles.pressure[j], gradient, offset);
+    sums.fluid_weight += weight;
+  } else {
+    sums.solid_weight += weight;
+  }
+}
+
+/// [Pa] The sensor's reading from its sums; `dry` (no fluid within r_e) is returned as is.
+double sensor_reading(const SensorSums& sums, const FluidProbeSettings& settings, double dry) {
+  if (!(sums.fluid_weight > 0.0)) return dry;
+  const double full = full_support_density(settings.spacing, settings.effective_radius);
+  return sensor_pressure(sums.weighted_pressure, sums.fluid_weight,
+                         wetted_fraction(sums.fluid_weight, sums.solid_weight, full), settings.allow_tension);
+}
+
+/// Two unit vectors spanning the plane normal to the unit vector `normal`.
+std::pair<Vec3, Vec3> tangents(const Vec3& normal) {
+  Eigen::Index least = 0;
+  normal.cwiseAbs().minCoeff(&least);
+  const Vec3 first = normal.cross(Vec3::Unit(least)).normalized();
+  return {first, normal.cross(first)};
+}
+
+}  // namespace
 
 double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
                          const Vec3& point) {
@@ -61,18 +105,58 @@ double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettin
   // makes the average exact for a hydrostatic field, and is what lets a sensor outside the fluid (on a wall) read.
   const Vec3 gradient = hydrostatic_gradient(settings.density, settings.gravity, tank.acceleration);
   const WendlandKernel kernel{settings.effective_radius};
-  const double radius_squared = settings.effective_radius * settings.effective_radius;
-  double weighted_sum = 0.0, weight_sum = 0.0;
-  for (std::size_t j = 0; j < particles.size(); ++j) {
-    if (particles.kind[j] != static_cast<std::int32_t>(FluidKind::kFluid)) continue;
-    const Vec3 offset = sensor - particles.position[j];
-    if (offset.squaredNorm() >= radius_squared) continue;
-    const double weight = kernel.weight(offset.norm());
-    weighted_sum += weight * hydrostatic_extrapolation(particles.pressure[j], gradient, offset);
-    weight_sum += weight;
-  }
-  return weight_sum > 0.0 ? weighted_sum / weight_sum : kNaN;
+  SensorSums sums;
+  for (std::size_t j = 0; j < particles.size(); ++j) add_to_sensor(sums, particles, j, sensor, kernel, gradient);
+  return sensor_reading(sums, settings, kNaN);
 }
+
+double pressure_transducer_reading(const FluidParticles& particles, const FluidProbeSettings& settings,
+                                   const TankMotion& tank, const Vec3& point, const Vec3& normal, double diameter) {
+  const double radius = 0.5 * diameter;
+  const Vec3 centre = point + tank.displacement;
+  const Vec3 gradient = hydrostatic_gradient(settings.density, settings.gravity, tank.acceleration);
+  const WendlandKernel kernel{settings.effective_radius};
+  // One pass over all particles picks those that can reach any point of the disc; each quadrature point then scans
+  // only these: O(N + Q M) instead of O(Q N).
+  const double reach = radius + settings.effective_radius;
+  std::vector<std::size_t> near;
+  for (std::size_t j = 0; j < particles.size(); ++j)
+    if ((particles.position[j] - centre).squaredNorm() < reach * reach) near.push_back(j);
+  const auto [along, across] = tangents(normal);
+  const double spacing = 0.25 * std::min(settings.spacing, radius);
+  double reading = 0.0;
+  for (const DiscQuadraturePoint& q : disc_quadrature(radius, spacing, 16)) {
+    const Vec3 sensor = centre + q.u * along + q.v * across;
+    SensorSums sums;
+    for (std::size_t j : near) add_to_sensor(sums, particles, j, sensor, kernel, gradient);
+    reading += q.weight * sensor_reading(sums, settings, 0.0);  // no water near: dry area, 0
+  }
+  return reading;
+}
+
+void WindowMean::add(double time, std::vector<double> values) {
+  const double start = readings_.empty() ? time : readings_.back().time;
+  readings_.push_back({start, time, std::move(values)});
+  while (readings_.size() > 1 && readings_.front().time <= time - window_) readings_.pop_front();
+}
+
+std::vector<double> WindowMean::mean() const {
+  if (readings_.empty()) return {};
+  const double begin = readings_.back().time - window_;
+  std::vector<double> sum(readings_.back().values.size(), 0.0);
+  double covered = 0.0;
+  for (const Reading& reading : readings_) {
+    const double overlap = reading.time - std::max(reading.start, begin);
+    if (!(overlap > 0.0)) continue;
+    for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += overlap * reading.values[k];
+    covered += overlap;
+  }
+  if (!(covered > 0.0)) return readings_.back().values;  // a lone reading (a fresh run's t = 0): itself
+  for (double& value : sum) value /= covered;
+  return sum;
+}
+
+double WindowMean::latest_time() const { return readings_.empty() ? kNaN : readings_.back().time; }
 
 namespace {
 /// n of particle `slot` at the current positions: sum of w(r) over every other MPS particle (fluid, wall, dummy)
@@ -159,6 +243,8 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
     for (std::size_t k = 0; k < probe.points.size(); ++k) header += ",p" + std::to_string(k) + "_Pa";
   } else if (probe.kind == ProbeModel::Kind::kWaveGauge) {
     for (std::size_t k = 0; k < probe.points.size(); ++k) header += ",gauge" + std::to_string(k) + "_z_m";
+  } else if (probe.kind == ProbeModel::Kind::kPressureTransducer) {
+    for (std::size_t k = 0; k < probe.points.size(); ++k) header += ",p" + std::to_string(k) + "_Pa";
   } else if (probe.kind == ProbeModel::Kind::kSurgeFront) {
     header += ",front_m";
   } else {
@@ -171,11 +257,29 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
 ProbeWriter::ProbeWriter(const Model& model, const ProbeModel& probe, const fs::path& out_dir, const World& world,
                          bool fresh_run)
     : probe_(probe),
+      window_(probe.kind == ProbeModel::Kind::kPressureTransducer && probe.average_window > 0.0
+                  ? std::optional<WindowMean>(std::in_place, probe.average_window)
+                  : std::nullopt),
       fluid_(model.fluid.enabled ? fluid_probe_settings(model) : FluidProbeSettings{}),
       slots_(probe.ids),
       schedule_(probe.interval, model.dt, world.time),
       file_(out_dir / probe.file, probe_header(probe, world),
             fresh_run ? std::nullopt : std::optional<double>(world.time)) {}
+
+std::vector<double> ProbeWriter::transducer_readings(const World& world) const {
+  if (!world.fluid) return {};
+  const TankMotion tank = world.tank_motion.value_or(TankMotion{});
+  std::vector<double> readings;
+  for (std::size_t k = 0; k < probe_.points.size(); ++k)
+    readings.push_back(
+        pressure_transducer_reading(*world.fluid, fluid_, tank, probe_.points[k], probe_.normals[k], probe_.diameter));
+  return readings;
+}
+
+void ProbeWriter::take_reading(const World& world) {
+  if (!world.fluid || window_->latest_time() == world.time) return;
+  window_->add(world.time, transducer_readings(world));
+}
 
 void ProbeWriter::write(const World& world) {
   std::string row = format_exact(world.time);
@@ -243,6 +347,13 @@ void ProbeWriter::write(const World& world) {
         return surge_front_position(fluid, fluid_, tank, probe_.direction, probe_.below);
       });
       break;
+    case ProbeModel::Kind::kPressureTransducer: {
+      if (window_) take_reading(world);  // a fresh run's t = 0 row: the window holds the initial state alone
+      const std::vector<double> readings = window_ ? window_->mean() : transducer_readings(world);
+      for (std::size_t k = 0; k < probe_.points.size(); ++k)
+        append_field(row, world.fluid && k < readings.size() ? format_value(readings[k]) : std::string());
+      break;
+    }
     case ProbeModel::Kind::kFluidTotals:
       if (const std::optional<FluidSummary>& summary = world.fluid_summary) {
         append_field(row, std::to_string(summary->fluid_count));

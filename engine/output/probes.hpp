@@ -8,15 +8,21 @@
 //   kind = "wall_forces"  the reaction force on each wall, minus the sum of its grain-wall contact forces,
 //                         3 columns per wall, named after it;
 //   kind = "fluid_pressure", "wave_gauge", "surge_front", "fluid_totals"  the MPS fluid (need [fluid]): pressure
-//                         at sensors fixed to the tank, surface height at gauges, the surge front, FluidSummary.
+//                         at sensors fixed to the tank, surface height at gauges, the surge front, FluidSummary;
+//   kind = "pressure_transducer"  the pressure averaged over discs on the tank's walls (0 in air), optionally
+//                         averaged over a time window ending at each row (the only probe that reads between rows).
 //
 // Each file starts with "time_s,step", then the probe's columns; one row on the first output of a fresh run
 // (t = 0), then one per `interval` (IntervalSchedule). On resume, the rows after the checkpoint's time are dropped
-// and the series continues (CsvSeries). Grains are named by their stable id; their slots change when grains are
-// reordered, so the writer keeps an id -> slot map and rebuilds it when a slot no longer holds its id.
+// and the series continues (CsvSeries); a transducer's time window restarts at the resume (no probe keeps state in
+// checkpoints), so the rows after it average only the steps since. Grains are named by their stable id; their
+// slots change when grains are reordered, so the writer keeps an id -> slot map and rebuilds it when a slot no
+// longer holds its id.
 #include <array>
 #include <cstddef>
+#include <deque>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,6 +70,7 @@ struct FluidProbeSettings {
   Vec3 gravity = Vec3::Zero();            ///< [m/s^2] g
   double reference_number_density = 0.0; ///< [1] n0 of the initial lattice (lattice_constants(3, l0, r_e))
   double floor_height = 0.0;              ///< [m] z of the tank's inner floor at rest
+  bool allow_tension = false;             ///< !fluid.clamp_negative_pressure: a sensor may read p < 0
 };
 /// The settings of model.fluid (which must be enabled, with l0 > 0).
 FluidProbeSettings fluid_probe_settings(const Model& model);
@@ -72,9 +79,46 @@ FluidProbeSettings fluid_probe_settings(const Model& model);
 /// over the fluid particles j within r_e of the sensor's lab position x_s = point + displacement of
 /// p_j + rho (g - a_tank) . (x_s - x_j), i.e. each p_j carried hydrostatically to the sensor (numerics.md amendment
 /// 1), so a sensor on a wall, l0/2 beyond the last fluid layer, reads the wall pressure. NaN if no fluid particle is
-/// within r_e (a dry sensor).
+/// within r_e (a dry sensor). In air it reads 0 (sensor_pressure, systems/physics/pressure_sensor.hpp): where the
+/// wetted fraction of its support is below a quarter (spray only), and where the extrapolation is negative (the
+/// sensor lies above the water it extrapolates from) unless the fluid may hold tension.
 double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,
                          const Vec3& point);
+
+/// [Pa] What a pressure transducer reads: the pressure averaged over a disc of `diameter` centred on `point` (tank
+/// frame, on a wall's inner face) normal to `normal`, i.e. the force on the disc over its area. The disc is
+/// integrated with disc_quadrature (points about min(l0, diameter/2)/4 apart, at most 16 rings); each quadrature
+/// point reads as fluid_pressure_at does, except that a point with no fluid within r_e contributes 0 (its area is
+/// dry), so the transducer reads 0 in air, never NaN, and never less than 0 unless the fluid may hold tension.
+/// Exact for a hydrostatic field: the disc's mean of a linear field is its value at the centre.
+double pressure_transducer_reading(const FluidParticles& particles, const FluidProbeSettings& settings,
+                                   const TankMotion& tank, const Vec3& point, const Vec3& normal, double diameter);
+
+/// The time average of a probe's readings over a window of time ending at the latest: the signal holds each reading
+/// (the state at the end of a step) over that step, (t_prev, t_k], and the mean is its integral over (t - window, t]
+/// divided by the time of that interval it covers, i.e. the window, or less after a start or a resume. A step that
+/// straddles the window's start counts with the part inside it, so the mean does not jump with rounding of times.
+class WindowMean {
+ public:
+  explicit WindowMean(double window) : window_(window) {}
+  /// Adds the readings at `time`, held since the previous reading (from `time` itself for the first); drops those
+  /// wholly before time - window.
+  void add(double time, std::vector<double> values);
+  /// The mean of each column over the window; the latest values if the readings cover no time (a fresh run's
+  /// t = 0); empty if nothing was added.
+  std::vector<double> mean() const;
+  /// Time of the latest reading (NaN if none).
+  double latest_time() const;
+
+ private:
+  struct Reading {
+    double start;  ///< [s] the previous reading's time
+    double time;   ///< [s]
+    std::vector<double> values;
+  };
+  double window_;
+  std::deque<Reading> readings_;  ///< oldest first
+};
 
 /// [m] Height (tank-frame z) of the free surface above the gauge at `point` (x, y in the tank frame): the largest
 /// z_j + l0/2 of the fluid particles within horizontal distance `radius` of the gauge that are not isolated
@@ -101,13 +145,21 @@ class ProbeWriter {
               bool fresh_run);
   /// Writes a row for the current state.
   void write(const World& world);
-  /// Writes a row if one is due after the step that ended at world.time.
+  /// Called after every step: a time-averaged transducer takes the step's reading; then writes a row if one is due
+  /// after the step that ended at world.time.
   void write_if_due(const World& world) {
+    if (window_) take_reading(world);
     if (schedule_.take(world.time)) write(world);
   }
 
  private:
+  /// The transducers' readings now, one per disc; empty without fluid particles.
+  std::vector<double> transducer_readings(const World& world) const;
+  /// Adds the current readings to the time window (once per time).
+  void take_reading(const World& world);
+
   ProbeModel probe_;
+  std::optional<WindowMean> window_;  ///< pressure_transducer with average_window > 0
   FluidProbeSettings fluid_;  ///< fluid probes only
   GrainSlotMap slots_;
   IntervalSchedule schedule_;

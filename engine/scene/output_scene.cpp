@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "engine/output/bed_statistics.hpp"
+#include "engine/setup/fluid_layout.hpp"
 #include "engine/setup/initial_state.hpp"
 
 namespace riffle {
@@ -60,13 +61,15 @@ const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
       {"fluid_pressure", ProbeModel::Kind::kFluidPressure},
       {"wave_gauge", ProbeModel::Kind::kWaveGauge},
       {"surge_front", ProbeModel::Kind::kSurgeFront},
-      {"fluid_totals", ProbeModel::Kind::kFluidTotals}};
+      {"fluid_totals", ProbeModel::Kind::kFluidTotals},
+      {"pressure_transducer", ProbeModel::Kind::kPressureTransducer}};
   return kinds;
 }
 
 bool is_fluid_probe(ProbeModel::Kind kind) {
   return kind == ProbeModel::Kind::kFluidPressure || kind == ProbeModel::Kind::kWaveGauge ||
-         kind == ProbeModel::Kind::kSurgeFront || kind == ProbeModel::Kind::kFluidTotals;
+         kind == ProbeModel::Kind::kSurgeFront || kind == ProbeModel::Kind::kFluidTotals ||
+         kind == ProbeModel::Kind::kPressureTransducer;
 }
 
 /// The `points` of a fluid_pressure (width 3) or wave_gauge (width 2) probe. Each must lie in the tank's inner box
@@ -112,6 +115,105 @@ void read_surge_front(TableReader& table, ProbeModel& probe) {
       probe.direction = direction.normalized();
   }
   probe.below = table.number("below", std::numeric_limits<double>::infinity(), "m", Bounds::positive());
+}
+
+/// The longest time window a transducer may average over: its steps' readings are held in memory.
+constexpr double kMaxAverageWindow = 1.0;  // [s]
+
+/// The keys of a pressure_transducer probe: `points` (disc centres, each on the inner face of a closed tank wall),
+/// `face` (optional: the wall every disc is on; without it each point's own), `diameter` and `average_window`. A
+/// disc must lie within its face: a disc over an edge would be on two walls at once.
+void read_transducers(TableReader& table, const Model& model, ProbeModel& probe) {
+  if (!model.fluid.tank_walls)
+    table.problem("kind", "pressure transducers sit on the tank's walls, and [fluid] tank_walls = false builds none");
+  probe.diameter = table.number("diameter", std::nullopt, "m", Bounds::positive());
+  probe.average_window =
+      table.number("average_window", 0.0, "s", Bounds::closed(0.0, kMaxAverageWindow));
+  const auto open = [&](std::size_t face) {
+    const auto& faces = model.tank.open_faces;
+    return std::find(faces.begin(), faces.end(), kTankFaceNames[face]) != faces.end();
+  };
+  std::optional<std::size_t> chosen;
+  bool face_ok = true;  // a bad face is reported once; the points are still read (no "unknown key"), not judged
+  if (table.has("face")) {
+    const std::size_t problems_before = table.problem_count();
+    const std::string name =
+        table.choice("face", std::nullopt, std::vector<std::string>(kTankFaceNames.begin(), kTankFaceNames.end()));
+    if (table.problem_count() == problems_before) {
+      const auto found = std::find(kTankFaceNames.begin(), kTankFaceNames.end(), name);
+      chosen = static_cast<std::size_t>(found - kTankFaceNames.begin());
+      if (open(*chosen)) {
+        table.problem("face", "the " + name + " face is open: it has no wall to put a transducer on");
+        face_ok = false;
+      }
+    } else {
+      face_ok = false;
+    }
+  }
+  const std::size_t problems_before = table.problem_count();
+  const std::vector<Vec3> points = table.points("points", true, 3, "m");
+  if (points.empty() && table.problem_count() == problems_before)
+    table.problem("points", "expected at least one point");
+  const Vec3 low = model.tank.origin;
+  const Vec3 high = low + model.tank.size;
+  // A bad tank is reported where [tank] is read.
+  if (!face_ok || !(model.tank.size.minCoeff() > 0.0)) return;
+  const double slack = 1e-9 * model.tank.size.maxCoeff();
+  const double radius = probe.diameter > 0.0 ? 0.5 * probe.diameter : 0.0;
+  auto plane = [&](std::size_t face) { return face % 2 == 0 ? low[static_cast<Eigen::Index>(face / 2)]
+                                                            : high[static_cast<Eigen::Index>(face / 2)]; };
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Vec3& point = points[k];
+    std::vector<std::size_t> on;  // the closed faces whose plane the point lies in
+    for (std::size_t face = 0; face < 6; ++face)
+      if (!open(face) && std::abs(point[static_cast<Eigen::Index>(face / 2)] - plane(face)) <= slack)
+        on.push_back(face);
+    std::size_t face = 0;
+    char message[320];
+    if (chosen) {
+      face = *chosen;
+      if (std::abs(point[static_cast<Eigen::Index>(face / 2)] - plane(face)) > slack) {
+        std::snprintf(message, sizeof message, "the point is not on the %s face (%c = %g m at rest, tank frame)",
+                      kTankFaceNames[face].c_str(), "xyz"[face / 2], plane(face));
+        table.item_problem("points", k, message);
+        continue;
+      }
+    } else if (on.size() != 1) {
+      if (on.empty()) {
+        std::snprintf(message, sizeof message,
+                      "the point lies on no closed wall of the tank: a disc's centre must lie on a wall's inner face "
+                      "(x = %g or %g, y = %g or %g, z = %g or %g m at rest, tank frame; open faces have none)",
+                      low[0], high[0], low[1], high[1], low[2], high[2]);
+      } else {
+        std::snprintf(message, sizeof message,
+                      "the point lies on the edge of the %s and %s walls: name the wall with `face`",
+                      kTankFaceNames[on[0]].c_str(), kTankFaceNames[on[1]].c_str());
+      }
+      table.item_problem("points", k, message);
+      continue;
+    } else {
+      face = on.front();
+    }
+    // The disc (or, with a bad diameter, its centre) must lie within the face.
+    bool within = true;
+    for (Eigen::Index axis = 0; axis < 3; ++axis)
+      if (axis != static_cast<Eigen::Index>(face / 2))
+        within = within && point[axis] - radius >= low[axis] - slack && point[axis] + radius <= high[axis] + slack;
+    if (!within) {
+      const Eigen::Index a = face / 2 == 0 ? 1 : 0, b = face / 2 == 2 ? 1 : 2;
+      std::snprintf(message, sizeof message,
+                    "the disc (diameter %g m) reaches beyond the %s wall (%c %g to %g m, %c %g to %g m at rest, "
+                    "tank frame)",
+                    probe.diameter, kTankFaceNames[face].c_str(), "xyz"[a], low[a], high[a], "xyz"[b], low[b],
+                    high[b]);
+      table.item_problem("points", k, message);
+      continue;
+    }
+    Vec3 normal = Vec3::Zero();
+    normal[static_cast<Eigen::Index>(face / 2)] = face % 2 == 0 ? -1.0 : 1.0;  // out of the water, into the wall
+    probe.points.push_back(point);
+    probe.normals.push_back(normal);
+  }
 }
 
 }  // namespace
@@ -201,6 +303,9 @@ void read_probes(TableReader& output, Model& model) {
         read_surge_front(table, probe);
         break;
       case ProbeModel::Kind::kFluidTotals:
+        break;
+      case ProbeModel::Kind::kPressureTransducer:
+        read_transducers(table, model, probe);
         break;
     }
     table.finish();

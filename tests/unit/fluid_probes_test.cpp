@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "engine/output/probes.hpp"
 #include "engine/scene/output_scene.hpp"
 #include "engine/scene/scene.hpp"
+#include "engine/run/simulation.hpp"
 #include "systems/physics/mps_kernel.hpp"
 #include "tests/test_support.hpp"
 
@@ -413,4 +415,320 @@ kind = "fluid_totals"
     CHECK(lines_of(directory / "probe_surge_front.csv")[1] == "0,0,");
     CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,");
   }
+}
+
+// ---- The point sensor in air (issue 22: it read down to -226 Pa above a thin layer of water) ----
+
+TEST_CASE("a pressure sensor above the water reads 0, not its negative hydrostatic extrapolation") {
+  const FluidParticles water = still_water();
+  FluidProbeSettings s = settings();
+  // Above the free surface (z = H) the extrapolation rho g (H - z) is negative: the sensor is in air and reads 0.
+  // Before issue 22 these read -24.5, -49, -98 and -147 Pa.
+  for (const Vec3& point : {Vec3(0.03, 0.03, kDepth + 0.25 * kSpacing), Vec3(0.03, 0.03, kDepth + 0.5 * kSpacing),
+                            Vec3(0.03, 0.03, kDepth + kSpacing), Vec3(0.0, 0.03, kDepth + 1.5 * kSpacing)}) {
+    CAPTURE(point.transpose());
+    CHECK(fluid_pressure_at(water, s, TankMotion{}, point) == 0.0);
+  }
+  // With tension allowed ([fluid] clamp_negative_pressure = false) the extrapolation stands where the support is
+  // wet (l0/4 above the surface: a third of it holds water), and is 0 where it is dry (l0 above: 3 %).
+  s.allow_tension = true;
+  CHECK(std::abs(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.03, 0.03, kDepth + 0.25 * kSpacing)) +
+                 0.25 * kDensity * kGravity * kSpacing) <= kPressureTolerance);
+  CHECK(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.03, 0.03, kDepth + kSpacing)) == 0.0);
+  // Inside the water nothing changes.
+  CHECK(std::abs(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.0, 0.03, 0.01)) -
+                 kDensity * kGravity * (kDepth - 0.01)) <= kPressureTolerance);
+}
+
+TEST_CASE("a pressure sensor in air below a lone drop reads 0, not the drop's extrapolated pressure") {
+  // A drop at p = 0 half a spacing above a sensor far from the water: the extrapolation gives rho g l0/2 = 49 Pa,
+  // but a drop fills at most a quarter of the support: the sensor is in air.
+  FluidParticles water = still_water({Vec3(0.085, 0.03, 0.08)});
+  for (std::size_t j = 0; j < water.size(); ++j)
+    if (water.position[j] == Vec3(0.085, 0.03, 0.08)) water.pressure[j] = 0.0;
+  CHECK(fluid_pressure_at(water, settings(), TankMotion{}, Vec3(0.085, 0.03, 0.075)) == 0.0);
+  CHECK(std::isnan(fluid_pressure_at(water, settings(), TankMotion{}, Vec3(0.085, 0.03, 0.02))));  // nothing near
+}
+
+// ---- Pressure transducers: discs on the walls ----
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// (1/(pi R^2)) times the integral over a vertical disc of radius R of max(0, s - v), v the height above its
+/// centre: the mean hydrostatic pressure per rho g on a disc whose centre lies s below the water line.
+double half_submerged_mean(double s, double radius) {
+  const double r2 = radius * radius;
+  if (s >= radius) return s;
+  if (s <= -radius) return 0.0;
+  const double root = std::sqrt(r2 - s * s);
+  return (s * (s * root + r2 * std::asin(s / radius) + r2 * kPi / 2.0) + 2.0 / 3.0 * root * root * root) /
+         (kPi * r2);
+}
+
+}  // namespace
+
+TEST_CASE("a transducer reads rho g h at its centre, the wetted-area mean at the water line, 0 in air") {
+  const FluidParticles water = still_water();
+  const FluidProbeSettings s = settings();
+  const double rho_g = kDensity * kGravity;
+  // Below the water: the disc's mean of a linear field is its value at the centre, to rounding.
+  CHECK(std::abs(pressure_transducer_reading(water, s, TankMotion{}, Vec3(0.0, 0.03, 0.02), -Vec3::UnitX(), 0.01) -
+                 rho_g * (kDepth - 0.02)) <= kPressureTolerance);
+  CHECK(std::abs(pressure_transducer_reading(water, s, TankMotion{}, Vec3(0.03, 0.0, 0.015), -Vec3::UnitY(), 0.02) -
+                 rho_g * (kDepth - 0.015)) <= kPressureTolerance);
+  CHECK(std::abs(pressure_transducer_reading(water, s, TankMotion{}, Vec3(0.03, 0.03, 0.0), -Vec3::UnitZ(), 0.01) -
+                 rho_g * kDepth) <= kPressureTolerance);
+  // Across the water line: the mean of rho g max(0, H - z) over the disc; the quadrature's error is below 0.25 % of
+  // rho g R (pressure_sensor_test: 4 rings, the fewest a transducer uses).
+  for (const double centre : {kDepth, kDepth - 0.004, kDepth + 0.006}) {
+    CAPTURE(centre);
+    const double radius = 0.01;
+    const double reading =
+        pressure_transducer_reading(water, s, TankMotion{}, Vec3(0.0, 0.03, centre), -Vec3::UnitX(), 2 * radius);
+    CHECK(std::abs(reading - rho_g * half_submerged_mean(kDepth - centre, radius)) <= 0.0025 * rho_g * radius);
+  }
+  // In air: exactly 0, whether water is within reach (just above the water line, on the dry wall ahead of the
+  // front) or not.
+  CHECK(pressure_transducer_reading(water, s, TankMotion{}, Vec3(0.0, 0.03, kDepth + 0.006), -Vec3::UnitX(), 0.01) ==
+        0.0);
+  CHECK(pressure_transducer_reading(water, s, TankMotion{}, Vec3(0.1, 0.03, 0.02), Vec3::UnitX(), 0.01) == 0.0);
+  CHECK(pressure_transducer_reading(water, s, TankMotion{}, Vec3(0.0, 0.03, 0.09), -Vec3::UnitX(), 0.01) == 0.0);
+}
+
+TEST_CASE("a transducer moves with the tank and reads the field tilted by the tank's acceleration") {
+  const FluidProbeSettings s = settings();
+  FluidParticles water = still_water();
+  TankMotion tank;
+  tank.displacement = Vec3(0.007, -0.002, 0.003);
+  tank.acceleration = Vec3(3.0, -1.0, 2.0);
+  shift(water, tank.displacement);
+  const Vec3 body = s.gravity - tank.acceleration;
+  const Vec3 reference = Vec3(0.03, 0.03, kDepth) + tank.displacement;
+  for (std::size_t j = 0; j < water.size(); ++j)
+    water.pressure[j] = kDensity * body.dot(water.position[j] - reference);
+  struct Disc {
+    Vec3 point, normal;
+  };
+  for (const Disc& disc : {Disc{Vec3(0.0, 0.03, 0.02), -Vec3::UnitX()}, Disc{Vec3(0.03, 0.0, 0.01), -Vec3::UnitY()},
+                           Disc{Vec3(0.03, 0.03, 0.0), -Vec3::UnitZ()}}) {
+    CAPTURE(disc.point.transpose());
+    const double expected = kDensity * body.dot(disc.point + tank.displacement - reference);
+    CHECK(std::abs(pressure_transducer_reading(water, s, tank, disc.point, disc.normal, 0.01) - expected) <=
+          kPressureTolerance);
+  }
+}
+
+TEST_CASE("WindowMean: the time average over (t - window, t] of the readings held over their steps") {
+  WindowMean lone(0.5);
+  CHECK(lone.mean().empty());
+  lone.add(0.0, {7.0, -1.0});
+  CHECK(lone.mean() == std::vector<double>{7.0, -1.0});  // a lone reading is its own mean
+  WindowMean window(0.15);
+  window.add(0.0, {1.0});
+  window.add(0.1, {3.0});
+  window.add(0.2, {5.0});
+  // (0.05, 0.2]: half of the step (0, 0.1] at 3 and all of (0.1, 0.2] at 5: (0.05 * 3 + 0.1 * 5) / 0.15.
+  CHECK(window.mean()[0] == doctest::Approx((0.05 * 3.0 + 0.1 * 5.0) / 0.15).epsilon(1e-14));
+  WindowMean uneven(1.0);
+  uneven.add(0.0, {0.0});
+  uneven.add(0.01, {10.0});
+  uneven.add(0.04, {40.0});
+  CHECK(uneven.mean()[0] == doctest::Approx((0.01 * 10.0 + 0.03 * 40.0) / 0.04).epsilon(1e-14));
+  CHECK(uneven.latest_time() == 0.04);
+  WindowMean resumed(0.1);  // after a resume at 0.5 s: the window holds only the time since
+  resumed.add(0.5, {100.0});
+  resumed.add(0.52, {2.0});
+  CHECK(resumed.mean()[0] == doctest::Approx(2.0).epsilon(1e-14));
+}
+
+TEST_CASE("pressure transducers are read with their defaults, their face inferred or named") {
+  Model model = fluid_model();
+  const std::vector<std::string> problems = read_output_probes(R"(
+[output]
+[[output.probes]]
+kind = "pressure_transducer"
+points = [[0.0, 0.03, 0.02], [0.1, 0.03, 0.005], [0.05, 0.06, 0.05], [0.05, 0.03, 0.0]]
+diameter = 0.01
+
+[[output.probes]]
+kind = "pressure_transducer"
+name = "sides"
+face = "x_max"
+points = [[0.1, 0.03, 0.05]]
+diameter = 0.006
+average_window = 0.002
+interval = 0.001
+)",
+                                                               model);
+  CHECK(problems.empty());
+  REQUIRE(model.output.probes.size() == 2);
+  const ProbeModel& first = model.output.probes[0];
+  CHECK(first.kind == ProbeModel::Kind::kPressureTransducer);
+  CHECK(first.file == "probe_pressure_transducer.csv");
+  CHECK(first.diameter == 0.01);
+  CHECK(first.average_window == 0.0);
+  CHECK(first.normals == std::vector<Vec3>{-Vec3::UnitX(), Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitZ()});
+  const ProbeModel& second = model.output.probes[1];
+  CHECK(second.normals == std::vector<Vec3>{Vec3::UnitX()});
+  CHECK(second.average_window == 0.002);
+  CHECK(second.file == "probe_sides.csv");
+}
+
+TEST_CASE("bad pressure transducers are reported as file:line:column: key: message") {
+  struct Bad {
+    const char* probe;
+    const char* at;
+    const char* key;
+    const char* message;
+  };
+  const char* kind = "kind = \"pressure_transducer\"\n";
+  const std::vector<Bad> cases = {
+      {"points = [[0.0, 0.03, 0.02]]\ndiameter = -0.01\n", "diameter = ^-0.01", "output.probes[0].diameter",
+       "expected a number > 0 [m], got -0.01"},
+      {"points = [[0.0, 0.03, 0.02]]\n", "^[[output.probes]]", "output.probes[0].diameter", "missing required key"},
+      {"diameter = 0.01\n", "^[[output.probes]]", "output.probes[0].points", "missing required key"},
+      {"points = [[0.05, 0.03, 0.02]]\ndiameter = 0.01\n", "points = [^[", "output.probes[0].points[0]",
+       "the point lies on no closed wall of the tank"},
+      {"points = [[0.05, 0.03, 0.1]]\ndiameter = 0.01\n", "points = [^[", "output.probes[0].points[0]",
+       "the point lies on no closed wall of the tank"},  // z_max is open
+      {"points = [[0.0, 0.03, 0.0]]\ndiameter = 0.01\n", "points = [^[", "output.probes[0].points[0]",
+       "the point lies on the edge of the x_min and z_min walls"},
+      {"points = [[0.0, 0.03, 0.003]]\ndiameter = 0.01\n", "points = [^[", "output.probes[0].points[0]",
+       "the disc (diameter 0.01 m) reaches beyond the x_min wall (y 0 to 0.06 m, z 0 to 0.1 m"},
+      {"points = [[0.0, 0.03, 0.02]]\ndiameter = 0.01\nface = \"x_mx\"\n", "face = ^\"x_mx\"",
+       "output.probes[0].face", "expected one of"},
+      {"points = [[0.0, 0.03, 0.02]]\ndiameter = 0.01\nface = \"z_max\"\n", "face = ^\"z_max\"",
+       "output.probes[0].face", "the z_max face is open"},
+      {"points = [[0.0, 0.03, 0.02]]\ndiameter = 0.01\nface = \"x_max\"\n", "points = [^[",
+       "output.probes[0].points[0]", "the point is not on the x_max face (x = 0.1 m"},
+      {"points = [[0.0, 0.03, 0.02]]\ndiameter = 0.01\naverage_window = -0.001\n", "average_window = ^-0.001",
+       "output.probes[0].average_window", "expected a number in [0, 1] [s]"},
+      {"points = [[0.0, 0.03, 0.02]]\ndiameter = 0.01\naverage_window = 2\n", "average_window = ^2",
+       "output.probes[0].average_window", "expected a number in [0, 1] [s]"},
+      {"points = [[0.0, 0.03, 0.02]]\ndiameter = 0.01\nradius = 0.01\n", "^radius", "output.probes[0].radius",
+       "unknown key"},
+  };
+  for (const Bad& bad : cases) {
+    const std::string text = std::string("[output]\n[[output.probes]]\n") + kind + bad.probe;
+    CAPTURE(text);
+    Model model = fluid_model();
+    model.tank.open_faces = {"z_max"};
+    const std::vector<std::string> problems = read_output_probes(text, model);
+    std::string all_problems;
+    for (const std::string& problem : problems) all_problems += problem + "\n";
+    CAPTURE(all_problems);
+    REQUIRE(problems.size() == 1);
+    const std::string expected_start = location("fluid.toml", text, bad.at) + bad.key + ": ";
+    CHECK_MESSAGE(problems[0].rfind(expected_start, 0) == 0, problems[0], " should start with ", expected_start);
+    CHECK_MESSAGE(problems[0].find(bad.message) != std::string::npos, problems[0]);
+  }
+}
+
+TEST_CASE("ProbeWriter: a transducer's rows, instant or the time-weighted mean over its window") {
+  Model model = fluid_model();
+  model.tank.open_faces = {"z_max"};
+  read_output_probes(R"([output]
+[[output.probes]]
+kind = "pressure_transducer"
+name = "instant"
+points = [[0.03, 0.03, 0.0], [0.0, 0.03, 0.09]]
+diameter = 0.01
+interval = 0.003
+[[output.probes]]
+kind = "pressure_transducer"
+name = "mean"
+points = [[0.03, 0.03, 0.0]]
+diameter = 0.01
+interval = 0.003
+average_window = 0.002
+)",
+                     model);
+  REQUIRE(model.output.probes.size() == 2);
+  const fs::path directory = test::scratch_dir("transducer_writer");
+  World world;
+  world.tank_motion.emplace();
+  world.fluid = still_water();
+  const FluidParticles at_rest = *world.fluid;
+  std::vector<ProbeWriter> writers;
+  for (const ProbeModel& probe : model.output.probes) writers.emplace_back(model, probe, directory, world, true);
+  for (ProbeWriter& writer : writers) writer.write(world);
+  // Steps of 1 ms; after step k every fluid pressure is 100 k Pa above the hydrostatic one, so the floor disc
+  // reads rho g H + 100 k = 490.5 + 100 k.
+  for (int k = 1; k <= 6; ++k) {
+    world.step = static_cast<std::uint64_t>(k);
+    world.time = 1e-3 * k;
+    for (std::size_t j = 0; j < world.fluid->size(); ++j) world.fluid->pressure[j] = at_rest.pressure[j] + 100.0 * k;
+    for (ProbeWriter& writer : writers) writer.write_if_due(world);
+  }
+  // Instant: the reading at t = 0, 3 and 6 ms; the disc high on the x_min wall is in air: 0, not empty.
+  CHECK(lines_of(directory / "probe_instant.csv") ==
+        std::vector<std::string>{"time_s,step,p0_Pa,p1_Pa", "0,0,490.5,0", "0.0030000000000000001,3,790.5,0",
+                                 "0.0060000000000000001,6,1090.5,0"});
+  // Mean over 2 ms: the steps that ended in (1, 3] ms and (4, 6] ms, equally long: +250 and +550 Pa.
+  CHECK(lines_of(directory / "probe_mean.csv") ==
+        std::vector<std::string>{"time_s,step,p0_Pa", "0,0,490.5", "0.0030000000000000001,3,740.5",
+                                 "0.0060000000000000001,6,1040.5"});
+}
+
+TEST_CASE("a scene with pressure transducers runs and writes their CSV; on resume the rows go on") {
+  const std::string output = R"(
+[output]
+checkpoint_interval = 0.005
+
+[[output.probes]]
+kind = "pressure_transducer"
+name = "walls"
+points = [[0.1, 0.0, 0.005], [0.12, 0.0, 0.0], [0.14, 0.0, 0.025]]
+diameter = 0.005
+interval = 0.002
+
+[[output.probes]]
+kind = "pressure_transducer"
+name = "mean"
+face = "x_min"
+points = [[0.1, 0.0, 0.005]]
+diameter = 0.005
+interval = 0.002
+average_window = 0.003
+)";
+  const fs::path directory = test::scratch_dir("transducer_run");
+  const fs::path a = directory / "a";
+  auto simulation = Simulation::from_model(parse_scene(test::fluid_scene_text(output), "fluid.toml"));
+  RunOptions options;
+  options.out_dir = a.string();
+  options.threads = 1;
+  REQUIRE(simulation->run(options).exit_code == kExitOk);
+  const std::vector<std::string> walls = lines_of(a / "probe_walls.csv");
+  REQUIRE(walls.size() == 7);  // t = 0, 0.002, ..., 0.01
+  CHECK(walls[0] == "time_s,step,p0_Pa,p1_Pa,p2_Pa");
+  for (std::size_t row = 1; row < walls.size(); ++row) {
+    CAPTURE(walls[row]);
+    std::vector<double> values;
+    std::stringstream fields(walls[row]);
+    for (std::string field; std::getline(fields, field, ',');) values.push_back(std::stod(field));
+    REQUIRE(values.size() == 5);
+    // Under water on the x_min wall and the floor: positive; high on the x_max wall, in air: 0.
+    CHECK(values[2] > 0.0);
+    CHECK(values[3] > 0.0);
+    CHECK(values[4] == 0.0);
+  }
+  const std::vector<std::string> mean = lines_of(a / "probe_mean.csv");
+  REQUIRE(mean.size() == 7);
+  CHECK(mean[0] == "time_s,step,p0_Pa");
+  CHECK(mean[1] == walls[1].substr(0, walls[1].find(',', 4)));  // t = 0: the initial reading alone
+
+  // Resumed from t = 0.005: the instant readings go on identically; the mean's window restarts at the resume, so
+  // only its rows up to the checkpoint are the same as before (docs/SCENES.md).
+  const fs::path b = directory / "b";
+  fs::copy(a, b, fs::copy_options::recursive);
+  auto resumed = Simulation::from_checkpoint((b / "checkpoints" / "step_0000000005.ckpt").string());
+  options.out_dir = b.string();
+  REQUIRE(resumed->run(options).exit_code == kExitOk);
+  CHECK(lines_of(b / "probe_walls.csv") == walls);
+  const std::vector<std::string> resumed_mean = lines_of(b / "probe_mean.csv");
+  REQUIRE(resumed_mean.size() == 7);
+  CHECK(std::vector<std::string>(resumed_mean.begin(), resumed_mean.begin() + 4) ==
+        std::vector<std::string>(mean.begin(), mean.begin() + 4));
 }
