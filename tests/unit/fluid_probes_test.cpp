@@ -520,7 +520,7 @@ TEST_CASE("a transducer moves with the tank and reads the field tilted by the ta
   }
 }
 
-TEST_CASE("WindowMean: the time average over (t - window, t] of the readings held over their steps") {
+TEST_CASE("WindowMean: the time average over the window ending at the latest reading, each held over its step") {
   WindowMean lone(0.5);
   CHECK(lone.mean().empty());
   lone.add(0.0, {7.0, -1.0});
@@ -672,7 +672,7 @@ average_window = 0.002
                                  "0.0060000000000000001,6,1040.5"});
 }
 
-TEST_CASE("a scene with pressure transducers runs and writes their CSV; on resume the rows go on") {
+TEST_CASE("a scene with pressure transducers runs and writes their CSV, and on resume the rows go on") {
   const std::string output = R"(
 [output]
 checkpoint_interval = 0.005
