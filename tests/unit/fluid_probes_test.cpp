@@ -344,10 +344,11 @@ TEST_CASE("bad fluid probes are reported as file:line:column: key: message") {
 }
 
 TEST_CASE("a fluid probe in a scene without [fluid] is an error at its kind") {
-  for (const char* kind : {"fluid_pressure", "wave_gauge", "surge_front", "fluid_totals"}) {
+  for (const char* kind : {"fluid_pressure", "wave_gauge", "surge_front", "fluid_totals", "pressure_transducer"}) {
     CAPTURE(kind);
     std::string probe = std::string("[[output.probes]]\nkind = \"") + kind + "\"\n";
     if (std::string(kind) == "fluid_pressure") probe += "points = [[0.1, 0.1, 0.1]]\n";
+    if (std::string(kind) == "pressure_transducer") probe += "points = [[0.0, 0.1, 0.1]]\ndiameter = 0.01\n";
     if (std::string(kind) == "wave_gauge") probe += "points = [[0.1, 0.1]]\n";
     const std::string text = test::small_scene_text("\n[output]\n" + probe);
     try {
