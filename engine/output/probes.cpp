@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 
@@ -264,7 +265,10 @@ ProbeWriter::ProbeWriter(const Model& model, const ProbeModel& probe, const fs::
       slots_(probe.ids),
       schedule_(probe.interval, model.dt, world.time),
       file_(out_dir / probe.file, probe_header(probe, world),
-            fresh_run ? std::nullopt : std::optional<double>(world.time)) {}
+            fresh_run ? std::nullopt : std::optional<double>(world.time)) {
+  if (probe.kind == ProbeModel::Kind::kPressureTransducer && probe.normals.size() != probe.points.size())
+    throw std::invalid_argument("ProbeWriter: a pressure_transducer needs one wall normal per point");
+}
 
 std::vector<double> ProbeWriter::transducer_readings(const World& world) const {
   if (!world.fluid) return {};

@@ -27,7 +27,9 @@ double sensor_pressure(double weighted_pressure, double weight, double wet_fract
 }
 
 std::vector<DiscQuadraturePoint> disc_quadrature(double radius, double spacing, int max_rings) {
-  const int rings = std::clamp(static_cast<int>(std::ceil(radius / spacing - 1e-9)), 1, std::max(max_rings, 1));
+  if (!(radius > 0.0)) return {{0.0, 0.0, 1.0}};  // a disc of no size is its centre
+  const double ratio = spacing > 0.0 ? std::ceil(radius / spacing - 1e-9) : max_rings;
+  const int rings = static_cast<int>(std::clamp(ratio, 1.0, static_cast<double>(std::max(max_rings, 1))));
   const double width = radius / rings;
   std::vector<DiscQuadraturePoint> points;
   for (int k = 0; k < rings; ++k) {

@@ -43,7 +43,8 @@ struct DiscQuadraturePoint {
 /// of equal width (rings = ceil(radius / spacing), at least 1, at most max_rings), annulus k holding m_k >= 4 points
 /// equally spaced in angle at its area centroid radius, each weighted by its share of the annulus's area. Every
 /// annulus's points average a linear field to its value at the centre (the cosines of m >= 2 equal angles sum to
-/// 0), so the rule is exact for linear fields: a transducer in still water reads the pressure at its centre.
+/// 0), so the rule is exact for linear fields: a transducer in still water reads the pressure at its centre. A
+/// radius <= 0 gives the centre alone; a spacing <= 0, max_rings rings.
 std::vector<DiscQuadraturePoint> disc_quadrature(double radius, double spacing, int max_rings);
 
 }  // namespace riffle

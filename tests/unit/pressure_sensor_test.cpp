@@ -122,6 +122,8 @@ TEST_CASE("the disc quadrature: shares sum to 1, exact for a linear field, secon
     CHECK(max_offset < radius);
   }
   CHECK(disc_quadrature(radius, radius / 100, 16).size() == disc_quadrature(radius, radius / 16, 16).size());
+  CHECK(disc_quadrature(radius, 0.0, 16).size() == disc_quadrature(radius, radius / 16, 16).size());
+  CHECK(disc_quadrature(0.0, 0.001, 16).size() == 1);
 
   // max(0, s - v) over the disc against its analytic mean: the error comes from the cells the water line cuts, and
   // falls as the square of the ring width (order 2 +- 0.4 from 4 to 16 rings; 2.3 observed); at 4 rings, the fewest
