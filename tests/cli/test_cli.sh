@@ -489,6 +489,25 @@ sed -e 's/^high = \[0.1, 0.02, 0.2\]/high = [0.1, 0.02, 0.2]\nvelocity = [20.0, 
 riffle_as fast_fluid run fast_fluid.toml --out F --threads 2
 expect_rc "a fluid whose Courant step falls below min_dt stops with exit 3" fast_fluid 3
 check "the diagnosis names the time-step collapse" contains fast_fluid.err "below fluid.min_dt"
+# A splash out of a low open tank (issue 22): escaped droplets are removed and counted, and the run finishes.
+riffle_as splash run "$SRC/tests/data/splash_escape.toml" --out SPL --threads 2
+expect_rc "a splash that throws water out of an open tank finishes" splash 0
+check "diagnostics.csv has the removed-particle columns" \
+  contains SPL/diagnostics.csv "ppe_unknowns,fluid_removed_particles,fluid_removed_mass_kg"
+check "the fluid_totals probe has the removed-particle columns" \
+  contains SPL/probe_fluid_totals.csv "ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3"
+# The last totals row: water + removed = the 288 particles laid out, and something was removed (rho l0^3 = 1 g each).
+splash_totals=$(tail -n 1 SPL/probe_fluid_totals.csv |
+  awk -F, '{ d = $12 - $11 * 0.001; print $3 + $11, ($11 > 0), (d * d < 1e-20) }')
+check "the last totals row: 288 particles in water + removed, some removed, 1 g each (got: $splash_totals)" \
+  test "$splash_totals" = "288 1 1"
+check "the log names each removed particle and the run's summary the count" \
+  contains splash.err "removed: " "fluid particles removed as escaped"
+sed 's/^escape_fraction_limit = 0.2/escape_fraction_limit = 0.01/' "$SRC/tests/data/splash_escape.toml" > splash_limit.toml
+riffle_as splash_limit run splash_limit.toml --out SPL_limit --threads 2
+expect_rc "more escaped water than fluid.escape_fraction_limit stops the run with exit 3" splash_limit 3
+check "the diagnosis names the limit and says how to go on" \
+  contains splash_limit.err "removed as escaped, more than fluid.escape_fraction_limit = 0.01" "last good checkpoint"
 
 # ---------------------------------------------------------------------------------------------------------------
 # 9. Where the outputs go and how long the run is: --until, --out, run.name, dt against end_time.
