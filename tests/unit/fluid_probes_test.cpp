@@ -406,6 +406,11 @@ kind = "fluid_totals"
                      "surface_particles,ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3");
   CHECK(totals[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,0,0,0");
 
+  SUBCASE("particles removed as escaped: counted, rho l0^3 and l0^3 each") {
+    world.fluid_summary->initial_fluid_count = 183;  // 3 of the 183 laid out were removed (fluid_escape)
+    for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, world, true).write(world);
+    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,3,0.003,3e-06");
+  }
   SUBCASE("without fluid particles or summary (yet) every field is empty") {
     World empty;
     for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, empty, true).write(empty);
