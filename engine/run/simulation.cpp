@@ -541,7 +541,10 @@ RunOutcome Simulation::run(const RunOptions& options) {
                         "; final checkpoint: " + outcome.last_checkpoint;
     } else if (outcome.exit_code == kExitUnstable) {
       outcome.last_checkpoint = checkpoints.last_good();
-      outcome.message += removed_summary(world_, *model_) + "; last good checkpoint: " +
+      // (A stop for too much escaped water has said how much already.)
+      if (world_.step_status.problem != StepProblem::kTooManyEscaped)
+        outcome.message += removed_summary(world_, *model_);
+      outcome.message += "; last good checkpoint: " +
                          (outcome.last_checkpoint.empty()
                               ? std::string("none written yet (set output.checkpoint_interval)")
                               : outcome.last_checkpoint + " (the run can go on from there: riffle resume " +

@@ -389,7 +389,7 @@ std::size_t removed_after(const std::string& scene_text, int steps) {
 }
 }  // namespace
 
-TEST_CASE("with escaped fluid particles removed: one and two threads, and a resumed run, give byte-identical checkpoints") {
+TEST_CASE("escaped fluid particles removed: one and two threads and a resumed run give byte-identical checkpoints") {
   // tests/data/splash_escape.toml removes droplets from step ~60 on; split the run between removals, so the resumed
   // run starts from a compacted table and removes more after the split.
   constexpr int kSplit = 110, kSteps = 200;

@@ -403,7 +403,8 @@ kind = "fluid_totals"
   const std::vector<std::string> totals = lines_of(directory / "probe_fluid_totals.csv");
   REQUIRE(totals.size() == 2);
   CHECK(totals[0] == "time_s,step,fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,"
-                     "surface_particles,ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3");
+                     "surface_particles,ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,"
+                     "removed_volume_m3");
   CHECK(totals[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,0,0,0");
 
   SUBCASE("particles removed as escaped: counted, rho l0^3 and l0^3 each") {

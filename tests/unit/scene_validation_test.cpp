@@ -699,7 +699,7 @@ TEST_CASE("a long run checkpoints by default: output.checkpoint_interval unset g
   using riffle::default_checkpoint_interval;
   // At least 1000 steps of run.dt is a long run; shorter ones write a checkpoint only at the end (and on a signal).
   CHECK(default_checkpoint_interval(1.0, 1.0e-3) == 0.1);
-  CHECK(default_checkpoint_interval(58.8235, 1.0e-3) == 5.88235);
+  CHECK(default_checkpoint_interval(58.8235, 1.0e-3) == 58.8235 / 10.0);
   CHECK(default_checkpoint_interval(0.999, 1.0e-3) == 0.0);
   CHECK(default_checkpoint_interval(0.6, 1.0e-3) == 0.0);  // scenes/dam_break.toml: 600 steps
   const auto scene = [](const std::string& end_time, const std::string& output) {

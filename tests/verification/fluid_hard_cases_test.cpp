@@ -234,6 +234,8 @@ TEST_CASE("a falling block splashes into a pool and throws droplets") {
   // goes on (before issue 22 it stopped with the left-domain diagnosis).
   CHECK(o.completed);
   CHECK(run.world.fluid_summary->removed_count() == o.removed_ids.size());
+  // Main 492f9ef stopped this run at t = 0.152 s (step 316) with a particle 0.55 m up; now it is removed.
+  CHECK(run.world.fluid_summary->removed_count() > 0);
   // Fixed walls do no work: the block's kinetic and potential energy can only be redistributed and dissipated.
   CHECK(o.energy_excess <= settling_allowance(run, o));
   CHECK(most_lone > 0);  // the case does exercise detached particles
