@@ -332,6 +332,24 @@ TEST_CASE("a splash that removes more than fluid.escape_fraction_limit of the wa
   CHECK(static_cast<double>(removed_before) <= limit);
 }
 
+TEST_CASE("a non-finite fluid particle outside the domain is not removed: the run stops naming it") {
+  // A NaN is a bug, never spray: fluid_escape leaves it (whatever its position), fluid_checks names it.
+  EntityId bad = 0;
+  test::FluidRun run(splash_escape_scene(), [&](World& world) {
+    bad = world.fluid->id[5];
+    world.fluid->position[5] = Vec3(0.1, 0.015, 5.0);  // far above the domain's top (0.3 m)
+    world.fluid->velocity[5] = Vec3(0.0, std::nan(""), 0.0);
+  });
+  const std::size_t laid_out = run.fluid_count();
+  CHECK_FALSE(run.step());
+  CHECK(run.world.step_status.problem == StepProblem::kNonFinite);
+  CHECK(run.world.step_status.phase == "fluid");
+  CHECK(run.world.step_status.entity == bad);
+  CHECK(run.world.fluid_summary->removed_count() == 0);
+  CHECK(run.fluid_count() == laid_out);
+  CHECK(run.world.fluid->id[run.slot_of(bad)] == bad);
+}
+
 TEST_CASE("a fluid particle 0.3 l0 from a tank corner next to still water") {
   // Still water 6 x 3 x 6 l0 (l0 = 10 mm) plus one fluid particle on the bottom corner's diagonal at 0.3 l0 from
   // the corner point: 0.57 l0 from the nearest fluid particle and 0.63 l0 from the nearest wall particles, both
