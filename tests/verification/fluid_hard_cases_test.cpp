@@ -2,9 +2,9 @@
 // fluid particle finite (position, velocity, pressure) and inside the tank (not beyond the wall-particle plane,
 // l0/2 outside the inner boundary; an open top is bounded by the domain), or stop with a diagnosis in StepStatus
 // that names the right problem (never a silent NaN). Every case also holds physical bounds: the fluid particle count
-// is kept (particles left plus those removed as escaped, [fluid] escape), the particle volume stays within numerics 6.2's 1 %, and the fluid's energy never exceeds its start
-// value plus the work of the moving walls (with the start lattice's settling allowed for). Coarse lattices and thin
-// slabs keep each case to a few seconds.
+// is kept (particles left plus those removed as escaped, [fluid] escape), the particle volume stays within numerics
+// 6.2's 1 %, and the fluid's energy never exceeds its start value plus the work of the moving walls (with the start
+// lattice's settling allowed for). Coarse lattices and thin slabs keep each case to a few seconds.
 #include <doctest/doctest.h>
 
 #include <algorithm>
