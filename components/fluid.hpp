@@ -154,6 +154,14 @@ struct FluidParticles
   }
 };
 
+/// A fluid particle removed by fluid_escape, as it was when removed (for the run's log).
+struct EscapedParticle {
+  EntityId id = 0;
+  Vec3 position = Vec3::Zero();  ///< [m]
+  Vec3 velocity = Vec3::Zero();  ///< [m/s]
+  bool left_domain = false;      ///< true: outside the domain box; false: a lone particle beyond fluid.escape_distance
+};
+
 /// Reductions over the fluid after each step and the pressure solver's report; diagnostics.csv and the time-step
 /// control read them.
 struct FluidSummary {
@@ -172,6 +180,16 @@ struct FluidSummary {
   std::size_t solver_unknowns = 0;    ///< PPE rows of the last solve
   bool solver_converged = true;
   double courant = 0.0;               ///< [1] max |u| dt / l0 of the last step
+
+  // Not persistent, and so not in for_each_member: rebuilt from the scene on resume (Simulation::from_checkpoint_data).
+  /// Fluid particles the scene laid out (initial_world). Particles are only ever removed (fluid_escape), never
+  /// added, so the removed count is this less fluid_count, the same after a resume as in the run that wrote it.
+  std::size_t initial_fluid_count = 0;
+  /// The particles fluid_escape removed in the last step, for the run's log (cleared at every step it runs).
+  std::vector<EscapedParticle> escaped;
+
+  /// Fluid particles removed so far (fluid_escape).
+  std::size_t removed_count() const { return initial_fluid_count > fluid_count ? initial_fluid_count - fluid_count : 0; }
 
   /// Every member once, in checkpoint order: `visit(name, persistent, member)`.
   template <class Self, class Visit>

@@ -140,6 +140,16 @@ struct FluidModel {
   /// [steps] ... and this often while the fastest particle moves more than 0.15 l0 in a step: then no list outlives a
   /// step (half the default skin of 0.3 l0), so a sort costs no extra rebuild; 0 = only sort_every
   std::int64_t sort_every_fast = 5;
+  /// What happens to a fluid particle that escapes (systems/mps/fluid_escape.hpp): kRemove takes it out of the
+  /// water (counted, logged, reported; the run stops only when more than escape_fraction_limit of the fluid has
+  /// gone), kStop stops the run with the left-domain diagnosis at the first one (riffle before issue 22).
+  enum class EscapePolicy { kRemove, kStop };
+  EscapePolicy escape = EscapePolicy::kRemove;
+  /// [m] with kRemove, a lone fluid particle (no other MPS particle within r_e) farther than this outside the tank's
+  /// inner box (moving with the tank) is removed too; infinity = only particles that leave the domain box.
+  double escape_distance = std::numeric_limits<double>::infinity();
+  /// [1] the run stops with a diagnosis once more than this fraction of the fluid laid out has been removed.
+  double escape_fraction_limit = 0.01;
 
   double effective_radius() const { return spacing * effective_radius_ratio; }
   double stabilisation_distance() const { return (1.0 - courant) * spacing; }  ///< d_ij = alpha_DS l0
@@ -257,7 +267,8 @@ struct ProbeModel {
 
 struct OutputModel {
   double vtk_interval = 0.0;         ///< [s] 0 = no frames
-  double checkpoint_interval = 0.0;  ///< [s] 0 = only on signal and at the end
+  /// [s] 0 = only on signal and at the end; unset in the scene: end_time / 10 for runs of at least 1000 steps of dt
+  double checkpoint_interval = 0.0;
   std::int64_t checkpoint_keep = 3;  ///< newest interval checkpoints kept on disk
   std::int64_t diagnostics_every = 1;  ///< [steps] rows of diagnostics.csv
   std::vector<ProbeModel> probes;

@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "components/component_id.hpp"
@@ -89,6 +90,19 @@ void permute_prefix(std::vector<Value>& values, const std::vector<std::size_t>& 
 template <class Component>
 void permute_fields(Component& component, const std::vector<std::size_t>& order) {
   Component::for_each_field(component, [&](const FieldInfo&, auto& field) { permute_prefix(field, order); });
+}
+
+/// Keeps the entities of slots `kept` (ascending, no repeats) and drops the others: new slot k holds what slot
+/// kept[k] held, and every field shrinks to kept.size(). Ids travel with their data; nothing is reordered.
+template <class Value>
+void keep_slots(std::vector<Value>& values, const std::vector<std::size_t>& kept) {
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    if (kept[k] != k) values[k] = std::move(values[kept[k]]);  // kept[k] >= k: the source is not yet overwritten
+  values.resize(kept.size());
+}
+template <class Component>
+void keep_fields(Component& component, const std::vector<std::size_t>& kept) {
+  Component::for_each_field(component, [&](const FieldInfo&, auto& field) { keep_slots(field, kept); });
 }
 
 /// An entity table made of role components: it is every role at once, and its field table is the roles' tables in

@@ -15,6 +15,7 @@ enum class StepProblem : std::uint8_t {
   kLeftDomain,  ///< a particle's centre left the domain box
   kSolverFailed,       ///< the pressure solve produced a non-finite residual
   kTimeStepCollapse,   ///< the Courant limit fell below the scene's minimum step (the flow blew up)
+  kTooManyEscaped,     ///< more fluid particles removed as escaped than fluid.escape_fraction_limit allows
 };
 
 struct StepStatus {

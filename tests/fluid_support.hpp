@@ -52,6 +52,7 @@ struct FluidRun {
                                                    model.fluid.spacing, model.fluid.effective_radius()));
       world.fluid_neighbours.emplace();
       world.fluid_summary.emplace();
+      world.fluid_summary->fluid_count = world.fluid_summary->initial_fluid_count = fluid_slot_count(*world.fluid);
     }
     if (edit) edit(world);
     stepper = std::make_unique<Stepper>(build_pipeline(model), world, model);

@@ -69,6 +69,7 @@ const char* problem_name(StepProblem problem) {
     case StepProblem::kLeftDomain: return "left_domain";
     case StepProblem::kSolverFailed: return "solver_failed";
     case StepProblem::kTimeStepCollapse: return "dt_collapse";
+    case StepProblem::kTooManyEscaped: return "too_many_escaped";
   }
   return "unknown";
 }

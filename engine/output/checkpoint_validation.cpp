@@ -252,16 +252,34 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
     refusal.fail("contacts.skin = " + show(contacts.skin), "differs from the scene's skin " + show(skin));
 }
 
-/// The MPS particles are the scene's: the same count and ids, fluid particles in slots [0, F) and the tank's wall and
-/// dummy particles after them (the cell sort reorders each group only within itself), each particle of the kind the
-/// scene gave its id, walls and dummies at the scene's rest positions.
+/// The MPS particles are the scene's: the same ids, less the fluid particles fluid_escape removed (with
+/// fluid.escape = "remove", no more than fluid.escape_fraction_limit of them), fluid particles in slots [0, F) and the
+/// tank's wall and dummy particles after them (the cell sort reorders each group only within itself), each particle
+/// of the kind the scene gave its id, walls and dummies at the scene's rest positions.
 void check_fluid(const Refusal& refusal, const FluidParticles& fluid, const FluidSummary& summary,
                  const FluidParticles& scene, const Model& model) {
-  refusal.count("fluid", fluid.size(), scene.size(), "the fluid, wall and dummy particles of its scene");
-  refusal.ids("fluid", fluid.id, fluid.next_id);  // now a permutation of the scene's ids
+  const std::size_t scene_fluid_count = fluid_slot_count(scene);
+  const std::size_t boundary_count = scene.size() - scene_fluid_count;
+  const bool removes = model.fluid.escape == FluidModel::EscapePolicy::kRemove;
+  // The removed particles' ids stay used (never reused): next_id is the scene's, the ids a subset of its.
+  if (fluid.next_id != scene.next_id)
+    refusal.fail("fluid.next_id = " + show(fluid.next_id),
+                 "must equal the scene's, " + show(scene.next_id) + " (ids are never reused)");
+  if (!removes || fluid.size() > scene.size() || fluid.size() < boundary_count)
+    refusal.count("fluid", fluid.size(), scene.size(),
+                  removes ? "the fluid, wall and dummy particles of its scene, less removed fluid particles"
+                          : "the fluid, wall and dummy particles of its scene");
+  std::vector<char> seen(scene.size(), 0);
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    if (fluid.id[i] >= fluid.next_id)
+      refusal.fail(refusal.item("fluid.id", i, fluid.id[i]), "must be below next_id = " + show(fluid.next_id));
+    if (seen[fluid.id[i]]) refusal.fail(refusal.item("fluid.id", i, fluid.id[i]), "is used twice");
+    seen[fluid.id[i]] = 1;
+  }
   std::vector<std::size_t> scene_slot(scene.size());
   for (std::size_t k = 0; k < scene.size(); ++k) scene_slot[scene.id[k]] = k;
-  const std::size_t fluid_count = fluid_slot_count(scene);
+  const std::size_t fluid_count = fluid.size() - boundary_count;
+  const std::size_t removed = scene_fluid_count - fluid_count;
   for (std::size_t i = 0; i < fluid.size(); ++i) {
     const std::size_t k = scene_slot[fluid.id[i]];
     if (fluid.kind[i] != scene.kind[k] || (i < fluid_count) != (scene.kind[k] == kFluidKind))
@@ -272,6 +290,14 @@ void check_fluid(const Refusal& refusal, const FluidParticles& fluid, const Flui
     if (i >= fluid_count && fluid.rest_position[i] != scene.rest_position[k])
       refusal.fail(refusal.item("fluid.rest_position", i, fluid.rest_position[i]),
                    "differs from the scene's wall particle (" + show(scene.rest_position[k]) + ")");
+  }
+  // A run stops once more than the limit has gone (fluid_checks): no checkpoint of it is written.
+  if (static_cast<double>(removed) > model.fluid.escape_fraction_limit * static_cast<double>(scene_fluid_count)) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", model.fluid.escape_fraction_limit);
+    refusal.fail("fluid", "holds " + std::to_string(fluid_count) + " fluid particles of the scene's " +
+                              std::to_string(scene_fluid_count) +
+                              ": more were removed than fluid.escape_fraction_limit = " + limit + " allows");
   }
   refusal.finite_fields("fluid", fluid);
   for (std::size_t i = 0; i < fluid.size(); ++i) {

@@ -250,7 +250,7 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
     header += ",front_m";
   } else {
     header += ",fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,surface_particles,"
-              "ppe_iterations,ppe_residual";
+              "ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3";
   }
   return header;
 }
@@ -368,8 +368,14 @@ void ProbeWriter::write(const World& world) {
         append_field(row, std::to_string(summary->surface_count));
         append_field(row, std::to_string(summary->solver_iterations));
         append_field(row, format_value(summary->solver_residual));
+        // Escaped particles removed so far (fluid_escape), each of mass rho l0^3: water + removed = laid out.
+        const double removed_volume = static_cast<double>(summary->removed_count()) * fluid_.spacing *
+                                      fluid_.spacing * fluid_.spacing;
+        append_field(row, std::to_string(summary->removed_count()));
+        append_field(row, format_value(removed_volume * fluid_.density));
+        append_field(row, format_value(removed_volume));
       } else {
-        append_empty(8);
+        append_empty(11);
       }
       break;
   }

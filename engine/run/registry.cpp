@@ -3,6 +3,7 @@
 #include "systems/mps/fluid_cell_sort.hpp"
 #include "systems/mps/fluid_checks.hpp"
 #include "systems/mps/fluid_correct.hpp"
+#include "systems/mps/fluid_escape.hpp"
 #include "systems/coupling/fluid_drag_reaction.hpp"
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
@@ -47,6 +48,10 @@ Pipeline build_pipeline(const Model& model) {
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
     pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid));
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
+    // Escaped spray leaves the table before the checks count the water and before the grains' voidage and drag
+    // reaction look at it; with escape = "stop" fluid_checks stops the run at the first one instead.
+    if (fluid.escape == FluidModel::EscapePolicy::kRemove)
+      pipeline.end_of_step.push_back(std::make_unique<FluidEscape>());
     pipeline.end_of_step.push_back(std::make_unique<FluidChecks>(fluid));
     if (model.coupling.enabled) {
       // Staggered by one fluid step (docs/COUPLING.md): the grains' sub-steps of step k+1 use the water at the end

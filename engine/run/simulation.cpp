@@ -55,6 +55,44 @@ std::string format_duration(double seconds) {
   return text;
 }
 
+/// [kg] The fluid removed as escaped so far: every MPS fluid particle has the mass rho l0^3.
+double removed_mass(const FluidSummary& fluid, const Model& model) {
+  const double l0 = model.fluid.spacing;
+  return static_cast<double>(fluid.removed_count()) * model.fluid.density * l0 * l0 * l0;
+}
+
+/// One warning per fluid particle fluid_escape removed in the last step (at most kMaxLines a step, then a count).
+void log_escaped(const World& world, const Model& model) {
+  if (!world.fluid_summary || world.fluid_summary->escaped.empty()) return;
+  constexpr std::size_t kMaxLines = 20;
+  const FluidSummary& fluid = *world.fluid_summary;
+  const std::vector<EscapedParticle>& escaped = fluid.escaped;
+  for (std::size_t k = 0; k < escaped.size() && k < kMaxLines; ++k) {
+    const EscapedParticle& particle = escaped[k];
+    spdlog::warn("step {} (t = {} s): fluid particle id {} removed: {} at position {} m with velocity {} m/s",
+                 world.step, format_time(world.time), particle.id,
+                 particle.left_domain ? "it left the domain"
+                                      : "a lone droplet more than fluid.escape_distance = " +
+                                            format_time(model.fluid.escape_distance) + " m outside the tank",
+                 format_vec(particle.position), format_vec(particle.velocity));
+  }
+  if (escaped.size() > kMaxLines)
+    spdlog::warn("step {}: {} more fluid particles removed as escaped", world.step, escaped.size() - kMaxLines);
+  spdlog::info("removed as escaped so far: {} of {} fluid particles ({} kg)", fluid.removed_count(),
+               fluid.initial_fluid_count, removed_mass(fluid, model));
+}
+
+/// "; N fluid particles removed as escaped (M kg, P % of the water)", or "" when none was.
+std::string removed_summary(const World& world, const Model& model) {
+  if (!world.fluid_summary || world.fluid_summary->removed_count() == 0) return "";
+  const FluidSummary& fluid = *world.fluid_summary;
+  char text[160];
+  std::snprintf(text, sizeof text, "; %zu fluid particles removed as escaped (%.6g kg, %.3g %% of the water)",
+                fluid.removed_count(), removed_mass(fluid, model),
+                100.0 * static_cast<double>(fluid.removed_count()) / static_cast<double>(fluid.initial_fluid_count));
+  return text;
+}
+
 /// Frames, series and tables are replaced whole (unique temporary file, rename): a kill never leaves half a file.
 void write_text_file(const fs::path& path, const std::string& text) { replace_file(path, text, Durability::kFlush); }
 
@@ -90,6 +128,9 @@ class DiagnosticsWriter {
                     fluid.volume, static_cast<long long>(fluid.solver_iterations), fluid.solver_residual,
                     fluid.solver_unknowns);
       line += text;
+      // Escaped particles removed so far (fluid_escape): water + removed = the fluid laid out, exactly.
+      std::snprintf(text, sizeof text, ",%zu,%.9g", fluid.removed_count(), removed_mass(fluid, model));
+      line += text;
     }
     for (std::size_t k = 0; k < timers.size(); ++k) {
       std::snprintf(text, sizeof text, ",%.6g", timers[k].total_seconds - previous_totals_[k]);
@@ -106,7 +147,8 @@ class DiagnosticsWriter {
                        "tank_velocity_m_s,step_wall_s";
     if (fluid)
       text += ",fluid_particles,fluid_surface_particles,fluid_kinetic_energy_J,fluid_max_speed_m_s,fluid_courant,"
-              "fluid_mean_density_ratio,fluid_volume_m3,ppe_iterations,ppe_relative_residual,ppe_unknowns";
+              "fluid_mean_density_ratio,fluid_volume_m3,ppe_iterations,ppe_relative_residual,ppe_unknowns,"
+              "fluid_removed_particles,fluid_removed_mass_kg";
     for (const SystemTimer& timer : timers) text += ",wall_" + timer.name + "_s";
     return text;
   }
@@ -217,6 +259,17 @@ std::string diagnosis(const World& world, const Model& model) {
            std::to_string(model.fluid.min_dt) + " s: the flow blew up; fastest fluid particle id " +
            std::to_string(status.entity) + " at position " + format_vec(status.position) + " m with velocity " +
            format_vec(status.velocity) + " m/s";
+  if (status.problem == StepProblem::kTooManyEscaped) {
+    const FluidSummary& fluid = *world.fluid_summary;
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "%zu of the %zu fluid particles laid out (%.3g %%) have been removed as escaped, more than "
+                  "fluid.escape_fraction_limit = %g allows: the water has left the tank",
+                  fluid.removed_count(), fluid.initial_fluid_count,
+                  100.0 * static_cast<double>(fluid.removed_count()) / static_cast<double>(fluid.initial_fluid_count),
+                  model.fluid.escape_fraction_limit);
+    return when + text;
+  }
   if (status.problem == StepProblem::kSolverFailed)
     return when + "the pressure solve diverged (non-finite residual after " +
            std::to_string(world.fluid_summary ? world.fluid_summary->solver_iterations : 0) + " iterations)";
@@ -304,7 +357,12 @@ std::unique_ptr<Simulation> Simulation::from_checkpoint_data(CheckpointData data
   world.tank_motion = std::move(data.world.tank_motion);
   world.contacts = std::move(data.world.contacts);
   world.fluid = std::move(data.world.fluid);  // fluid_neighbours stays as initial_world made it: rebuilt
-  world.fluid_summary = std::move(data.world.fluid_summary);
+  if (world.fluid_summary) {
+    // The particles the scene lays out, which the removed count is measured from, are not stored: they are the scene's.
+    const std::size_t initial_fluid_count = world.fluid_summary->initial_fluid_count;
+    world.fluid_summary = std::move(data.world.fluid_summary);
+    world.fluid_summary->initial_fluid_count = initial_fluid_count;
+  }
   return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), std::move(data.output)));
 }
 
@@ -448,6 +506,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
       }
       const double step_seconds = seconds_since(step_start);
       stepping_seconds += step_seconds;
+      log_escaped(world_, *model_);
 
       if (!world_.step_status.ok()) {
         outcome.exit_code = kExitUnstable;
@@ -478,12 +537,18 @@ RunOutcome Simulation::run(const RunOptions& options) {
       checkpoints.copy_as_final();
       outcome.last_checkpoint = checkpoints.last_written();
       outcome.message = "finished at t = " + std::to_string(world_.time) + " s after " +
-                        std::to_string(world_.step) + " steps; final checkpoint: " + outcome.last_checkpoint;
+                        std::to_string(world_.step) + " steps" + removed_summary(world_, *model_) +
+                        "; final checkpoint: " + outcome.last_checkpoint;
     } else if (outcome.exit_code == kExitUnstable) {
       outcome.last_checkpoint = checkpoints.last_good();
+      // (A stop for too much escaped water has said how much already.)
+      if (world_.step_status.problem != StepProblem::kTooManyEscaped)
+        outcome.message += removed_summary(world_, *model_);
       outcome.message += "; last good checkpoint: " +
-                         (outcome.last_checkpoint.empty() ? std::string("none written yet (set output.checkpoint_interval)")
-                                                          : outcome.last_checkpoint);
+                         (outcome.last_checkpoint.empty()
+                              ? std::string("none written yet (set output.checkpoint_interval)")
+                              : outcome.last_checkpoint + " (the run can go on from there: riffle resume " +
+                                    outcome.last_checkpoint + ")");
     }
   } catch (const std::exception& error) {
     outcome = {kExitIoError, std::string("final checkpoint failed: ") + error.what(), checkpoints.last_written()};

@@ -146,6 +146,15 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.sort_every = fluid.integer("sort_every", 20, 0, 1000000000);
   out.sort_every_fast = fluid.integer("sort_every_fast", 5, 0, 1000000000);
   if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes);
+  // Escaped spray (systems/mps/fluid_escape.hpp): removed and counted, or the run stops at the first particle.
+  out.escape = fluid.choice("escape", "remove", {"remove", "stop"}) == "stop" ? FluidModel::EscapePolicy::kStop
+                                                                              : FluidModel::EscapePolicy::kRemove;
+  if (fluid.has("escape_distance")) {
+    out.escape_distance = fluid.number("escape_distance", std::nullopt, "m", Bounds::non_negative());
+    if (out.escape == FluidModel::EscapePolicy::kStop)
+      fluid.problem("escape_distance", "needs escape = \"remove\" (with \"stop\" no particle is removed)");
+  }
+  out.escape_fraction_limit = fluid.number("escape_fraction_limit", 0.01, "1", Bounds{0.0, 1.0, false, true});
 
   const double spacing = out.spacing;  // 0 if missing or invalid (reported)
   std::vector<BoxEntry> fluid_boxes, wall_boxes;

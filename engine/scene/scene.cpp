@@ -254,6 +254,20 @@ void read_solids(TableReader& solids, Model& model) {
   solids.finish();
 }
 
+}  // namespace
+
+double default_checkpoint_interval(double end_time, double dt) {
+  // A long run that dies (a blow-up, an escaped-water limit, a killed machine) must be resumable without the scene
+  // having asked for it; a short one gains nothing from checkpoints and pays their writes (and its outputs stay
+  // those of riffle before issue 22: every shipped scene is either short or sets the key).
+  constexpr double kLongRunSteps = 1000.0;
+  constexpr double kCheckpointsPerRun = 10.0;
+  if (!(dt > 0.0) || !(end_time > 0.0) || end_time < kLongRunSteps * dt) return 0.0;
+  return end_time / kCheckpointsPerRun;
+}
+
+namespace {
+
 void read_output(TableReader& output, Model& model) {
   model.output.vtk_interval = output.number("vtk_interval", 0.0, "s", Bounds::non_negative());
   model.output.checkpoint_interval = output.number("checkpoint_interval", 0.0, "s", Bounds::non_negative());
@@ -589,7 +603,13 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   if (auto fluid = scene.table("fluid", false)) read_fluid(*fluid, model);  // engine/scene/fluid_scene.cpp
   model.coupling.enabled = model.solids.enabled && model.fluid.enabled;
   if (auto coupling = scene.table("coupling", false)) read_coupling(*coupling, model);
-  if (auto output = scene.table("output", false)) read_output(*output, model);
+  bool checkpoint_interval_given = false;
+  if (auto output = scene.table("output", false)) {
+    checkpoint_interval_given = output->has("checkpoint_interval");
+    read_output(*output, model);
+  }
+  if (!checkpoint_interval_given)
+    model.output.checkpoint_interval = default_checkpoint_interval(model.end_time, model.dt);
   scene.finish();
   // The budget judges the scene as a whole, so only once every part of it is valid.
   if (problems.lines.empty()) check_budget(scene, model);

@@ -25,6 +25,10 @@ Model load_scene_file(const std::string& path, const SceneLimits& limits = {});
 /// a missing, non-string or unknown name is reported through the reader and gives 0.
 std::int32_t read_material(const Model& model, TableReader& reader, const std::string& key);
 
+/// [s] output.checkpoint_interval when the scene does not set it: end_time / 10 for a run of at least 1000 steps of
+/// run.dt, else 0 (a checkpoint only at the end and on a signal).
+double default_checkpoint_interval(double end_time, double dt);
+
 /// Validates scene text; `file_name` is used in messages only.
 /// Refuses (SceneError) a scene whose estimated budget (engine/scene/budget.hpp) exceeds the memory limit, before any
 /// particle is generated or laid out.

@@ -129,6 +129,7 @@ World initial_world(const Model& model) {
     if (model.coupling.enabled) world.fluid_sample.emplace();  // copied from `fluid` before every step
     world.fluid_summary->fluid_count = static_cast<std::size_t>(
         std::count(world.fluid->kind.begin(), world.fluid->kind.end(), static_cast<std::int32_t>(FluidKind::kFluid)));
+    world.fluid_summary->initial_fluid_count = world.fluid_summary->fluid_count;
   }
   return world;
 }

@@ -65,6 +65,11 @@ void FluidChecks::run(SystemContext& context) {
   } else if (!std::isfinite(summary.solver_residual)) {
     status.problem = StepProblem::kSolverFailed;
     status.phase = "fluid";
+  } else if (static_cast<double>(summary.removed_count()) >
+             context.model.fluid.escape_fraction_limit * static_cast<double>(summary.initial_fluid_count)) {
+    // fluid_escape removed more of the water than the scene accepts: the run no longer models its experiment.
+    status.problem = StepProblem::kTooManyEscaped;
+    status.phase = "fluid";
   }
 }
 

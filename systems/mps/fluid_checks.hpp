@@ -1,6 +1,8 @@
 #pragma once
-// End-of-step checks and reductions over the fluid: the first non-finite or escaped particle stops the run with a
-// diagnosis; FluidSummary (energy, speed, mean n/n0, volume) feeds diagnostics.csv and the time-step control.
+// End-of-step checks and reductions over the fluid: the first non-finite particle, or with [fluid] escape = "stop" the
+// first one outside the domain, stops the run with a diagnosis, and so does a removed count (fluid_escape) above
+// fluid.escape_fraction_limit of the water laid out; FluidSummary (count, energy, speed, mean n/n0, volume) feeds
+// diagnostics.csv and the time-step control.
 #include <vector>
 
 #include "engine/core/system.hpp"

@@ -489,6 +489,44 @@ sed -e 's/^high = \[0.1, 0.02, 0.2\]/high = [0.1, 0.02, 0.2]\nvelocity = [20.0, 
 riffle_as fast_fluid run fast_fluid.toml --out F --threads 2
 expect_rc "a fluid whose Courant step falls below min_dt stops with exit 3" fast_fluid 3
 check "the diagnosis names the time-step collapse" contains fast_fluid.err "below fluid.min_dt"
+# A splash out of a low open tank (issue 22): escaped droplets are removed and counted, and the run finishes.
+riffle_as splash run "$SRC/tests/data/splash_escape.toml" --out SPL --threads 2
+expect_rc "a splash that throws water out of an open tank finishes" splash 0
+check "diagnostics.csv has the removed-particle columns" \
+  contains SPL/diagnostics.csv "ppe_unknowns,fluid_removed_particles,fluid_removed_mass_kg"
+check "the fluid_totals probe has the removed-particle columns" \
+  contains SPL/probe_fluid_totals.csv "ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3"
+# The last totals row: water + removed = the 288 particles laid out, and something was removed (rho l0^3 = 1 g each).
+splash_totals=$(tail -n 1 SPL/probe_fluid_totals.csv |
+  awk -F, '{ d = $12 - $11 * 0.001; print $3 + $11, ($11 > 0), (d * d < 1e-20) }')
+check "the last totals row: 288 particles in water + removed, some removed, 1 g each (got: $splash_totals)" \
+  test "$splash_totals" = "288 1 1"
+check "the log names each removed particle and the run's summary the count" \
+  contains splash.err "removed: " "fluid particles removed as escaped"
+sed 's/^escape_fraction_limit = 0.2/escape_fraction_limit = 0.01/' "$SRC/tests/data/splash_escape.toml" > splash_limit.toml
+riffle_as splash_limit run splash_limit.toml --out SPL_limit --threads 2
+expect_rc "more escaped water than fluid.escape_fraction_limit stops the run with exit 3" splash_limit 3
+check "the diagnosis names the limit and says how to go on" \
+  contains splash_limit.err "removed as escaped, more than fluid.escape_fraction_limit = 0.01" "last good checkpoint"
+# A long run (1000 steps of dt) without output.checkpoint_interval checkpoints every end_time / 10 = 0.1 s: its stop
+# (18 of 288 removed at t = 0.135 s, above 5 %) names the checkpoint of t = 0.1 s, which resumes to the same stop.
+sed -e 's/^end_time = 0.15 .*/end_time = 1.0/' -e 's/^escape_fraction_limit = 0.2/escape_fraction_limit = 0.05/' \
+  "$SRC/tests/data/splash_escape.toml" > splash_long.toml
+riffle_as splash_long run splash_long.toml --out SPL_long --threads 2
+expect_rc "a long splash above its escape limit stops with exit 3" splash_long 3
+splash_ckpt=$(ls SPL_long/checkpoints 2>/dev/null | grep '^step_[0-9]*\.ckpt$' | tail -n 1)
+check "without checkpoint_interval a long run wrote a default checkpoint before the stop ($splash_ckpt)" \
+  test -n "$splash_ckpt"
+[ -n "$splash_ckpt" ] || splash_ckpt=none
+check "the diagnosis names it and how to go on from it" \
+  contains splash_long.err "last good checkpoint: SPL_long/checkpoints/$splash_ckpt" \
+  "riffle resume SPL_long/checkpoints/$splash_ckpt"
+riffle_as splash_long_resume resume "SPL_long/checkpoints/$splash_ckpt" --out SPL_long2 --threads 1
+expect_rc "resuming from it exits 3 again" splash_long_resume 3
+stop_first=$(grep -o 'run stopped at step [0-9]*[^:]*: [0-9]* of' splash_long.err | head -n 1)
+stop_resumed=$(grep -o 'run stopped at step [0-9]*[^:]*: [0-9]* of' splash_long_resume.err | head -n 1)
+check "... at the same step, with the same removed count ($stop_first)" \
+  test -n "$stop_first" -a "$stop_first" = "$stop_resumed"
 
 # ---------------------------------------------------------------------------------------------------------------
 # 9. Where the outputs go and how long the run is: --until, --out, run.name, dt against end_time.

@@ -337,6 +337,39 @@ TEST_CASE("fluid kinds, slots and counts that do not match the scene are refused
     refused(resume(data, [](CheckpointData& d) { d.world.fluid->free_surface[2] = 3; }),
             "fluid.free_surface[2] = 3: must be 0 or 1");
   }
+  // fluid_escape (escape = "remove", the default) takes escaped fluid particles out of the table for good.
+  const auto remove_fluid = [](std::size_t count, const std::string& fluid_keys) {
+    return [count, fluid_keys](CheckpointData& d) {
+      FluidParticles& fluid = *d.world.fluid;
+      std::vector<std::size_t> kept;
+      for (std::size_t i = count; i < fluid.size(); ++i) kept.push_back(i);  // the first `count` fluid slots go
+      keep_fields(fluid, kept);
+      d.world.fluid_summary->fluid_count -= count;
+      const std::string spacing = "spacing = 0.005\n";
+      d.scene_text.replace(d.scene_text.find(spacing), spacing.size(), spacing + fluid_keys + "\n");
+    };
+  };
+  SUBCASE("removed fluid particles within fluid.escape_fraction_limit are accepted") {
+    CHECK(resume(data, remove_fluid(3, "escape_fraction_limit = 0.05")) == "accepted");
+  }
+  SUBCASE("more removed than fluid.escape_fraction_limit is refused") {
+    refused(resume(data, remove_fluid(4, "escape_fraction_limit = 0.05")),
+            "fluid: holds " + std::to_string(fluid_count - 4) + " fluid particles of the scene's " +
+                std::to_string(fluid_count) + ": more were removed than fluid.escape_fraction_limit = 0.05");
+  }
+  SUBCASE("a removed fluid particle with escape = \"stop\" is refused") {
+    refused(resume(data, remove_fluid(1, "escape = \"stop\"")), "fluid: holds");
+  }
+  SUBCASE("a removed wall particle is refused") {
+    refused(resume(data,
+                   [&](CheckpointData& d) {
+                     FluidParticles& fluid = *d.world.fluid;
+                     std::vector<std::size_t> kept;
+                     for (std::size_t i = 0; i + 1 < fluid.size(); ++i) kept.push_back(i);
+                     keep_fields(fluid, kept);
+                   }),
+            "must be 0, the kind of particle id");
+  }
   SUBCASE("a fluid particle far outside the tank") {
     refused(resume(data, [](CheckpointData& d) { d.world.fluid->position[0] = Vec3(1e9, 0.0, 0.0); }),
             "fluid.position[0] = (1000000000, 0, 0): is outside the domain");

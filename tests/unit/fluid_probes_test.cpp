@@ -406,15 +406,21 @@ kind = "fluid_totals"
   const std::vector<std::string> totals = lines_of(directory / "probe_fluid_totals.csv");
   REQUIRE(totals.size() == 2);
   CHECK(totals[0] == "time_s,step,fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,"
-                     "surface_particles,ppe_iterations,ppe_residual");
-  CHECK(totals[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09");
+                     "surface_particles,ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,"
+                     "removed_volume_m3");
+  CHECK(totals[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,0,0,0");
 
+  SUBCASE("particles removed as escaped: counted, rho l0^3 and l0^3 each") {
+    world.fluid_summary->initial_fluid_count = 183;  // 3 of the 183 laid out were removed (fluid_escape)
+    for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, world, true).write(world);
+    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,3,0.003,3e-06");
+  }
   SUBCASE("without fluid particles or summary (yet) every field is empty") {
     World empty;
     for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, empty, true).write(empty);
     CHECK(lines_of(directory / "probe_fluid_pressure.csv")[1] == "0,0,,");
     CHECK(lines_of(directory / "probe_surge_front.csv")[1] == "0,0,");
-    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,");
+    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,,,,");
   }
 }
 

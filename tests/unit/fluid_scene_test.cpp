@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <string>
 #include <string_view>
@@ -97,6 +98,9 @@ TEST_CASE("a minimal fluid table gets the documented defaults") {
   CHECK(fluid.solver_max_iterations == 2000);
   CHECK(fluid.neighbour_skin_ratio == 0.3);
   CHECK(fluid.narrow_neighbour_skin_ratio == 0.1);
+  CHECK(fluid.escape == FluidModel::EscapePolicy::kRemove);
+  CHECK(fluid.escape_distance == std::numeric_limits<double>::infinity());
+  CHECK(fluid.escape_fraction_limit == 0.01);
   CHECK(fluid.schemes.higher_order_source);
   CHECK(fluid.schemes.error_compensating_source);
   CHECK(fluid.schemes.higher_order_laplacian);
@@ -126,6 +130,8 @@ min_dt = 1e-7
 solver_tolerance = 1e-10
 solver_max_iterations = 500
 neighbour_skin = 0.0
+escape_distance = 0.05
+escape_fraction_limit = 0.2
 
 [fluid.schemes]
 hs = false
@@ -151,6 +157,12 @@ ds = false
   CHECK(fluid.solver_max_iterations == 500);
   CHECK(fluid.neighbour_skin_ratio == 0.0);
   CHECK(fluid.narrow_neighbour_skin_ratio == 0.0);  // the narrow skin's default never exceeds the skin
+  CHECK(fluid.escape == FluidModel::EscapePolicy::kRemove);
+  CHECK(fluid.escape_distance == 0.05);
+  CHECK(fluid.escape_fraction_limit == 0.2);
+  CHECK(parse_scene(replaced(test::fluid_scene_text(), "spacing = 0.005\n", "spacing = 0.005\nescape = \"stop\"\n"),
+                    "stop.toml")
+            .fluid.escape == FluidModel::EscapePolicy::kStop);
   CHECK_FALSE(fluid.schemes.higher_order_source);
   CHECK(fluid.schemes.error_compensating_source);
   CHECK_FALSE(fluid.schemes.higher_order_laplacian);
@@ -193,6 +205,16 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
       {"spacing = 0.005", "spacing = 0.005\ntank_walls = 1", "tank_walls = ^1", "fluid.tank_walls",
        "expected true or false, got an integer"},
       {"spacing = 0.005", "spacing = 0.005\nspcing = 0.005", "^spcing", "fluid.spcing", "unknown key"},
+      {"spacing = 0.005", "spacing = 0.005\nescape = \"drop\"", "escape = ^\"drop\"", "fluid.escape",
+       "expected one of \"remove\", \"stop\""},
+      {"spacing = 0.005", "spacing = 0.005\nescape_distance = -0.1", "escape_distance = ^-0.1",
+       "fluid.escape_distance", "expected a number >= 0 [m], got -0.1"},
+      {"spacing = 0.005", "spacing = 0.005\nescape = \"stop\"\nescape_distance = 0.1", "escape_distance = ^0.1",
+       "fluid.escape_distance", "needs escape = \"remove\""},
+      {"spacing = 0.005", "spacing = 0.005\nescape_fraction_limit = 0", "escape_fraction_limit = ^0",
+       "fluid.escape_fraction_limit", "expected a number in (0, 1] [1], got 0"},
+      {"spacing = 0.005", "spacing = 0.005\nescape_fraction_limit = 1.5", "escape_fraction_limit = ^1.5",
+       "fluid.escape_fraction_limit", "got 1.5"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nhs = \"yes\"", "hs = ^\"yes\"", "fluid.schemes.hs",
        "expected true or false, got a string"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nxs = true", "^xs", "fluid.schemes.xs",

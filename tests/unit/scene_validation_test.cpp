@@ -694,3 +694,22 @@ TEST_CASE("fuzz: mutated scenes give a sane Model or a SceneError, nothing else"
   CHECK(accepted > kTrials / 20);
   CHECK(rejected > kTrials / 4);
 }
+
+TEST_CASE("a long run checkpoints by default: output.checkpoint_interval unset gives end_time / 10") {
+  using riffle::default_checkpoint_interval;
+  // At least 1000 steps of run.dt is a long run; shorter ones write a checkpoint only at the end (and on a signal).
+  CHECK(default_checkpoint_interval(1.0, 1.0e-3) == 0.1);
+  CHECK(default_checkpoint_interval(58.8235, 1.0e-3) == 58.8235 / 10.0);
+  CHECK(default_checkpoint_interval(0.999, 1.0e-3) == 0.0);
+  CHECK(default_checkpoint_interval(0.6, 1.0e-3) == 0.0);  // scenes/dam_break.toml: 600 steps
+  const auto scene = [](const std::string& end_time, const std::string& output) {
+    const std::string text = replace_once(replace_once(kBaseScene, "end_time = 0.1\n", "end_time = " + end_time + "\n"),
+                                          "checkpoint_interval = 0.05\n", output);
+    return riffle::parse_scene(text, "long.toml");
+  };
+  CHECK(scene("2.0", "").output.checkpoint_interval == 0.2);
+  CHECK(scene("0.5", "").output.checkpoint_interval == 0.0);
+  // A scene that sets the key keeps it, 0 included.
+  CHECK(scene("2.0", "checkpoint_interval = 0\n").output.checkpoint_interval == 0.0);
+  CHECK(scene("2.0", "checkpoint_interval = 0.3\n").output.checkpoint_interval == 0.3);
+}

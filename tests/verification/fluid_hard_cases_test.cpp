@@ -2,15 +2,19 @@
 // fluid particle finite (position, velocity, pressure) and inside the tank (not beyond the wall-particle plane,
 // l0/2 outside the inner boundary; an open top is bounded by the domain), or stop with a diagnosis in StepStatus
 // that names the right problem (never a silent NaN). Every case also holds physical bounds: the fluid particle count
-// is kept, the particle volume stays within numerics 6.2's 1 %, and the fluid's energy never exceeds its start
-// value plus the work of the moving walls (with the start lattice's settling allowed for). Coarse lattices and thin
-// slabs keep each case to a few seconds.
+// is kept (particles left plus those removed as escaped, [fluid] escape), the particle volume stays within numerics
+// 6.2's 1 %, and the fluid's energy never exceeds its start value plus the work of the moving walls (with the start
+// lattice's settling allowed for). Coarse lattices and thin slabs keep each case to a few seconds.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
+#include "components/soa.hpp"
+#include "engine/scene/scene.hpp"
+#include "systems/physics/domain.hpp"
 #include "tests/fluid_support.hpp"
 
 namespace riffle {
@@ -24,7 +28,10 @@ struct Outcome {
   std::int64_t steps = 0;
   double max_speed = 0.0, max_pressure = 0.0;
   std::size_t count_start = 0;     ///< fluid particles at the start
-  bool count_kept = true;          ///< the same number of fluid particles after every step
+  /// After every step: the fluid particles left plus those removed as escaped (fluid_escape) are those at the start,
+  /// and the summary counts the particles left.
+  bool count_kept = true;
+  std::vector<EntityId> removed_ids;  ///< the ids fluid_escape removed, in the order it reported them
   double volume_error = 0.0;       ///< [1] max over steps of |V / (F l0^3) - 1| (the summary's particle volume)
   double energy_start = 0.0;       ///< [J] fluid kinetic + potential energy at the start
   double energy_excess = 0.0;      ///< [J] max over steps of E(t) - E(0) - W(t): positive = energy from nowhere
@@ -84,10 +91,13 @@ Outcome survive(test::FluidRun& run, double end_time, Each&& each) {
       }
       outcome.max_pressure = std::max(outcome.max_pressure, fluid.pressure[i]);
     }
-    outcome.count_kept = outcome.count_kept && run.fluid_count() == outcome.count_start;
+    const FluidSummary& summary = *run.world.fluid_summary;
+    outcome.count_kept = outcome.count_kept && summary.fluid_count == run.fluid_count() &&
+                         run.fluid_count() + summary.removed_count() == outcome.count_start;
+    for (const EscapedParticle& particle : summary.escaped) outcome.removed_ids.push_back(particle.id);
     outcome.max_speed = std::max(outcome.max_speed, run.world.fluid_summary->max_speed);
     outcome.outside_max = std::max(outcome.outside_max, run.count_outside_tank(0.5 * l0));
-    const double volume_start = static_cast<double>(outcome.count_start) * l0 * l0 * l0;
+    const double volume_start = static_cast<double>(run.fluid_count()) * l0 * l0 * l0;  // the water left
     outcome.volume_error =
         std::max(outcome.volume_error, std::abs(run.world.fluid_summary->volume / volume_start - 1.0));
     const FluidMechanics after = mechanics(run);
@@ -216,20 +226,128 @@ TEST_CASE("a falling block splashes into a pool and throws droplets") {
   const Outcome o = survive(run, 0.25, [&](const test::FluidRun& r) {
     if (r.world.step % 10 == 0) most_lone = std::max(most_lone, lone_particles(r));
   });
-  MESSAGE("splash: at most " << most_lone << " detached single particles");
+  MESSAGE("splash: at most " << most_lone << " detached single particles, " << o.removed_ids.size()
+                             << " removed as escaped");
   report("splash", o);
-  // A splash may throw a droplet out of the open top beyond the domain margin: that is physics (wedge-entry jets
-  // leave at up to twice the impact speed, 6 m/s reaches 1.8 m), and the run must then stop with the left-domain
-  // diagnosis naming a particle above the tank, not a non-finite state.
-  if (!o.completed) {
-    CHECK(run.world.step_status.problem == StepProblem::kLeftDomain);
-    CHECK(run.world.step_status.phase == "fluid");
-    CHECK(run.world.step_status.entity < o.count_start);  // a fluid particle (ids 0 .. F-1), not a wall particle
-    CHECK(run.world.step_status.position.z() > run.model.tank.size.z());
-  }
+  // A droplet thrown out of the open top beyond the domain margin is physics (wedge-entry jets leave at up to twice
+  // the impact speed, 6 m/s reaches 1.8 m): it is removed ([fluid] escape = "remove", the default) and the run
+  // goes on (before issue 22 it stopped with the left-domain diagnosis).
+  CHECK(o.completed);
+  CHECK(run.world.fluid_summary->removed_count() == o.removed_ids.size());
+  // Main 492f9ef stopped this run at t = 0.152 s (step 316) with a particle 0.55 m up; now it is removed.
+  CHECK(run.world.fluid_summary->removed_count() > 0);
   // Fixed walls do no work: the block's kinetic and potential energy can only be redistributed and dissipated.
   CHECK(o.energy_excess <= settling_allowance(run, o));
   CHECK(most_lone > 0);  // the case does exercise detached particles
+}
+
+namespace {
+
+/// The scene of tests/data/splash_escape.toml (a block falling at 3 m/s into a pool in a tank only 0.1 m high, lone
+/// droplets removed 2 l0 outside it), with `fluid_keys` added to its [fluid] table.
+Model splash_escape_scene(const std::string& fluid_keys = "") {
+  const std::string path = RIFFLE_SOURCE_DIR "/tests/data/splash_escape.toml";
+  std::string text = read_scene_text(path);
+  const std::string limit = "escape_fraction_limit = 0.2\n";
+  REQUIRE(text.find(limit) != std::string::npos);
+  text.replace(text.find(limit), limit.size(), fluid_keys.empty() ? limit : fluid_keys + "\n");
+  return parse_scene(text, path);
+}
+
+}  // namespace
+
+TEST_CASE("a splash out of a low open tank finishes: escaped droplets are removed, counted, and the mass adds up") {
+  // Jets from the impact (Froude number 5.5) rise at up to ~6 m/s: far above the 0.1 m walls (v^2/2g = 1.8 m).
+  test::FluidRun run(splash_escape_scene());
+  const Model& model = run.model;
+  const std::size_t laid_out = run.fluid_count();
+  REQUIRE(laid_out == 20 * 3 * 3 + 6 * 3 * 6);
+  REQUIRE(run.world.fluid_summary->initial_fluid_count == laid_out);
+  std::size_t left_domain = 0, flew_free = 0;
+  const DomainBox domain = domain_box(model);
+  bool each_removed_was_out = true;
+  const Outcome o = survive(run, model.end_time, [&](const test::FluidRun& r) {
+    for (const EscapedParticle& particle : r.world.fluid_summary->escaped) {
+      // Each removal has its reason: outside the domain, or alone and more than escape_distance outside the tank
+      // (fixed here, so its box is the one at rest).
+      const double outside = distance_outside_box(model.tank.origin, model.tank.origin + model.tank.size,
+                                                  particle.position);
+      each_removed_was_out = each_removed_was_out &&
+                             (particle.left_domain ? !domain.contains(particle.position)
+                                                   : outside > model.fluid.escape_distance);
+      ++(particle.left_domain ? left_domain : flew_free);
+    }
+  });
+  const FluidSummary& summary = *run.world.fluid_summary;
+  MESSAGE("splash out of a low tank: " << (o.completed ? "completed" : "stopped: " + o.diagnosis) << " after "
+          << o.steps << " steps; removed " << summary.removed_count() << " of " << laid_out << " (" << left_domain
+          << " left the domain, " << flew_free << " lone beyond escape_distance); max |V/V0 - 1| " << o.volume_error
+          << ", max E(t) - E(0) " << o.energy_excess << " J");
+  CHECK(o.completed);
+  CHECK_FALSE(o.silent_nan);
+  CHECK(summary.removed_count() > 0);  // the case does throw water out
+  CHECK(each_removed_was_out);
+  // The bookkeeping is exact: after every step the particles left plus those removed are those laid out ...
+  CHECK(o.count_kept);
+  CHECK(summary.fluid_count + summary.removed_count() == laid_out);
+  // ... each removed particle reported once, and the ids left and removed are exactly the ids laid out (0 .. F-1).
+  std::vector<EntityId> ids = o.removed_ids;
+  for (std::size_t i = 0; i < run.fluid_count(); ++i) ids.push_back(run.world.fluid->id[i]);
+  std::sort(ids.begin(), ids.end());
+  std::vector<EntityId> expected(laid_out);
+  for (std::size_t k = 0; k < laid_out; ++k) expected[k] = k;
+  CHECK(ids == expected);
+  // Mass: every particle carries rho l0^3, so water + removed = laid out holds to the last bit of the count.
+  const double particle_mass = model.fluid.density * std::pow(model.fluid.spacing, 3);
+  CHECK(static_cast<double>(summary.fluid_count) * particle_mass +
+            static_cast<double>(summary.removed_count()) * particle_mass ==
+        doctest::Approx(static_cast<double>(laid_out) * particle_mass).epsilon(1e-15));
+  // The water left stays incompressible (numerics 6.2's 1 %), and no energy comes from nowhere: removal only takes
+  // the escaped particles' energy away with them.
+  CHECK(o.volume_error < 0.01);
+  CHECK(o.energy_excess <= settling_allowance(run, o));
+  // The tables stay consistent after the compactions: every role the same size, fluid first.
+  CHECK_NOTHROW(check_field_sizes(*run.world.fluid, "fluid"));
+  CHECK(fluid_slot_count(*run.world.fluid) == summary.fluid_count);
+}
+
+TEST_CASE("a splash that removes more than fluid.escape_fraction_limit of the water stops with that diagnosis") {
+  // The same splash with the default limit, 1 % of 288 particles: the third removed particle is one too many.
+  test::FluidRun run(splash_escape_scene("escape_fraction_limit = 0.01"));
+  const double limit = 0.01 * static_cast<double>(run.fluid_count());
+  std::size_t removed_before = 0;
+  bool ok = true;
+  while (ok && run.world.time < run.model.end_time - 1e-12) {
+    removed_before = run.world.fluid_summary->removed_count();
+    ok = run.step();
+  }
+  const FluidSummary& summary = *run.world.fluid_summary;
+  MESSAGE("limit 1 %: " << run.diagnosis() << "; removed " << removed_before << " before the last step, "
+                        << summary.removed_count() << " after it");
+  REQUIRE_FALSE(ok);
+  CHECK(run.world.step_status.problem == StepProblem::kTooManyEscaped);
+  CHECK(run.world.step_status.phase == "fluid");
+  // It stops at the first step that passes the limit, not before and not later.
+  CHECK(static_cast<double>(summary.removed_count()) > limit);
+  CHECK(static_cast<double>(removed_before) <= limit);
+}
+
+TEST_CASE("a non-finite fluid particle outside the domain is not removed: the run stops naming it") {
+  // A NaN is a bug, never spray: fluid_escape leaves it (whatever its position), fluid_checks names it.
+  EntityId bad = 0;
+  test::FluidRun run(splash_escape_scene(), [&](World& world) {
+    bad = world.fluid->id[5];
+    world.fluid->position[5] = Vec3(0.1, 0.015, 5.0);  // far above the domain's top (0.3 m)
+    world.fluid->velocity[5] = Vec3(0.0, std::nan(""), 0.0);
+  });
+  const std::size_t laid_out = run.fluid_count();
+  CHECK_FALSE(run.step());
+  CHECK(run.world.step_status.problem == StepProblem::kNonFinite);
+  CHECK(run.world.step_status.phase == "fluid");
+  CHECK(run.world.step_status.entity == bad);
+  CHECK(run.world.fluid_summary->removed_count() == 0);
+  CHECK(run.fluid_count() == laid_out);
+  CHECK(run.world.fluid->id[run.slot_of(bad)] == bad);
 }
 
 TEST_CASE("a fluid particle 0.3 l0 from a tank corner next to still water") {
