@@ -247,7 +247,7 @@ TEST_CASE("bad scenes are rejected with file, line, column, key and a useful mes
        "expected an array of 3 numbers [m/s], each a finite number, got a number", 1},
       // Invalid choices. An invalid kind must not make amplitude and frequency "unknown keys".
       {"kind = \"sinusoidal\"", "kind = \"circular\"", "kind = ^\"circular\"", "tank.motion.kind",
-       "expected one of \"none\", \"sinusoidal\", got \"circular\"", 1},
+       "expected one of \"none\", \"sinusoidal\", \"table\", got \"circular\"", 1},
       {"kind = \"sinusoidal\"", "kind = 5", "kind = ^5", "tank.motion.kind", "expected a string, got an integer", 1},
       {"open_faces = [\"z_max\"]", "open_faces = [\"top\"]", "open_faces = [^\"top\"]", "tank.open_faces",
        "got \"top\"", 1},
