@@ -59,9 +59,11 @@ FluidLayout fluid_box_layout(const Vec3& lattice_origin, const Vec3& low, const 
 ///     box standing on the floor or against a wall keeps the tank lattice's l0 gap to the wall layer; the high face
 ///     of the particles' cells is within l0/2 of the given one;
 ///   - else the high face does: last centre high - l0/2, the low face within l0/2;
-///   - else centred: the cells' faces are each within l0/4 of the given ones.
-/// The spacing stays l0 (the number density of the box's interior is the lattice's n0); the cells n l0 differ from
-/// the size by at most l0/2 in all, and a face by at most l0/2.
+///   - else centred: the cells' faces are each within l0/4 of the given ones (a box thinner than l0/2 gets one
+///     particle, its faces (l0 - size)/2 < l0/2 out).
+/// The spacing stays l0 (the number density of the box's interior is the lattice's n0); for a size of at least l0/2
+/// the cells n l0 differ from it by at most l0/2 in all, and each face by at most l0/2 (a thinner box is one layer
+/// of l0, its anchored face exact, the other l0 - size out).
 struct BoxGrid {
   Vec3 first = Vec3::Zero();              ///< [m] the centre of particle (0, 0, 0)
   std::array<std::int64_t, 3> count{};    ///< particles per axis (all >= 1 unless the box is empty)
