@@ -561,6 +561,8 @@ std::string insane(const riffle::Model& model) {
     if (!(tank.motion.amplitude >= 0.0) || !std::isfinite(tank.motion.amplitude)) return "tank.motion.amplitude";
     if (!(tank.motion.frequency > 0.0) || !std::isfinite(tank.motion.frequency)) return "tank.motion.frequency";
     if (!(tank.motion.ramp_time >= 0.0) || !std::isfinite(tank.motion.ramp_time)) return "tank.motion.ramp_time";
+    if (!(std::abs(tank.motion.phase) <= 2.0 * 3.14159265358979323846 + 1e-12)) return "tank.motion.phase";
+    if (!(tank.motion.start_time >= 0.0) || !std::isfinite(tank.motion.start_time)) return "tank.motion.start_time";
   }
   for (const riffle::SphereSpec& sphere : model.solids.spheres) {
     if (!(sphere.radius > 0.0) || !std::isfinite(sphere.radius)) return "sphere radius";
