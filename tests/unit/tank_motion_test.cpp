@@ -221,6 +221,15 @@ TEST_CASE("a cosine start places the walls, the water and the grains displaced b
     CHECK((world.fluid->position[i] - (reference.fluid->position[i] + shift)).norm() < 1e-15);
   for (std::size_t wall = 0; wall < world.walls->size(); ++wall)
     CHECK((world.walls->point[wall] - (reference.walls->point[wall] + shift)).norm() < 1e-15);
+  // Grains (test::small_scene_text: a block of them, a ramp that the phase does not change at t = 0, so no ramp).
+  std::string grains = test::small_scene_text();
+  grains.replace(grains.find("ramp_time = 0.2"), 15, "phase = -90");
+  const World shaken = initial_world(parse_scene(grains, "cosine_grains.toml"));
+  const World resting = initial_world(test::small_model());
+  REQUIRE(shaken.solids->size() == resting.solids->size());
+  REQUIRE(shaken.solids->size() > 0);
+  for (std::size_t i = 0; i < shaken.solids->size(); ++i)
+    CHECK((shaken.solids->position[i] - (resting.solids->position[i] + shift)).norm() < 1e-15);
 }
 
 TEST_CASE("motion table: a sampled sinusoid gives the analytic kinematics within the spline's bounds") {
