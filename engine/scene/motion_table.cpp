@@ -57,6 +57,8 @@ std::string parse_motion_table(const std::string& text, const std::string& file,
   bool header_read = false;
   while (std::getline(stream, line)) {
     ++line_number;
+    // A spreadsheet's UTF-8 byte-order mark before the header is not part of it.
+    if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     const std::string content = trimmed(line);
     if (content.empty() || content[0] == '#') continue;
     const std::vector<std::string> fields = fields_of(content);

@@ -265,6 +265,8 @@ TEST_CASE("motion table: columns in any order, comments and blank lines; bad fil
   CHECK(table.displacement[2][3] == 3.0);
   CHECK(table.displacement[0][0] == 1.0);
   CHECK(table.displacement[1].empty());
+  REQUIRE(parse_motion_table("\xEF\xBB\xBFt,x\r\n0,0\r\n1,1\r\n2,2\r\n3,3\r\n", "excel.csv", table) == "");
+  CHECK(table.displacement[0][3] == 3.0);
   struct Bad {
     const char* text;
     const char* problem;
