@@ -120,10 +120,15 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
         }
     return false;
   };
+  // The tank's own wall particles need no entry: a box lies inside the tank, its particles at least l0/4 inside
+  // (box_grid), the wall layer l0/2 outside, so none is within l0/2 of a box particle; the map holds box particles
+  // only (bounded by the budget's wall-box count).
   auto add_wall = [&](const LatticeParticle& particle, FluidKind kind, bool from_box) {
     if (geometric) {
-      if (from_box && too_close(particle.position)) return;
-      placed_near[cell_of(particle.position)].push_back(particle.position);
+      if (from_box) {
+        if (too_close(particle.position)) return;
+        placed_near[cell_of(particle.position)].push_back(particle.position);
+      }
     } else if (!walls_placed.insert(particle.cell).second) {
       return;
     }
