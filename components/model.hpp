@@ -1,6 +1,7 @@
 #pragma once
 // The immutable description of a run, parsed and validated from a scene file. Systems receive it as const; the
 // mutable state lives in the World. A checkpoint stores the scene text, so the model is rebuilt on resume.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -71,15 +72,32 @@ struct ContactModel {
   }
 };
 
-/// Prescribed rigid translation of the tank. x(t) = -A r(t) sin(2 pi f t) along `direction` (seed 000 Eq. 1),
-/// with r(t) a C2 quintic ramp from 0 to 1 over `ramp_time` (the seed's "accelerated gradually at the onset").
+/// A tank motion read from a CSV file ([tank.motion] kind = "table"): displacement per axis at tabulated times,
+/// interpolated by a not-a-knot cubic spline per axis (systems/physics/cubic_spline.hpp), whose second derivatives
+/// the scene reader computes once. Axes the file does not list stay at zero (empty vectors).
+struct MotionTable {
+  std::string file;                                ///< the CSV as resolved (relative to the scene file), for messages
+  std::vector<double> time;                        ///< [s] strictly increasing, at least 4
+  std::array<std::vector<double>, 3> displacement; ///< [m] per axis, one per time; empty for an axis not in the file
+  std::array<std::vector<double>, 3> curvature;    ///< [m/s^2] the spline's second derivatives at the times
+};
+
+/// Prescribed rigid translation of the tank.
+/// Sinusoidal: x(t) = -A r(tau) sin(2 pi f tau + phase) along `direction`, tau = t - start_time (seed 000 Eq. 1 with
+/// phase = start_time = 0), with r a C2 quintic ramp from 0 to 1 over `ramp_time` (the seed's "accelerated gradually
+/// at the onset"); before start_time the tank rests at x(start_time).
+/// Table: the spline through `table`; before its first and after its last time the tank rests at the end's
+/// displacement.
 struct TankMotionModel {
-  enum class Kind { kNone, kSinusoidal };
+  enum class Kind { kNone, kSinusoidal, kTable };
   Kind kind = Kind::kNone;
-  Vec3 direction = Vec3::UnitX();  ///< [1] unit vector
+  Vec3 direction = Vec3::UnitX();  ///< [1] unit vector (a table: the first axis it lists, for the diagnostics)
   double amplitude = 0.0;          ///< [m] A
   double frequency = 0.0;          ///< [Hz] f
   double ramp_time = 0.0;          ///< [s] 0 = start at full amplitude
+  double phase = 0.0;              ///< [rad] (the scene gives degrees)
+  double start_time = 0.0;         ///< [s] the tank rests before it
+  MotionTable table;               ///< kind = kTable only
 };
 
 struct TankModel {
@@ -96,6 +114,9 @@ struct ParticleBoxModel {
   Vec3 low = Vec3::Zero();       ///< [m] min corner
   Vec3 high = Vec3::Zero();      ///< [m] max corner
   Vec3 velocity = Vec3::Zero();  ///< [m/s] initial velocity (fluid boxes only)
+  /// false: the lattice points of the tank's lattice inside [low, high] (snapped, the default); true ("extent"):
+  /// a lattice of its own at spacing l0 that fills the given extent (engine/setup/fluid_layout.hpp box_grid).
+  bool fit_extent = false;
 };
 
 /// The enhanced MPS schemes of seed 000 Sec. 3.1, each switchable so that its cost and benefit can be measured.

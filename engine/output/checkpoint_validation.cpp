@@ -9,6 +9,7 @@
 
 #include "systems/physics/mps_common.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/tank_kinematics.hpp"
 #include "systems/dem/solid_neighbours.hpp"
 
 namespace riffle {
@@ -126,11 +127,25 @@ void check_world_time(const Refusal& refusal, const World& world, const Model& m
                      " s)");
 }
 
-void check_tank_motion(const Refusal& refusal, const TankMotion& tank) {
+void check_tank_motion(const Refusal& refusal, const TankMotion& tank, const Model& model) {
   refusal.finite_value("tank_motion.time", tank.time);
   refusal.finite_value("tank_motion.displacement", tank.displacement);
   refusal.finite_value("tank_motion.velocity", tank.velocity);
   refusal.finite_value("tank_motion.acceleration", tank.acceleration);
+  // The motion is part of the scene, and a table is re-read from its CSV on resume: the kinematics the checkpoint
+  // holds must be the scene's at their time, or the walls would jump (a table or [tank.motion] edited since). Exact
+  // up to rounding (1e-9 relative, 1e-12 absolute in SI units); a change away from the checkpoint's time passes.
+  const TankMotion expected = tank_kinematics(model.tank.motion, tank.time);
+  auto same = [&](const char* field, const Vec3& value, const Vec3& wanted) {
+    for (int axis = 0; axis < 3; ++axis)
+      if (!(std::abs(value[axis] - wanted[axis]) <= 1e-9 * std::max(std::abs(value[axis]), std::abs(wanted[axis])) + 1e-12))
+        refusal.fail(std::string("tank_motion.") + field + " = " + show(value),
+                     "differs from the scene's motion at t = " + show(tank.time) + " s, " + show(wanted) +
+                         " (was [tank.motion] or its table changed since the checkpoint was written?)");
+  };
+  same("displacement", tank.displacement, expected.displacement);
+  same("velocity", tank.velocity, expected.velocity);
+  same("acceleration", tank.acceleration, expected.acceleration);
 }
 
 /// The grains are the scene's own: the same ids, each with the radius, material, size class, mass and inertia the
@@ -402,7 +417,7 @@ void validate_checkpoint(const CheckpointData& data, const Model& model, const W
   same_presence("fluid_summary", world.fluid_summary.has_value(), initial.fluid_summary.has_value());
 
   check_world_time(refusal, world, model);
-  if (world.tank_motion) check_tank_motion(refusal, *world.tank_motion);
+  if (world.tank_motion) check_tank_motion(refusal, *world.tank_motion, model);
   if (world.walls) check_walls(refusal, *world.walls, *initial.walls);
   if (world.solids) {
     validate_grains(*world.solids, model.materials.size(), name);

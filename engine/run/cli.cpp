@@ -13,6 +13,7 @@
 #include "engine/scene/budget.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
+#include "systems/physics/tank_kinematics.hpp"
 
 namespace riffle {
 
@@ -203,6 +204,16 @@ int run_command(int argc, char** argv) {
                   model.contact.stable_solid_dt_reason.c_str(), model.contact.max_impact_speed,
                   model.contact.restitution_error, model.contact.restitution_tolerance,
                   model.contact.restitution_error_pair.c_str());
+    const TankMotionModel& motion = model.tank.motion;
+    const Vec3 sweep = tank_motion_sweep(motion);
+    if (motion.kind == TankMotionModel::Kind::kTable)
+      std::printf("  tank motion: table %s, %zu rows, t in [%g, %g] s, largest |displacement| (%.4g, %.4g, %.4g) m\n",
+                  motion.table.file.c_str(), motion.table.time.size(), motion.table.time.front(),
+                  motion.table.time.back(), sweep.x(), sweep.y(), sweep.z());
+    else if (motion.kind == TankMotionModel::Kind::kSinusoidal)
+      std::printf("  tank motion: sinusoidal, A = %g m, f = %g Hz, ramp %g s, phase %g deg, start %g s\n",
+                  motion.amplitude, motion.frequency, motion.ramp_time, motion.phase * 180.0 / 3.14159265358979323846,
+                  motion.start_time);
     if (const FluidParticles* fluid = simulation->world().fluid ? &*simulation->world().fluid : nullptr)
       std::printf("  fluid: %zu MPS particles, %zu of them fluid, spacing %g m, r_e = %g spacing\n", fluid->size(),
                   simulation->world().fluid_summary->fluid_count, model.fluid.spacing,

@@ -51,7 +51,9 @@ double lattice_cells(double origin, double low, double high, double spacing) {
 
 double box_particles(const ParticleBoxModel& box, const Vec3& origin, double spacing) {
   double count = 1.0;
-  for (int axis = 0; axis < 3; ++axis) count *= lattice_cells(origin[axis], box.low[axis], box.high[axis], spacing);
+  for (int axis = 0; axis < 3; ++axis)
+    count *= box.fit_extent ? std::max(1.0, std::round((box.high[axis] - box.low[axis]) / spacing))  // box_grid
+                            : lattice_cells(origin[axis], box.low[axis], box.high[axis], spacing);
   return count;
 }
 

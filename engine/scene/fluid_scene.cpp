@@ -34,17 +34,34 @@ struct BoxEntry {
   TableReader reader;
   std::string name;         ///< full key, e.g. fluid.boxes[1], for messages naming the other box
   LatticeRange range;
+  BoxGrid grid;             ///< its particles (box_grid), for the geometric overlap checks
+  bool fit_extent = false;  ///< placement = "extent"
   bool laid_out = false;    ///< its lattice range is known (no earlier problem with it)
 };
 
+/// Two boxes overlap when a particle of one is closer than l0/2 to one of the other: for two snapped boxes exactly
+/// "they share lattice points" (their lattice ranges intersect), which is what is checked for them.
+bool boxes_overlap(const BoxEntry& a, const BoxEntry& b) {
+  if (!a.fit_extent && !b.fit_extent) return a.range.overlaps(b.range);
+  return grid_distance(a.grid, b.grid) < 0.5 * a.grid.spacing;
+}
+
+std::string overlap_reason(const BoxEntry& a, const BoxEntry& b) {
+  if (!a.fit_extent && !b.fit_extent) return " (they share lattice points)";
+  return " (their particles come within " + format_number(grid_distance(a.grid, b.grid)) +
+         " m of each other, closer than spacing / 2)";
+}
+
 /// Reads one box and checks it against the tank and the lattice; `spacing` is 0 when unknown (already reported).
 BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, const Model& model, double spacing) {
-  BoxEntry entry{reader, reader.full_key(""), {}, false};
+  BoxEntry entry{reader, reader.full_key(""), {}, {}, false, false};
   if (!entry.name.empty() && entry.name.back() == '.') entry.name.pop_back();  // full_key("") ends with a '.'
   const std::size_t problems_before = reader.problem_count();
   box.low = reader.vec3("low", std::nullopt, "m", Bounds::any());
   box.high = reader.vec3("high", std::nullopt, "m", Bounds::any());
   if (fluid_box) box.velocity = reader.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
+  box.fit_extent = reader.choice("placement", "lattice", {"lattice", "extent"}) == "extent";
+  entry.fit_extent = box.fit_extent;
   reader.finish();
   if (reader.problem_count() != problems_before) return entry;
 
@@ -71,9 +88,16 @@ BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, co
     return entry;
   }
   if (!(spacing > 0.0)) return entry;
-  const Eigen::Array3d cells = ((box.high - box.low).array() / spacing + 1e-9).floor() + 1.0;
+  const Eigen::Array3d cells = box.fit_extent
+                                   ? Eigen::Array3d(((box.high - box.low).array() / spacing).round().max(1.0))
+                                   : Eigen::Array3d(((box.high - box.low).array() / spacing + 1e-9).floor() + 1.0);
   if (cells.prod() > kMaxParticles) {
     reader.problem("high", "the box would hold more than 5e7 particles at spacing " + format_number(spacing) + " m");
+    return entry;
+  }
+  entry.grid = box_grid(tank.origin, box.low, box.high, spacing, box.fit_extent);
+  if (box.fit_extent) {  // at least one particle per axis by construction
+    entry.laid_out = true;
     return entry;
   }
   entry.range = lattice_range(tank.origin, box.low, box.high, spacing);
@@ -168,14 +192,14 @@ void read_fluid(TableReader& fluid, Model& model) {
   // (their shared points are placed once), but not the fluid.
   for (std::size_t k = 0; k < fluid_boxes.size(); ++k)
     for (std::size_t j = 0; j < k; ++j)
-      if (fluid_boxes[k].laid_out && fluid_boxes[j].laid_out && fluid_boxes[k].range.overlaps(fluid_boxes[j].range)) {
-        fluid_boxes[k].reader.problem("low", "the box overlaps " + fluid_boxes[j].name + " (they share lattice points)");
+      if (fluid_boxes[k].laid_out && fluid_boxes[j].laid_out && boxes_overlap(fluid_boxes[k], fluid_boxes[j])) {
+        fluid_boxes[k].reader.problem("low", "the box overlaps " + fluid_boxes[j].name + overlap_reason(fluid_boxes[k], fluid_boxes[j]));
         break;
       }
   for (BoxEntry& wall : wall_boxes)
     for (const BoxEntry& box : fluid_boxes)
-      if (wall.laid_out && box.laid_out && wall.range.overlaps(box.range)) {
-        wall.reader.problem("low", "the wall box overlaps " + box.name + " (they share lattice points)");
+      if (wall.laid_out && box.laid_out && boxes_overlap(wall, box)) {
+        wall.reader.problem("low", "the wall box overlaps " + box.name + overlap_reason(wall, box));
         break;
       }
 

@@ -15,6 +15,8 @@
 #include "engine/scene/budget.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "engine/scene/fluid_scene.hpp"
+#include "engine/scene/motion_table.hpp"
+#include "systems/physics/cubic_spline.hpp"
 #include "systems/physics/contact_law.hpp"
 
 #include <cmath>
@@ -104,14 +106,71 @@ void read_materials(TableReader& materials, Model& model, bool contacts_enabled)
   if (model.materials.empty()) materials.problem("", "expected at least one [materials.NAME] table");
 }
 
-void read_motion(TableReader& motion, TankMotionModel& model) {
+/// A tabulated motion: the CSV named by `file` (relative to the scene file), its spline, and the checks that the run
+/// never leaves the table while the tank moves (outside it the tank rests at the end's displacement).
+void read_motion_table_keys(TableReader& motion, const Model& scene, TankMotionModel& model) {
   const std::size_t problems_before = motion.problem_count();
-  const std::string kind = motion.choice("kind", "none", {"none", "sinusoidal"});
+  std::filesystem::path path = motion.text("file", std::nullopt);
+  motion.finish();
+  if (motion.problem_count() != problems_before) return;
+  if (path.is_relative()) path = std::filesystem::path(scene.scene_file).parent_path() / path;
+  if (const std::string problem = read_motion_table(path.lexically_normal().string(), model.table);
+      !problem.empty()) {
+    motion.problem("file", problem);
+    return;
+  }
+  const MotionTable& table = model.table;
+  for (int axis = 0; axis < 3; ++axis)
+    if (!table.displacement[static_cast<std::size_t>(axis)].empty()) {
+      model.direction = Vec3::Unit(axis);  // the diagnostics' tank_displacement_m is along the first listed axis
+      break;
+    }
+  // A velocity jump where the run crosses an end of the table: allowed up to 1e-3 of the table's peak speed (the
+  // spline through rows at rest has a small ringing slope, not zero).
+  double peak = 0.0;
+  auto velocity_at = [&](double t) {
+    Vec3 velocity = Vec3::Zero();
+    for (std::size_t a = 0; a < 3; ++a)
+      if (!table.displacement[a].empty())
+        velocity[static_cast<int>(a)] = spline_at(table.time, table.displacement[a], table.curvature[a], t).slope;
+    return velocity;
+  };
+  for (const double t : table.time) peak = std::max(peak, velocity_at(t).norm());
+  const double allowed = 1e-3 * peak;
+  const double start_speed = velocity_at(table.time.front()).norm();
+  const double end_speed = velocity_at(table.time.back()).norm();
+  char text[512];
+  if (table.time.front() > 0.0 && start_speed > allowed) {
+    std::snprintf(text, sizeof text,
+                  "%s: the table starts at t = %g s, after the run's start (t = 0), with the tank moving at %.3g m/s "
+                  "(more than 1e-3 of its peak speed %.3g m/s): the tank rests before the first row, so that would be "
+                  "a jump in velocity; start the table at t <= 0 or at rest",
+                  table.file.c_str(), table.time.front(), start_speed, peak);
+    motion.problem("file", text);
+  }
+  if (scene.end_time > table.time.back() && end_speed > allowed) {
+    std::snprintf(text, sizeof text,
+                  "%s: the table ends at t = %g s, before run.end_time = %g s, with the tank moving at %.3g m/s (more "
+                  "than 1e-3 of its peak speed %.3g m/s): the tank rests after the last row, so that would be a jump "
+                  "in velocity; extend the table to end_time or end it at rest",
+                  table.file.c_str(), table.time.back(), scene.end_time, end_speed, peak);
+    motion.problem("file", text);
+  }
+}
+
+void read_motion(TableReader& motion, const Model& scene, TankMotionModel& model) {
+  const std::size_t problems_before = motion.problem_count();
+  const std::string kind = motion.choice("kind", "none", {"none", "sinusoidal", "table"});
   // With an invalid kind the other keys cannot be judged; calling amplitude etc. "unknown" would mislead.
   if (motion.problem_count() != problems_before) return;
   if (kind == "none") {
     model.kind = TankMotionModel::Kind::kNone;
     motion.finish();
+    return;
+  }
+  if (kind == "table") {
+    model.kind = TankMotionModel::Kind::kTable;
+    read_motion_table_keys(motion, scene, model);
     return;
   }
   model.kind = TankMotionModel::Kind::kSinusoidal;
@@ -126,6 +185,9 @@ void read_motion(TableReader& motion, TankMotionModel& model) {
   model.amplitude = motion.number("amplitude", std::nullopt, "m", Bounds::non_negative());
   model.frequency = motion.number("frequency", std::nullopt, "Hz", Bounds::positive());
   model.ramp_time = motion.number("ramp_time", 0.0, "s", Bounds::non_negative());
+  // Degrees, as a phase is usually quoted; -90 turns x = -A sin(wt) into x = A cos(wt).
+  model.phase = motion.number("phase", 0.0, "deg", Bounds::closed(-360.0, 360.0)) * (3.14159265358979323846 / 180.0);
+  model.start_time = motion.number("start_time", 0.0, "s", Bounds::non_negative());
   motion.finish();
 }
 
@@ -135,7 +197,7 @@ void read_tank(TableReader& tank, Model& model) {
   model.tank.open_faces = tank.choices("open_faces", kFaceNames);
   model.tank.wall_material = read_material(model, tank, "wall_material");
   model.tank.domain_margin = tank.number("domain_margin", 0.05, "m", Bounds::non_negative());
-  if (auto motion = tank.table("motion", false)) read_motion(*motion, model.tank.motion);
+  if (auto motion = tank.table("motion", false)) read_motion(*motion, model, model.tank.motion);
   tank.finish();
 }
 
@@ -520,7 +582,8 @@ void check_budget(TableReader& scene, const Model& model) {
     const bool pairs = budget.grain_pair_bytes > 0.5 * budget.grain_bytes && model.contact.skin > 0.0;
     blamed = pairs ? table_at(scene, {"contact"}) : table_at(scene, {"solids"}), key = pairs ? "skin" : "";
   } else if (model.tank.motion.kind != TankMotionModel::Kind::kNone) {
-    blamed = table_at(scene, {"tank", "motion"}), key = "amplitude";
+    blamed = table_at(scene, {"tank", "motion"}),
+    key = model.tank.motion.kind == TankMotionModel::Kind::kTable ? "file" : "amplitude";
   } else {
     blamed = table_at(scene, {"tank"}), key = "size";
   }

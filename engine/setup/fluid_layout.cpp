@@ -63,6 +63,70 @@ FluidLayout fluid_box_layout(const Vec3& lattice_origin, const Vec3& low, const 
   return layout;
 }
 
+BoxGrid box_grid(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing, bool fit_extent) {
+  if (!(spacing > 0.0)) throw std::invalid_argument("box_grid: spacing must be positive");
+  BoxGrid grid;
+  grid.spacing = spacing;
+  if (!fit_extent) {
+    const LatticeRange range = lattice_range(lattice_origin, low, high, spacing);
+    for (std::size_t a = 0; a < 3; ++a) grid.count[a] = std::max<std::int64_t>(0, range.last[a] - range.first[a] + 1);
+    grid.first = lattice_position(lattice_origin, spacing, range.first[0], range.first[1], range.first[2]);
+    return grid;
+  }
+  constexpr double kTolerance = 1e-9;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    const double size = high[axis] - low[axis];
+    const double n = std::max(1.0, std::round(size / spacing));
+    grid.count[a] = static_cast<std::int64_t>(n);
+    auto on_lattice_face = [&](double face) {
+      const double cells = (face - lattice_origin[axis]) / spacing;
+      return std::abs(cells - std::round(cells)) <= kTolerance;
+    };
+    if (on_lattice_face(low[axis]))
+      grid.first[axis] = low[axis] + 0.5 * spacing;
+    else if (on_lattice_face(high[axis]))
+      grid.first[axis] = high[axis] - (n - 0.5) * spacing;
+    else
+      grid.first[axis] = 0.5 * (low[axis] + high[axis]) - 0.5 * (n - 1.0) * spacing;
+  }
+  return grid;
+}
+
+double grid_distance(const BoxGrid& a, const BoxGrid& b) {
+  const double spacing = a.spacing;
+  double squared = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto k = static_cast<std::size_t>(axis);
+    // a's particle i minus b's particle j: c + (i - j) l0, c = a.first - b.first, i - j in [-(nb - 1), na - 1].
+    const double c = a.first[axis] - b.first[axis];
+    const double lowest = -static_cast<double>(b.count[k] - 1), highest = static_cast<double>(a.count[k] - 1);
+    const double offset = std::clamp(std::round(-c / spacing), lowest, highest);
+    const double gap = c + offset * spacing;
+    squared += gap * gap;
+  }
+  return std::sqrt(squared);
+}
+
+FluidLayout grid_layout(const BoxGrid& grid, const Vec3& lattice_origin, FluidKind kind) {
+  FluidLayout layout;
+  if (grid.empty()) return layout;
+  layout.particles.reserve(static_cast<std::size_t>(grid.size()));
+  for (std::int64_t k = 0; k < grid.count[2]; ++k)
+    for (std::int64_t j = 0; j < grid.count[1]; ++j)
+      for (std::int64_t i = 0; i < grid.count[0]; ++i) {
+        const Vec3 position = grid.first + grid.spacing * Vec3(static_cast<double>(i), static_cast<double>(j),
+                                                               static_cast<double>(k));
+        std::array<std::int64_t, 3> cell{};
+        for (std::size_t a = 0; a < 3; ++a)
+          cell[a] = static_cast<std::int64_t>(
+              std::floor((position[static_cast<int>(a)] - lattice_origin[static_cast<int>(a)]) / grid.spacing));
+        layout.particles.push_back({position, kind, cell, -1});
+        count(layout, kind);
+      }
+  return layout;
+}
+
 FluidLayout tank_wall_layout(const Vec3& origin, const Vec3& size, const std::vector<std::string>& open_faces,
                              double spacing, double effective_radius) {
   const std::int64_t layers = 1 + dummy_layer_count(spacing, effective_radius);

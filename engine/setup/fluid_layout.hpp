@@ -51,6 +51,38 @@ LatticeRange lattice_range(const Vec3& lattice_origin, const Vec3& low, const Ve
 /// each face of the box.
 FluidLayout fluid_box_layout(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing);
 
+/// The particles of one scene box as a regular grid: centres first + (i, j, k) l0 for i < count[0], j < count[1],
+/// k < count[2]. Snapped (fit_extent = false): the tank lattice's cells of lattice_range, so that a box is exactly
+/// fluid_box_layout's particles. Fit to its extent (fit_extent = true): n_a = max(1, round(size_a / l0)) particles
+/// at spacing l0 along axis a, placed per axis by the first rule that applies:
+///   - the low face lies on a face of the tank lattice (origin + i l0, to 1e-9 l0): first centre low + l0/2, so a
+///     box standing on the floor or against a wall keeps the tank lattice's l0 gap to the wall layer; the high face
+///     of the particles' cells is within l0/2 of the given one;
+///   - else the high face does: last centre high - l0/2, the low face within l0/2;
+///   - else centred: the cells' faces are each within l0/4 of the given ones (a box thinner than l0/2 gets one
+///     particle, its faces (l0 - size)/2 < l0/2 out).
+/// The spacing stays l0 (the number density of the box's interior is the lattice's n0); for a size of at least l0/2
+/// the cells n l0 differ from it by at most l0/2 in all, and each face by at most l0/2 (a thinner box is one layer
+/// of l0, its anchored face exact, the other l0 - size out).
+struct BoxGrid {
+  Vec3 first = Vec3::Zero();              ///< [m] the centre of particle (0, 0, 0)
+  std::array<std::int64_t, 3> count{};    ///< particles per axis (all >= 1 unless the box is empty)
+  double spacing = 0.0;                   ///< [m] l0
+  bool empty() const { return count[0] < 1 || count[1] < 1 || count[2] < 1; }
+  double size() const { return static_cast<double>(count[0]) * static_cast<double>(count[1]) * static_cast<double>(count[2]); }
+};
+BoxGrid box_grid(const Vec3& lattice_origin, const Vec3& low, const Vec3& high, double spacing, bool fit_extent);
+
+/// The smallest distance between a particle of `a` and one of `b` (both of the same spacing), exact and O(1): the
+/// grids are Cartesian products, so the squared distance separates into per-axis minima of |c + k l0| over the
+/// integer offsets k the two index ranges allow. Two snapped boxes share a lattice point exactly when it is 0 (and
+/// are otherwise at least l0 apart), so "closer than l0/2" is the geometric form of "they share lattice points".
+double grid_distance(const BoxGrid& a, const BoxGrid& b);
+
+/// The particles of `grid`, all of `kind`, in (k, j, i) order; `cell` is the nearest cell of the tank lattice
+/// anchored at `lattice_origin` (exact for a snapped box).
+FluidLayout grid_layout(const BoxGrid& grid, const Vec3& lattice_origin, FluidKind kind);
+
 /// Wall and dummy particles of a box tank with inner min corner `origin` and inner size `size` (each an integer
 /// multiple of l0 to 1e-6, otherwise std::invalid_argument). Every closed face gets one wall layer at l0/2 outside
 /// the inner boundary and dummy_layer_count() dummy layers behind it; open faces (names of kTankFaceNames) get

@@ -1,7 +1,10 @@
 #include "engine/setup/initial_state.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <set>
+#include <vector>
 
 #include "engine/output/checkpoint.hpp"
 #include "engine/output/checkpoint_validation.hpp"
@@ -79,16 +82,56 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
   // (with a zero gradient they fell freely for one fluid step, and a neutrally buoyant grain kept that speed for
   // seconds). The pressure itself starts at zero and the first solve finds it, as before: starting it hydrostatic
   // as well moved the free-sloshing frequency test by one step of its fit (0.05 %), so that was left alone.
+  // Scene positions are in the tank at rest: at t = 0 the tank may already be displaced (a motion with a phase, or
+  // a table that does not start at 0), and the water starts where the tank is (at rest in it: its box velocity).
+  auto layout_of = [&](const ParticleBoxModel& box, FluidKind kind) {
+    return box.fit_extent ? grid_layout(box_grid(origin, box.low, box.high, fluid.spacing, true), origin, kind)
+                          : fluid_box_layout(origin, box.low, box.high, fluid.spacing);
+  };
   for (const ParticleBoxModel& box : fluid.boxes)
-    for (const LatticeParticle& particle : fluid_box_layout(origin, box.low, box.high, fluid.spacing).particles) {
-      const std::size_t slot = particles.add(particle.position, box.velocity, FluidKind::kFluid);
+    for (const LatticeParticle& particle : layout_of(box, FluidKind::kFluid).particles) {
+      const std::size_t slot = particles.add(particle.position + tank.displacement, box.velocity, FluidKind::kFluid);
       particles.pressure_gradient[slot] = fluid.density * model.gravity;
     }
 
-  // Wall-box points that coincide with a tank wall particle, or with another wall box, are placed once.
+  // Wall-box points that coincide with a tank wall particle, or with another wall box, are placed once. With a
+  // box fitted to its extent (off the tank lattice) "coincide" is geometric: a wall-box particle closer than l0/2
+  // to one already placed is dropped (for snapped boxes the same thing: distinct lattice points are l0 apart).
+  const bool geometric = std::any_of(fluid.wall_boxes.begin(), fluid.wall_boxes.end(),
+                                     [](const ParticleBoxModel& box) { return box.fit_extent; });
   std::set<std::array<std::int64_t, 3>> walls_placed;
-  auto add_wall = [&](const LatticeParticle& particle, FluidKind kind) {
-    if (!walls_placed.insert(particle.cell).second) return;
+  std::map<std::array<std::int64_t, 3>, std::vector<Vec3>> placed_near;  // geometric: rest positions by l0 cell
+  const double spacing = fluid.spacing;
+  auto cell_of = [&](const Vec3& position) {
+    std::array<std::int64_t, 3> cell{};
+    for (int a = 0; a < 3; ++a)
+      cell[static_cast<std::size_t>(a)] = static_cast<std::int64_t>(std::floor((position[a] - origin[a]) / spacing));
+    return cell;
+  };
+  auto too_close = [&](const Vec3& position) {
+    const std::array<std::int64_t, 3> cell = cell_of(position);
+    for (std::int64_t dk = -1; dk <= 1; ++dk)
+      for (std::int64_t dj = -1; dj <= 1; ++dj)
+        for (std::int64_t di = -1; di <= 1; ++di) {
+          const auto found = placed_near.find({cell[0] + di, cell[1] + dj, cell[2] + dk});
+          if (found == placed_near.end()) continue;
+          for (const Vec3& other : found->second)
+            if ((other - position).norm() < 0.5 * spacing) return true;
+        }
+    return false;
+  };
+  // The tank's own wall particles need no entry: a box lies inside the tank, its particles at least l0/4 inside
+  // (box_grid), the wall layer l0/2 outside, so none is within l0/2 of a box particle; the map holds box particles
+  // only (bounded by the budget's wall-box count).
+  auto add_wall = [&](const LatticeParticle& particle, FluidKind kind, bool from_box) {
+    if (geometric) {
+      if (from_box) {
+        if (too_close(particle.position)) return;
+        placed_near[cell_of(particle.position)].push_back(particle.position);
+      }
+    } else if (!walls_placed.insert(particle.cell).second) {
+      return;
+    }
     const std::size_t slot = particles.add(particle.position + tank.displacement, tank.velocity, kind);
     particles.rest_position[slot] = particle.position;
   };
@@ -96,10 +139,10 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
     for (const LatticeParticle& particle : tank_wall_layout(origin, model.tank.size, model.tank.open_faces,
                                                             fluid.spacing, fluid.effective_radius())
                                                .particles)
-      add_wall(particle, particle.kind);
+      add_wall(particle, particle.kind, false);
   for (const ParticleBoxModel& box : fluid.wall_boxes)
-    for (const LatticeParticle& particle : fluid_box_layout(origin, box.low, box.high, fluid.spacing).particles)
-      add_wall(particle, FluidKind::kWall);
+    for (const LatticeParticle& particle : layout_of(box, FluidKind::kWall).particles)
+      add_wall(particle, FluidKind::kWall, true);
   return particles;
 }
 
@@ -115,8 +158,12 @@ World initial_world(const Model& model) {
       world.solids = initial_grains(model);
     world.solid_summary.emplace();
     if (model.contact.enabled) world.contacts.emplace();
+    // Grains of a checkpoint (a settled bed) and of the scene are placed in the tank at rest: shift them with it
+    // when it starts displaced (zero for the seed's motion, which starts at x = 0).
+    const Vec3 shift = world.tank_motion->displacement;
+    for (std::size_t i = 0; i < world.solids->size(); ++i) world.solids->position[i] += shift;
     for (const SphereSpec& sphere : model.solids.spheres) {
-      const std::size_t slot = world.solids->add(sphere.position, sphere.velocity, sphere.radius,
+      const std::size_t slot = world.solids->add(Vec3(sphere.position + shift), sphere.velocity, sphere.radius,
                                                  model.materials[static_cast<std::size_t>(sphere.material)].density,
                                                  sphere.material, sphere.size_class);
       world.solids->angular_velocity[slot] = sphere.angular_velocity;

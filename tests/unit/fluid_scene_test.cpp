@@ -224,7 +224,7 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
        "got an array of 2 items"},
       {"low = [0.12, -0.01, 0.005]\nhigh = [0.125, 0.01, 0.01]",
        "low = [0.12, -0.01, 0.005]\nhigh = [0.125, 0.01, 0.01]\nvelocity = [1.0, 0.0, 0.0]", "^velocity = [1.0",
-       "fluid.wall_boxes[0].velocity", "unknown key (known keys here: high, low)"},
+       "fluid.wall_boxes[0].velocity", "unknown key (known keys here: high, low, placement)"},
       {"high = [0.12, 0.01, 0.015]", "high = [0.12, 0.01, 0.0]", "high = ^[0.12, 0.01, 0.0]", "fluid.boxes[0].high",
        "every component of high must be > the one of low (along z: 0 <= 0)"},
       {"high = [0.12, 0.01, 0.015]", "high = [0.12, 0.02, 0.015]", "high = ^[0.12, 0.02", "fluid.boxes[0].high",

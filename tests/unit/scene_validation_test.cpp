@@ -247,7 +247,7 @@ TEST_CASE("bad scenes are rejected with file, line, column, key and a useful mes
        "expected an array of 3 numbers [m/s], each a finite number, got a number", 1},
       // Invalid choices. An invalid kind must not make amplitude and frequency "unknown keys".
       {"kind = \"sinusoidal\"", "kind = \"circular\"", "kind = ^\"circular\"", "tank.motion.kind",
-       "expected one of \"none\", \"sinusoidal\", got \"circular\"", 1},
+       "expected one of \"none\", \"sinusoidal\", \"table\", got \"circular\"", 1},
       {"kind = \"sinusoidal\"", "kind = 5", "kind = ^5", "tank.motion.kind", "expected a string, got an integer", 1},
       {"open_faces = [\"z_max\"]", "open_faces = [\"top\"]", "open_faces = [^\"top\"]", "tank.open_faces",
        "got \"top\"", 1},
@@ -561,6 +561,8 @@ std::string insane(const riffle::Model& model) {
     if (!(tank.motion.amplitude >= 0.0) || !std::isfinite(tank.motion.amplitude)) return "tank.motion.amplitude";
     if (!(tank.motion.frequency > 0.0) || !std::isfinite(tank.motion.frequency)) return "tank.motion.frequency";
     if (!(tank.motion.ramp_time >= 0.0) || !std::isfinite(tank.motion.ramp_time)) return "tank.motion.ramp_time";
+    if (!(std::abs(tank.motion.phase) <= 2.0 * 3.14159265358979323846 + 1e-12)) return "tank.motion.phase";
+    if (!(tank.motion.start_time >= 0.0) || !std::isfinite(tank.motion.start_time)) return "tank.motion.start_time";
   }
   for (const riffle::SphereSpec& sphere : model.solids.spheres) {
     if (!(sphere.radius > 0.0) || !std::isfinite(sphere.radius)) return "sphere radius";
