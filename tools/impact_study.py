@@ -47,7 +47,9 @@ def make_scene(spacing, courant, end_time, fluid_extra, diagnostics_every=10):
     text = open(SCENE).read()
     slab = 4.0 * spacing
     text = re.sub(r"(?m)^spacing = [0-9.e-]+", f"spacing = {spacing!r}", text)
-    text = re.sub(r"(?m)^size = \[1\.61, [0-9.e-]+, 0\.6\]", f"size = [1.61, {slab!r}, 0.6]", text)
+    # the tank walls need whole spacings: 1.61 m must be a multiple of l0 (10, 5, 23 mm are), the height is rounded up
+    height = math.ceil(0.6 / spacing - 1e-9) * spacing
+    text = re.sub(r"(?m)^size = \[1\.61, [0-9.e-]+, 0\.6\]", f"size = [1.61, {slab!r}, {height!r}]", text)
     text = re.sub(r"(?m)^high = \[0\.6, [0-9.e-]+, 0\.3\]", f"high = [0.6, {slab!r}, 0.3]", text)
     text = re.sub(r"\[1\.61, [0-9.e-]+, (0\.0[0-9]+)\]", lambda m: f"[1.61, {slab / 2!r}, {m.group(1)}]", text)
     text = re.sub(r"(?m)^end_time = [0-9.e-]+", f"end_time = {end_time!r}", text)
@@ -182,7 +184,7 @@ def main():
     parser.add_argument("--out", default="/tmp/impact_study")
     parser.add_argument("--spacings", default="0.01,0.005")
     parser.add_argument("--courants", default="0.2,0.1")
-    parser.add_argument("--end", type=float, default=1.45, help="end time [s] (impact at ~0.43 s)")
+    parser.add_argument("--end", type=float, default=1.3, help="end time [s] (impact at ~0.44 s)")
     parser.add_argument("--fluid", action="append", default=[], help="extra [fluid] line, e.g. key=value")
     parser.add_argument("--label", default="", help="prefix of the run names")
     parser.add_argument("--threads", type=int, default=1)
@@ -204,10 +206,11 @@ def main():
             with open(scene, "w") as f:
                 f.write(make_scene(spacing, courant, args.end, args.fluid))
             start = time.time()
-            subprocess.run([args.riffle, "run", scene, "--out", directory, "--threads", str(args.threads)],
-                           check=True, stdout=subprocess.DEVNULL)
-            print(f"{name}: {time.time() - start:.0f} s", file=sys.stderr)
-            results.append((name, analyse(directory)))
+            code = subprocess.run([args.riffle, "run", scene, "--out", directory, "--threads", str(args.threads)],
+                                  stdout=subprocess.DEVNULL).returncode
+            # a run that stops early (an escaped particle ends a run with code 3) is still summarised up to its end
+            print(f"{name}: {time.time() - start:.0f} s, exit code {code}", file=sys.stderr)
+            results.append((name + ("" if code == 0 else f" (stopped, code {code})"), analyse(directory)))
     summary = format_summary(results)
     with open(os.path.join(args.out, "summary.md"), "a") as f:
         f.write(summary + "\n\n")
