@@ -148,6 +148,10 @@ struct FluidModel {
   /// shaken slab within 0.3 % (docs/BENCHMARKS.md, tests/verification/fluid_*).
   double density_relaxation_rate = 48.0;
   double compressibility = 1.0e-9;       ///< [1/Pa] alpha_c, keeps every PPE cluster well posed
+  /// [m/s] c of the quasi-compressible pressure equation (docs/FLUID.md, "Impact pressure"): the row of an unknown
+  /// gains n0 (p - p^k) / (c^2 dt^2), the continuity equation (1/(rho c^2)) Dp/Dt = -div u of a fluid with sound
+  /// speed c (Tanaka & Masunaga 2010; Ikari et al. 2015). 0 = off: the incompressible equation.
+  double sound_speed = 0.0;
   double courant = 0.2;                  ///< [1] C_r: dt <= C_r l0 / |u|max; alpha_DS = 1 - C_r (seed)
   double diffusion_number = 0.2;         ///< [1] dt <= this l0^2 / nu
   double min_dt = 1.0e-6;                ///< [s] a step below this stops the run as unstable

@@ -152,6 +152,7 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.surface_threshold = fluid.number("surface_threshold", 0.93, "1", Bounds{0.5, 1.0, false, false});
   out.density_relaxation_rate = fluid.number("density_relaxation_rate", 48.0, "1/s", Bounds::non_negative());
   out.compressibility = fluid.number("compressibility", 1.0e-9, "1/Pa", Bounds::non_negative());
+  out.sound_speed = fluid.number("sound_speed", 0.0, "m/s", Bounds::non_negative());
   out.courant = fluid.number("courant", 0.2, "1", Bounds{0.0, 0.5, false, true});
   out.diffusion_number = fluid.number("diffusion_number", 0.2, "1", Bounds{0.0, 1.0, false, true});
   out.min_dt = fluid.number("min_dt", 1.0e-6, "s", Bounds::positive());

@@ -50,6 +50,11 @@ void FluidPressureSolve::run(SystemContext& context) {
   // Density term gamma (n* - n0)/(n0 dt^2) with gamma = rate dt (amendment 2); the classic source is gamma = 1.
   const double gamma = schemes.higher_order_source ? fluid_.density_relaxation_rate * dt : 1.0;
   const double compressibility_diagonal = rho * n0 * fluid_.compressibility / (dt * dt);
+  // Quasi-compressible rows: n0 (p - p^k) / (c^2 dt^2) from (1/(rho c^2)) Dp/Dt = -div u^{k+1}. It leaves a
+  // steady pressure field alone (p = p^k) and bounds how fast one step can build pressure where the incompressible
+  // row is weak (a particle touching a wall with few fluid neighbours).
+  const double acoustic_diagonal =
+      fluid_.sound_speed > 0.0 ? n0 / (fluid_.sound_speed * fluid_.sound_speed * dt * dt) : 0.0;
   const double classic_coefficient = 6.0 / constants_.laplacian_lambda;  // a_ij = 2D w_ij / lambda0
   for_each_particle(unknowns, [&](std::size_t row) {
     const std::size_t i = slot_of_[row];
@@ -58,7 +63,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     const std::size_t first_entry = row_start_[row];
     std::size_t entries = 0;
     std::uint32_t fluid_neighbours = 0;
-    double diagonal = compressibility_diagonal, rate = 0.0;
+    double diagonal = compressibility_diagonal + acoustic_diagonal, rate = 0.0;
     for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {  // all within r_e at r* (fluid_free_surface)
       const Vec3 offset = prediction.predicted_position[j] - position;
       const double distance = std::sqrt(offset.squaredNorm());
@@ -82,6 +87,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     double rhs = rho * gamma * (densities.number_density[i] - n0) / (dt * dt);
     if (schemes.higher_order_source) rhs += rho / dt * rate;
     if (schemes.error_compensating_source) rhs += rho / dt * prediction.density_rate[i];
+    if (acoustic_diagonal > 0.0) rhs += acoustic_diagonal * pressures.pressure[i];
     if (fluid_neighbours == 0) {  // only walls around: nothing to couple to, hold it at zero
       diagonal = 1.0;
       rhs = 0.0;

@@ -91,6 +91,7 @@ TEST_CASE("a minimal fluid table gets the documented defaults") {
   CHECK(fluid.surface_threshold == 0.93);
   CHECK(fluid.density_relaxation_rate == 48.0);
   CHECK(fluid.compressibility == 1.0e-9);
+  CHECK(fluid.sound_speed == 0.0);  // incompressible: the quasi-compressible rows are off
   CHECK(fluid.courant == 0.2);
   CHECK(fluid.diffusion_number == 0.2);
   CHECK(fluid.min_dt == 1.0e-6);
@@ -124,6 +125,7 @@ clamp_negative_pressure = false
 surface_threshold = 0.97
 density_relaxation_rate = 10.0
 compressibility = 0.0
+sound_speed = 20.0
 courant = 0.1
 diffusion_number = 0.125
 min_dt = 1e-7
@@ -150,6 +152,7 @@ ds = false
   CHECK(fluid.surface_threshold == 0.97);
   CHECK(fluid.density_relaxation_rate == 10.0);
   CHECK(fluid.compressibility == 0.0);
+  CHECK(fluid.sound_speed == 20.0);
   CHECK(fluid.courant == 0.1);
   CHECK(fluid.diffusion_number == 0.125);
   CHECK(fluid.min_dt == 1e-7);
@@ -194,6 +197,10 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
        "fluid.kinematic_viscosity", "expected a number >= 0 [m^2/s]"},
       {"spacing = 0.005", "spacing = 0.005\ndensity_relaxation_rate = -1", "density_relaxation_rate = ^-1",
        "fluid.density_relaxation_rate", "expected a number >= 0 [1/s]"},
+      {"spacing = 0.005", "spacing = 0.005\nsound_speed = -5", "sound_speed = ^-5", "fluid.sound_speed",
+       "expected a number >= 0 [m/s]"},
+      {"spacing = 0.005", "spacing = 0.005\nsound_speed = \"fast\"", "sound_speed = ^\"fast\"", "fluid.sound_speed",
+       "expected a number >= 0 [m/s], got a string"},
       {"spacing = 0.005", "spacing = 0.005\nsolver_tolerance = 0", "solver_tolerance = ^0", "fluid.solver_tolerance",
        "expected a number in (0, 1) [1]"},
       {"spacing = 0.005", "spacing = 0.005\nsolver_max_iterations = 0", "solver_max_iterations = ^0",
