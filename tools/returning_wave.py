@@ -98,6 +98,22 @@ def crossing(rows, name, threshold, after=SEARCH_FROM_T):
     return None
 
 
+def front_arrival(run, x):
+    """T at which the surge front (probe_front.csv) first reaches x [m]: the first front's impact on the far wall."""
+    previous = None
+    with open(pathlib.Path(run) / "probe_front.csv") as f:
+        reader = csv.reader(f)
+        next(reader)
+        for row in reader:
+            if not row[2]:
+                continue
+            t, front = float(row[0]) * T_SCALE, float(row[2])
+            if front >= x:
+                return t if previous is None else previous[0] + (x - previous[1]) / (front - previous[1]) * (t - previous[0])
+            previous = (t, front)
+    return None
+
+
 def reference():
     with open(REFERENCE) as f:
         rows = [r for r in csv.DictReader(line for line in f if not line.startswith("#"))]
@@ -125,6 +141,7 @@ def analyse(run):
     for gauge in ("H3", "H4"):
         values = [v[gauge] for t, v in rows if 4.5 < t < 5.5 and v[gauge] is not None]
         out[f"{gauge}_before"] = sum(values) / len(values) if values else None
+    out["impact"] = front_arrival(run, 1.6)
     wall = pathlib.Path(run) / "wall_s.txt"
     out["wall_s"] = float(wall.read_text()) if wall.exists() else None
     return out
@@ -135,15 +152,16 @@ def print_table(results):
     speed_ref = (GAUGES["H4"] - GAUGES["H3"]) / H / (ref[("H3", 0.5)] - ref[("H4", 0.5)])
     print("T = t sqrt(g/H) at which the returning bore raises the level to h/H = 0.5 (0.4); late = riffle - experiment")
     print(f"{'run':40s} {'H4 0.5':>7s} {'late':>6s} {'H3 0.5':>7s} {'late':>6s} {'H4 0.4':>7s} {'H3 0.4':>7s} "
-          f"{'speed':>6s} {'h3 pre':>6s} {'h4 pre':>6s} {'wall s':>7s}")
+          f"{'speed':>6s} {'h3 pre':>6s} {'h4 pre':>6s} {'impact':>6s} {'wall s':>7s}")
     print(f"{'experiment (Lobovsky et al. 2014)':40s} {ref[('H4', 0.5)]:7.2f} {'':6s} {ref[('H3', 0.5)]:7.2f} "
-          f"{'':6s} {ref[('H4', 0.4)]:7.2f} {ref[('H3', 0.4)]:7.2f} {speed_ref:6.2f} {0.24:6.2f} {'.13-.4':>6s}")
+          f"{'':6s} {ref[('H4', 0.4)]:7.2f} {ref[('H3', 0.4)]:7.2f} {speed_ref:6.2f} {0.24:6.2f} {'.13-.4':>6s} {'':>6s}")
     for r in results:
         print(f"{pathlib.Path(r['run']).name[:40]:40s} {fmt(r['H4@0.5']):>7s} {fmt(r['H4@0.5_late']):>6s} "
               f"{fmt(r['H3@0.5']):>7s} {fmt(r['H3@0.5_late']):>6s} {fmt(r['H4@0.4']):>7s} {fmt(r['H3@0.4']):>7s} "
-              f"{fmt(r['speed']):>6s} {fmt(r['H3_before']):>6s} {fmt(r['H4_before']):>6s} "
+              f"{fmt(r['speed']):>6s} {fmt(r['H3_before']):>6s} {fmt(r['H4_before']):>6s} {fmt(r['impact']):>6s} "
               f"{fmt(r['wall_s'], 0):>7s}")
-    print("speed: (x_H4 - x_H3) / H over the T between the two 0.5 crossings, in sqrt(gH)")
+    print("speed: (x_H4 - x_H3) / H over the T between the two 0.5 crossings, in sqrt(gH); h3/h4 pre: mean level over")
+    print("4.5 < T < 5.5; impact: T at which the first surge front reaches x = 1.6 m (riffle's, for the time origin)")
     print("bore trace, T of the 0.5 crossing at x [m]:")
     for r in results:
         print(f"  {pathlib.Path(r['run']).name[:38]:38s} " +
