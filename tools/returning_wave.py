@@ -11,12 +11,11 @@ Usage, from the repository root:
   /usr/bin/python3 tools/returning_wave.py analyse OUT_DIR [OUT_DIR ...]
 --set adds or replaces a [fluid] key (e.g. courant=0.1, kinematic_viscosity=0), --scheme a [fluid.schemes] key
 (e.g. ds=false). --slab is the slab thickness in spacings (the tank's y size). The tank must be a whole number of
-spacings long (1.61 m: 10, 7, 5, 23/2 mm ... ); the height is rounded up to one.
+spacings long (1.61 m: 23, 11.5, 10, 7, 5 mm ...); the height is rounded up to one.
 """
 import argparse
 import csv
 import math
-import os
 import pathlib
 import re
 import subprocess
@@ -56,12 +55,15 @@ def scene_text(spacing, slab, fluid_keys, scheme_keys, vtk_interval=0.0):
         text, count = re.subn(pattern, new, text, flags=re.M)
         if count != 1:
             raise SystemExit(f"{SCENE}: pattern {pattern!r} matched {count} times")
-    lines = []
+    # [fluid] keys: replaced inside the [fluid] table only (other tables have keys of the same names), else added.
+    head = text.index("\n[fluid]\n") + len("\n[fluid]\n")
+    end = text.index("\n[", head)
+    table = text[head:end]
     for key, value in fluid_keys:
-        text, count = re.subn(rf"^{key} = [^\n]*", f"{key} = {value}", text, flags=re.M)
+        table, count = re.subn(rf"^{re.escape(key)} = [^\n]*", f"{key} = {value}", table, flags=re.M)
         if count == 0:
-            lines.append(f"{key} = {value}")
-    text = text.replace("spacing = ", "\n".join(lines + [""]) + "spacing = ", 1) if lines else text
+            table = f"{key} = {value}\n" + table
+    text = text[:head] + table + text[end:]
     if scheme_keys:
         block = "[fluid.schemes]\n" + "".join(f"{k} = {v}\n" for k, v in scheme_keys) + "\n"
         text = text.replace("[[fluid.boxes]]", block + "[[fluid.boxes]]", 1)

@@ -47,6 +47,9 @@ def main():
           "scene_text did not rewrite spacing, tank, keys, schemes and vtk interval")
     check(text.count("[0.3, 0.092]") == 1 and text.count(", 0.092]") == 4 + len(rw.EXTRA),
           "gauges not in the slab's middle plane")
+    text = rw.scene_text(0.01, 4, [("density", "998")], [])
+    check("[materials.glass]\ndensity = 2500.0" in text and "[fluid]\ndensity = 998\n" in text,
+          "--set density must change the fluid's density, not the glass's")
     try:
         rw.scene_text(0.02, 4, [], [])
         check(False, "a spacing that does not divide 1.61 m was accepted")
