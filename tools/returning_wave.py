@@ -11,7 +11,7 @@ Usage, from the repository root:
   /usr/bin/python3 tools/returning_wave.py analyse OUT_DIR [OUT_DIR ...]
 --set adds or replaces a [fluid] key (e.g. courant=0.1, kinematic_viscosity=0), --scheme a [fluid.schemes] key
 (e.g. ds=false). --slab is the slab thickness in spacings (the tank's y size). The tank must be a whole number of
-spacings long (1.61 m: 23, 11.5, 10, 7, 5 mm ...); the height is rounded up to one.
+spacings long (1.61 m: 23, 11.5, 10, 7, 5 mm ...); the height (--height, 0.6 m) is rounded up to one.
 """
 import argparse
 import csv
@@ -33,14 +33,14 @@ EXTRA = [round(0.95 + 0.05 * k, 3) for k in range(13)]
 SEARCH_FROM_T = 4.5  # the returning bore comes after the run-up, T > 5; the first front passes H3/H4 at T ~ 2
 
 
-def scene_text(spacing, slab, fluid_keys, scheme_keys, vtk_interval=0.0):
+def scene_text(spacing, slab, fluid_keys, scheme_keys, vtk_interval=0.0, tank_height=0.6):
     """The gauge scene at another spacing and slab thickness, with extra [fluid] and [fluid.schemes] keys."""
     length, column, height = 1.61, 0.6, 0.3
     cells = length / spacing
     if abs(cells - round(cells)) > 1e-6:
         raise SystemExit(f"spacing {spacing}: the tank length 1.61 m is {cells:.3f} spacings, not a whole number")
     width = slab * spacing
-    tank_height = math.ceil(0.6 / spacing - 1e-9) * spacing
+    tank_height = math.ceil(tank_height / spacing - 1e-9) * spacing
     text = SCENE.read_text()
     y = 0.5 * width
     gauges = ", ".join(f"[{x}, {y:.6g}]" for x in list(GAUGES.values()) + EXTRA)
@@ -191,6 +191,8 @@ def main():
     run.add_argument("--scheme", action="append")
     run.add_argument("--until", type=float, default=1.4)
     run.add_argument("--vtk", type=float, default=0.0, help="ParaView frame interval [s] (0 = none)")
+    run.add_argument("--height", type=float, default=0.6,
+                     help="tank height [m]: spray thrown over a 0.6 m far wall leaves the domain and stops the run")
     run.add_argument("--threads", type=int, default=1)
     run.add_argument("--binary", default=str(ROOT / "build" / "riffle"))
     analyse_parser = sub.add_parser("analyse")
@@ -202,7 +204,8 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     scene = out / "scene.toml"
-    scene.write_text(scene_text(args.spacing, args.slab, key_values(args.set), key_values(args.scheme), args.vtk))
+    scene.write_text(scene_text(args.spacing, args.slab, key_values(args.set), key_values(args.scheme), args.vtk,
+                                      args.height))
     start = time.time()
     command = [args.binary, "run", str(scene), "--out", str(out), "--threads", str(args.threads),
                "--until", str(args.until), "--log-level", "warn"]
