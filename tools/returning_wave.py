@@ -192,7 +192,7 @@ def main():
     run.add_argument("--until", type=float, default=1.4)
     run.add_argument("--vtk", type=float, default=0.0, help="ParaView frame interval [s] (0 = none)")
     run.add_argument("--height", type=float, default=0.6,
-                     help="tank height [m]: spray thrown over a 0.6 m far wall leaves the domain and stops the run")
+                     help="tank height [m], the walls' height (the top is open); spray may fly over 0.6 m walls")
     run.add_argument("--threads", type=int, default=1)
     run.add_argument("--binary", default=str(ROOT / "build" / "riffle"))
     analyse_parser = sub.add_parser("analyse")
