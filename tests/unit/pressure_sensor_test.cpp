@@ -81,7 +81,9 @@ TEST_CASE("the wetted fraction: one half at a free surface and at a wall's water
   // On a wall (solid x < 0) at the water line and 2 l0 below it: half and all of the room the wall leaves.
   const auto solid = [](const Vec3& site) { return site.x() < 0.0; };
   const auto wall_water = [](const Vec3& site) { return site.x() > 0.0 && site.z() < 0.0; };
-  for (const auto& [z, expected] : {std::pair{0.0, 0.5}, std::pair{-2.5, 1.0}}) {
+  // Named variables, not a structured binding: clang before 16 cannot capture those in CAPTURE's lambda.
+  for (const std::pair<double, double>& depth_and_fraction : {std::pair{0.0, 0.5}, std::pair{-2.5, 1.0}}) {
+    const double z = depth_and_fraction.first, expected = depth_and_fraction.second;
     const Vec3 x(0.0, 0.0, z);
     CAPTURE(z);
     CHECK(wetted_fraction(lattice_sum(kernel, x, wall_water), lattice_sum(kernel, x, solid), full) ==
