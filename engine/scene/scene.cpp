@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "systems/physics/cubic_spline.hpp"
 #include "systems/physics/contact_law.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -355,7 +357,9 @@ void read_contact(TableReader& contact, Model& model) {
   out.max_impact_speed = contact.number("max_impact_speed", 1.0, "m/s", Bounds::positive());
   out.rayleigh_fraction = contact.number("rayleigh_fraction", 0.25, "1", Bounds{0.0, 1.0, false, true});
   out.steps_per_collision = contact.number("steps_per_collision", 16.0, "1", Bounds::closed(4.0, 1e6));
-  out.restitution_tolerance = contact.number("restitution_tolerance", 0.02, "1", Bounds{0.0, 0.5, false, true});
+  // At least 1e-3: e = 0 is calibrated as half the tolerance, and the scaled collision of a smaller restitution is
+  // so overdamped that it does not end within achieved_restitution's integration (the scene fuzzer found e = 5e-309).
+  out.restitution_tolerance = contact.number("restitution_tolerance", 0.02, "1", Bounds::closed(1e-3, 0.5));
   out.skin = contact.number("skin", 0.0, "m", Bounds::non_negative());
   out.sort_every_rebuild = contact.integer("sort_every_rebuild", 10, 1, 1000000);
 
@@ -407,7 +411,9 @@ void read_contact(TableReader& contact, Model& model) {
       if (pair.restitution >= 0.0 && pair.restitution <= 1.0) {
         // Perfectly plastic (e = 0) needs an infinite dashpot: aim at half the tolerance instead, so that the
         // achieved restitution, checked at the chosen sub-step, is within the tolerance of 0.
-        pair.calibrated_restitution = pair.restitution > 0.0 ? pair.restitution : 0.5 * out.restitution_tolerance;
+        // A restitution below half the tolerance is calibrated as half the tolerance: within the tolerance of what was
+        // asked, and a collision that ends.
+        pair.calibrated_restitution = std::max(pair.restitution, 0.5 * out.restitution_tolerance);
         auto [cached, inserted] = damping_for_restitution.emplace(pair.calibrated_restitution, 0.0);
         if (inserted) cached->second = calibrate_damping(out.law, pair.calibrated_restitution);
         pair.damping = cached->second;

@@ -56,6 +56,9 @@ TEST_CASE("the calibrated damping gives the requested restitution, and more damp
       if (restitution == 1.0) CHECK(damping == 0.0);
       CHECK(std::abs(achieved_restitution(law, damping) - restitution) < 1e-6);
     }
+    // The smallest restitution a scene calibrates: half the smallest restitution_tolerance (1e-3, scene.cpp).
+    const double smallest = 0.5e-3;
+    CHECK(std::abs(achieved_restitution(law, calibrate_damping(law, smallest)) - smallest) < 1e-6);
     CHECK_THROWS(calibrate_damping(law, 0.0));
     CHECK_THROWS(calibrate_damping(law, 1.1));
   }
