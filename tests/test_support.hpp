@@ -1,13 +1,41 @@
 #pragma once
 // Shared helpers for the doctest suites: tiny inline scenes and a scratch directory.
+#include <doctest/doctest.h>
+
+#include <cmath>
 #include <filesystem>
 #include <unistd.h>
 #include <string>
+#include <vector>
 
 #include "components/model.hpp"
 #include "engine/scene/scene.hpp"
 
 namespace riffle::test {
+
+/// The problems parse_scene reports for `text`, read as the file `file`; a failed check if it accepts the scene.
+inline std::vector<std::string> problems_of(const std::string& text, const std::string& file = "bad.toml") {
+  try {
+    parse_scene(text, file);
+  } catch (const SceneError& error) {
+    return error.problems();
+  }
+  FAIL_CHECK("the scene was accepted:\n", text);
+  return {};
+}
+
+/// (1/(pi R^2)) times the integral of max(0, s - v) over the disc u^2 + v^2 <= R^2, v the height above its centre:
+/// the mean hydrostatic pressure per rho g over a vertical disc whose centre lies s below the water line (exact;
+/// the reference of the pressure transducer tests).
+inline double half_submerged_mean(double s, double radius) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double r2 = radius * radius;
+  if (s >= radius) return s;
+  if (s <= -radius) return 0.0;
+  const double root = std::sqrt(r2 - s * s);
+  return (s * (s * root + r2 * std::asin(s / radius) + r2 * kPi / 2.0) + 2.0 / 3.0 * root * root * root) /
+         (kPi * r2);
+}
 
 /// A small valid scene: a closed shaken tank with a few free-flying grains. `extra` is appended verbatim.
 inline std::string small_scene_text(const std::string& extra = "") {

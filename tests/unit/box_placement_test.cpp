@@ -13,6 +13,7 @@
 #include "engine/scene/scene.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/setup/initial_state.hpp"
+#include "tests/test_support.hpp"
 
 using namespace riffle;
 
@@ -48,15 +49,7 @@ high = [0.64, 0.096, 0.32]
 )" + water + "\n[[fluid.wall_boxes]]\n" + obstacle;
 }
 
-std::vector<std::string> problems_of(const std::string& text) {
-  try {
-    parse_scene(text, "bad.toml");
-  } catch (const SceneError& error) {
-    return error.problems();
-  }
-  FAIL_CHECK("the scene was accepted:\n", text);
-  return {};
-}
+using test::problems_of;
 
 }  // namespace
 

@@ -459,22 +459,7 @@ TEST_CASE("a pressure sensor in air below a lone drop reads 0, not the drop's ex
 
 // ---- Pressure transducers: discs on the walls ----
 
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-/// (1/(pi R^2)) times the integral over a vertical disc of radius R of max(0, s - v), v the height above its
-/// centre: the mean hydrostatic pressure per rho g on a disc whose centre lies s below the water line.
-double half_submerged_mean(double s, double radius) {
-  const double r2 = radius * radius;
-  if (s >= radius) return s;
-  if (s <= -radius) return 0.0;
-  const double root = std::sqrt(r2 - s * s);
-  return (s * (s * root + r2 * std::asin(s / radius) + r2 * kPi / 2.0) + 2.0 / 3.0 * root * root * root) /
-         (kPi * r2);
-}
-
-}  // namespace
+using test::half_submerged_mean;
 
 TEST_CASE("a transducer reads rho g h at its centre, the wetted-area mean at the water line, 0 in air") {
   const FluidParticles water = still_water();

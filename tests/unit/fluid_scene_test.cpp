@@ -43,15 +43,7 @@ std::string location(const std::string& text, std::string needle, const std::str
   return file + ":" + std::to_string(line) + ":" + std::to_string(at - line_start + 1) + ": ";
 }
 
-std::vector<std::string> problems_of(const std::string& text) {
-  try {
-    parse_scene(text, "bad.toml");
-  } catch (const SceneError& error) {
-    return error.problems();
-  }
-  FAIL_CHECK("the scene was accepted:\n", text);
-  return {};
-}
+using test::problems_of;
 
 std::string joined(const std::vector<std::string>& lines) {
   std::string out;

@@ -10,6 +10,7 @@
 #include "components/vec.hpp"
 #include "systems/physics/mps_kernel.hpp"
 #include "systems/physics/pressure_sensor.hpp"
+#include "tests/test_support.hpp"
 
 using namespace riffle;
 
@@ -31,16 +32,7 @@ double lattice_sum(const WendlandKernel& kernel, const Vec3& x, Keep keep) {
   return sum;
 }
 
-/// (1/(pi R^2)) times the integral of max(0, s - v) over the disc u^2 + v^2 <= R^2: the mean over a vertical disc
-/// of a hydrostatic pressure per rho g whose water line lies s above the centre.
-double half_submerged_mean(double s, double radius) {
-  const double r2 = radius * radius;
-  if (s >= radius) return s;
-  if (s <= -radius) return 0.0;
-  const double root = std::sqrt(r2 - s * s);
-  return (s * (s * root + r2 * std::asin(s / radius) + r2 * kPi / 2.0) + 2.0 / 3.0 * root * root * root) /
-         (kPi * r2);
-}
+using test::half_submerged_mean;
 
 }  // namespace
 

@@ -86,15 +86,7 @@ std::string location(const std::string& file, const std::string& text, std::stri
   return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
 }
 
-std::vector<std::string> problems_of(const std::string& text) {
-  try {
-    parse_scene(text, "probes.toml");
-  } catch (const SceneError& error) {
-    return error.problems();
-  }
-  FAIL_CHECK("the scene was accepted:\n", text);
-  return {};
-}
+std::vector<std::string> problems_of(const std::string& text) { return test::problems_of(text, "probes.toml"); }
 
 std::vector<std::string> lines_of(const fs::path& path) {
   std::ifstream file(path);

@@ -17,6 +17,7 @@
 
 #include "engine/output/probes.hpp"
 #include "tests/fluid_support.hpp"
+#include "tests/test_support.hpp"
 
 namespace riffle {
 namespace {
@@ -27,16 +28,7 @@ constexpr double kSpacing = 0.01;
 constexpr double kDepth = 0.10;  // [m] H
 constexpr double kPi = 3.14159265358979323846;
 
-/// (1/(pi R^2)) times the integral of max(0, s - v) over the disc u^2 + v^2 <= R^2: the mean hydrostatic pressure
-/// per rho g over a vertical disc whose centre lies s below the water line.
-double half_submerged_mean(double s, double radius) {
-  const double r2 = radius * radius;
-  if (s >= radius) return s;
-  if (s <= -radius) return 0.0;
-  const double root = std::sqrt(r2 - s * s);
-  return (s * (s * root + r2 * std::asin(s / radius) + r2 * kPi / 2.0) + 2.0 / 3.0 * root * root * root) /
-         (kPi * r2);
-}
+using test::half_submerged_mean;
 
 Model still_water_model() {
   Model model = test::fluid_model(Vec3(0.06, 0.04, 0.14), kSpacing,
