@@ -235,6 +235,26 @@ std::vector<std::string> lines_of(const fs::path& path) {
   return lines;
 }
 
+/// A bad [[output.probes]] table, and the one problem it must raise.
+struct BadProbe {
+  const char* probe;    // the [[output.probes]] table
+  const char* at;       // where the problem is reported ('^' = the column)
+  const char* key;
+  const char* message;  // fragment
+};
+
+/// `text` (read as fluid.toml) gives exactly one problem, at bad.at, naming bad.key, with bad.message in it.
+void check_one_problem(const std::string& text, Model& model, const BadProbe& bad) {
+  const std::vector<std::string> problems = read_output_probes(text, model);
+  std::string all_problems;
+  for (const std::string& problem : problems) all_problems += problem + "\n";
+  CAPTURE(all_problems);
+  REQUIRE(problems.size() == 1);
+  const std::string expected_start = location("fluid.toml", text, bad.at) + bad.key + ": ";
+  CHECK_MESSAGE(problems[0].rfind(expected_start, 0) == 0, problems[0], " should start with ", expected_start);
+  CHECK_MESSAGE(problems[0].find(bad.message) != std::string::npos, problems[0]);
+}
+
 }  // namespace
 
 TEST_CASE("fluid probes are read with their defaults") {
@@ -289,12 +309,7 @@ kind = "fluid_totals"
 }
 
 TEST_CASE("bad fluid probes are reported as file:line:column: key: message") {
-  struct Bad {
-    const char* probe;    // the [[output.probes]] table
-    const char* at;       // where the problem is reported ('^' = the column)
-    const char* key;
-    const char* message;  // fragment
-  };
+  using Bad = BadProbe;
   const std::vector<Bad> cases = {
       {"kind = \"fluid_pressure\"\n", "^[[output.probes]]", "output.probes[0].points", "missing required key"},
       {"kind = \"fluid_pressure\"\npoints = []\n", "points = ^[]", "output.probes[0].points",
@@ -332,14 +347,7 @@ TEST_CASE("bad fluid probes are reported as file:line:column: key: message") {
     const std::string text = std::string("[output]\n[[output.probes]]\n") + bad.probe;
     CAPTURE(text);
     Model model = fluid_model();
-    const std::vector<std::string> problems = read_output_probes(text, model);
-    std::string all_problems;
-    for (const std::string& problem : problems) all_problems += problem + "\n";
-    CAPTURE(all_problems);
-    REQUIRE(problems.size() == 1);
-    const std::string expected_start = location("fluid.toml", text, bad.at) + bad.key + ": ";
-    CHECK_MESSAGE(problems[0].rfind(expected_start, 0) == 0, problems[0], " should start with ", expected_start);
-    CHECK_MESSAGE(problems[0].find(bad.message) != std::string::npos, problems[0]);
+    check_one_problem(text, model, bad);
   }
 }
 
@@ -569,12 +577,7 @@ interval = 0.001
 }
 
 TEST_CASE("bad pressure transducers are reported as file:line:column: key: message") {
-  struct Bad {
-    const char* probe;
-    const char* at;
-    const char* key;
-    const char* message;
-  };
+  using Bad = BadProbe;
   const char* kind = "kind = \"pressure_transducer\"\n";
   const std::vector<Bad> cases = {
       {"points = [[0.0, 0.03, 0.02]]\ndiameter = -0.01\n", "diameter = ^-0.01", "output.probes[0].diameter",
@@ -607,14 +610,7 @@ TEST_CASE("bad pressure transducers are reported as file:line:column: key: messa
     CAPTURE(text);
     Model model = fluid_model();
     model.tank.open_faces = {"z_max"};
-    const std::vector<std::string> problems = read_output_probes(text, model);
-    std::string all_problems;
-    for (const std::string& problem : problems) all_problems += problem + "\n";
-    CAPTURE(all_problems);
-    REQUIRE(problems.size() == 1);
-    const std::string expected_start = location("fluid.toml", text, bad.at) + bad.key + ": ";
-    CHECK_MESSAGE(problems[0].rfind(expected_start, 0) == 0, problems[0], " should start with ", expected_start);
-    CHECK_MESSAGE(problems[0].find(bad.message) != std::string::npos, problems[0]);
+    check_one_problem(text, model, bad);
   }
 }
 
