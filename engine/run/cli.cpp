@@ -108,6 +108,14 @@ int run_command(int argc, char** argv) {
   };
 
   std::string scene_path, checkpoint_path, out_dir;
+  std::vector<std::string> overrides;  // --set KEY=VALUE, in order (engine/scene/scene_overrides.hpp)
+  auto add_overrides = [&overrides](CLI::App* command) {
+    command->add_option("--set", overrides,
+                        "Override a scene key, KEY=VALUE with VALUE in TOML (a bare word is a string); repeatable, "
+                        "e.g. --set contact.friction=0.3 --set solids.layered_beds[0].seed=2. A run stores the changed "
+                        "scene in its checkpoints")
+        ->allow_extra_args(false);  // one value per --set, every occurrence kept in order
+  };
   int threads = 0;
   double until = -1.0;
 
@@ -119,12 +127,14 @@ int run_command(int argc, char** argv) {
   CLI::Option* run_until = run->add_option("--until", until, "End time [s], overrides run.end_time");
   add_log_level(run);
   add_memory_limit(run);
+  add_overrides(run);
   run->footer(kExitCodes);
 
   CLI::App* check = app.add_subcommand("check", "Validate a scene file without running it");
   check->add_option("scene", scene_path, "Scene file (TOML)")->required();
   add_log_level(check);
   add_memory_limit(check);
+  add_overrides(check);
   check->footer(kExitCodes);
 
   CLI::App* graph = app.add_subcommand(
@@ -132,6 +142,7 @@ int run_command(int argc, char** argv) {
   graph->add_option("scene", scene_path, "Scene file (TOML)")->required();
   add_log_level(graph);
   add_memory_limit(graph);
+  add_overrides(graph);
   graph->footer(kExitCodes);
 
   CLI::App* resume = app.add_subcommand("resume", "Continue a run from a checkpoint");
@@ -169,7 +180,7 @@ int run_command(int argc, char** argv) {
         out_dir = run_dir.string();
       }
     } else {
-      simulation = Simulation::from_scene_file(scene_path, limits);
+      simulation = Simulation::from_scene_file(scene_path, limits, overrides);
       if (out_dir.empty()) out_dir = default_out_dir(simulation->model());
     }
   } catch (const SceneError& error) {

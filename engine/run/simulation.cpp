@@ -335,8 +335,9 @@ std::unique_ptr<Simulation> Simulation::from_model(Model model) {
   return simulation;
 }
 
-std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path, const SceneLimits& limits) {
-  return from_model(load_scene_file(path, limits));
+std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path, const SceneLimits& limits,
+                                                        const std::vector<std::string>& overrides) {
+  return from_model(load_scene_file(path, limits, overrides));
 }
 
 std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path, const SceneLimits& limits) {

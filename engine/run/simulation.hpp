@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "engine/scene/budget.hpp"
 #include "engine/output/checkpoint.hpp"
@@ -47,7 +48,9 @@ struct RunOutcome {
 class Simulation {
  public:
   /// Throws SceneError.
-  static std::unique_ptr<Simulation> from_scene_file(const std::string& path, const SceneLimits& limits = {});
+  /// `overrides`: --set KEY=VALUE, applied to the scene before it is validated (engine/scene/scene_overrides.hpp).
+  static std::unique_ptr<Simulation> from_scene_file(const std::string& path, const SceneLimits& limits = {},
+                                                     const std::vector<std::string>& overrides = {});
   static std::unique_ptr<Simulation> from_model(Model model);
   /// Throws CheckpointError, or SceneError if the embedded scene no longer validates.
   static std::unique_ptr<Simulation> from_checkpoint(const std::string& path, const SceneLimits& limits = {});

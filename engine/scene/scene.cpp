@@ -1,4 +1,5 @@
 #include "engine/scene/scene.hpp"
+#include "engine/scene/scene_overrides.hpp"
 
 #include <sys/stat.h>
 
@@ -650,14 +651,19 @@ void read_coupling(TableReader& coupling, Model& model) {
   coupling.finish();
 }
 
-Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits) {
+Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits,
+                  const std::vector<std::string>& overrides) {
   SceneProblems problems{file_name, {}};
   std::optional<toml::table> root = parse_toml(text, problems);
   if (!root) throw SceneError(problems.lines);
+  if (!overrides.empty()) {
+    // A malformed override is reported and skipped; the scene is still read, so every problem shows at once.
+    apply_scene_overrides(*root, overrides, problems);  // engine/scene/scene_overrides.hpp
+  }
 
   Model model;
   model.scene_file = file_name;
-  model.scene_text = text;
+  model.scene_text = overrides.empty() ? text : scene_text_with_overrides(*root, file_name, overrides);
   TableReader scene(*root, "", problems);
   std::optional<TableReader> run = scene.table("run", true);
   model.memory_limit = limits.memory_limit > 0.0 ? limits.memory_limit : default_memory_limit();
@@ -759,8 +765,8 @@ std::string read_scene_text(const std::string& path) {
   return text;
 }
 
-Model load_scene_file(const std::string& path, const SceneLimits& limits) {
-  return parse_scene(read_scene_text(path), path, limits);
+Model load_scene_file(const std::string& path, const SceneLimits& limits, const std::vector<std::string>& overrides) {
+  return parse_scene(read_scene_text(path), path, limits, overrides);
 }
 
 }  // namespace riffle

@@ -3,6 +3,7 @@
 // SceneError, each naming file, line, column and key. See docs/SCENES.md for the format.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "engine/scene/budget.hpp"
 #include "components/model.hpp"
@@ -18,8 +19,10 @@ inline constexpr std::uint64_t kMaxSceneFileBytes = 16u << 20;
 /// is read), at most kMaxSceneFileBytes. Throws SceneError.
 std::string read_scene_text(const std::string& path);
 
-/// Reads and validates a scene file. Throws SceneError (also for an unreadable file).
-Model load_scene_file(const std::string& path, const SceneLimits& limits = {});
+/// Reads and validates a scene file, with `overrides` (--set KEY=VALUE, engine/scene/scene_overrides.hpp) applied
+/// first. Throws SceneError (also for an unreadable file).
+Model load_scene_file(const std::string& path, const SceneLimits& limits = {},
+                      const std::vector<std::string>& overrides = {});
 
 /// Reads the material name at `key` and returns its index in model.materials (materials must be read already);
 /// a missing, non-string or unknown name is reported through the reader and gives 0.
@@ -32,6 +35,8 @@ double default_checkpoint_interval(double end_time, double dt);
 /// Validates scene text; `file_name` is used in messages only.
 /// Refuses (SceneError) a scene whose estimated budget (engine/scene/budget.hpp) exceeds the memory limit, before any
 /// particle is generated or laid out.
-Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits = {});
+/// With `overrides`, model.scene_text is the changed scene written back as TOML (scene_text_with_overrides).
+Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits = {},
+                  const std::vector<std::string>& overrides = {});
 
 }  // namespace riffle

@@ -57,7 +57,11 @@ std::string Bounds::describe() const {
 
 void SceneProblems::add(const toml::source_region& where, const std::string& key, const std::string& message) {
   std::ostringstream line;
-  line << file << ':' << where.begin.line << ':' << where.begin.column << ": " << key << ": " << message;
+  // A value set on the command line (engine/scene/scene_overrides.hpp) carries its --set as its source: name that.
+  if (where.path && !where.path->empty() && *where.path != file && where.path->rfind("--set ", 0) == 0)
+    line << *where.path << ": " << key << ": " << message;
+  else
+    line << file << ':' << where.begin.line << ':' << where.begin.column << ": " << key << ": " << message;
   lines.push_back(line.str());
 }
 

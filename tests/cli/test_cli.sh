@@ -298,6 +298,25 @@ riffle_as run_typo run typo.toml --out run_typo
 expect_rc "riffle run on an invalid scene exits 2" run_typo 2
 check "riffle run on an invalid scene writes nothing" test ! -e run_typo
 
+# --set KEY=VALUE overrides a scene key; its problems name the --set; a run stores the changed scene in its
+# checkpoints, so a resume needs no command line to rebuild it.
+riffle_as set_check check small.toml --set run.end_time=0.02 --set 'tank.motion.amplitude=0.02'
+expect_rc "riffle check with two --set exits 0" set_check 0
+check "... and reports the overridden end time" contains set_check.out "t_end = 0.02 s"
+riffle_as set_unknown check small.toml --set run.nonsense=1 --set run.dt=-1 --set run.end_time
+expect_rc "riffle check with bad --set values exits 2" set_unknown 2
+check "... each problem naming its --set" contains set_unknown.err "--set run.nonsense=1: run.nonsense: unknown key" \
+  "--set run.dt=-1: run.dt: expected a number > 0" "--set run.end_time: expected KEY=VALUE"
+riffle_as set_run run small.toml --set run.end_time=0.004 --set output.checkpoint_interval=0.002 --out set_run \
+  --threads 1 --log-level warn
+expect_rc "riffle run with --set exits 0" set_run 0
+check "... ends at the overridden time (4 steps)" test "$(data_rows set_run/diagnostics.csv)" = 4
+check "... and its checkpoints record the overrides" grep -qaF -- "--set run.end_time=0.004" \
+  set_run/checkpoints/final.ckpt
+riffle_as set_resume resume set_run/checkpoints/$(ckpt_name 2) --out set_resumed --threads 1 --log-level warn
+expect_rc "a checkpoint of a --set run resumes without the --set" set_resume 0
+check "... to the overridden end time (step 4)" test -e "set_resumed/checkpoints/$(ckpt_name 4)"
+
 # ---------------------------------------------------------------------------------------------------------------
 # 3. Outputs of a run (also run A of check 4: two threads, 50 steps).
 riffle_as A run small.toml --out A --threads 2

@@ -1,0 +1,289 @@
+#!/usr/bin/env python3
+"""Queue a study of the seed experiment: runs of a base scene with scene-key overrides (riffle's --set), each on
+one or more independently generated beds, run in the background with checkpoints, resumed after an interruption,
+and collected into a table and plots at the end, so a study survives the end of a session.
+
+A study is a small TOML file (tools/studies/seed_calibration.toml is the example):
+
+    [study]
+    name = "seed_study"                          # everything goes to out/<name>/ (or --out)
+    scene = "scenes/oscillating_tank_quick.toml" # the run's scene, relative to the repository root
+    bed_scene = "scenes/dry_bed_settle.toml"     # settles one bed per seed
+    bed_seed_key = "solids.layered_beds[0].seed" # the bed generator's seed in bed_scene
+    initial_state_key = "solids.initial_state"   # where the run's scene takes the settled bed
+    periods = 30                                 # length of every run, in periods of the tank motion
+    frequency = 1.7                              # [Hz] of the tank motion (to turn periods into --until)
+    workers = 2                                  # runs at once
+    threads = 1                                  # riffle --threads per run
+    set = ["output.vtk_interval=0.588235"]       # overrides every run takes (before its variant's own)
+
+    [[variants]]
+    name = "base"
+    beds = [1, 2, 3, 4, 5]
+    set = []
+
+Layout: out/<name>/riffle (the binary the study runs, copied when it starts so a rebuild cannot mix two builds in
+one study), out/<name>/beds/seed_<N>/ (the settled beds), out/<name>/runs/<variant>/bed_<N>/ (each run, with
+job.json: its command, segments, wall times and exit codes), out/<name>/study.log, out/<name>/collect/ (tables and
+plots).
+
+Commands (from the repository root, under /usr/bin/python3):
+    tools/study.py run STUDY.toml [--detach]     # run what is not done yet; --detach: in the background
+    tools/study.py status STUDY.toml             # what is done, running, waiting
+    tools/study.py collect STUDY.toml            # tables and plots of what is done (tools/study_collect.py)
+
+A run that was interrupted (session end, SIGTERM, a crash of the machine) is resumed from its newest checkpoint by
+the next `run`; a run that ended with a diagnosis (exit 3) or bad input (exit 2) is not retried. Only one runner
+works on a study at a time (out/<name>/.study.lock).
+"""
+import argparse
+import concurrent.futures
+import datetime
+import fcntl
+import json
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+import time
+import tomllib
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+
+class Study:
+    def __init__(self, path, out=None):
+        self.path = pathlib.Path(path)
+        with open(self.path, "rb") as handle:
+            spec = tomllib.load(handle)
+        study = spec["study"]
+        self.name = study["name"]
+        self.scene = ROOT / study["scene"]
+        self.bed_scene = ROOT / study["bed_scene"]
+        self.bed_seed_key = study.get("bed_seed_key", "solids.layered_beds[0].seed")
+        self.initial_state_key = study.get("initial_state_key", "solids.initial_state")
+        self.periods = float(study["periods"])
+        self.frequency = float(study["frequency"])
+        self.workers = int(study.get("workers", 1))
+        self.threads = int(study.get("threads", 2))
+        self.common_set = list(study.get("set", []))
+        self.binary_source = ROOT / study.get("binary", "build/riffle")
+        self.variants = spec.get("variants", [])
+        names = [v["name"] for v in self.variants]
+        if len(set(names)) != len(names):
+            raise SystemExit(f"{self.path}: variant names repeat")
+        self.out = pathlib.Path(out) if out else ROOT / "out" / self.name
+        self.binary = self.out / "riffle"
+        self.until = self.periods / self.frequency
+
+    def bed_dir(self, seed):
+        return self.out / "beds" / f"seed_{seed}"
+
+    def run_dir(self, variant, seed):
+        return self.out / "runs" / variant["name"] / f"bed_{seed}"
+
+    def jobs(self):
+        """(variant, seed) in the order the study file lists them."""
+        return [(variant, seed) for variant in self.variants for seed in variant["beds"]]
+
+    def seeds(self):
+        seen = []
+        for _, seed in self.jobs():
+            if seed not in seen:
+                seen.append(seed)
+        return seen
+
+
+def log(study, text):
+    line = f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M:%S} {text}"
+    print(line, flush=True)
+    with open(study.out / "study.log", "a") as handle:
+        handle.write(line + "\n")
+
+
+def read_job(directory):
+    path = directory / "job.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def write_job(directory, job):
+    tmp = directory / "job.json.tmp"
+    tmp.write_text(json.dumps(job, indent=1))
+    os.replace(tmp, directory / "job.json")
+
+
+def newest_checkpoint(directory):
+    checkpoints = sorted((directory / "checkpoints").glob("step_*.ckpt"))
+    return checkpoints[-1] if checkpoints else None
+
+
+STOPPING = threading.Event()
+RUNNING = set()
+RUNNING_LOCK = threading.Lock()
+
+
+def run_riffle(study, directory, job, fresh_args):
+    """Runs (or resumes) riffle for one job until it ends; records each segment in job.json. Returns the exit code."""
+    directory.mkdir(parents=True, exist_ok=True)
+    checkpoint = newest_checkpoint(directory)
+    if job.get("segments") and checkpoint is not None:
+        args = [str(study.binary), "resume", str(checkpoint), "--until", f"{job['until']:.9g}",
+                "--threads", str(study.threads), "--log-level", "warn"]
+    else:
+        for stale in ("checkpoints", "vtk"):
+            shutil.rmtree(directory / stale, ignore_errors=True)
+        args = [str(study.binary)] + fresh_args + ["--out", str(directory), "--threads", str(study.threads),
+                                                    "--log-level", "warn"]
+    start = time.time()
+    with open(directory / "stdout.txt", "a") as output:
+        output.write(f"# {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M:%S} {' '.join(args)}\n")
+        output.flush()
+        process = subprocess.Popen(args, stdout=output, stderr=subprocess.STDOUT, cwd=ROOT)
+        with RUNNING_LOCK:
+            RUNNING.add(process)
+        code = process.wait()
+        with RUNNING_LOCK:
+            RUNNING.discard(process)
+    job.setdefault("segments", []).append({"command": args, "wall_s": round(time.time() - start, 1),
+                                           "exit_code": code, "started": start})
+    job["wall_s"] = round(sum(s["wall_s"] for s in job["segments"]), 1)
+    job["exit_code"] = code
+    job["done"] = code == 0
+    write_job(directory, job)
+    return code
+
+
+def settle_bed(study, seed):
+    """Settles the bed of one seed (the bed scene with its seed key set), once; returns riffle's exit code."""
+    directory = study.bed_dir(seed)
+    if (directory / "checkpoints" / "final.ckpt").exists():
+        return 0
+    job = read_job(directory) or {"kind": "bed", "seed": seed, "set": [f"{study.bed_seed_key}={seed}"],
+                                  "until": bed_end_time(study)}
+    if job.get("exit_code") in (2, 3):
+        return job["exit_code"]
+    log(study, f"bed {seed}: settling")
+    fresh = ["run", str(study.bed_scene)] + [a for s in job["set"] for a in ("--set", s)]
+    code = run_riffle(study, directory, job, fresh)
+    log(study, f"bed {seed}: exit {code}")
+    return code
+
+
+def bed_end_time(study):
+    with open(study.bed_scene, "rb") as handle:
+        return float(tomllib.load(handle)["run"]["end_time"])
+
+
+def run_job(study, variant, seed):
+    directory = study.run_dir(variant, seed)
+    job = read_job(directory)
+    if job and (job.get("done") or job.get("exit_code") in (2, 3)):
+        return job.get("exit_code", 0)
+    if STOPPING.is_set():
+        return None
+    code = settle_bed(study, seed)
+    if code != 0:
+        log(study, f"{variant['name']} bed {seed}: its bed failed (exit {code}); skipped")
+        return code
+    if STOPPING.is_set():
+        return None
+    bed = study.bed_dir(seed) / "checkpoints" / "final.ckpt"
+    overrides = [f"{study.initial_state_key}=\"{bed}\""] + study.common_set + list(variant.get("set", []))
+    job = job or {"kind": "run", "variant": variant["name"], "seed": seed, "set": overrides, "until": study.until,
+                  "threads": study.threads, "periods": study.periods}
+    fresh = ["run", str(study.scene), "--until", f"{study.until:.9g}"] + [a for s in overrides for a in ("--set", s)]
+    log(study, f"{variant['name']} bed {seed}: {'resuming' if job.get('segments') else 'starting'}")
+    code = run_riffle(study, directory, job, fresh)
+    log(study, f"{variant['name']} bed {seed}: exit {code} after {job['wall_s']} s in all")
+    return code
+
+
+def stop(signum, frame):
+    STOPPING.set()
+    with RUNNING_LOCK:
+        for process in RUNNING:
+            process.send_signal(signal.SIGTERM)  # riffle checkpoints on SIGTERM (exit 143): resumable
+
+
+def command_run(study, detach):
+    study.out.mkdir(parents=True, exist_ok=True)
+    if detach:
+        log_path = study.out / "study.log"
+        args = [sys.executable, str(pathlib.Path(__file__).resolve()), "run", str(study.path.resolve()), "--out",
+                str(study.out)]
+        # The runner writes study.log itself; its stdout and stderr (tracebacks) go to runner.out.
+        with open(study.out / "runner.out", "a") as handle:
+            process = subprocess.Popen(args, stdout=handle, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                       start_new_session=True, cwd=ROOT)
+        print(f"study {study.name}: running in the background (pid {process.pid}); log {log_path}")
+        return 0
+    lock = open(study.out / ".study.lock", "w")
+    try:
+        fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        raise SystemExit(f"study {study.name}: another runner holds {study.out / '.study.lock'}")
+    if not study.binary.exists():
+        shutil.copy2(study.binary_source, study.binary)
+        version = subprocess.run([str(study.binary), "--version"], capture_output=True, text=True).stdout.strip()
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
+        (study.out / "binary.json").write_text(json.dumps({"source": str(study.binary_source), "version": version,
+                                                           "commit": commit, "copied": time.time()}, indent=1))
+    signal.signal(signal.SIGTERM, stop)
+    signal.signal(signal.SIGINT, stop)
+    log(study, f"runner started: {len(study.jobs())} jobs, {study.workers} at a time, {study.threads} thread(s) each")
+    # Beds first, each once (two jobs on one bed must not settle it twice), then the runs.
+    with concurrent.futures.ThreadPoolExecutor(study.workers) as pool:
+        list(pool.map(lambda seed: settle_bed(study, seed), study.seeds()))
+        futures = [pool.submit(run_job, study, variant, seed) for variant, seed in study.jobs()]
+        codes = [f.result() for f in futures]
+    log(study, "runner stopped" if STOPPING.is_set() else
+        f"runner finished: {sum(c == 0 for c in codes)} of {len(codes)} runs done")
+    return 0
+
+
+def command_status(study):
+    for seed in study.seeds():
+        done = (study.bed_dir(seed) / "checkpoints" / "final.ckpt").exists()
+        print(f"bed {seed}: {'settled' if done else 'not settled'}")
+    for variant, seed in study.jobs():
+        directory = study.run_dir(variant, seed)
+        job = read_job(directory)
+        progress = ""
+        diagnostics = directory / "diagnostics.csv"
+        if diagnostics.exists():
+            with open(diagnostics, "rb") as handle:
+                handle.seek(max(0, diagnostics.stat().st_size - 4096))
+                last = handle.read().decode(errors="replace").strip().splitlines()[-1]
+            try:
+                progress = f"t/T = {float(last.split(',')[1]) * study.frequency:.2f} of {study.periods:g}"
+            except (ValueError, IndexError):
+                pass
+        state = ("done" if job and job.get("done") else f"failed (exit {job['exit_code']})"
+                 if job and job.get("exit_code") in (2, 3) else "started" if job else "waiting")
+        wall = f", {job['wall_s']} s" if job and "wall_s" in job else ""
+        print(f"{variant['name']:28s} bed {seed}: {state}{wall} {progress}")
+    return 0
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("command", choices=["run", "status", "collect"])
+    parser.add_argument("study", type=pathlib.Path)
+    parser.add_argument("--out", type=pathlib.Path, help="the study's folder (default out/<study.name>)")
+    parser.add_argument("--detach", action="store_true", help="run: in the background, surviving this shell")
+    args = parser.parse_args(argv)
+    study = Study(args.study, args.out)
+    if args.command == "run":
+        return command_run(study, args.detach)
+    if args.command == "status":
+        return command_status(study)
+    sys.path.insert(0, str(ROOT / "tools"))
+    import study_collect
+    return study_collect.collect(study)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
