@@ -1021,6 +1021,7 @@ PIXEL = 0.0005          # [m] image pixel of the views: a small grain is 10 pixe
 SUBLAYER = 0.015        # [m] the seed's sub-layers of Figs. 7-9 and 11: one large diameter
 SUBLAYERS = 4           # 0-15, 15-30, 30-45, 45-60 mm above the floor
 HIGHLIGHT_SPEED = 0.2   # [m/s] Fig. 13's green vectors
+ARROW_SCALE = 15.0      # [(m/s)/m] Fig. 13's arrows: 0.2 m/s is 13 mm long, about one cell at l0 = 10 mm
 NO_GRAIN = (0.78, 0.87, 0.95)  # the image's colour where no grain is seen (water)
 
 
@@ -1045,7 +1046,13 @@ def best_phase_frames(run, times, k, tolerance):
     tolerance, or None: the seed's Figs. 10 and 13 show single frames of one period."""
     best = []
     for indices, errors in run.phase_frames(times, k, k, tolerance):
-        best.append(int(indices[np.argmin(np.abs(errors))]) if len(indices) else None)
+        if not len(indices):
+            best.append(None)
+            continue
+        # Phase 0 is met at both ends of the period and T/10 frames straddle pi/2 and 3pi/2 symmetrically: among
+        # frames equally near (to 1 degree) the earliest, so that the panels run in time order.
+        order = np.lexsort((indices, np.round(np.abs(errors))))
+        best.append(int(indices[order[0]]))
     return best
 
 
@@ -1080,6 +1087,12 @@ def class_image(index, labels, depth=None, shade_from=None, shade_over=0.03):
     if depth is not None and shade_from is not None:
         shade = 1.0 - 0.5 * np.clip((depth - shade_from) / shade_over, 0.0, 1.0)
         image[seen] *= shade[seen][:, None]
+    # outlines: a pixel whose grain differs from its left or lower neighbour's, darkened, so that touching grains
+    # of one class stay distinguishable
+    edge = np.zeros(index.shape, dtype=bool)
+    edge[:, 1:] |= index[:, 1:] != index[:, :-1]
+    edge[1:, :] |= index[1:, :] != index[:-1, :]
+    image[edge & seen] *= 0.6
     return image
 
 
@@ -1447,11 +1460,12 @@ def fig13(run, out, args):
             fast = np.hypot(vectors[2], vectors[3]) >= HIGHLIGHT_SPEED
             for mask, colour in ((~fast, "k"), (fast, "#1a9641")):
                 lower.quiver(vectors[0][mask], vectors[1][mask], vectors[2][mask], vectors[3][mask], color=colour,
-                             angles="xy", scale_units="xy", scale=5.0, width=0.002)
+                             angles="xy", scale_units="xy", scale=ARROW_SCALE, width=0.002)
             title += f" + fluid velocity ({int(fast.sum())} of {len(fast)} cells ≥ {HIGHLIGHT_SPEED:g} m/s)"
         lower.set_title(title, fontsize=7)
     figure.suptitle("Fig. 13 shape: cross-section at mid-depth (upper) and the plane with the fluid velocity "
-                    f"({'lab' if args.frame == 'lab' else 'relative to the tank'}; arrows: 1 m/s = 0.2 m) (lower)",
+                    f"({'lab' if args.frame == 'lab' else 'relative to the tank'}; arrows: 0.2 m/s = "
+                 f"{1e3 * HIGHLIGHT_SPEED / ARROW_SCALE:.0f} mm) (lower)",
                     fontsize=9)
     return [out / "fig13_cross_section.csv", save(figure, out / "fig13_cross_section.png")]
 
@@ -1459,15 +1473,31 @@ def fig13(run, out, args):
 def strain_profiles(run, index, spacing, thickness, count):
     """Per horizontal layer of one fluid frame: sums of |S|^2 over the particles with a valid gradient, their
     number, the sum of the positive Q and its number, and the sum of all Q (seed Fig. 16)."""
-    water = run.fluid(index, ("kind", "velocity"))
+    try:
+        water = run.fluid(index, ("kind", "velocity", "free_surface"))
+    except vtp.VtpError:  # frames without the flag: every particle counts as interior
+        water = run.fluid(index, ("kind", "velocity"))
     fluid = water["kind"] == 0
     G, valid = seed_views.velocity_gradient(water["points"][fluid], water["velocity"][fluid], 2.1 * spacing)
     s2, q = seed_views.strain_and_q(G)
     keys = np.where(valid, layer_index(water["height"][fluid], thickness, count), -1)
-    s2_sum, n = binned_mean(keys, s2, count)
-    q_pos_sum, n_pos = binned_mean(np.where(q > 0, keys, -1), q, count)
-    q_sum, _ = binned_mean(keys, q, count)
-    return np.stack([s2_sum, n, q_pos_sum, n_pos, q_sum])
+    surface = water["free_surface"][fluid] != 0 if "free_surface" in water else np.zeros(len(keys), dtype=bool)
+    sums = []
+    for chosen in (keys, np.where(surface, -1, keys)):  # all fluid particles; those not flagged free-surface
+        s2_sum, n = binned_mean(chosen, s2, count)
+        q_pos_sum, n_pos = binned_mean(np.where(q > 0, chosen, -1), q, count)
+        q_sum, _ = binned_mean(chosen, q, count)
+        sums += [s2_sum, n, q_pos_sum, n_pos, q_sum]
+    return np.stack(sums)
+
+
+def layer_means(sums):
+    """(mean |S|^2, mean positive Q, mean Q) per layer from strain_profiles()'s five sums."""
+    s2_sum, n, q_pos_sum, n_pos, q_sum = sums
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (np.where(n > 0, s2_sum / np.maximum(n, 1), np.nan),
+                np.where(n_pos > 0, q_pos_sum / np.maximum(n_pos, 1), np.nan),
+                np.where(n > 0, q_sum / np.maximum(n, 1), np.nan))
 
 
 def fig16(run, out, args):
@@ -1476,7 +1506,9 @@ def fig16(run, out, args):
     (seed Fig. 16). The velocity gradient at each fluid particle (kind 0) is the kernel-weighted least-squares
     gradient over the fluid neighbours within r_e = 2.1 l0 (seed_views.velocity_gradient); the profiles average
     over the particles of each sub-layer (5 mm, or l0 when coarser, as Fig. 15) and over the stage's frames at
-    that phase; Q over its positive values only, as the seed (the CSV has the mean of all values too)."""
+    that phase; Q over its positive values only, as the seed (the CSV has the mean of all values too). Dashed and
+    the CSV's interior_ columns: without the particles flagged free-surface, whose one-sided neighbourhoods make
+    the gradient noisier."""
     times = run.fluid_times()
     if len(times) == 0:
         raise Skip("no fluid.pvd")
@@ -1493,28 +1525,28 @@ def fig16(run, out, args):
             print(f"  fig16: {label}: no frame within {args.phase_tolerance:g}° of tank phase π/2 (seed φ = π)")
             continue
         totals = sum(strain_profiles(run, index, spacing, thickness, count) for index in indices)
-        s2_sum, n, q_pos_sum, n_pos, q_sum = totals
-        with np.errstate(invalid="ignore", divide="ignore"):
-            s2 = np.where(n > 0, s2_sum / np.maximum(n, 1), np.nan)
-            q_pos = np.where(n_pos > 0, q_pos_sum / np.maximum(n_pos, 1), np.nan)
-            q_all = np.where(n > 0, q_sum / np.maximum(n, 1), np.nan)
-        profiles[label] = (len(indices), s2, q_pos)
+        means = [layer_means(totals[5 * j:5 * j + 5]) for j in range(2)]  # all; interior
+        profiles[label] = (len(indices), means)
         for layer in range(count):
-            if n[layer]:
-                rows.append([label, k1, k2, len(indices), float(np.mean(np.abs(errors))), layer, layer * thickness,
-                             (layer + 1) * thickness, int(n[layer]), float(s2[layer]), int(n_pos[layer]),
-                             float(q_pos[layer]), float(q_all[layer])])
+            if totals[1][layer]:
+                row = [label, k1, k2, len(indices), float(np.mean(np.abs(errors))), layer, layer * thickness,
+                       (layer + 1) * thickness]
+                for j, (s2, q_pos, q_all) in enumerate(means):
+                    row += [int(totals[5 * j + 1][layer]), float(s2[layer]), int(totals[5 * j + 3][layer]),
+                            float(q_pos[layer]), float(q_all[layer])]
+                rows.append(row)
     if not rows:
         raise Skip("no fluid frame at the seed's φ = π in any stage")
+    columns = ["particles", "mean_S2_1_s2", "particles_Q_positive", "mean_positive_Q_1_s2", "mean_Q_1_s2"]
     write_csv(out / "fig16_strain_q.csv",
               ["stage", "period_first", "period_last", "frames", "mean_abs_phase_error_deg", "sublayer", "z_low_m",
-               "z_high_m", "particles", "mean_S2_1_s2", "particles_Q_positive", "mean_positive_Q_1_s2",
-               "mean_Q_1_s2"], rows)
+               "z_high_m"] + columns + [f"interior_{c}" for c in columns], rows)
     figure, axes = plt.subplots(1, 2, figsize=(9, 4.8), sharey=True, constrained_layout=True)
     z = (np.arange(count) + 0.5) * thickness / 0.005
-    for j, (label, (used, s2, q_pos)) in enumerate(profiles.items()):
-        axes[0].plot(s2, z, marker=".", color=f"C{j}", label=f"{label} ({used} frames)")
-        axes[1].plot(q_pos, z, marker=".", color=f"C{j}", label=f"{label} ({used} frames)")
+    for j, (label, (used, means)) in enumerate(profiles.items()):
+        for (s2, q_pos, _), style, which in zip(means, ("-", "--"), ("all", "not free-surface")):
+            axes[0].plot(s2, z, ls=style, marker=".", color=f"C{j}", label=f"{label} ({used} frames), {which}")
+            axes[1].plot(q_pos, z, ls=style, marker=".", color=f"C{j}", label=f"{label} ({used} frames), {which}")
     axes[0].set_xlabel("mean |S|² [1/s²]")
     axes[1].set_xlabel("mean of the positive Q [1/s²]")
     axes[0].set_ylabel(f"z / d_s1 ({1e3 * thickness:g} mm sub-layers, d_s1 = 5 mm)")
