@@ -1535,8 +1535,10 @@ def fig16(run, out, args):
                     row += [int(totals[5 * j + 1][layer]), float(s2[layer]), int(totals[5 * j + 3][layer]),
                             float(q_pos[layer]), float(q_all[layer])]
                 rows.append(row)
-    if not rows:
+    if not profiles:
         raise Skip("no fluid frame at the seed's φ = π in any stage")
+    if not rows:
+        raise Skip("no fluid particle has a gradient (fewer than three neighbours out of a plane within r_e)")
     columns = ["particles", "mean_S2_1_s2", "particles_Q_positive", "mean_positive_Q_1_s2", "mean_Q_1_s2"]
     write_csv(out / "fig16_strain_q.csv",
               ["stage", "period_first", "period_last", "frames", "mean_abs_phase_error_deg", "sublayer", "z_low_m",
