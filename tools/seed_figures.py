@@ -1146,8 +1146,8 @@ def fig04(run, out, args):
         walls = seed_views.band_fractions(labels, seen[near], int(near.sum()), 1, classes)[0]
         inner = seed_views.band_fractions(labels, seen[~near], int((~near).sum()), 1, classes)[0]
         actual = grains["time"] * run.frequency
+        visible = np.unique(seen[seen >= 0])  # the grains with at least one pixel in view
         for j, k in enumerate(classes):
-            visible = np.unique(seen[seen >= 0])
             rows.append([target, actual, k, int(np.count_nonzero(labels[visible] == k)), float(whole[j]),
                          float(walls[j]), float(inner[j])])
         images.append((actual, class_image(seen, labels), classes, whole))
