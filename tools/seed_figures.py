@@ -1,16 +1,22 @@
 #!/usr/bin/python3
 """Figures shaped like seed 000's (Tazaki, Harada & Gotoh), from one riffle run's output directory, as CSV + PNG,
-so that riffle's results can be put beside the paper's. Writes into OUT_DIR/figures/.
+so that riffle's results can be put beside the paper's. Writes into OUT_DIR/figures/ (or --out DIR).
 
 Usage: /usr/bin/python3 tools/seed_figures.py OUT_DIR [--figures NAME ...] [options]
 
 Figures (NAME: files written):
   fig03   fig03_snapshot_tT<k>.png     side view (x-z, tank frame) of the grains by size class at --times
+  fig04   fig04_top_views.csv/png      top views (x-y) of the bed by size class at --times, seen area per class
   fig06   fig06_centroids.csv/png      concentration centroid height per size class vs t/T
+  fig07_08  fig07_08_occupancy.csv/png  occupancy rate per class in four 15 mm sub-layers of the front view
+  fig09   fig09_side_view_velocity.csv/png  mean x-velocity per 15 mm sub-layer of the grains seen at the front wall
+  fig10   fig10_fluid_slab.csv/png     fluid v_x and v_z in a mid-depth x-z slab, and its grains, at four phases
   fig11   fig11_concentration.csv/png  volume concentration per class in four 15 mm sub-layers at --conc-times
   fig12   fig12_coordination_overlap.csv/png  coordination number Z and mean overlap delta* (bed_profile.csv)
+  fig13   fig13_cross_section.csv/png  mid-depth cross-section of the bed with the fluid velocity on the plane
   fig14   fig14_velocity_phases.csv/png  mean grain x-velocity per class per 5 mm sub-layer at four phases
   fig15   fig15_fluid_velocity.csv/png   mean fluid x-velocity per 5 mm sub-layer at four phases
+  fig16   fig16_strain_q.csv/png       fluid |S|^2 and positive Q-criterion per sub-layer at seed phi = pi
   fig17_19  fig17_19_force_balance.csv/png  mean forces per grain of each class, x and z, vs t/T
   fig19   fig19_z_force_profiles.csv/png  z forces per class per 5 mm sub-layer at four phases (periods 10-12)
   fig20   fig20_granular_temperature.csv/png (+ _profiles.csv)  granular temperature vs t/T and profiles
@@ -49,7 +55,8 @@ except ImportError as _error:  # pragma: no cover - depends on the machine
              "(tools/setup.sh does) and run this script with /usr/bin/python3")
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-import vtp  # noqa: E402  (next to this file)
+import seed_views  # noqa: E402  (next to this file)
+import vtp  # noqa: E402
 
 try:
     import tomllib
@@ -64,7 +71,8 @@ PHASES = [(0.0, "phase 0 (seed φ=π/2): tank velocity max −"),
           (math.pi, "phase π (seed φ=3π/2): tank velocity max +"),
           (1.5 * math.pi, "phase 3π/2 (seed φ=2π): decelerating")]
 SEED_PHI = ["pi/2", "pi", "3pi/2", "2pi"]
-ALL_FIGURES = ["fig03", "fig06", "fig11", "fig12", "fig14", "fig15", "fig17_19", "fig19", "fig20", "drift"]
+ALL_FIGURES = ["fig03", "fig04", "fig06", "fig07_08", "fig09", "fig10", "fig11", "fig12", "fig13", "fig14", "fig15",
+               "fig16", "fig17_19", "fig19", "fig20", "drift"]
 
 
 class Skip(Exception):
@@ -1006,9 +1014,555 @@ def drift(run, out, args):
     return [out / "drift.csv", save(figure, out / "drift.png")]
 
 
-FIGURES = {"fig03": fig03, "fig06": fig06, "fig11": fig11, "fig12": fig12, "fig14": fig14, "fig15": fig15,
-           "fig17_19": fig17_19, "fig19": fig19, "fig20": fig20,
-           "drift": drift}
+# ----------------------------------------------------------------------------------------------------------------
+# Figures 4, 7-8, 9, 10, 13, 16: views of the bed (tools/seed_views.py makes the images) and the fluid's strain
+
+PIXEL = 0.0005          # [m] image pixel of the views: a small grain is 10 pixels across
+SUBLAYER = 0.015        # [m] the seed's sub-layers of Figs. 7-9 and 11: one large diameter
+SUBLAYERS = 4           # 0-15, 15-30, 30-45, 45-60 mm above the floor
+HIGHLIGHT_SPEED = 0.2   # [m/s] Fig. 13's green vectors
+ARROW_SCALE = 15.0      # [(m/s)/m] Fig. 13's arrows: 0.2 m/s is 13 mm long, about one cell at l0 = 10 mm
+NO_GRAIN = (0.78, 0.87, 0.95)  # the image's colour where no grain is seen (water)
+
+
+def frames_at(run, times, targets, name):
+    """[(target t/T, frame index)] of the frames nearest the targets; targets beyond the run are named and
+    dropped; Skip when none is left."""
+    chosen = []
+    for target in targets:
+        index = run.nearest_frame(times, target)
+        if index is None:
+            print(f"  {name}: t/T = {target:g} skipped: beyond the run (last frame t/T = "
+                  f"{times[-1] * run.frequency:.3g})")
+        else:
+            chosen.append((target, index))
+    if not chosen:
+        raise Skip("none of the requested times lies within the run")
+    return chosen
+
+
+def best_phase_frames(run, times, k, tolerance):
+    """For period k (t/T in [k-1, k]), per phase of PHASES the index of the frame nearest that phase within the
+    tolerance, or None: the seed's Figs. 10 and 13 show single frames of one period."""
+    best = []
+    for indices, errors in run.phase_frames(times, k, k, tolerance):
+        if not len(indices):
+            best.append(None)
+            continue
+        # Phase 0 is met at both ends of the period and T/10 frames straddle pi/2 and 3pi/2 symmetrically: among
+        # frames equally near (to 1 degree) the earliest, so that the panels run in time order.
+        order = np.lexsort((indices, np.round(np.abs(errors))))
+        best.append(int(indices[order[0]]))
+    return best
+
+
+def single_period_stages(run, args, times, name):
+    """The stages of args.stages (default the seed's 10 and 85) as the one period each shows: a range k1-k2 is
+    shown by its last period."""
+    stages = run.stages(args.stages, times)
+    if not stages:
+        raise Skip("no stage lies within the run")
+    shown = []
+    for label, _, k2 in stages:
+        frames = best_phase_frames(run, times, k2, args.phase_tolerance)
+        if all(f is None for f in frames):
+            print(f"  {name}: period {k2}: no frame within {args.phase_tolerance:g}° of any phase")
+            continue
+        shown.append((f"period {k2}", k2, frames))
+    if not shown:
+        raise Skip("no frame at any phase of the stages")
+    return shown
+
+
+def class_image(index, labels, depth=None, shade_from=None, shade_over=0.03):
+    """RGB image of a raster: each pixel the colour of its grain's class, NO_GRAIN where none. With depth and
+    shade_from, pixels darken with depth beyond shade_from (to half over shade_over metres), so that the cut discs
+    of a cross-section stand out from the grains behind them."""
+    palette = {int(k): matplotlib.colors.to_rgb(class_colour(k)) for k in set(np.asarray(labels).tolist())}
+    image = np.empty(index.shape + (3,))
+    image[:] = NO_GRAIN
+    seen = index >= 0
+    shown = np.asarray(labels)[index[seen]]
+    image[seen] = np.array([palette[int(k)] for k in shown]) if len(shown) else image[seen]
+    if depth is not None and shade_from is not None:
+        shade = 1.0 - 0.5 * np.clip((depth - shade_from) / shade_over, 0.0, 1.0)
+        image[seen] *= shade[seen][:, None]
+    # outlines: a pixel whose grain differs from its left or lower neighbour's, darkened, so that touching grains
+    # of one class stay distinguishable
+    edge = np.zeros(index.shape, dtype=bool)
+    edge[:, 1:] |= index[:, 1:] != index[:, :-1]
+    edge[1:, :] |= index[1:, :] != index[:-1, :]
+    image[edge & seen] *= 0.6
+    return image
+
+
+def class_legend(ax, classes):
+    for k in classes:
+        ax.scatter([], [], color=class_colour(k), label=class_name(k))
+
+
+def vx_in_frame(run, frame, args):
+    """The x-velocity of the frame's particles in the frame of reference of --frame."""
+    vx = frame["velocity"][:, 0]
+    if args.frame == "lab":
+        return vx
+    return vx - float(run.tank_velocity(frame["time"])) * run.direction[0]
+
+
+def fluid_spacing(run):
+    """l0: the scene's fluid.spacing, else the median nearest-neighbour distance of the first fluid frame (the
+    initial lattice)."""
+    spacing = run.scene.get("fluid", {}).get("spacing")
+    if spacing:
+        return float(spacing)
+    first = run.fluid(0, ("kind",))
+    spacing = seed_views.infer_spacing(first["points"][first["kind"] == 0])
+    print(f"  l0 = {spacing:.4g} m inferred from the first fluid frame (no fluid.spacing in the scene)")
+    return spacing
+
+
+def fig04(run, out, args):
+    """Top views of the bed at --times (seed Fig. 4): the grains seen from above (orthographic, a depth buffer of
+    PIXEL pixels: each pixel shows the highest grain surface over it), coloured by class. The CSV gives each class's
+    share of the tank's plan area as seen, over the whole tank and within one large diameter (15 mm) of the front
+    and back walls, where the seed notes riffle's large grains missing."""
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    chosen = frames_at(run, times, args.times if args.times else [0, 5, 10, 30, 85, 100], "fig04")
+    length, width = float(run.size[0]), float(run.size[1])
+    rows, images = [], []
+    near = None
+    for target, index in chosen:
+        grains = run.solids(index, ("radius", "size_class"))
+        seen, _ = seed_views.raster(grains["tank_frame_points"], grains["radius"], "top", PIXEL,
+                                    ((0.0, length), (0.0, width)))
+        if near is None:  # image rows are y: those within 15 mm of y = 0 or y = width
+            y = (np.arange(seen.shape[0]) + 0.5) * PIXEL
+            near = (y < SUBLAYER) | (y > width - SUBLAYER)
+        labels = grains["size_class"]
+        classes = sorted(set(labels.tolist()))
+        whole = seed_views.band_fractions(labels, seen, seen.shape[0], 1, classes)[0]
+        walls = seed_views.band_fractions(labels, seen[near], int(near.sum()), 1, classes)[0]
+        inner = seed_views.band_fractions(labels, seen[~near], int((~near).sum()), 1, classes)[0]
+        actual = grains["time"] * run.frequency
+        visible = np.unique(seen[seen >= 0])  # the grains with at least one pixel in view
+        for j, k in enumerate(classes):
+            rows.append([target, actual, k, int(np.count_nonzero(labels[visible] == k)), float(whole[j]),
+                         float(walls[j]), float(inner[j])])
+        images.append((actual, class_image(seen, labels), classes, whole))
+    write_csv(out / "fig04_top_views.csv",
+              ["target_t_over_T", "frame_t_over_T", "size_class", "grains_seen", "area_fraction",
+               "area_fraction_near_front_back_walls", "area_fraction_interior"], rows)
+    columns = min(3, len(images))
+    lines = int(math.ceil(len(images) / columns))
+    figure, axes = plt.subplots(lines, columns, figsize=(5.2 * columns, 3.9 * lines), squeeze=False,
+                                constrained_layout=True)
+    for ax in axes.ravel()[len(images):]:
+        ax.axis("off")
+    for ax, (actual, image, classes, whole) in zip(axes.ravel(), images):
+        ax.imshow(image, origin="lower", extent=(0, 1e3 * length, 0, 1e3 * width), interpolation="nearest")
+        shares = ", ".join(f"{100 * f:.0f}%" for f in whole)
+        ax.set_title(f"t/T = {actual:.2f}: seen area {shares} (classes {classes})", fontsize=8)
+        ax.set_xlabel("x in the tank frame [mm]")
+        ax.set_ylabel("y [mm] (front wall at 0)")
+    class_legend(axes[0][0], classes)
+    axes[0][0].legend(fontsize=7, loc="upper right")
+    figure.suptitle("Fig. 4 shape: top views (from above, orthographic: each point shows the highest grain)",
+                    fontsize=9)
+    return [out / "fig04_top_views.csv", save(figure, out / "fig04_top_views.png")]
+
+
+def front_view(run, grains, height=SUBLAYERS * SUBLAYER, clip=None):
+    """raster() of the grains seen through the front wall (from y < 0), image x in [0, L] and z in [0, height]."""
+    return seed_views.raster(grains["tank_frame_points"], grains["radius"], "front", PIXEL,
+                             ((0.0, float(run.size[0])), (0.0, height)), clip=clip)
+
+
+def fig07_08(run, out, args):
+    """Occupancy rate per class in the seed's four 15 mm sub-layers above the floor at --conc-times (seed Figs. 7-8).
+    The seed measures it from side-view images, by colour: here the occupancy rate of class c in sub-layer k is the
+    fraction of the sub-layer's strip of the front view (through the wall at y = 0, orthographic, the nearest grain
+    surface in each PIXEL pixel, seen through the water at any depth) that shows a grain of class c. The classes'
+    rates add up to the strip's covered fraction (below 1 where the bed surface lies inside it); the CSV also gives
+    each class's share of the covered pixels."""
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    chosen = frames_at(run, times, args.conc_times, "fig07_08")
+    rows_per_band = int(round(SUBLAYER / PIXEL))
+    rows, profiles = [], {}
+    for target, index in chosen:
+        grains = run.solids(index, ("radius", "size_class"))
+        seen, _ = front_view(run, grains)
+        labels = grains["size_class"]
+        classes = sorted(set(labels.tolist()))
+        rates = seed_views.band_fractions(labels, seen, rows_per_band, SUBLAYERS, classes)
+        covered = rates.sum(axis=1)
+        actual = grains["time"] * run.frequency
+        for j, k in enumerate(classes):
+            profiles[(target, k)] = (actual, rates[:, j])
+            for layer in range(SUBLAYERS):
+                share = rates[layer, j] / covered[layer] if covered[layer] > 0 else math.nan
+                rows.append([target, actual, k, layer, layer * SUBLAYER, (layer + 1) * SUBLAYER,
+                             float(rates[layer, j]), float(share)])
+    write_csv(out / "fig07_08_occupancy.csv",
+              ["target_t_over_T", "frame_t_over_T", "size_class", "sublayer", "z_low_m", "z_high_m",
+               "occupancy_rate", "share_of_covered_area"], rows)
+    classes = sorted({k for _, k in profiles})
+    figure, axes = plt.subplots(1, len(classes), figsize=(4 * len(classes), 4.2), sharey=True,
+                                constrained_layout=True, squeeze=False)
+    mids = 1e3 * (np.arange(SUBLAYERS) + 0.5) * SUBLAYER
+    for ax, k in zip(axes[0], classes):
+        for j, (target, _) in enumerate(chosen):
+            actual, rate = profiles[(target, k)]
+            ax.plot(rate, mids, marker="o", color=f"C{j}", label=f"t/T = {actual:.3g}")
+        ax.set_title(class_name(k))
+        ax.set_xlabel("occupancy rate (side view) [-]")
+        ax.set_xlim(0, 1)
+        ax.set_yticks(1e3 * np.arange(SUBLAYERS + 1) * SUBLAYER)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    axes[0][0].set_ylabel("height above the floor [mm] (15 mm sub-layers)")
+    figure.suptitle("Figs. 7-8 shape: occupancy rate = fraction of each 15 mm strip of the front view (through the "
+                    "wall at y = 0) showing a grain of the class", fontsize=9)
+    return [out / "fig07_08_occupancy.csv", save(figure, out / "fig07_08_occupancy.png")]
+
+
+def fig09(run, out, args):
+    """Mean horizontal grain velocity per 15 mm sub-layer at the four phases of the 5th, 10th, 30th and 85th
+    periods (--stages overrides), as the seed reads it by PIV from side-view frames (seed Fig. 9): the x-velocity
+    of the grain seen in each pixel of the front view, averaged over the pixels of the sub-layer's strip that show
+    a grain whose visible surface lies within --view-depth (one large diameter) of the front wall, all classes
+    together (PIV's area weighting). Beside it the mean over all grains whose centre lies in the sub-layer."""
+    times = run.solid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    stages = run.stages(args.stages if args.stages else ["5", "10", "30", "85"], times)
+    if not stages:
+        raise Skip("no stage lies within the run")
+    rows_per_band = int(round(SUBLAYER / PIXEL))
+    rows, profiles = [], {}
+    for label, k1, k2 in stages:
+        for p, (indices, errors) in enumerate(run.phase_frames(times, k1, k2, args.phase_tolerance)):
+            seen_sum, seen_count = np.zeros(SUBLAYERS), np.zeros(SUBLAYERS)
+            all_sum, all_count = np.zeros(SUBLAYERS), np.zeros(SUBLAYERS)
+            for index in indices:
+                grains = run.solids(index, ("velocity", "radius", "size_class"))
+                vx = vx_in_frame(run, grains, args)
+                seen, depth = front_view(run, grains)
+                seen = np.where(depth <= args.view_depth, seen, -1)  # deeper: too dim to track (the seed's PIV)
+                pixel_vx = np.where(seen >= 0, vx[np.maximum(seen, 0)], 0.0)
+                for layer in range(SUBLAYERS):
+                    band = slice(layer * rows_per_band, (layer + 1) * rows_per_band)
+                    seen_sum[layer] += pixel_vx[band].sum()
+                    seen_count[layer] += np.count_nonzero(seen[band] >= 0)
+                sums, counts = binned_mean(layer_index(grains["height"], SUBLAYER, SUBLAYERS), vx, SUBLAYERS)
+                all_sum += sums
+                all_count += counts
+            with np.errstate(invalid="ignore", divide="ignore"):
+                seen_mean = np.where(seen_count > 0, seen_sum / np.maximum(seen_count, 1), np.nan)
+                all_mean = np.where(all_count > 0, all_sum / np.maximum(all_count, 1), np.nan)
+            profiles[(label, p)] = (len(indices), seen_mean, all_mean)
+            for layer in range(SUBLAYERS):
+                rows.append([label, k1, k2, p, PHASES[p][0], SEED_PHI[p], len(indices),
+                             float(np.mean(np.abs(errors))) if len(errors) else math.nan, layer, layer * SUBLAYER,
+                             (layer + 1) * SUBLAYER, int(seen_count[layer]), float(seen_mean[layer]),
+                             int(all_count[layer]), float(all_mean[layer])])
+    if all(used == 0 for used, _, _ in profiles.values()):
+        raise Skip("no frame at any phase of the stages")
+    write_csv(out / "fig09_side_view_velocity.csv",
+              ["stage", "period_first", "period_last", "phase_index", "tank_phase_rad", "seed_phi", "frames",
+               "mean_abs_phase_error_deg", "sublayer", "z_low_m", "z_high_m", "seen_pixels",
+               f"mean_vx_seen_{args.frame}_m_s", "grains", f"mean_vx_all_grains_{args.frame}_m_s"], rows)
+    figure, axes = plt.subplots(1, len(stages), figsize=(4.2 * len(stages), 4.4), sharey=True, squeeze=False,
+                                constrained_layout=True)
+    mids = 1e3 * (np.arange(SUBLAYERS) + 0.5) * SUBLAYER
+    for ax, (label, _, _) in zip(axes[0], stages):
+        for p in range(len(PHASES)):
+            used, seen_mean, all_mean = profiles[(label, p)]
+            if used:
+                ax.plot(seen_mean, mids, marker="o", color=f"C{p}", label=f"φ = {SEED_PHI[p]} (front view)")
+                ax.plot(all_mean, mids, ls="--", lw=0.9, color=f"C{p}", label=f"φ = {SEED_PHI[p]} (all grains)")
+        ax.axvline(0, color="grey", lw=0.6)
+        ax.set_title(label, fontsize=9)
+        ax.set_xlabel(f"mean x-velocity ({'lab' if args.frame == 'lab' else 'relative to the tank'}) [m/s]")
+        ax.set_yticks(1e3 * np.arange(SUBLAYERS + 1) * SUBLAYER)
+        ax.grid(alpha=0.3)
+    axes[0][0].set_ylabel("height above the floor [mm] (15 mm sub-layers)")
+    axes[0][0].legend(fontsize=6)
+    figure.suptitle(f"Fig. 9 shape: mean x-velocity of the grains seen through the front wall (within "
+                    f"{1e3 * args.view_depth:g} mm of it, area-weighted as PIV; solid) and of all grains (dashed); "
+                    "seed phases φ", fontsize=9)
+    return [out / "fig09_side_view_velocity.csv", save(figure, out / "fig09_side_view_velocity.png")]
+
+
+def slab(points, centre, half):
+    return np.abs(points[:, 1] - centre) < half
+
+
+def draw_discs(ax, x, z, diameters, colours, **style):
+    ax.add_collection(EllipseCollection(diameters, diameters, np.zeros_like(diameters), units="xy",
+                                        offsets=np.column_stack([x, z]), offset_transform=ax.transData,
+                                        facecolors=colours, **style))
+
+
+def tank_axes(ax, run, top):
+    ax.set_xlim(0, float(run.size[0]))
+    ax.set_ylim(0, top)
+    ax.set_aspect("equal")
+    ax.tick_params(labelsize=6)
+
+
+def fig10(run, out, args):
+    """The fluid's velocity in the x-z slab of --slab thickness at mid-depth (y = W/2), in single frames at the four
+    phases of one period per stage (seed Fig. 10: developing and fully developed stage), beside the grains whose
+    centre lies in the same slab. The seed's captions say x-component, its text (Sec. 5.1) the vertical component:
+    both are drawn (rows), each fluid particle (kind 0) a disc of diameter l0 coloured by its velocity (--frame)."""
+    times = run.fluid_times()
+    if len(times) == 0 or len(run.solid_times()) == 0:
+        raise Skip("no fluid.pvd or no solids.pvd")
+    shown = single_period_stages(run, args, times, "fig10")
+    spacing = fluid_spacing(run)
+    centre, half, top = 0.5 * float(run.size[1]), 0.5 * args.slab, 0.12
+    solid_times = run.solid_times()
+    rows, panels = [], []
+    for label, k, frames in shown:
+        for p, index in enumerate(frames):
+            if index is None:
+                panels.append((label, p, None, None, None))
+                continue
+            water = run.fluid(index, ("kind", "velocity"))
+            keep = (water["kind"] == 0) & slab(water["tank_frame_points"], centre, half)
+            q = water["tank_frame_points"][keep]
+            vx, vz = vx_in_frame(run, water, args)[keep], water["velocity"][keep, 2]
+            grains = run.solids(int(np.argmin(np.abs(solid_times - water["time"]))), ("radius", "size_class"))
+            inside = slab(grains["tank_frame_points"], centre, half)
+            g = grains["tank_frame_points"][inside]
+            actual = water["time"] * run.frequency
+            rows += [[label, k, p, SEED_PHI[p], actual, "fluid", -1, x, z, spacing / 2, u, w]
+                     for x, z, u, w in zip(q[:, 0], q[:, 2], vx, vz)]
+            rows += [[label, k, p, SEED_PHI[p], actual, "grain", int(c), x, z, r, math.nan, math.nan]
+                     for x, z, c, r in zip(g[:, 0], g[:, 2], grains["size_class"][inside], grains["radius"][inside])]
+            panels.append((label, p, actual, (q, vx, vz), (g, grains["radius"][inside], grains["size_class"][inside])))
+    write_csv(out / "fig10_fluid_slab.csv",
+              ["stage", "period", "phase_index", "seed_phi", "frame_t_over_T", "particle", "size_class", "x_m", "z_m",
+               "radius_m", f"vx_{args.frame}_m_s", "vz_m_s"], rows)
+    speeds = [np.abs(np.concatenate([f[1], f[2]])) for _, _, _, f, _ in panels if f is not None and len(f[1])]
+    scale = float(np.percentile(np.concatenate(speeds), 99)) if speeds else 1.0
+    figure, axes = plt.subplots(3 * len(shown), 4, figsize=(16, 2.5 * 3 * len(shown)), squeeze=False,
+                                constrained_layout=True)
+    cmap = plt.get_cmap("RdBu_r")
+    norm = matplotlib.colors.Normalize(-scale, scale)
+    for n, (label, p, actual, fluid, grains) in enumerate(panels):
+        s = n // 4
+        for r in range(3):
+            ax = axes[3 * s + r][p]
+            tank_axes(ax, run, top)
+            if actual is None:
+                ax.text(0.5, 0.5, "no frame at this phase", transform=ax.transAxes, ha="center")
+                continue
+            if r < 2:
+                q, values = fluid[0], fluid[1 + r]
+                draw_discs(ax, q[:, 0], q[:, 2], np.full(len(q), spacing), cmap(norm(values)), linewidths=0)
+                ax.set_title(f"{label}, φ = {SEED_PHI[p]} (t/T = {actual:.2f}): fluid "
+                             + ("v_x" if r == 0 else "v_z"), fontsize=7)
+            else:
+                g, radius, classes = grains
+                draw_discs(ax, g[:, 0], g[:, 2], 2 * radius, [class_colour(c) for c in classes],
+                           edgecolors="#00000040", linewidths=0.2)
+                ax.set_title(f"grains with centre in the slab (t/T = {actual:.2f})", fontsize=7)
+    for s in range(len(shown)):
+        for r in range(2):
+            figure.colorbar(matplotlib.cm.ScalarMappable(norm, cmap), ax=list(axes[3 * s + r]), shrink=0.8,
+                            label=("v_x " + ("(lab)" if args.frame == "lab" else "rel. tank") if r == 0 else "v_z")
+                            + " [m/s]")
+    figure.suptitle(f"Fig. 10 shape: fluid velocity in the slab |y - {1e3 * centre:g} mm| < {1e3 * half:g} mm "
+                    f"(x, z in the tank frame, discs of l0 = {1e3 * spacing:g} mm) and the grains of the slab",
+                    fontsize=9)
+    return [out / "fig10_fluid_slab.csv", save(figure, out / "fig10_fluid_slab.png")]
+
+
+def grid_average(x, z, u, w, cell, length, top):
+    """Mean (u, w) of the samples in each cell x cell box of [0, length] x [0, top]: (centres x, z, u, w, count)
+    of the cells holding samples."""
+    nx, nz = int(math.ceil(length / cell)), int(math.ceil(top / cell))
+    i, k = np.floor(x / cell).astype(int), np.floor(z / cell).astype(int)
+    keep = (i >= 0) & (i < nx) & (k >= 0) & (k < nz)
+    key = i[keep] * nz + k[keep]
+    count = np.bincount(key, minlength=nx * nz)
+    mean_u = np.bincount(key, weights=u[keep], minlength=nx * nz) / np.maximum(count, 1)
+    mean_w = np.bincount(key, weights=w[keep], minlength=nx * nz) / np.maximum(count, 1)
+    filled = np.where(count > 0)[0]
+    return ((filled // nz + 0.5) * cell, (filled % nz + 0.5) * cell, mean_u[filled], mean_w[filled], count[filled])
+
+
+def fig13(run, out, args):
+    """Cross-sections of the bed at mid-depth y0 = W/2 in single frames at the four phases of one period per stage
+    (seed Fig. 13). Upper row: the bed beyond the plane seen from the front (grains with y < y0 removed, those cut
+    by the plane show their cut disc in full colour, grains behind darkened with depth). Lower row: the discs
+    where the plane cuts the grains (smaller than their diameter, as the seed's) and the fluid velocity (kind 0
+    particles within l0 of the plane, averaged on a fixed l0 grid, --frame), vectors of in-plane speed
+    >= 0.2 m/s in green. The seed draws the fluid's (MPS) velocity there, not the grains'."""
+    times = run.solid_times()
+    fluid_times = run.fluid_times()
+    if len(times) == 0:
+        raise Skip("no solids.pvd")
+    shown = single_period_stages(run, args, times, "fig13")
+    spacing = fluid_spacing(run) if len(fluid_times) else math.nan
+    length, centre, top = float(run.size[0]), 0.5 * float(run.size[1]), 0.09
+    rows, panels = [], []
+    for label, k, frames in shown:
+        for p, index in enumerate(frames):
+            if index is None:
+                panels.append((label, p, None))
+                continue
+            grains = run.solids(index, ("radius", "size_class"))
+            labels = grains["size_class"]
+            seen, depth = front_view(run, grains, height=top, clip=centre)
+            image = class_image(seen, labels, depth, shade_from=centre + 1e-9)
+            offset = grains["tank_frame_points"][:, 1] - centre
+            cut = np.abs(offset) < grains["radius"]
+            cut_radius = np.sqrt(grains["radius"][cut] ** 2 - offset[cut] ** 2)
+            vectors = None
+            actual = grains["time"] * run.frequency
+            if len(fluid_times):
+                water = run.fluid(int(np.argmin(np.abs(fluid_times - grains["time"]))), ("kind", "velocity"))
+                near = (water["kind"] == 0) & slab(water["tank_frame_points"], centre, spacing)
+                q = water["tank_frame_points"][near]
+                vectors = grid_average(q[:, 0], q[:, 2], vx_in_frame(run, water, args)[near],
+                                       water["velocity"][near, 2], spacing, length, top)
+                speed = np.hypot(vectors[2], vectors[3])
+                rows += [[label, k, p, SEED_PHI[p], actual, x, z, int(n), u, w, s, int(s >= HIGHLIGHT_SPEED)]
+                         for x, z, u, w, n, s in zip(*vectors, speed)]
+            panels.append((label, p, (actual, image, grains["tank_frame_points"][cut], cut_radius, labels[cut],
+                                      vectors)))
+    write_csv(out / "fig13_cross_section.csv",
+              ["stage", "period", "phase_index", "seed_phi", "frame_t_over_T", "cell_x_m", "cell_z_m", "samples",
+               f"mean_vx_{args.frame}_m_s", "mean_vz_m_s", "in_plane_speed_m_s", "highlighted"], rows)
+    figure, axes = plt.subplots(2 * len(shown), 4, figsize=(16, 2.1 * 2 * len(shown)), squeeze=False,
+                                constrained_layout=True)
+    for n, (label, p, panel) in enumerate(panels):
+        upper, lower = axes[2 * (n // 4)][p], axes[2 * (n // 4) + 1][p]
+        for ax in (upper, lower):
+            tank_axes(ax, run, top)
+        if panel is None:
+            upper.text(0.5, 0.5, "no frame at this phase", transform=upper.transAxes, ha="center")
+            continue
+        actual, image, centres, cut_radius, classes, vectors = panel
+        upper.imshow(image, origin="lower", extent=(0, length, 0, top), interpolation="nearest")
+        upper.set_title(f"{label}, φ = {SEED_PHI[p]} (t/T = {actual:.2f}): bed beyond y = {1e3 * centre:g} mm",
+                        fontsize=7)
+        draw_discs(lower, centres[:, 0], centres[:, 2], 2 * cut_radius, [class_colour(c) for c in classes],
+                   alpha=0.6, linewidths=0)
+        title = "cut discs"
+        if vectors is not None and len(vectors[0]):
+            fast = np.hypot(vectors[2], vectors[3]) >= HIGHLIGHT_SPEED
+            for mask, colour in ((~fast, "k"), (fast, "#1a9641")):
+                lower.quiver(vectors[0][mask], vectors[1][mask], vectors[2][mask], vectors[3][mask], color=colour,
+                             angles="xy", scale_units="xy", scale=ARROW_SCALE, width=0.002)
+            title += f" + fluid velocity ({int(fast.sum())} of {len(fast)} cells ≥ {HIGHLIGHT_SPEED:g} m/s)"
+        lower.set_title(title, fontsize=7)
+    figure.suptitle("Fig. 13 shape: cross-section at mid-depth (upper) and the plane with the fluid velocity "
+                    f"({'lab' if args.frame == 'lab' else 'relative to the tank'}; arrows: 0.2 m/s = "
+                 f"{1e3 * HIGHLIGHT_SPEED / ARROW_SCALE:.0f} mm) (lower)",
+                    fontsize=9)
+    return [out / "fig13_cross_section.csv", save(figure, out / "fig13_cross_section.png")]
+
+
+def strain_profiles(run, index, spacing, thickness, count):
+    """Per horizontal layer of one fluid frame: sums of |S|^2 over the particles with a valid gradient, their
+    number, the sum of the positive Q and its number, and the sum of all Q (seed Fig. 16)."""
+    try:
+        water = run.fluid(index, ("kind", "velocity", "free_surface"))
+    except vtp.VtpError:  # frames without the flag: every particle counts as interior
+        water = run.fluid(index, ("kind", "velocity"))
+    fluid = water["kind"] == 0
+    G, valid = seed_views.velocity_gradient(water["points"][fluid], water["velocity"][fluid], 2.1 * spacing)
+    s2, q = seed_views.strain_and_q(G)
+    keys = np.where(valid, layer_index(water["height"][fluid], thickness, count), -1)
+    surface = water["free_surface"][fluid] != 0 if "free_surface" in water else np.zeros(len(keys), dtype=bool)
+    sums = []
+    for chosen in (keys, np.where(surface, -1, keys)):  # all fluid particles; those not flagged free-surface
+        s2_sum, n = binned_mean(chosen, s2, count)
+        q_pos_sum, n_pos = binned_mean(np.where(q > 0, chosen, -1), q, count)
+        q_sum, _ = binned_mean(chosen, q, count)
+        sums += [s2_sum, n, q_pos_sum, n_pos, q_sum]
+    return np.stack(sums)
+
+
+def layer_means(sums):
+    """(mean |S|^2, mean positive Q, mean Q) per layer from strain_profiles()'s five sums."""
+    s2_sum, n, q_pos_sum, n_pos, q_sum = sums
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (np.where(n > 0, s2_sum / np.maximum(n, 1), np.nan),
+                np.where(n_pos > 0, q_pos_sum / np.maximum(n_pos, 1), np.nan),
+                np.where(n > 0, q_sum / np.maximum(n, 1), np.nan))
+
+
+def fig16(run, out, args):
+    """Vertical profiles of the mean squared rate of strain |S|^2 = S:S and of the Q-criterion
+    Q = (|Omega|^2 - |S|^2) / 2 of the fluid at the seed's phase φ = π (tank phase π/2, accelerating), per stage
+    (seed Fig. 16). The velocity gradient at each fluid particle (kind 0) is the kernel-weighted least-squares
+    gradient over the fluid neighbours within r_e = 2.1 l0 (seed_views.velocity_gradient); the profiles average
+    over the particles of each sub-layer (5 mm, or l0 when coarser, as Fig. 15) and over the stage's frames at
+    that phase; Q over its positive values only, as the seed (the CSV has the mean of all values too). Dashed and
+    the CSV's interior_ columns: without the particles flagged free-surface, whose one-sided neighbourhoods make
+    the gradient noisier."""
+    times = run.fluid_times()
+    if len(times) == 0:
+        raise Skip("no fluid.pvd")
+    stages = run.stages(args.stages, times)
+    if not stages:
+        raise Skip("no stage lies within the run")
+    spacing = fluid_spacing(run)
+    thickness = args.fluid_layer if args.fluid_layer else max(0.005, spacing)
+    count = int(math.ceil(0.12 / thickness))
+    rows, profiles = [], {}
+    for label, k1, k2 in stages:
+        indices, errors = run.phase_frames(times, k1, k2, args.phase_tolerance)[1]
+        if not len(indices):
+            print(f"  fig16: {label}: no frame within {args.phase_tolerance:g}° of tank phase π/2 (seed φ = π)")
+            continue
+        totals = sum(strain_profiles(run, index, spacing, thickness, count) for index in indices)
+        means = [layer_means(totals[5 * j:5 * j + 5]) for j in range(2)]  # all; interior
+        profiles[label] = (len(indices), means)
+        for layer in range(count):
+            if totals[1][layer]:
+                row = [label, k1, k2, len(indices), float(np.mean(np.abs(errors))), layer, layer * thickness,
+                       (layer + 1) * thickness]
+                for j, (s2, q_pos, q_all) in enumerate(means):
+                    row += [int(totals[5 * j + 1][layer]), float(s2[layer]), int(totals[5 * j + 3][layer]),
+                            float(q_pos[layer]), float(q_all[layer])]
+                rows.append(row)
+    if not profiles:
+        raise Skip("no fluid frame at the seed's φ = π in any stage")
+    if not rows:
+        raise Skip("no fluid particle has a gradient (fewer than three neighbours out of a plane within r_e)")
+    columns = ["particles", "mean_S2_1_s2", "particles_Q_positive", "mean_positive_Q_1_s2", "mean_Q_1_s2"]
+    write_csv(out / "fig16_strain_q.csv",
+              ["stage", "period_first", "period_last", "frames", "mean_abs_phase_error_deg", "sublayer", "z_low_m",
+               "z_high_m"] + columns + [f"interior_{c}" for c in columns], rows)
+    figure, axes = plt.subplots(1, 2, figsize=(9, 4.8), sharey=True, constrained_layout=True)
+    z = (np.arange(count) + 0.5) * thickness / 0.005
+    for j, (label, (used, means)) in enumerate(profiles.items()):
+        for (s2, q_pos, _), style, which in zip(means, ("-", "--"), ("all", "not free-surface")):
+            axes[0].plot(s2, z, ls=style, marker=".", color=f"C{j}", label=f"{label} ({used} frames), {which}")
+            axes[1].plot(q_pos, z, ls=style, marker=".", color=f"C{j}", label=f"{label} ({used} frames), {which}")
+    axes[0].set_xlabel("mean |S|² [1/s²]")
+    axes[1].set_xlabel("mean of the positive Q [1/s²]")
+    axes[0].set_ylabel(f"z / d_s1 ({1e3 * thickness:g} mm sub-layers, d_s1 = 5 mm)")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    figure.suptitle(f"Fig. 16 shape: rate of strain and Q-criterion of the fluid at seed φ = π (tank phase π/2); "
+                    f"least-squares gradient over r_e = 2.1 l0 = {2.1e3 * spacing:.3g} mm", fontsize=9)
+    return [out / "fig16_strain_q.csv", save(figure, out / "fig16_strain_q.png")]
+
+
+FIGURES = {"fig03": fig03, "fig04": fig04, "fig06": fig06, "fig07_08": fig07_08, "fig09": fig09, "fig10": fig10,
+           "fig11": fig11, "fig12": fig12, "fig13": fig13, "fig14": fig14, "fig15": fig15, "fig16": fig16,
+           "fig17_19": fig17_19, "fig19": fig19, "fig20": fig20, "drift": drift}
 
 
 def main(argv=None):
@@ -1016,17 +1570,25 @@ def main(argv=None):
     parser.add_argument("out_dir", type=pathlib.Path, help="a run's output directory")
     parser.add_argument("--figures", nargs="+", choices=ALL_FIGURES, default=ALL_FIGURES, metavar="NAME",
                         help="which figures (default all): " + " ".join(ALL_FIGURES))
+    parser.add_argument("--out", type=pathlib.Path, metavar="DIR",
+                        help="where to write the figures (default OUT_DIR/figures)")
     parser.add_argument("--scene", type=pathlib.Path,
                         help="the run's scene file (default: the one named in OUT_DIR/riffle.log)")
     parser.add_argument("--times", type=float, nargs="+",
-                        help="fig03 snapshot times in t/T (default 0 5 10 30 85 100, those within the run)")
+                        help="fig03/fig04 snapshot times in t/T (default 0 5 10 30 85 100, those within the run)")
     parser.add_argument("--conc-times", type=float, nargs="+", default=[0, 5, 10, 30, 85],
-                        help="fig11 times in t/T (default 0 5 10 30 85)")
+                        help="fig11 and fig07_08 times in t/T (default 0 5 10 30 85)")
     parser.add_argument("--profile-times", type=float, nargs="+", default=[10, 85],
                         help="fig12 times in t/T (default 10 85)")
     parser.add_argument("--stages", nargs="+", metavar="K[-K2]",
-                        help="fig14/15/19/20 stages (fig19 plots the first): period k or periods k-k2 (default 10 85 where run, else all "
-                             "periods after the ramp; fig19: 10-12)")
+                        help="fig09/10/13/14/15/16/19/20 stages (fig19 plots the first; fig10/fig13 show the last "
+                             "period of each): period k or periods k-k2 (default 10 85 where run, else all periods "
+                             "after the ramp; fig19: 10-12; fig09: 5 10 30 85)")
+    parser.add_argument("--slab", type=float, default=0.015, metavar="METRES",
+                        help="fig10 thickness of the x-z slab at mid-depth (default 0.015, one large diameter)")
+    parser.add_argument("--view-depth", type=float, default=0.015, metavar="METRES",
+                        help="fig09: pixels of the front view count when the grain seen lies within this distance "
+                             "of the front wall (default 0.015, one large diameter)")
     parser.add_argument("--phase-tolerance", type=float, default=20.0,
                         help="largest phase difference [deg] of a frame used for a phase (default 20)")
     parser.add_argument("--frame", choices=["tank", "lab"], default="tank",
@@ -1045,8 +1607,8 @@ def main(argv=None):
         run = Run(args.out_dir, args.scene)
     except vtp.VtpError as error:
         sys.exit(f"seed_figures: {error}")
-    out = args.out_dir / "figures"
-    out.mkdir(exist_ok=True)
+    out = args.out if args.out else args.out_dir / "figures"
+    out.mkdir(parents=True, exist_ok=True)
     failed = False
     for name in args.figures:
         try:

@@ -15,6 +15,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 import numpy as np  # noqa: E402
 import seed_figures  # noqa: E402
+import seed_views  # noqa: E402
 import vtp  # noqa: E402
 
 
@@ -33,6 +34,174 @@ def write_vtp(path, points, data):
                     f'<Piece NumberOfPoints="{n}" NumberOfVerts="{n}" NumberOfLines="0" NumberOfStrips="0" '
                     f'NumberOfPolys="0">\n<PointData>\n{body}</PointData>\n<Points>\n'
                     + array("Points", points, "Float64", 3) + "</Points>\n</Piece>\n</PolyData>\n</VTKFile>\n")
+
+
+def write_pvd(path, entries):
+    path.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n<Collection>\n'
+                    + "\n".join(entries) + "\n</Collection>\n</VTKFile>\n")
+
+
+def check_velocity_gradient():
+    """The least-squares gradient is exact for linear velocity fields, whatever the neighbours' arrangement: on a
+    jittered lattice block (free faces and corners included) a simple shear u = (a z, 0, 0) has |S|^2 = a^2/2 and
+    Q = 0, a rigid rotation about z at w has |S|^2 = 0 and Q = w^2 (seed Eqs. 29-30, Frobenius norms)."""
+    rng = np.random.default_rng(7)
+    l0 = 0.01
+    grid = np.stack(np.meshgrid(*(np.arange(6) * l0,) * 3, indexing="ij"), -1).reshape(-1, 3)
+    points = grid + rng.uniform(-0.2, 0.2, grid.shape) * l0
+    a, w = 3.0, 2.0
+    shear = np.column_stack([a * points[:, 2], np.zeros(len(points)), np.zeros(len(points))])
+    rotation = np.column_stack([-w * points[:, 1], w * points[:, 0], np.zeros(len(points))])
+    for velocity, s2_expected, q_expected in ((shear, a * a / 2, 0.0), (rotation, 0.0, w * w)):
+        G, valid = seed_views.velocity_gradient(points, velocity + 0.37, 2.1 * l0)  # a uniform part changes nothing
+        assert valid.all(), np.where(~valid)
+        s2, q = seed_views.strain_and_q(G)
+        assert np.allclose(s2, s2_expected, rtol=0, atol=1e-9 * max(a * a, w * w)), (s2.min(), s2.max())
+        assert np.allclose(q, q_expected, rtol=0, atol=1e-9 * max(a * a, w * w)), (q.min(), q.max())
+    # neighbour_pairs agrees with the brute-force count
+    i, j = seed_views.neighbour_pairs(points, 2.1 * l0)
+    distance = np.linalg.norm(points[:, None] - points[None], axis=2)
+    assert len(i) == int(np.sum(distance < 2.1 * l0)) - len(points)
+    assert np.all(np.linalg.norm(points[i] - points[j], axis=1) < 2.1 * l0)
+
+
+# The views' bed: a plane of large grains (R = 7.5 mm) touching on a 15 mm lattice, centres at z = 37.5 mm (16 x 10,
+# over y 0-150 mm), and below every large grain of rows 3-9 (y >= 52.5 mm) a small grain (r = 2.5 mm) at z = 7.5 mm.
+LARGE, SMALL = 0.0075, 0.0025
+
+
+def views_bed():
+    x = 0.0075 + 0.015 * np.arange(16)
+    y = 0.0075 + 0.015 * np.arange(10)
+    large = np.array([[a, b, 0.0375] for b in y for a in x])
+    small = np.array([[a, b, 0.0075] for b in y[3:] for a in x])
+    points = np.vstack([large, small])
+    radius = np.array([LARGE] * len(large) + [SMALL] * len(small))
+    size_class = np.array([2] * len(large) + [0] * len(small), dtype=np.int32)
+    # velocities relative to the tank: front-row large grains 0.1 m/s, the other large 0.3, small -0.05
+    relative = np.where(size_class == 2, np.where(points[:, 1] < 0.015, 0.1, 0.3), -0.05)
+    return points, radius, size_class, relative
+
+
+def write_views_run(run, f, amplitude, shear):
+    """One period, frames at every eighth (every phase hit exactly), the bed above fixed in the tank, and MPS fluid
+    on a 10 mm lattice jittered in x and y, moving with the tank plus the shear u = (shear z, 0, 0)."""
+    (run / "vtk").mkdir(parents=True, exist_ok=True)
+    scene = run / "scene.toml"
+    scene.write_text('[tank]\nsize = [0.24, 0.16, 0.20]\n[tank.motion]\nkind = "sinusoidal"\n'
+                     f"direction = [1.0, 0.0, 0.0]\namplitude = {amplitude}\nfrequency = {f}\nramp_time = 0.0\n"
+                     "[fluid]\nspacing = 0.01\n")
+    points, radius, size_class, relative = views_bed()
+    rng = np.random.default_rng(3)
+    lattice = np.stack(np.meshgrid(0.005 + 0.01 * np.arange(24), 0.005 + 0.01 * np.arange(16),
+                                   0.005 + 0.01 * np.arange(6), indexing="ij"), -1).reshape(-1, 3)
+    lattice[:, :2] += rng.uniform(-0.001, 0.001, (len(lattice), 2))
+    solids, fluid = [], []
+    for k in range(9):
+        t = k / (8 * f)
+        shift = np.array([-amplitude * math.sin(2 * math.pi * f * t), 0, 0])
+        v_tank = -amplitude * 2 * math.pi * f * math.cos(2 * math.pi * f * t)
+        velocity = np.zeros((len(points), 3))
+        velocity[:, 0] = relative + v_tank
+        write_vtp(run / "vtk" / f"solids_{k:06d}.vtp", points + shift, {
+            "velocity": (velocity, "Float64"), "radius": (radius, "Float64"), "size_class": (size_class, "Int32")})
+        flow = np.zeros((len(lattice), 3))
+        flow[:, 0] = v_tank + shear * lattice[:, 2]
+        write_vtp(run / "vtk" / f"fluid_{k:06d}.vtp", lattice + shift, {
+            "kind": (np.zeros(len(lattice), dtype=np.int32), "Int32"), "velocity": (flow, "Float64")})
+        solids.append(f'<DataSet timestep="{t!r}" group="" part="0" file="vtk/solids_{k:06d}.vtp"/>')
+        fluid.append(f'<DataSet timestep="{t!r}" group="" part="0" file="vtk/fluid_{k:06d}.vtp"/>')
+    write_pvd(run / "solids.pvd", solids)
+    write_pvd(run / "fluid.pvd", fluid)
+    return scene, lattice
+
+
+def pixel_bound(perimeter, area):
+    """The largest error of a pixel count of discs as an area fraction: a pixel is misjudged only if a disc's edge
+    crosses it, i.e. it lies within half a diagonal (p / sqrt 2) of the edge, a band of area <= perimeter * sqrt 2 p,
+    and each misjudged pixel is wrong by at most its whole area."""
+    return perimeter * math.sqrt(2) * seed_figures.PIXEL / area
+
+
+def check_views(work):
+    run = work / "views"
+    f, amplitude, shear = 1.7, 0.01, 5.0
+    scene, lattice = write_views_run(run, f, amplitude, shear)
+    out = work / "views_figures"
+    code = seed_figures.main([str(run), "--scene", str(scene), "--out", str(out), "--stages", "1", "--times", "0.5",
+                              "--conc-times", "0.5", "--figures", "fig04", "fig07_08", "fig09", "fig10", "fig13",
+                              "fig16"])
+    assert code == 0, code
+
+    def rows(name):
+        with open(out / name, newline="") as handle:
+            return list(csv.DictReader(handle))
+
+    length, width = 0.24, 0.16
+    # Fig. 4: from above only the large grains show; the small ones lie under them (an exact zero). The large ones
+    # cover 160 discs' area of the tank's plan.
+    top = {int(r["size_class"]): r for r in rows("fig04_top_views.csv")}
+    assert float(top[0]["area_fraction"]) == 0.0 and int(top[0]["grains_seen"]) == 0, top[0]
+    assert int(top[2]["grains_seen"]) == 160, top[2]
+    expected = 160 * math.pi * LARGE ** 2 / (length * width)
+    bound = pixel_bound(160 * 2 * math.pi * LARGE, length * width)
+    assert abs(float(top[2]["area_fraction"]) - expected) <= bound, (top[2], expected, bound)
+    # Figs. 7-8: through the front wall, the 30-45 mm strip shows a row of touching discs (pi/4 of it), nothing
+    # else; the 0-15 mm strip shows the 16 small discs (through the water, at any depth); the others are empty.
+    occupancy = {(int(r["size_class"]), int(r["sublayer"])): float(r["occupancy_rate"])
+                 for r in rows("fig07_08_occupancy.csv")}
+    strip = length * seed_figures.SUBLAYER
+    assert abs(occupancy[(2, 2)] - math.pi / 4) <= pixel_bound(16 * 2 * math.pi * LARGE, strip), occupancy
+    assert abs(occupancy[(0, 0)] - 16 * math.pi * SMALL ** 2 / strip) <= pixel_bound(16 * 2 * math.pi * SMALL, strip)
+    assert all(v == 0.0 for (k, layer), v in occupancy.items() if (k, layer) not in ((2, 2), (0, 0))), occupancy
+    # Fig. 9: within 15 mm of the front wall only the front row of large grains shows (0.1 m/s relative to the
+    # tank, at every phase); the small grains (rows from y = 52.5 mm) are deeper than that: no pixel. All grains:
+    # 16 at 0.1 and 144 at 0.3 in the 30-45 mm sub-layer, the small ones at -0.05 in 0-15 mm.
+    profile = rows("fig09_side_view_velocity.csv")
+    assert len({r["phase_index"] for r in profile}) == 4
+    for row in profile:
+        layer = int(row["sublayer"])
+        assert int(row["frames"]) >= 1 and float(row["mean_abs_phase_error_deg"]) < 1e-6, row
+        if layer == 2:
+            assert abs(float(row["mean_vx_seen_tank_m_s"]) - 0.1) < 1e-9, row
+            assert abs(float(row["mean_vx_all_grains_tank_m_s"]) - (16 * 0.1 + 144 * 0.3) / 160) < 1e-9, row
+        else:
+            assert int(row["seen_pixels"]) == 0, row
+        if layer == 0:
+            assert abs(float(row["mean_vx_all_grains_tank_m_s"]) + 0.05) < 1e-9, row
+    # Fig. 10: the 15 mm slab at y = 80 mm holds the lattice planes y = 75 and 85 mm (x-y jitter 1 mm) and the grain
+    # row at y = 82.5 mm; the fluid's x-velocity relative to the tank is the shear, its z-velocity zero.
+    slab = rows("fig10_fluid_slab.csv")
+    for p in range(4):
+        panel = [r for r in slab if int(r["phase_index"]) == p]
+        water = [r for r in panel if r["particle"] == "fluid"]
+        assert len(water) == 2 * 24 * 6, len(water)
+        assert all(abs(float(r["vx_tank_m_s"]) - shear * float(r["z_m"])) < 1e-9 and float(r["vz_m_s"]) == 0
+                   for r in water)
+        grains = [int(r["size_class"]) for r in panel if r["particle"] == "grain"]
+        assert sorted(grains) == [0] * 16 + [2] * 16, grains
+    # Fig. 13: the fluid within l0 of the plane averaged on 10 mm cells: each cell's velocity is the shear at its
+    # mid-height (the lattice's z is not jittered), green (>= 0.2 m/s) from the 40-50 mm cells up (0.225 m/s).
+    cells = rows("fig13_cross_section.csv")
+    assert len(cells) == 4 * 24 * 6, len(cells)
+    for row in cells:
+        speed = shear * float(row["cell_z_m"])
+        assert abs(float(row["mean_vx_tank_m_s"]) - speed) < 1e-9 and int(row["samples"]) == 2, row
+        assert int(row["highlighted"]) == (speed >= 0.2), row
+    # Fig. 16: the least-squares gradient of the shear everywhere (free faces too): |S|^2 = a^2/2, Q = 0.
+    strain = rows("fig16_strain_q.csv")
+    assert len(strain) == 6 and sum(int(r["particles"]) for r in strain) == len(lattice), strain
+    for row in strain:
+        assert abs(float(row["mean_S2_1_s2"]) - shear ** 2 / 2) < 1e-9 * shear ** 2, row
+        assert abs(float(row["mean_Q_1_s2"])) < 1e-9 * shear ** 2, row
+    for name in ("fig04_top_views.png", "fig07_08_occupancy.png", "fig09_side_view_velocity.png",
+                 "fig10_fluid_slab.png", "fig13_cross_section.png", "fig16_strain_q.png"):
+        assert (out / name).stat().st_size > 1000, name
+    # A time beyond the run: the figure is skipped (no PNG), the run still succeeds.
+    beyond = work / "views_beyond"
+    assert seed_figures.main([str(run), "--scene", str(scene), "--out", str(beyond), "--times", "85",
+                              "--figures", "fig04"]) == 0
+    assert not (beyond / "fig04_top_views.png").exists()
 
 
 def main():
@@ -135,6 +304,8 @@ def main():
     for name in ("fig03_snapshot_tT0.png", "fig06_centroids.png", "fig11_concentration.png", "fig14_velocity_phases.png",
                  "fig15_fluid_velocity.png", "fig17_19_force_balance.png", "fig19_z_force_profiles.png", "fig20_granular_temperature.png", "drift.png"):
         assert (out / name).stat().st_size > 1000, name
+    check_velocity_gradient()
+    check_views(work)
     print(f"test_seed_figures: passed ({work})")
     return 0
 
