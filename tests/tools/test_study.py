@@ -1,0 +1,226 @@
+#!/usr/bin/python3
+"""Self-test of tools/study.py and tools/study_collect.py on a tiny study that really runs riffle: two variants on
+two beds settled with different generator seeds, one run interrupted by SIGTERM and resumed by the next `run`.
+
+Checks: each bed is settled once, with its own seed (different grain positions); a run's overrides reach riffle
+(the variant's restitution is in its checkpoint's scene); the interrupted run resumes from its checkpoint (two
+segments, the second a `riffle resume`) and ends with the same class centroids as an uninterrupted run of the same
+job; a finished study is not rerun; collect writes the ensemble and sensitivity tables with the base variant's S
+equal to the segregation index computed here from class_centroids.csv.
+
+Usage: /usr/bin/python3 tests/tools/test_study.py RIFFLE_BINARY [WORK_DIR]   (exit 0 = pass)
+"""
+import csv
+import json
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+STUDY = ROOT / "tools" / "study.py"
+
+BED = """
+[run]
+name = "tiny_bed"
+end_time = 0.06
+dt = 1.0e-3
+
+[materials.grain]
+density = 1318.0
+young_modulus = 1.0e6
+poisson_ratio = 0.3
+
+[contact]
+restitution = 0.5
+friction = 0.4
+max_impact_speed = 1.0
+
+[tank]
+size = [0.05, 0.03, 0.08]
+open_faces = ["z_max"]
+wall_material = "grain"
+
+[solids]
+[[solids.layered_beds]]
+layers = 1
+layer_thickness = 0.012
+loose_factor = 1.5
+seed = 1
+
+[[solids.layered_beds.classes]]
+diameter = 0.010
+count = 3
+material = "grain"
+size_class = 1
+arrangement = "regular"
+
+[[solids.layered_beds.classes]]
+diameter = 0.004
+count = 60
+material = "grain"
+size_class = 0
+arrangement = "random"
+"""
+
+RUN = """
+[run]
+name = "tiny_run"
+end_time = 1.0
+dt = 1.0e-3
+
+[materials.grain]
+density = 1318.0
+young_modulus = 1.0e6
+poisson_ratio = 0.3
+
+[contact]
+restitution = 0.5
+friction = 0.4
+max_impact_speed = 1.0
+
+[tank]
+size = [0.05, 0.03, 0.08]
+open_faces = ["z_max"]
+wall_material = "grain"
+
+[tank.motion]
+kind = "sinusoidal"
+direction = [1.0, 0.0, 0.0]
+amplitude = 0.004
+frequency = 5.0
+ramp_time = 0.0
+
+[solids]
+initial_state = "set by the study"
+
+[output]
+vtk_interval = 0.1
+checkpoint_interval = 0.02
+bed_profile_interval = 0.01
+"""
+
+STUDY_FILE = """
+[study]
+name = "tiny"
+scene = "{run}"
+bed_scene = "{bed}"
+periods = 2
+frequency = 5.0
+workers = 1
+threads = 1
+binary = "{binary}"
+set = []
+
+[[variants]]
+name = "base"
+beds = [1, 2]
+
+[[variants]]
+name = "bouncy"
+beds = [1]
+set = ["contact.restitution=0.9"]
+"""
+
+failures = []
+
+
+def check(condition, text):
+    print(("ok - " if condition else "FAIL - ") + text)
+    if not condition:
+        failures.append(text)
+
+
+def rows(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def main():
+    binary = pathlib.Path(sys.argv[1]).resolve()
+    work = pathlib.Path(sys.argv[2] if len(sys.argv) > 2 else "/tmp/test_study").resolve()
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    (work / "bed.toml").write_text(BED)
+    (work / "run.toml").write_text(RUN)
+    # The study file names scenes relative to the repository root; absolute paths work as well.
+    (work / "study.toml").write_text(STUDY_FILE.format(run=work / "run.toml", bed=work / "bed.toml", binary=binary))
+    out = work / "out"
+    command = [sys.executable, str(STUDY), "run", str(work / "study.toml"), "--out", str(out)]
+
+    # 1. Start the runner and stop it (SIGTERM) once the first run has written a checkpoint past its start.
+    runner = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=ROOT)
+    first = out / "runs" / "base" / "bed_1"
+    deadline = time.time() + 120
+    while time.time() < deadline and runner.poll() is None:
+        if len(list((first / "checkpoints").glob("step_*.ckpt"))) >= 2:
+            break
+        time.sleep(0.05)
+    runner.send_signal(signal.SIGTERM)
+    runner.wait(timeout=60)
+    job = json.loads((first / "job.json").read_text())
+    check(job["segments"][0]["exit_code"] == 143 and not job["done"],
+          f"SIGTERM stops the running job with riffle's exit 143, not done (got {job['segments'][0]['exit_code']})")
+
+    # 2. The next run resumes it and finishes the study.
+    finished = subprocess.run(command, capture_output=True, text=True, cwd=ROOT, timeout=300)
+    check(finished.returncode == 0, f"the second runner finishes (exit {finished.returncode})")
+    job = json.loads((first / "job.json").read_text())
+    check(job["done"] and len(job["segments"]) == 2 and job["segments"][1]["command"][1] == "resume",
+          "the interrupted job resumed from its checkpoint (two segments, the second `riffle resume`)")
+    for variant, seed in (("base", 2), ("bouncy", 1)):
+        other = json.loads((out / "runs" / variant / f"bed_{seed}" / "job.json").read_text())
+        check(other["done"] and len(other["segments"]) == 1, f"{variant} bed {seed} ran once to the end")
+
+    # 3. The beds: settled once each, with different seeds, so different grains.
+    start_1 = rows(out / "runs" / "base" / "bed_1" / "class_centroids.csv")[0]
+    start_2 = rows(out / "runs" / "base" / "bed_2" / "class_centroids.csv")[0]
+    check(start_1["class_0_centroid_m"] != start_2["class_0_centroid_m"],
+          "the runs on beds 1 and 2 start from different beds (the seed override reached the bed generator)")
+    check(b"contact.restitution=0.9" in (out / "runs" / "bouncy" / "bed_1" / "checkpoints" / "final.ckpt").read_bytes(),
+          "the variant's override is in its checkpoint's scene")
+
+    # 4. The resumed run equals an uninterrupted run of the same job.
+    straight = work / "straight"
+    args = job["segments"][0]["command"]
+    args = args[:args.index("--out")] + ["--out", str(straight), "--threads", "1", "--log-level", "warn"]
+    subprocess.run(args, check=True, cwd=ROOT, capture_output=True)
+    check((straight / "class_centroids.csv").read_text() == (first / "class_centroids.csv").read_text(),
+          "the interrupted and resumed run's class_centroids.csv equals the straight run's, byte for byte")
+
+    # 5. A finished study is not rerun.
+    again = subprocess.run(command, capture_output=True, text=True, cwd=ROOT, timeout=60)
+    job_again = json.loads((first / "job.json").read_text())
+    check(again.returncode == 0 and len(job_again["segments"]) == 2, "a finished study is not rerun")
+
+    # 6. collect: the tables, and S as defined in tools/seed_figures.py.
+    collected = subprocess.run([sys.executable, str(STUDY), "collect", str(work / "study.toml"), "--out", str(out)],
+                               capture_output=True, text=True, cwd=ROOT, timeout=120)
+    check(collected.returncode == 0, f"collect exits 0 ({collected.stdout[-300:]} {collected.stderr[-300:]})")
+    for name in ("runs.csv", "ensemble.csv", "ensemble.png", "sensitivity.csv", "sensitivity.md"):
+        check((out / "collect" / name).exists(), f"collect writes {name}")
+    ensemble = rows(out / "collect" / "ensemble.csv")
+    centroids = [rows(out / "runs" / "base" / f"bed_{s}" / "class_centroids.csv") for s in (1, 2)]
+    # S by hand at the last common sample: gap between the largest and smallest class centroids against the start's,
+    # over the gap of a bed fully sorted in layers (volumes: 3 grains of 10 mm, 60 of 4 mm; 2 z_mean the height).
+    volumes = [60 * 0.002 ** 3, 3 * 0.005 ** 3]
+    expected = []
+    for table in centroids:
+        z0 = [float(table[0]["class_0_centroid_m"]), float(table[0]["class_1_centroid_m"])]
+        n = len(ensemble) - 1
+        z = [float(table[n]["class_0_centroid_m"]), float(table[n]["class_1_centroid_m"])]
+        mean_height = (volumes[0] * z[0] + volumes[1] * z[1]) / sum(volumes)
+        full_gap = 2 * mean_height * 0.5
+        expected.append(((z[1] - z[0]) - (z0[1] - z0[0])) / (full_gap - (z0[1] - z0[0])))
+    got = float(ensemble[-1]["S_mean"])
+    check(abs(got - sum(expected) / 2) < 1e-5, f"the ensemble's mean S at the end ({got:.6f}) is the beds' mean "
+          f"segregation index computed here ({sum(expected) / 2:.6f})")
+    print(f"{len(failures)} failure(s)")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

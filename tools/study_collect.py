@@ -1,0 +1,275 @@
+#!/usr/bin/env python3
+"""Tables and plots of a study run by tools/study.py (`tools/study.py collect STUDY.toml` calls collect()).
+
+Per run (out/<study>/runs/<variant>/bed_<N>/):
+- the class centroids at t/T = 10, 20, 30 (class_centroids.csv) and the segregation index S of tools/seed_figures.py
+  (0 at the start, 1 sorted in layers; class volumes from the first grain frame);
+- the end-wall circulation: from the drift figure of tools/seed_figures.py over t/T = 10-20 and 20-30, the mean
+  vertical displacement per period of the coarse grains (medium and large) that start in the two end-wall bands
+  (the outer tenths of the tank's length, 24 mm), beside the same in the middle six tenths. Convection rolls that
+  carry coarse grains down the end walls make the first negative while the sorting lifts the second;
+- the wall time (all of the run's segments) and the threads it ran on.
+
+The first variant is the base: its beds make the ensemble (mean, standard deviation, range over the beds, against
+t/T). Another variant's effect on a quantity counts ("yes" in the table) only where the difference of the means exceeds
+twice its standard error estimated from the base ensemble's spread: |mean_v - mean_base| > 2 s sqrt(1/n_v + 1/n_base),
+s the base's standard deviation over its beds (the variants' own spread from two beds is too uncertain to use).
+
+Writes out/<study>/collect/: runs.csv (one row per run), ensemble.csv and ensemble.png (the base's bands),
+sensitivity.csv and sensitivity.md (one row per variant), sensitivity.png (S against t/T per variant over the band).
+"""
+import csv
+import math
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+
+TOOLS = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(TOOLS))
+import seed_figures  # noqa: E402  (matplotlib set up there, headless)
+import vtp  # noqa: E402
+
+plt = seed_figures.plt
+STAGES = (10, 20, 30)
+DRIFT_WINDOWS = ("10-20", "20-30")
+END_BAND_COLUMNS = (0, seed_figures.DRIFT_COLUMNS - 1)
+MIDDLE_COLUMNS = tuple(range(2, seed_figures.DRIFT_COLUMNS - 2))
+
+
+def read_rows(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def centroid_series(run_dir):
+    """t/T and the centroid heights [m] per class (classes in size order), from class_centroids.csv."""
+    rows = read_rows(run_dir / "class_centroids.csv")
+    classes = sorted(int(key.split("_")[1]) for key in rows[0] if key.startswith("class_") and
+                     key.endswith("_centroid_m"))
+    t = np.array([float(r["t_over_T"]) for r in rows])
+    z = np.array([[float(r[f"class_{k}_centroid_m"]) for k in classes] for r in rows])
+    return t, z, classes
+
+
+def class_volumes(run_dir, classes):
+    """Total grain volume per class (any common unit), from the run's first grain frame."""
+    frames = vtp.read_pvd(run_dir / "solids.pvd")
+    grains = vtp.read_vtp(frames[0][1], ("radius", "size_class"))
+    return [float(np.sum(grains["radius"][grains["size_class"] == k] ** 3)) for k in classes]
+
+
+def segregation_series(t, z, volumes):
+    return np.array([seed_figures.segregation_index(volumes, z[0], row) for row in z])
+
+
+def at(t, values, stage):
+    """The value at the sample nearest t/T = stage; nan if the run did not get within 0.2 periods of it."""
+    k = int(np.argmin(np.abs(t - stage)))
+    return float(values[k]) if abs(t[k] - stage) < 0.2 else math.nan
+
+
+def circulation(run_dir, refresh):
+    """{window: (end-band coarse dz, middle coarse dz)} [m per period] from the drift figure's table."""
+    table = run_dir / "figures" / "drift.csv"
+    if refresh or not table.exists():
+        subprocess.run([sys.executable, str(TOOLS / "seed_figures.py"), str(run_dir), "--figures", "drift",
+                        "--drift-windows", *DRIFT_WINDOWS], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
+                       check=False)
+    if not table.exists():
+        return {}
+    result = {}
+    rows = read_rows(table)
+    for window in DRIFT_WINDOWS:
+        picked = [r for r in rows if r["window"] == window and r["group"] in ("1", "2")]
+        if not picked:
+            continue
+        periods = float(picked[0]["t_over_T_end"]) - float(picked[0]["t_over_T_start"])
+
+        def mean_dz(columns):
+            cells = [r for r in picked if int(r["column"]) in columns]
+            count = sum(int(r["grains"]) for r in cells)
+            return sum(int(r["grains"]) * float(r["mean_dz_m"]) for r in cells) / count / periods if count else math.nan
+
+        result[window] = (mean_dz(END_BAND_COLUMNS), mean_dz(MIDDLE_COLUMNS))
+    return result
+
+
+def run_summary(study, variant, seed, refresh):
+    run_dir = study.run_dir(variant, seed)
+    job = study_job(run_dir)
+    if not job or not job.get("done"):
+        return None
+    t, z, classes = centroid_series(run_dir)
+    volumes = class_volumes(run_dir, classes)
+    s = segregation_series(t, z, volumes)
+    row = {"variant": variant["name"], "bed": seed, "threads": job.get("threads"), "wall_s": job.get("wall_s"),
+           "periods": job.get("periods")}
+    for stage in STAGES:
+        row[f"S_{stage}"] = at(t, s, stage)
+        for j, k in enumerate(classes):
+            row[f"z{k}_{stage}_mm"] = 1e3 * at(t, z[:, j], stage)
+    for window, (end_band, middle) in circulation(run_dir, refresh).items():
+        row[f"endwall_coarse_dz_{window}_mm_per_T"] = 1e3 * end_band
+        row[f"middle_coarse_dz_{window}_mm_per_T"] = 1e3 * middle
+    return row, (t, z, s, classes)
+
+
+def study_job(run_dir):
+    import json
+    path = run_dir / "job.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def write_csv(path, rows):
+    keys = []
+    for row in rows:
+        keys += [k for k in row if k not in keys]
+    with open(path, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=keys)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+
+
+def common_grid(series):
+    """The base's series on the t/T samples they share (all runs write the same bed-profile times)."""
+    n = min(len(t) for t, _, _, _ in series)
+    return series[0][0][:n], np.array([z[:n] for _, z, _, _ in series]), np.array([s[:n] for _, _, s, _ in series])
+
+
+def ensemble(study, base_series, out):
+    t, z, s = common_grid(base_series)
+    classes = base_series[0][3]
+    rows = []
+    for i in range(len(t)):
+        row = {"t_over_T": float(t[i])}
+        for j, k in enumerate(classes):
+            values = 1e3 * z[:, i, j]
+            row.update({f"z{k}_mean_mm": values.mean(), f"z{k}_std_mm": values.std(ddof=1) if len(values) > 1 else 0.0,
+                        f"z{k}_min_mm": values.min(), f"z{k}_max_mm": values.max()})
+        row.update({"S_mean": s[:, i].mean(), "S_std": s[:, i].std(ddof=1) if len(s) > 1 else 0.0,
+                    "S_min": s[:, i].min(), "S_max": s[:, i].max()})
+        rows.append(row)
+    write_csv(out / "ensemble.csv", rows)
+    figure, (ax_z, ax_s) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    for j, k in enumerate(classes):
+        values = 1e3 * z[:, :, j]
+        mean, std = values.mean(axis=0), values.std(axis=0, ddof=1) if len(values) > 1 else 0 * values[0]
+        colour = seed_figures.class_colour(k)
+        ax_z.fill_between(t, values.min(axis=0), values.max(axis=0), color=colour, alpha=0.15, lw=0)
+        ax_z.fill_between(t, mean - std, mean + std, color=colour, alpha=0.35, lw=0)
+        ax_z.plot(t, mean, color=colour, label=seed_figures.class_name(k))
+    ax_z.set_xlabel("t/T")
+    ax_z.set_ylabel("centroid above the floor [mm]")
+    ax_z.legend(fontsize=8)
+    ax_z.grid(alpha=0.3)
+    mean, std = s.mean(axis=0), s.std(axis=0, ddof=1) if len(s) > 1 else 0 * s[0]
+    ax_s.fill_between(t, s.min(axis=0), s.max(axis=0), color="0.5", alpha=0.2, lw=0, label="range")
+    ax_s.fill_between(t, mean - std, mean + std, color="0.3", alpha=0.35, lw=0, label="mean ± 1 s.d.")
+    ax_s.plot(t, mean, color="k", label="mean")
+    ax_s.set_xlabel("t/T")
+    ax_s.set_ylabel("segregation index S")
+    ax_s.legend(fontsize=8)
+    ax_s.grid(alpha=0.3)
+    figure.suptitle(f"{study.name}: ensemble of {len(base_series)} beds ({study.variants[0]['name']}), "
+                    "band: mean ± 1 s.d. (dark) and range (light)", fontsize=9)
+    seed_figures.save(figure, out / "ensemble.png")
+
+
+def mean_std(values):
+    values = [v for v in values if v is not None and not math.isnan(v)]
+    if not values:
+        return math.nan, math.nan, 0
+    return float(np.mean(values)), float(np.std(values, ddof=1)) if len(values) > 1 else math.nan, len(values)
+
+
+def sensitivity(study, rows, series, out):
+    base_name = study.variants[0]["name"]
+    keys = [f"S_{stage}" for stage in STAGES] + [f"z2_{stage}_mm" for stage in STAGES] + \
+        [f"endwall_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + [f"middle_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS]
+    base_rows = [r for r in rows if r["variant"] == base_name]
+    table = []
+    for variant in study.variants:
+        mine = [r for r in rows if r["variant"] == variant["name"]]
+        if not mine:
+            continue
+        entry = {"variant": variant["name"], "set": " ".join(variant.get("set", [])) or "(base)", "beds": len(mine),
+                 "wall_s_mean": mean_std([r.get("wall_s") for r in mine])[0],
+                 "threads": mine[0].get("threads")}
+        for key in keys:
+            m, sd, n = mean_std([r.get(key, math.nan) for r in mine])
+            bm, bsd, bn = mean_std([r.get(key, math.nan) for r in base_rows])
+            entry[key] = m
+            entry[f"{key}_spread"] = sd
+            if variant["name"] != base_name and n and bn > 1 and not math.isnan(bsd):
+                entry[f"{key}_delta"] = m - bm
+                entry[f"{key}_counts"] = "yes" if abs(m - bm) > 2.0 * bsd * math.sqrt(1.0 / n + 1.0 / bn) else "no"
+        table.append(entry)
+    write_csv(out / "sensitivity.csv", table)
+    with open(out / "sensitivity.md", "w") as handle:
+        handle.write(f"| variant | beds | S at 10 | S at 20 | S at 30 | large at 30 [mm] | end-wall coarse dz 20-30 "
+                     f"[mm/T] | middle coarse dz 20-30 [mm/T] | wall time per run [s] |\n|---|---|---|---|---|---|---|---|---|\n")
+
+        def cell(entry, key, digits):
+            value = entry.get(key, math.nan)
+            if math.isnan(value):
+                return "–"
+            text = f"{value:.{digits}f}"
+            spread = entry.get(f"{key}_spread", math.nan)
+            if not math.isnan(spread):
+                text += f" ± {spread:.{digits}f}"
+            if entry.get(f"{key}_counts") == "yes":
+                text = f"**{text}**"
+            return text
+
+        for entry in table:
+            handle.write(f"| {entry['variant']} | {entry['beds']} | {cell(entry, 'S_10', 3)} | {cell(entry, 'S_20', 3)} | "
+                         f"{cell(entry, 'S_30', 3)} | {cell(entry, 'z2_30_mm', 1)} | "
+                         f"{cell(entry, 'endwall_coarse_dz_20-30_mm_per_T', 3)} | "
+                         f"{cell(entry, 'middle_coarse_dz_20-30_mm_per_T', 3)} | {entry['wall_s_mean']:.0f} "
+                         f"({entry['threads']} thread) |\n")
+        handle.write("\n± is the standard deviation over the variant's beds; **bold**: the difference from the base "
+                     "exceeds twice its standard error from the base ensemble's spread (tools/study_collect.py).\n")
+    # S against t/T, one mean curve per variant, over the base's band.
+    figure, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
+    base_series = series[base_name]
+    t, _, s = common_grid(base_series)
+    ax.fill_between(t, s.min(axis=0), s.max(axis=0), color="0.6", alpha=0.3, lw=0,
+                    label=f"{base_name}: range of {len(base_series)} beds")
+    ax.plot(t, s.mean(axis=0), color="k", lw=2, label=f"{base_name}: mean")
+    for name, runs in series.items():
+        if name == base_name:
+            continue
+        tv, _, sv = common_grid(runs)
+        ax.plot(tv, sv.mean(axis=0), lw=1, label=f"{name} ({len(runs)} beds)")
+    ax.set_xlabel("t/T")
+    ax.set_ylabel("segregation index S")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    seed_figures.save(figure, out / "sensitivity.png")
+
+
+def collect(study, refresh=False):
+    out = study.out / "collect"
+    out.mkdir(parents=True, exist_ok=True)
+    rows, series = [], {}
+    for variant, seed in study.jobs():
+        result = run_summary(study, variant, seed, refresh)
+        if result is None:
+            continue
+        row, data = result
+        rows.append(row)
+        series.setdefault(variant["name"], []).append(data)
+    if not rows:
+        print(f"study {study.name}: no run is done yet")
+        return 1
+    write_csv(out / "runs.csv", rows)
+    base_name = study.variants[0]["name"]
+    if base_name in series:
+        ensemble(study, series[base_name], out)
+        sensitivity(study, rows, series, out)
+    print(f"study {study.name}: {len(rows)} runs collected into {out}")
+    print((out / "sensitivity.md").read_text() if (out / "sensitivity.md").exists() else "")
+    return 0
