@@ -138,6 +138,8 @@ def run_riffle(study, directory, job, fresh_args):
         args = [str(study.binary)] + fresh_args + ["--out", str(directory), "--threads", str(study.threads),
                                                     "--log-level", "warn"]
     start = time.time()
+    job["segment_started"] = start  # for `status`; a runner killed with the machine leaves it, and resumes the job
+    write_job(directory, job)
     with open(directory / "stdout.txt", "a") as output:
         output.write(f"# {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M:%S} {' '.join(args)}\n")
         output.flush()
@@ -149,6 +151,7 @@ def run_riffle(study, directory, job, fresh_args):
             RUNNING.discard(process)
     job.setdefault("segments", []).append({"command": args, "wall_s": round(time.time() - start, 1),
                                            "exit_code": code, "started": start})
+    job.pop("segment_started", None)
     job["wall_s"] = round(sum(s["wall_s"] for s in job["segments"]), 1)
     job["exit_code"] = code
     job["done"] = code == 0
@@ -261,8 +264,15 @@ def command_status(study):
                 progress = f"t/T = {float(last.split(',')[1]) * study.frequency:.2f} of {study.periods:g}"
             except (ValueError, IndexError):
                 pass
-        state = ("done" if job and job.get("done") else f"failed (exit {job['exit_code']})"
-                 if job and job.get("exit_code") in (2, 3) else "started" if job else "waiting")
+        if job and job.get("done"):
+            state = "done"
+        elif job and job.get("exit_code") in (2, 3):
+            state = f"failed (exit {job['exit_code']})"
+        elif job and "segment_started" in job:
+            state = f"running since {time.strftime('%H:%M', time.gmtime(job['segment_started']))} UTC (or killed then)"
+        else:
+            state = "interrupted" if job else "waiting"
+
         wall = f", {job['wall_s']} s" if job and "wall_s" in job else ""
         print(f"{variant['name']:28s} bed {seed}: {state}{wall} {progress}")
     return 0

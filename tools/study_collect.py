@@ -8,7 +8,9 @@ Per run (out/<study>/runs/<variant>/bed_<N>/):
   vertical displacement per period of the coarse grains (medium and large) that start in the two end-wall bands
   (the outer tenths of the tank's length, 24 mm), beside the same in the middle six tenths. Convection rolls that
   carry coarse grains down the end walls make the first negative while the sorting lifts the second;
-- the wall time (all of the run's segments) and the threads it ran on.
+- the wall time (all of the run's segments) and the threads it ran on;
+- the seed's picture (bed_state): how far the large grains that start in the bottom corners move, the small grains'
+  share of the bottom 15 mm at the start and end, and each centroid's rise per period over the last 10 periods.
 
 The first variant is the base: its beds make the ensemble (mean, standard deviation, range over the beds, against
 t/T). Another variant's effect on a quantity counts ("yes" in the table) only where the difference of the means exceeds
@@ -96,6 +98,49 @@ def circulation(run_dir, refresh):
     return result
 
 
+def bed_state(run_dir):
+    """What the seed's picture asks of the bed, from the run's first and last grain frames (tank frame):
+    - the largest displacement [mm] of the large grains that start in a bottom corner (centre within 1.5 large
+      diameters of the floor, of an end wall and of a side wall: the seed's two large corner grains stay put);
+    - the small grains' share of the grain volume whose centres lie in the bottom 15 mm sub-layer, at the start and
+      at the end (the seed's small grains gather at the floor: the share rises towards 1)."""
+    run = seed_figures.Run(run_dir, verbose=False)
+    times = run.solid_times()
+    if len(times) < 2:
+        return {}
+    first = run.solids(0, ("id", "radius", "size_class"))
+    last = run.solids(len(times) - 1, ("id", "radius", "size_class"))
+    large = int(first["size_class"].max())
+    diameter = 2.0 * float(first["radius"][first["size_class"] == large].max())
+    p0 = first["tank_frame_points"]
+    size = run.size
+    corner = ((first["size_class"] == large) & (p0[:, 2] < 1.5 * diameter)
+              & ((p0[:, 0] < 1.5 * diameter) | (p0[:, 0] > size[0] - 1.5 * diameter))
+              & ((p0[:, 1] < 1.5 * diameter) | (p0[:, 1] > size[1] - 1.5 * diameter)))
+    result = {"corner_large_grains": int(corner.sum())}
+    if corner.any():
+        end_position = {int(i): p for i, p in zip(last["id"], last["tank_frame_points"])}
+        moved = [np.linalg.norm(end_position[int(i)] - p) for i, p in zip(first["id"][corner], p0[corner])]
+        result["corner_large_max_move_mm"] = 1e3 * float(max(moved))
+        result["corner_large_still"] = int(sum(m < 0.005 for m in moved))  # moved less than a small grain's size
+
+    def small_share(frame):
+        volume = frame["radius"] ** 3
+        bottom = frame["tank_frame_points"][:, 2] < seed_figures.DRIFT_LAYER
+        small = frame["size_class"] == int(frame["size_class"].min())
+        return float(np.sum(volume[bottom & small]) / np.sum(volume[bottom]))
+
+    result["small_share_bottom_start"] = small_share(first)
+    result["small_share_bottom_end"] = small_share(last)
+    return result
+
+
+def rise_rate(t, z, window=10.0):
+    """[mm per period] least-squares slope of a centroid over the run's last `window` periods."""
+    mask = t >= t[-1] - window
+    return 1e3 * float(np.polyfit(t[mask], z[mask], 1)[0]) if mask.sum() > 2 else math.nan
+
+
 def run_summary(study, variant, seed, refresh):
     run_dir = study.run_dir(variant, seed)
     job = study_job(run_dir)
@@ -110,6 +155,9 @@ def run_summary(study, variant, seed, refresh):
         row[f"S_{stage}"] = at(t, s, stage)
         for j, k in enumerate(classes):
             row[f"z{k}_{stage}_mm"] = 1e3 * at(t, z[:, j], stage)
+    for j, k in enumerate(classes):
+        row[f"z{k}_rise_last10_mm_per_T"] = rise_rate(t, z[:, j])
+    row.update(bed_state(run_dir))
     for window, (end_band, middle) in circulation(run_dir, refresh).items():
         row[f"endwall_coarse_dz_{window}_mm_per_T"] = 1e3 * end_band
         row[f"middle_coarse_dz_{window}_mm_per_T"] = 1e3 * middle
@@ -188,7 +236,9 @@ def mean_std(values):
 def sensitivity(study, rows, series, out):
     base_name = study.variants[0]["name"]
     keys = [f"S_{stage}" for stage in STAGES] + [f"z2_{stage}_mm" for stage in STAGES] + \
-        [f"endwall_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + [f"middle_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS]
+        [f"endwall_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + \
+        [f"middle_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + \
+        ["z2_rise_last10_mm_per_T", "small_share_bottom_end", "corner_large_max_move_mm", "corner_large_still"]
     base_rows = [r for r in rows if r["variant"] == base_name]
     table = []
     for variant in study.variants:
