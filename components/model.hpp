@@ -295,7 +295,7 @@ struct ProbeModel {
   double below = std::numeric_limits<double>::infinity();
   /// [m/s] moving_fraction, packing_density: a grain moves when |v - v_tank| exceeds this (seed 003: 0.01 m/s)
   double threshold = 0.01;
-  /// [m] packing_density: depth of the top layer below the local bed top; 0 = the largest grain diameter
+  /// [m] packing_density: depth of the top layer below the local bed top; 0 = 0.75 of the largest grain diameter
   double layer_depth = 0.0;
   /// [m] packing_density: if not NaN, the top layer is every resting grain with its centre above this height above
   /// the floor (seed 003's fixed height) instead of the local bed top less layer_depth

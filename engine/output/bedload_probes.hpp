@@ -55,7 +55,7 @@ std::vector<double> moving_fractions(const Solids& solids, const GrainClasses& c
 /// How the top layer is chosen (docs/SCENES.md, "packing_density").
 struct TopLayerSettings {
   double threshold = 0.01;  ///< [m/s] grains faster than this relative to the tank are moving, not in the layer
-  double depth = 0.0;       ///< [m] layer depth below the local bed top; 0 = the largest grain diameter
+  double depth = 0.0;       ///< [m] layer depth below the local bed top; 0 = 0.75 of the largest grain diameter
   std::optional<double> bottom;  ///< [m] if set: the layer is every resting grain with centre above this height
 };
 struct PackingDensity {
