@@ -317,3 +317,101 @@ kind = "bed_shear_stress"
     CHECK(problems[0].rfind("bad.toml:", 0) == 0);
   }
 }
+
+namespace {
+std::vector<std::string> file_lines(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(file, line);) lines.push_back(line);
+  return lines;
+}
+std::vector<std::string> fields_of(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+    fields.push_back(line.substr(start, comma - start));
+  fields.push_back(line.substr(start));
+  return fields;
+}
+}  // namespace
+
+TEST_CASE("the bed-load probe files: headers per class and rows from the grains and water set in the World") {
+  Model model = parse_scene(test::fluid_scene_text(R"(
+[[solids.blocks]]
+min = [0.105, -0.005, 0.002]
+max = [0.135, 0.005, 0.004]
+spacing = 0.002
+radius = 0.0009
+material = "glass"
+
+[output]
+[[output.probes]]
+kind = "moving_fraction"
+[[output.probes]]
+kind = "packing_density"
+[[output.probes]]
+kind = "bedload_flux"
+[[output.probes]]
+kind = "velocity_profile"
+[[output.probes]]
+kind = "bed_shear_stress"
+)"),
+                            "water.toml");
+  REQUIRE(model.output.probes.size() == 5);
+  // Two small grains (class 0, one moving at 0.02 m/s relative to the tank) and one large grain at rest (class 1)
+  // in the tank (inner box x 0.1-0.14, y -0.01-0.01, z 0-0.03 at rest), which moves at 0.1 m/s along x.
+  World world;
+  world.tank_motion.emplace();
+  world.tank_motion->velocity = Vec3(0.1, 0.0, 0.0);
+  world.solids.emplace();
+  Solids& solids = *world.solids;
+  solids.add(Vec3(0.11, 0.0, 0.001), Vec3(0.12, 0.0, 0.0), 0.0009, 2500.0, 0, 0);
+  solids.add(Vec3(0.12, 0.0, 0.001), Vec3(0.1, 0.0, 0.0), 0.0009, 2500.0, 0, 0);
+  solids.add(Vec3(0.13, 0.0, 0.002), Vec3(0.1, 0.0, 0.0), 0.002, 2500.0, 0, 1);
+  for (std::size_t i = 0; i < 3; ++i) solids.drag_force[i] = Vec3(1e-4, 0.0, 0.0);
+  world.fluid.emplace();
+  world.fluid->add(Vec3(0.12, 0.0, 0.0125), Vec3(0.3, 0.0, 0.0), FluidKind::kFluid);
+  const std::filesystem::path directory = test::scratch_dir("bedload_probe_files");
+  for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, world, true).write(world);
+
+  const auto moving = file_lines(directory / "probe_moving_fraction.csv");
+  REQUIRE(moving.size() == 2);
+  CHECK(moving[0] == "time_s,step,class_0_moving_fraction,class_1_moving_fraction,all_moving_fraction");
+  CHECK(moving[1] == "0,0,0.5,0,0.333333333");
+
+  const auto packing = file_lines(directory / "probe_packing_density.csv");
+  REQUIRE(packing.size() == 2);
+  CHECK(packing[0] == "time_s,step,lambda,top_layer_grains");
+  // The plan is cut into 10 x 5 columns 4 mm wide: each grain is alone in its column and so the top of it; the
+  // moving one is left out: two discs, pi (0.9^2 + 2^2) mm^2 over 40 x 20 mm^2.
+  const auto packing_fields = fields_of(packing[1]);
+  REQUIRE(packing_fields.size() == 4);
+  CHECK(packing_fields[3] == "2");
+  CHECK(std::stod(packing_fields[2]) == doctest::Approx(kPi * (0.81 + 4.0) * 1e-6 / 8e-4).epsilon(1e-3));
+
+  const auto flux = file_lines(directory / "probe_bedload_flux.csv");
+  REQUIRE(flux.size() == 2);
+  CHECK(flux[0] == "time_s,step,class_0_q_m2_s,class_1_q_m2_s,all_q_m2_s,class_0_q_mean_m2_s,class_1_q_mean_m2_s,"
+                   "all_q_mean_m2_s");
+  const auto flux_fields = fields_of(flux[1]);
+  REQUIRE(flux_fields.size() == 8);
+  const double q0 = 4.0 / 3.0 * kPi * std::pow(0.0009, 3) * 0.02 / 8e-4;
+  CHECK(std::stod(flux_fields[2]) == doctest::Approx(q0).epsilon(1e-8));
+  CHECK(std::stod(flux_fields[3]) == 0.0);
+  CHECK(std::stod(flux_fields[5]) == doctest::Approx(q0).epsilon(1e-8));  // the mean of one row is itself
+
+  const auto profile = file_lines(directory / "probe_velocity_profile.csv");
+  REQUIRE(profile.size() == 7);  // header + 6 layers of l0 = 5 mm over the 3 cm tank
+  CHECK(profile[0] == "time_s,step,layer,z_low_m,z_high_m,fluid_particles,fluid_ux_m_s,grain_ux_m_s,solid_fraction");
+  CHECK(profile[3] == "0,0,2,0.01,0.015,1,0.2,,0");
+
+  const auto shear = file_lines(directory / "probe_bed_shear_stress.csv");
+  REQUIRE(shear.size() == 2);
+  CHECK(shear[0] == "time_s,step,grains_fx_N,floor_fx_N,tau_b_Pa,class_0_diameter_m,class_1_diameter_m,"
+                    "class_0_shields_b,class_1_shields_b");
+  const auto shear_fields = fields_of(shear[1]);
+  REQUIRE(shear_fields.size() == 9);
+  const double tau = 3e-4 / 8e-4;
+  CHECK(std::stod(shear_fields[4]) == doctest::Approx(tau).epsilon(1e-8));
+  CHECK(std::stod(shear_fields[8]) == doctest::Approx(tau / (1500.0 * 9.81 * 0.004)).epsilon(1e-8));
+}
