@@ -7,6 +7,7 @@
 
 #include "engine/output/bed_statistics.hpp"
 #include "systems/physics/bedload.hpp"
+#include "systems/physics/mps_common.hpp"
 #include "systems/physics/mps_kernel.hpp"
 
 namespace riffle {
@@ -221,8 +222,8 @@ ShearSettings shear_settings(const Model& model) {
   settings.density = model.fluid.density;
   settings.kinematic_viscosity = model.fluid.kinematic_viscosity;
   if (settings.spacing > 0.0) {
-    const LatticeConstants constants = lattice_constants(3, settings.spacing, settings.effective_radius);
-    settings.number_density = constants.number_density;
+    const MpsConstants constants = MpsConstants::from(model.fluid);  // the constants fluid_predict uses
+    settings.number_density = constants.reference_density;
     settings.laplacian_lambda = constants.laplacian_lambda;
   }
   return settings;

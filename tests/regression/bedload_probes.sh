@@ -5,15 +5,17 @@
 # and lambda in [0, 1], the solid fraction of the lowest layers that of a packed bed). Then tools/bedload_plots.py
 # draws its figures from them.
 #
-#   bash tests/regression/bedload_probes.sh <riffle-binary> <source-dir> <work-dir>
+#   bash tests/regression/bedload_probes.sh <riffle-binary> <source-dir> <work-dir> [<seed-quick-work-dir>]
 #
-# Needs the settled seed bed <source-dir>/out/dry_bed_settle/checkpoints/final.ckpt (tests/regression/
-# oscillating_quick.sh settles one); without it the test is skipped (exit 77).
+# Needs the settled seed bed: <source-dir>/out/dry_bed_settle/checkpoints/final.ckpt, or else the one
+# tests/regression/oscillating_quick.sh settled in its work directory (the optional 4th argument); without either
+# the test is skipped (exit 77).
 set -u
 RIFFLE=$(realpath "$1") || exit 2
 SRC=$(realpath "$2") || exit 2
 WORK=$3
 settled="$SRC/out/dry_bed_settle/checkpoints/final.ckpt"
+if [ ! -f "$settled" ] && [ $# -ge 4 ]; then settled="$(realpath "$4")/out/dry_bed_settle/checkpoints/final.ckpt"; fi
 [ -f "$settled" ] || { echo "skipped: no settled bed at $settled"; exit 77; }
 rm -rf "$WORK" && mkdir -p "$WORK/scenes" "$WORK/out/dry_bed_settle/checkpoints" || exit 2
 cp "$SRC/scenes/oscillating_tank_quick.toml" "$WORK/scenes/" || exit 2
