@@ -266,7 +266,12 @@ struct ProbeModel {
     kWaveGauge,      ///< height of the free surface above horizontal points of the tank
     kSurgeFront,     ///< furthest reach of the connected fluid along a horizontal direction
     kFluidTotals,    ///< the fluid's per-step summary (FluidSummary): count, volume, energy, PPE report
-    kPressureTransducer  ///< pressure averaged over discs on the tank's walls, optionally over a time window
+    kPressureTransducer,  ///< pressure averaged over discs on the tank's walls, optionally over a time window
+    kMovingFraction,  ///< fraction of grains moving faster than `threshold` relative to the tank, all and per class
+    kPackingDensity,  ///< planar packing density lambda of the bed's top layer of resting grains
+    kBedloadFlux,     ///< grain volume flux per unit width per class, and its running time mean
+    kVelocityProfile, ///< horizontally averaged x velocity of water and grains and solid fraction per layer
+    kBedShearStress   ///< bed shear stress from the momentum balance (and a lid's force) and Shields numbers
   };
   Kind kind = Kind::kGrains;
   std::string name;                 ///< unique among the probes
@@ -288,6 +293,15 @@ struct ProbeModel {
   Vec3 direction = Vec3::UnitX();   ///< [1] surge_front: unit horizontal direction of the front
   /// [m] surge_front: only particles less than this above the tank floor count (infinity = the whole depth)
   double below = std::numeric_limits<double>::infinity();
+  /// [m/s] moving_fraction, packing_density: a grain moves when |v - v_tank| exceeds this (seed 003: 0.01 m/s)
+  double threshold = 0.01;
+  /// [m] packing_density: depth of the top layer below the local bed top; 0 = 0.75 of the largest grain diameter
+  double layer_depth = 0.0;
+  /// [m] packing_density: if not NaN, the top layer is every resting grain with its centre above this height above
+  /// the floor (seed 003's fixed height) instead of the local bed top less layer_depth
+  double layer_bottom = std::numeric_limits<double>::quiet_NaN();
+  double layer_thickness = 0.0;     ///< [m] velocity_profile: thickness of the horizontal layers
+  bool lid = false;                 ///< bed_shear_stress: the scene has a lid (tau_lid_Pa is written)
 };
 
 struct OutputModel {

@@ -9,6 +9,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "engine/output/bed_statistics.hpp"
+#include "systems/physics/bedload.hpp"
 #include "systems/physics/hydrostatic.hpp"
 #include "systems/physics/mps_kernel.hpp"
 #include "systems/physics/pressure_sensor.hpp"
@@ -248,6 +250,29 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
     for (std::size_t k = 0; k < probe.points.size(); ++k) header += ",p" + std::to_string(k) + "_Pa";
   } else if (probe.kind == ProbeModel::Kind::kSurgeFront) {
     header += ",front_m";
+  } else if (probe.kind == ProbeModel::Kind::kMovingFraction || probe.kind == ProbeModel::Kind::kBedloadFlux ||
+             probe.kind == ProbeModel::Kind::kBedShearStress) {
+    const std::vector<std::int32_t> classes = world.solids ? size_classes(*world.solids) : std::vector<std::int32_t>{};
+    auto per_class = [&](const std::string& suffix, bool all) {
+      for (std::int32_t size_class : classes) header += ",class_" + std::to_string(size_class) + "_" + suffix;
+      if (all) header += ",all_" + suffix;
+    };
+    if (probe.kind == ProbeModel::Kind::kMovingFraction) {
+      per_class("moving_fraction", true);
+    } else if (probe.kind == ProbeModel::Kind::kBedloadFlux) {
+      per_class("q_m2_s", true);
+      per_class("q_mean_m2_s", true);
+    } else {
+      header += ",grains_fx_N,floor_fx_N,tau_b_Pa";
+      if (probe.lid) header += ",tau_lid_Pa";
+      per_class("diameter_m", false);
+      per_class("shields_b", false);
+      if (probe.lid) per_class("shields_lid", false);
+    }
+  } else if (probe.kind == ProbeModel::Kind::kPackingDensity) {
+    header += ",lambda,top_layer_grains";
+  } else if (probe.kind == ProbeModel::Kind::kVelocityProfile) {
+    header += ",layer,z_low_m,z_high_m,fluid_particles,fluid_ux_m_s,grain_ux_m_s,solid_fraction";
   } else {
     header += ",fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,surface_particles,"
               "ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3";
@@ -257,7 +282,15 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
 
 ProbeWriter::ProbeWriter(const Model& model, const ProbeModel& probe, const fs::path& out_dir, const World& world,
                          bool fresh_run)
-    : probe_(probe),
+    : model_(&model),
+      probe_(probe),
+      classes_(world.solids ? grain_classes(*world.solids) : GrainClasses{}),
+      shear_(probe.kind == ProbeModel::Kind::kBedShearStress && model.fluid.enabled ? shear_settings(model)
+                                                                                   : ShearSettings{}),
+      profile_layers_(probe.kind == ProbeModel::Kind::kVelocityProfile && probe.layer_thickness > 0.0
+                          ? static_cast<std::size_t>(std::clamp(
+                                std::ceil(model.tank.size.z() / probe.layer_thickness * (1.0 - 1e-12)), 1.0, 1e5))
+                          : 0),
       window_(probe.kind == ProbeModel::Kind::kPressureTransducer && probe.average_window > 0.0
                   ? std::optional<WindowMean>(std::in_place, probe.average_window)
                   : std::nullopt),
@@ -285,7 +318,96 @@ void ProbeWriter::take_reading(const World& world) {
   window_->add(world.time, transducer_readings(world));
 }
 
+std::string ProbeWriter::bedload_fields(const World& world) {
+  std::string fields;
+  const TankFrame frame = tank_frame(*model_, world.tank_motion ? &*world.tank_motion : nullptr);
+  auto append_values = [&fields](const std::vector<double>& values) {
+    for (double value : values) append_field(fields, format_value(value));
+  };
+  const Solids* solids = world.solids ? &*world.solids : nullptr;
+  const std::size_t classes = classes_.classes.size();
+  switch (probe_.kind) {
+    case ProbeModel::Kind::kMovingFraction:
+      if (solids)
+        append_values(moving_fractions(*solids, classes_, frame, probe_.threshold));
+      else
+        fields.append(classes + 1, ',');
+      break;
+    case ProbeModel::Kind::kPackingDensity: {
+      if (!solids) {
+        fields += ",,";
+        break;
+      }
+      TopLayerSettings settings;
+      settings.threshold = probe_.threshold;
+      settings.depth = probe_.layer_depth;
+      if (!std::isnan(probe_.layer_bottom)) settings.bottom = probe_.layer_bottom;
+      const PackingDensity packing = packing_density(*solids, frame, settings);
+      append_field(fields, format_value(packing.lambda));
+      append_field(fields, std::to_string(packing.grains));
+      break;
+    }
+    case ProbeModel::Kind::kBedloadFlux:
+      if (solids) {
+        const std::vector<double> flux = bedload_flux(*solids, classes_, frame);
+        append_values(flux);
+        append_values(flux_mean_.add(world.time, flux));
+      } else {
+        fields.append(2 * (classes + 1), ',');
+      }
+      break;
+    case ProbeModel::Kind::kBedShearStress: {
+      const BedShear shear = bed_shear_stress(solids, world.fluid ? &*world.fluid : nullptr, shear_, frame);
+      append_field(fields, format_value(shear.grains_fx));
+      append_field(fields, format_value(shear.floor_fx));
+      append_field(fields, format_value(shear.tau));
+      std::optional<double> lid;
+      if (probe_.lid) {
+        lid = lid_shear_stress(*model_, world);
+        append_field(fields, lid ? format_value(*lid) : std::string());
+      }
+      const double gravity = model_->gravity.norm();
+      append_values(classes_.diameter);
+      for (std::size_t k = 0; k < classes; ++k)
+        append_field(fields, format_value(shields_number(shear.tau, classes_.density[k], model_->fluid.density,
+                                                         gravity, classes_.diameter[k])));
+      if (probe_.lid)
+        for (std::size_t k = 0; k < classes; ++k)
+          append_field(fields, lid ? format_value(shields_number(*lid, classes_.density[k], model_->fluid.density,
+                                                                 gravity, classes_.diameter[k]))
+                                   : std::string());
+      break;
+    }
+    case ProbeModel::Kind::kVelocityProfile: {
+      const std::vector<ProfileLayer> layers = velocity_profile(solids, world.fluid ? &*world.fluid : nullptr,
+                                                                frame, probe_.layer_thickness, profile_layers_);
+      std::string start = format_exact(world.time);
+      append_field(start, std::to_string(world.step));
+      for (std::size_t k = 0; k < layers.size(); ++k) {
+        const ProfileLayer& layer = layers[k];
+        fields += start;
+        append_field(fields, std::to_string(k));
+        append_field(fields, format_value(layer.z_low));
+        append_field(fields, format_value(layer.z_high));
+        append_field(fields, std::to_string(layer.fluid_particles));
+        append_field(fields, format_value(layer.fluid_ux));
+        append_field(fields, format_value(layer.grain_ux));
+        append_field(fields, format_value(layer.solid_fraction));
+        fields += '\n';
+      }
+      break;
+    }
+    default:
+      break;
+  }
+  return fields;
+}
+
 void ProbeWriter::write(const World& world) {
+  if (probe_.kind == ProbeModel::Kind::kVelocityProfile) {
+    file_.write_rows(bedload_fields(world));  // long format: one line per layer
+    return;
+  }
   std::string row = format_exact(world.time);
   append_field(row, std::to_string(world.step));
   auto append = [&row](const Vec3& value) {
@@ -377,6 +499,13 @@ void ProbeWriter::write(const World& world) {
       } else {
         append_empty(11);
       }
+      break;
+    case ProbeModel::Kind::kMovingFraction:
+    case ProbeModel::Kind::kPackingDensity:
+    case ProbeModel::Kind::kBedloadFlux:
+    case ProbeModel::Kind::kBedShearStress:
+    case ProbeModel::Kind::kVelocityProfile:
+      row += bedload_fields(world);
       break;
   }
   file_.write_row(row);

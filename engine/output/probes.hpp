@@ -10,7 +10,10 @@
 //   kind = "fluid_pressure", "wave_gauge", "surge_front", "fluid_totals"  the MPS fluid (need [fluid]): pressure
 //                         at sensors fixed to the tank, surface height at gauges, the surge front, FluidSummary;
 //   kind = "pressure_transducer"  the pressure averaged over discs on the tank's walls (0 in air), optionally
-//                         averaged over a time window ending at each row (the only probe that reads between rows).
+//                         averaged over a time window ending at each row (the only probe that reads between rows);
+//   kind = "moving_fraction", "packing_density", "bedload_flux", "velocity_profile", "bed_shear_stress"  the
+//                         bed-load measures of engine/output/bedload_probes.hpp (velocity_profile in long format:
+//                         one line per time and layer).
 //
 // Each file starts with "time_s,step", then the probe's columns; one row on the first output of a fresh run
 // (t = 0), then one per `interval` (IntervalSchedule). On resume, the rows after the checkpoint's time are dropped
@@ -27,6 +30,7 @@
 #include <vector>
 
 #include "components/model.hpp"
+#include "engine/output/bedload_probes.hpp"
 #include "engine/output/output_series.hpp"
 #include "engine/core/world.hpp"
 
@@ -134,7 +138,8 @@ double wave_gauge_height(const FluidParticles& particles, const FluidProbeSettin
 double surge_front_position(const FluidParticles& particles, const FluidProbeSettings& settings,
                             const TankMotion& tank, const Vec3& direction, double below);
 
-/// The header line of a probe's file (without the newline).
+/// The header line of a probe's file (without the newline). Per-class columns follow the size classes of
+/// world.solids, ascending.
 std::string probe_header(const ProbeModel& probe, const World& world);
 
 /// One probe's CSV file.
@@ -158,7 +163,15 @@ class ProbeWriter {
   /// Adds the current readings to the time window (once per time).
   void take_reading(const World& world);
 
+  /// The bed-load probes' part of a row (after time and step); the velocity profile's whole rows (several lines).
+  std::string bedload_fields(const World& world);
+
+  const Model* model_;
   ProbeModel probe_;
+  GrainClasses classes_;      ///< bed-load probes: the size classes at the start (none come or go)
+  RunningMean flux_mean_;     ///< bedload_flux: the running time mean of its rows
+  ShearSettings shear_;       ///< bed_shear_stress
+  std::size_t profile_layers_ = 0;  ///< velocity_profile: layers covering the tank height
   std::optional<WindowMean> window_;  ///< pressure_transducer with average_window > 0
   FluidProbeSettings fluid_;  ///< fluid probes only
   GrainSlotMap slots_;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "engine/output/bed_statistics.hpp"
+#include "engine/output/bedload_probes.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/setup/initial_state.hpp"
 
@@ -62,7 +63,12 @@ const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
       {"wave_gauge", ProbeModel::Kind::kWaveGauge},
       {"surge_front", ProbeModel::Kind::kSurgeFront},
       {"fluid_totals", ProbeModel::Kind::kFluidTotals},
-      {"pressure_transducer", ProbeModel::Kind::kPressureTransducer}};
+      {"pressure_transducer", ProbeModel::Kind::kPressureTransducer},
+      {"moving_fraction", ProbeModel::Kind::kMovingFraction},
+      {"packing_density", ProbeModel::Kind::kPackingDensity},
+      {"bedload_flux", ProbeModel::Kind::kBedloadFlux},
+      {"velocity_profile", ProbeModel::Kind::kVelocityProfile},
+      {"bed_shear_stress", ProbeModel::Kind::kBedShearStress}};
   return kinds;
 }
 
@@ -115,6 +121,56 @@ void read_surge_front(TableReader& table, ProbeModel& probe) {
       probe.direction = direction.normalized();
   }
   probe.below = table.number("below", std::numeric_limits<double>::infinity(), "m", Bounds::positive());
+}
+
+/// True for the bed-load probes that measure grains (all but velocity_profile, which may run on water alone).
+bool needs_grains(ProbeModel::Kind kind) {
+  return kind == ProbeModel::Kind::kMovingFraction || kind == ProbeModel::Kind::kPackingDensity ||
+         kind == ProbeModel::Kind::kBedloadFlux || kind == ProbeModel::Kind::kBedShearStress;
+}
+
+/// Most layers a velocity profile may have: each row holds one line per layer.
+constexpr double kMaxProfileLayers = 100000.0;
+
+/// The keys of the bed-load probes (engine/output/bedload_probes.hpp).
+void read_bedload_probe(TableReader& table, const Model& model, ProbeModel& probe) {
+  const bool grains = !model.solids.spheres.empty() || !model.solids.initial_state.empty();
+  if (needs_grains(probe.kind) && !grains)
+    table.problem("kind", "this probe measures grains: the scene has none ([solids] with at least one grain)");
+  switch (probe.kind) {
+    case ProbeModel::Kind::kMovingFraction:
+      probe.threshold = table.number("threshold", 0.01, "m/s", Bounds::positive());
+      break;
+    case ProbeModel::Kind::kPackingDensity: {
+      probe.threshold = table.number("threshold", 0.01, "m/s", Bounds::positive());
+      probe.layer_depth = table.number("layer_depth", 0.0, "m", Bounds::positive());
+      if (table.has("layer_bottom")) {
+        if (table.has("layer_depth"))
+          table.problem("layer_bottom", "give either layer_depth (below the local bed top) or layer_bottom (a fixed "
+                                        "height), not both");
+        probe.layer_bottom = table.number("layer_bottom", std::nullopt, "m", Bounds::non_negative());
+      }
+      break;
+    }
+    case ProbeModel::Kind::kBedloadFlux:
+      break;
+    case ProbeModel::Kind::kVelocityProfile: {
+      const std::optional<double> fallback =
+          model.fluid.enabled && model.fluid.spacing > 0.0 ? std::optional<double>(model.fluid.spacing) : std::nullopt;
+      const std::size_t problems_before = table.problem_count();
+      probe.layer_thickness = table.number("layer_thickness", fallback, "m", Bounds::positive());
+      if (table.problem_count() == problems_before && model.tank.size.z() > 0.0 &&
+          model.tank.size.z() / probe.layer_thickness > kMaxProfileLayers)
+        table.problem("layer_thickness", "more than 1e5 layers over the tank height; use a thicker layer");
+      break;
+    }
+    case ProbeModel::Kind::kBedShearStress:
+      if (!model.fluid.enabled) table.problem("kind", "the bed shear stress is the water's: the scene has no [fluid]");
+      probe.lid = model_has_lid(model);
+      break;
+    default:
+      break;
+  }
 }
 
 /// The longest time window a transducer may average over: its steps' readings are held in memory.
@@ -306,6 +362,13 @@ void read_probes(TableReader& output, Model& model) {
         break;
       case ProbeModel::Kind::kPressureTransducer:
         read_transducers(table, model, probe);
+        break;
+      case ProbeModel::Kind::kMovingFraction:
+      case ProbeModel::Kind::kPackingDensity:
+      case ProbeModel::Kind::kBedloadFlux:
+      case ProbeModel::Kind::kVelocityProfile:
+      case ProbeModel::Kind::kBedShearStress:
+        read_bedload_probe(table, model, probe);
         break;
     }
     table.finish();
