@@ -199,12 +199,12 @@ void read_motion(TableReader& motion, const Model& scene, TankMotionModel& model
 /// [tank] periodic: the axes along which the box repeats (docs/SCENES.md). Such an axis has no walls, so its faces
 /// cannot be listed as open, and the tank cannot move along it: a periodic box is the same box one period on, and a
 /// shaken one would shake its own images, which no real tank does.
-void read_periodic(TableReader& tank, TankModel& model) {
+void read_periodic(TableReader& tank, TankModel& model, bool motion_valid) {
   const std::size_t problems_before = tank.problem_count();
   const std::vector<std::string> axes = tank.choices("periodic", {"x", "y"});
-  if (tank.problem_count() != problems_before) return;
+  if (tank.problem_count() != problems_before || axes.empty()) return;
   static const char* kAxisFaces[2][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}};
-  const Vec3 sweep = tank_motion_sweep(model.motion);
+  const Vec3 sweep = motion_valid ? tank_motion_sweep(model.motion) : Vec3::Zero();
   for (const std::string& axis_name : axes) {
     const int axis = axis_name == "x" ? 0 : 1;
     model.periodic[static_cast<std::size_t>(axis)] = true;
@@ -227,8 +227,10 @@ void read_tank(TableReader& tank, Model& model) {
   model.tank.open_faces = tank.choices("open_faces", kFaceNames);
   model.tank.wall_material = read_material(model, tank, "wall_material");
   model.tank.domain_margin = tank.number("domain_margin", 0.05, "m", Bounds::non_negative());
+  const std::size_t problems_before_motion = tank.problem_count();
   if (auto motion = tank.table("motion", false)) read_motion(*motion, model, model.tank.motion);
-  read_periodic(tank, model.tank);
+  // A motion with problems (say a table that could not be read) has no sweep to judge.
+  read_periodic(tank, model.tank, tank.problem_count() == problems_before_motion);
   tank.finish();
 }
 

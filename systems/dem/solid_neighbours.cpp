@@ -205,8 +205,17 @@ bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const 
   return 2.0 * grain_move > contacts.skin || grain_move + wall_move > contacts.skin;
 }
 
+void restore_halo(const Solids& solids, Contacts& contacts, const Model& model) {
+  const PeriodicBox box = periodic_box(model);
+  if (box.any() && contacts.valid && !contacts.halo.valid && contacts.build_position.size() == solids.size()) {
+    build_halo(contacts.build_position, solids.id, box, halo_width(solids, model, contacts.skin), contacts.halo);
+    exchange_grain_halo(solids, contacts);
+  }
+}
+
 void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& walls, const TankMotion& tank,
                             const Model& model, bool reorder) {
+  restore_halo(solids, contacts, model);  // the old list's ghosts name the pairs whose springs are kept below
   // 1. Save the springs of touching pairs by id, before slots change.
   std::vector<SavedSpring> saved_pairs, saved_walls;
   if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
@@ -345,10 +354,7 @@ void SolidNeighbours::run(SystemContext& context) {
   const TankMotion& tank = context.read<TankMotion>();
   context.count_items(solids.size());
   const PeriodicBox box = periodic_box(context.model);
-  // A resumed run: the halo is not checkpointed; it is a pure function of the positions the list was built at.
-  if (box.any() && contacts.valid && !contacts.halo.valid && contacts.build_position.size() == solids.size())
-    build_halo(contacts.build_position, solids.id, box, halo_width(solids, context.model, contacts.skin),
-               contacts.halo);
+  restore_halo(solids, contacts, context.model);
   // A grain past a periodic face is wrapped at a rebuild: its ghosts and its pairs change sides.
   if (neighbour_list_stale(solids, contacts, tank) || outside_periodic_box(solids, box)) {
     const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;

@@ -44,6 +44,10 @@ double halo_width(const Solids& solids, const Model& model, double skin);
 /// radius, mass and material into `contacts.ghosts`.
 void exchange_grain_halo(const Solids& solids, Contacts& contacts);
 
+/// A list read from a checkpoint has no halo (it is not stored): rebuilds it from the positions the list was built
+/// at, the very ghosts in the very order of the run that wrote it. Does nothing without periodic axes or when built.
+void restore_halo(const Solids& solids, Contacts& contacts, const Model& model);
+
 /// Whether some grain lies outside the periodic box along a periodic axis (then the list is rebuilt and wraps it).
 bool outside_periodic_box(const Solids& solids, const PeriodicBox& box);
 

@@ -22,8 +22,9 @@ Vec3 PeriodicBox::wrap(const Vec3& point) const {
     if (x >= high) x -= length[axis];
     else if (x < low[axis]) x += length[axis];
     if (!(x >= low[axis] && x < high)) x -= length[axis] * std::floor((x - low[axis]) / length[axis]);
-    // -1e-18 + L rounds to L: the one value the box excludes; low is the same point of the torus.
-    if (x >= high) x = low[axis];
+    // What is left is rounding (-1e-18 + L rounds to L, the one value the box excludes; L - L may round below
+    // low): the point is then a rounding error away from the low face, which it becomes.
+    if (!(x >= low[axis] && x < high)) x = low[axis];
     wrapped[axis] = x;
   }
   return wrapped;
