@@ -594,12 +594,22 @@ void check_periodic(TableReader& scene, const Model& model) {
                               "into the box and their ghosts across the seam are built");
     return;
   }
-  if (model.solids.spheres.empty()) return;
   double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
   for (const SphereSpec& sphere : model.solids.spheres) {
     smallest = std::min(smallest, sphere.radius);
     largest = std::max(largest, sphere.radius);
   }
+  if (!model.solids.initial_state.empty()) {
+    try {  // a settled bed read from a checkpoint ([solids] initial_state): its radii count too
+      for (double radius : initial_grains(model).radius) {
+        smallest = std::min(smallest, radius);
+        largest = std::max(largest, radius);
+      }
+    } catch (const std::exception&) {
+      // read_solids reported it already
+    }
+  }
+  if (!(largest > 0.0)) return;
   const double skin = model.contact.skin > 0.0 ? model.contact.skin : 0.5 * smallest;  // default_skin
   const double reach = 2.0 * largest + skin;
   if (!periodic_cutoff_fits(periodic_box(model), reach)) {
