@@ -20,15 +20,28 @@ constexpr std::size_t kGrain = 256;
 /// The second grain of a pair as the contact code reads it: a real grain (no periodic axis), or in a periodic box a
 /// real or a ghost through the halo (components/halo.hpp). One template body serves both, so the walled box keeps
 /// its plain array reads.
+/// Raw pointers, copied into each task: the compiler cannot tell the pair-array stores from the vectors' own fields,
+/// so reading through the vectors would reload their data pointers at every candidate.
 struct RealNeighbours {
-  const GrainState& grains;
-  const GrainProperties& properties;
-  const Vec3& position(std::uint32_t j) const { return grains.position[j]; }
-  const Vec3& velocity(std::uint32_t j) const { return grains.velocity[j]; }
-  const Vec3& angular_velocity(std::uint32_t j) const { return grains.angular_velocity[j]; }
-  double radius(std::uint32_t j) const { return properties.radius[j]; }
-  double mass(std::uint32_t j) const { return properties.mass[j]; }
-  std::int32_t material(std::uint32_t j) const { return properties.material[j]; }
+  const Vec3* position_;
+  const Vec3* velocity_;
+  const Vec3* angular_velocity_;
+  const double* radius_;
+  const double* mass_;
+  const std::int32_t* material_;
+  RealNeighbours(const GrainState& grains, const GrainProperties& properties)
+      : position_(grains.position.data()),
+        velocity_(grains.velocity.data()),
+        angular_velocity_(grains.angular_velocity.data()),
+        radius_(properties.radius.data()),
+        mass_(properties.mass.data()),
+        material_(properties.material.data()) {}
+  const Vec3& position(std::uint32_t j) const { return position_[j]; }
+  const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
+  const Vec3& angular_velocity(std::uint32_t j) const { return angular_velocity_[j]; }
+  double radius(std::uint32_t j) const { return radius_[j]; }
+  double mass(std::uint32_t j) const { return mass_[j]; }
+  std::int32_t material(std::uint32_t j) const { return material_[j]; }
 };
 struct GhostedNeighbours {
   Ghosted<Vec3> position_, velocity_, angular_velocity_;
@@ -125,6 +138,7 @@ void contact_forces(const GrainState& grains, const GrainProperties& properties,
     const std::uint32_t* const pair_offsets = contacts.pair_offsets.data();
     const std::uint32_t* const pair_second = contacts.pair_second.data();
     const double* const pair_overlap = contacts.pair_overlap.data();
+    const Neighbours view = neighbours;  // a task's own copy, whose pointers stay in registers
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       // Local copies: the pair arrays written below could alias the grain arrays as far as the compiler knows.
       const Vec3 position = grains.position[i];
@@ -138,8 +152,8 @@ void contact_forces(const GrainState& grains, const GrainProperties& properties,
       const std::uint32_t pair_end = pair_offsets[i + 1];
       for (std::uint32_t k = pair_offsets[i]; k < pair_end; ++k) {
         const std::uint32_t j = pair_second[k];
-        const Vec3 centre_line = neighbours.position(j) - position;
-        const double radius_j = neighbours.radius(j);
+        const Vec3 centre_line = view.position(j) - position;
+        const double radius_j = view.radius(j);
         const double touching_distance = radius + radius_j;
         const double distance_squared = centre_line.squaredNorm();
         // Branch-free compaction: every candidate is written at the batch end, only touching ones advance it (about
@@ -165,7 +179,7 @@ void contact_forces(const GrainState& grains, const GrainProperties& properties,
         }
         if (count == kContactBatch) {
           batch.count = count;
-          flush_batch(batch, grains, properties, neighbours, law, rolling, dt, contacts);
+          flush_batch(batch, grains, properties, view, law, rolling, dt, contacts);
           count = 0;
         }
       }
@@ -197,7 +211,7 @@ void contact_forces(const GrainState& grains, const GrainProperties& properties,
       }
     }
     batch.count = count;
-    flush_batch(batch, grains, properties, neighbours, law, rolling, dt, contacts);
+    flush_batch(batch, grains, properties, view, law, rolling, dt, contacts);
   });
 }
 }  // namespace
@@ -212,7 +226,7 @@ void SolidContactForces::run(SystemContext& context) {
     contact_forces(grains, properties, GhostedNeighbours(grains, properties, contacts), walls, contacts,
                    context.model.contact, context.dt);
   else
-    contact_forces(grains, properties, RealNeighbours{grains, properties}, walls, contacts, context.model.contact,
+    contact_forces(grains, properties, RealNeighbours(grains, properties), walls, contacts, context.model.contact,
                    context.dt);
   context.count_items(grains.size());
 }
