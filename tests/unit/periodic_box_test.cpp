@@ -60,7 +60,7 @@ bool mentions(const std::vector<std::string>& problems, const std::string& text)
 
 }  // namespace
 
-TEST_CASE("wrap moves a point by whole periods into [low, low + L) along the periodic axes only") {
+TEST_CASE("wrap moves a point by whole periods into the box (low to low + L) along the periodic axes only") {
   const PeriodicBox box = box_xy();
   CHECK(box.wrap(Vec3(0.031, 0.0305, 0.5)).isApprox(Vec3(-0.009, 0.0005, 0.5), 1e-15));
   CHECK(box.wrap(Vec3(-0.0101, -0.001, -1.0)).isApprox(Vec3(0.0299, 0.029, -1.0), 1e-15));
@@ -122,7 +122,7 @@ TEST_CASE("build_halo: one ghost per image of each real within the cutoff of a s
   for (std::size_t g = 0; g < halo.size(); ++g) CHECK_FALSE(box.inside(ghost_position[g]));
 }
 
-TEST_CASE("[tank] periodic: walls only on the other faces, and the scene's mistakes named") {
+TEST_CASE("tank.periodic: walls only on the other faces, and the scene's mistakes named") {
   const Model model = parse_scene(periodic_scene("periodic = [\"x\"]\n"), "periodic.toml");
   CHECK(model.tank.periodic == std::array<bool, 3>{true, false, false});
   CHECK(model.tank.any_periodic());
