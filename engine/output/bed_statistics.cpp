@@ -78,7 +78,8 @@ BedProfile bed_profile(const Solids& solids, const Contacts* contacts, double fl
       const bool ghost = second >= solids.size();
       if (ghost && !(list.halo.valid && second - solids.size() < list.halo.size())) continue;
       const std::uint32_t j = ghost ? list.halo.owner_of(second) : second;
-      const Vec3 position_j = ghost ? Vec3(solids.position[j] + list.halo.shift[second - solids.size()]) : solids.position[j];
+      const Vec3 position_j =
+          ghost ? Vec3(solids.position[j] + list.halo.shift[second - solids.size()]) : solids.position[j];
       const Vec3 centre_line = position_j - solids.position[i];
       const double distance = centre_line.norm();
       // The contact point: the middle of the overlap, r_i - delta/2 from the first centre along the line of centres.

@@ -223,7 +223,8 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
       for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
         if (contacts.pair_overlap[k] <= 0.0) continue;
         // The old list's halo maps a ghost to its owner: the history of a pair across the seam is the pair's by id.
-        const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(contacts.pair_second[k]) : contacts.pair_second[k];
+        const std::uint32_t second_slot = contacts.pair_second[k];
+        const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(second_slot) : second_slot;
         const EntityId first = solids.id[i], second = solids.id[j];
         const Vec3& spring = contacts.pair_spring[k];
         saved_pairs.push_back(first < second ? SavedSpring{first, second, spring} : SavedSpring{second, first, -spring});

@@ -35,8 +35,9 @@ int PeriodicBox::image_shifts(const Vec3& point, double cutoff, std::array<Vec3,
   std::array<double, 3> axis_shift{0.0, 0.0, 0.0};
   for (int axis = 0; axis < 3; ++axis) {
     if (!periodic[static_cast<std::size_t>(axis)]) continue;
-    if (point[axis] - low[axis] < cutoff) axis_shift[static_cast<std::size_t>(axis)] = length[axis];
-    else if (low[axis] + length[axis] - point[axis] <= cutoff) axis_shift[static_cast<std::size_t>(axis)] = -length[axis];
+    double& shift = axis_shift[static_cast<std::size_t>(axis)];
+    if (point[axis] - low[axis] < cutoff) shift = length[axis];
+    else if (low[axis] + length[axis] - point[axis] <= cutoff) shift = -length[axis];
   }
   int count = 0;
   // x alone, y alone, x and y (the corner image); z is never periodic (the scene refuses it).

@@ -149,7 +149,8 @@ material = "grain"
     CHECK(mentions(problems, "tank.periodic"));
   }
   SUBCASE("a periodic axis has no faces to open") {
-    const auto problems = test::problems_of(periodic_scene("periodic = [\"x\"]\nopen_faces = [\"x_max\", \"z_max\"]\n"));
+    const auto problems =
+        test::problems_of(periodic_scene("periodic = [\"x\"]\nopen_faces = [\"x_max\", \"z_max\"]\n"));
     CHECK(mentions(problems, "tank.periodic"));
     CHECK(mentions(problems, "x_max cannot also be listed in open_faces"));
   }

@@ -67,7 +67,7 @@ Vec3 spring_01(const Solids& solids, const Contacts& contacts, bool& across) {
     for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
       const std::uint32_t second = contacts.pair_second[k];
       const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(second) : second;
-      if (contacts.pair_overlap[k] <= 0.0) continue;
+      if (contacts.pair_overlap[k] <= 0.0 || solids.id[i] + solids.id[j] != 1) continue;
       across = second >= solids.size();
       return solids.id[i] == 0 ? contacts.pair_spring[k] : Vec3(-contacts.pair_spring[k]);
     }
@@ -118,8 +118,9 @@ TEST_CASE("two grains pressed together across the seam feel the same force and s
   middle[0].position.x() += 0.5 * period;
   middle[1].position.x() -= 0.5 * period;
   const double dt = 5.0e-6;
-  auto across = Simulation::from_model(parse_scene(scene(size, "[\"x\"]", Vec3::Zero(), radius, seam, dt, 1), "a.toml"));
-  auto inside = Simulation::from_model(parse_scene(scene(size, "[\"x\"]", Vec3::Zero(), radius, middle, dt, 1), "b.toml"));
+  const std::string x = "[\"x\"]";
+  auto across = Simulation::from_model(parse_scene(scene(size, x, Vec3::Zero(), radius, seam, dt, 1), "a.toml"));
+  auto inside = Simulation::from_model(parse_scene(scene(size, x, Vec3::Zero(), radius, middle, dt, 1), "b.toml"));
   const Solids& a = *across->world().solids;
   const Solids& b = *inside->world().solids;
   double peak_force = 0.0, peak_spring = 0.0, force_error = 0.0, spring_error = 0.0, position_error = 0.0,
@@ -199,7 +200,7 @@ TEST_CASE("a periodic gas of colliding grains without walls along x and y keeps 
   const std::vector<Grain> grains = random_gas(70, radius, size, 0.5, true, 11);
   const double dt = 5.0e-6;
   auto simulation =
-      Simulation::from_model(parse_scene(scene(size, "[\"x\", \"y\"]", Vec3::Zero(), radius, grains, dt, 1), "gas.toml"));
+      Simulation::from_model(parse_scene(scene(size, "[\"x\", \"y\"]", Vec3::Zero(), radius, grains, dt, 1), "g.toml"));
   const Solids& solids = *simulation->world().solids;
   const Contacts& contacts = *simulation->world().contacts;
   auto momentum = [&] {
