@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "components/component_id.hpp"
+#include "components/halo.hpp"
 #include "components/vec.hpp"
 
 namespace riffle {
@@ -22,7 +23,7 @@ struct Contacts {
 
   // Grain-grain candidates.
   std::vector<std::uint32_t> pair_offsets;     ///< grains + 1: pairs of first grain i are [offsets[i], offsets[i+1])
-  std::vector<std::uint32_t> pair_second;      ///< slot of the second grain (> first)
+  std::vector<std::uint32_t> pair_second;      ///< slot of the second grain (> first), or of a ghost (halo below)
   std::vector<Vec3> pair_spring;               ///< [m] tangential spring, on the first grain; zero when apart
   std::vector<Vec3> pair_force;                ///< [N] contact force on the first grain (second gets the negative)
   std::vector<Vec3> pair_torque_first;         ///< [N m] contact torque on the first grain
@@ -44,6 +45,14 @@ struct Contacts {
   std::vector<Vec3> wall_pair_force;             ///< [N] force on the grain (the wall gets the negative)
   std::vector<Vec3> wall_pair_torque;            ///< [N m] torque on the grain
   std::vector<double> wall_pair_overlap;         ///< [m] > 0 while touching, 0 when apart
+
+  // Periodic boxes ([tank] periodic): the ghosts of the grains within the list's reach of a seam. A pair's second
+  // slot may be a ghost (>= grains, see components/halo.hpp); its force goes to the owner (the reverse index above
+  // is by owner slot). Not checkpointed, hence not in for_each_member: the halo is a pure function of
+  // build_position (systems/physics/periodic_box.hpp build_halo), rebuilt from it on resume; the ghost copies are
+  // exchanged every sub-step by solid_neighbours.
+  Halo halo;
+  GrainGhosts ghosts;
 
   // Rebuild bookkeeping.
   std::vector<Vec3> build_position;              ///< [m] grain positions at the last rebuild (per slot)

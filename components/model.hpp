@@ -106,7 +106,10 @@ struct TankModel {
   std::vector<std::string> open_faces; ///< faces without a wall: any of x_min, x_max, y_min, y_max, z_min, z_max
   std::int32_t wall_material = 0;      ///< index into Model::materials
   double domain_margin = 0.0;          ///< [m] a particle further than this outside the swept tank is lost
+  /// [1] per axis: periodic (no walls on its two faces; the period is size[axis]); only x and y may be
+  std::array<bool, 3> periodic{false, false, false};
   TankMotionModel motion;
+  bool any_periodic() const { return periodic[0] || periodic[1] || periodic[2]; }
 };
 
 /// A box of particles on the fluid lattice, given by two corners (fluid blocks and solid wall blocks).

@@ -73,8 +73,14 @@ BedProfile bed_profile(const Solids& solids, const Contacts* contacts, double fl
     for (std::uint32_t p = list.pair_offsets[i]; p < list.pair_offsets[i + 1]; ++p) {
       const double overlap = list.pair_overlap[p];
       if (!(overlap > 0.0)) continue;
-      const std::uint32_t j = list.pair_second[p];
-      const Vec3 centre_line = solids.position[j] - solids.position[i];
+      // In a periodic box the second may be a ghost: its owner's image across the seam (components/halo.hpp).
+      const std::uint32_t second = list.pair_second[p];
+      const bool ghost = second >= solids.size();
+      if (ghost && !(list.halo.valid && second - solids.size() < list.halo.size())) continue;
+      const std::uint32_t j = ghost ? list.halo.owner_of(second) : second;
+      const Vec3 position_j =
+          ghost ? Vec3(solids.position[j] + list.halo.shift[second - solids.size()]) : solids.position[j];
+      const Vec3 centre_line = position_j - solids.position[i];
       const double distance = centre_line.norm();
       // The contact point: the middle of the overlap, r_i - delta/2 from the first centre along the line of centres.
       const double z = solids.position[i].z() +

@@ -9,6 +9,7 @@
 
 #include "systems/physics/mps_common.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/periodic_box.hpp"
 #include "systems/physics/tank_kinematics.hpp"
 #include "systems/dem/solid_neighbours.hpp"
 
@@ -216,13 +217,20 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
   refusal.count("contacts.pair_torque_first", contacts.pair_torque_first.size(), pairs, per_pair);
   refusal.count("contacts.pair_torque_second", contacts.pair_torque_second.size(), pairs, per_pair);
   refusal.count("contacts.pair_overlap", contacts.pair_overlap.size(), pairs, per_pair);
+  // A periodic box: a second slot may be a ghost; the halo is rebuilt from the positions the list was built at,
+  // exactly as the resumed run will (solid_neighbours), and the ghost stands for its owner.
+  Halo halo;
+  halo.real_count = static_cast<std::uint32_t>(grain_count);
+  if (model.tank.any_periodic() && contacts.build_position.size() == grain_count)
+    build_halo(contacts.build_position, grains.id, periodic_box(model), halo_width(grains, model, contacts.skin), halo);
+  const std::size_t slot_count = grain_count + halo.size();
   for (std::size_t i = 0; i < grain_count; ++i)
     for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
       const std::uint32_t second = contacts.pair_second[k];
-      if (second <= i || second >= grain_count)
+      if (second >= slot_count || halo.owner_of(second) <= i)
         refusal.fail(refusal.item("contacts.pair_second", k, second),
                      "must be above its first grain " + std::to_string(i) + " and below the grain count " +
-                         std::to_string(grain_count));
+                         std::to_string(slot_count) + (halo.size() ? " (ghosts included)" : ""));
       if (k > contacts.pair_offsets[i] && second <= contacts.pair_second[k - 1])
         refusal.fail(refusal.item("contacts.pair_second", k, second), "must be above the one before it (ascending)");
     }
@@ -233,7 +241,7 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
   for (std::size_t j = 0; j < grain_count; ++j)
     for (std::uint32_t s = contacts.second_offsets[j]; s < contacts.second_offsets[j + 1]; ++s) {
       const std::uint32_t k = contacts.second_pairs[s];
-      if (k >= pairs || contacts.pair_second[k] != j)
+      if (k >= pairs || contacts.pair_second[k] >= slot_count || halo.owner_of(contacts.pair_second[k]) != j)
         refusal.fail(refusal.item("contacts.second_pairs", s, k),
                      "must be a pair whose second grain is " + std::to_string(j));
       if (s > contacts.second_offsets[j] && k <= contacts.second_pairs[s - 1])

@@ -50,7 +50,9 @@ std::optional<std::uint64_t> grain_id_limit(const Model& model) {
 
 /// Walls the tank has (the faces not listed as open), in the order tank_walls() creates them.
 std::size_t wall_count(const Model& model) {
-  return 6 - model.tank.open_faces.size();
+  std::size_t periodic_faces = 0;  // a periodic axis has no walls (and none of its faces is open)
+  for (bool periodic : model.tank.periodic) periodic_faces += periodic ? 2 : 0;
+  return 6 - model.tank.open_faces.size() - periodic_faces;
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -20,6 +20,8 @@
 #include "engine/scene/motion_table.hpp"
 #include "systems/physics/cubic_spline.hpp"
 #include "systems/physics/contact_law.hpp"
+#include "systems/physics/periodic_box.hpp"
+#include "systems/physics/tank_kinematics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -194,22 +196,57 @@ void read_motion(TableReader& motion, const Model& scene, TankMotionModel& model
   motion.finish();
 }
 
+/// [tank] periodic: the axes along which the box repeats (docs/SCENES.md). Such an axis has no walls, so its faces
+/// cannot be listed as open, and the tank cannot move along it: a periodic box is the same box one period on, and a
+/// shaken one would shake its own images, which no real tank does.
+void read_periodic(TableReader& tank, TankModel& model, bool motion_valid) {
+  const std::size_t problems_before = tank.problem_count();
+  const std::vector<std::string> axes = tank.choices("periodic", {"x", "y"});
+  if (tank.problem_count() != problems_before || axes.empty()) return;
+  static const char* kAxisFaces[2][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}};
+  const Vec3 sweep = motion_valid ? tank_motion_sweep(model.motion) : Vec3::Zero();
+  for (const std::string& axis_name : axes) {
+    const int axis = axis_name == "x" ? 0 : 1;
+    model.periodic[static_cast<std::size_t>(axis)] = true;
+    for (const char* face : kAxisFaces[axis])
+      if (std::find(model.open_faces.begin(), model.open_faces.end(), face) != model.open_faces.end())
+        tank.problem("periodic", std::string("the tank is periodic along ") + axis_name + ", which has no walls, so " +
+                                     face + " cannot also be listed in open_faces: a face is either open (particles "
+                                     "leave through it) or periodic (they come back through the other face)");
+    if (sweep[axis] > 0.0)
+      tank.problem("periodic", std::string("the tank moves along ") + axis_name + " ([tank.motion]), which is "
+                                   "periodic: a periodic box is the same box one period on, so shaking it along that "
+                                   "axis would shake only its images; drive the flow instead, or move the tank along "
+                                   "another axis");
+  }
+}
+
 void read_tank(TableReader& tank, Model& model) {
   model.tank.size = tank.vec3("size", std::nullopt, "m", Bounds::positive());
   model.tank.origin = tank.vec3("origin", Vec3::Zero(), "m", Bounds::any());
   model.tank.open_faces = tank.choices("open_faces", kFaceNames);
   model.tank.wall_material = read_material(model, tank, "wall_material");
   model.tank.domain_margin = tank.number("domain_margin", 0.05, "m", Bounds::non_negative());
+  const std::size_t problems_before_motion = tank.problem_count();
   if (auto motion = tank.table("motion", false)) read_motion(*motion, model, model.tank.motion);
+  // A motion with problems (say a table that could not be read) has no sweep to judge.
+  read_periodic(tank, model.tank, tank.problem_count() == problems_before_motion);
   tank.finish();
 }
 
-bool inside_tank(const Model& model, const Vec3& centre, double radius) {
+bool inside_tank(const Model& model, const Vec3& centre, double radius, bool across_seam = true) {
   // A sphere that touches a wall fits: the slack (a billionth of the radius) keeps lattice rounding from dropping a
   // block's last row (0.0025 + 7 x 0.005 lands 1 ulp past 0.04 - 0.0025).
   const double slack = 1e-9 * radius;
-  const Vec3 low = model.tank.origin.array() + (radius - slack);
-  const Vec3 high = (model.tank.origin + model.tank.size).array() - (radius - slack);
+  Vec3 low = model.tank.origin.array() + (radius - slack);
+  Vec3 high = (model.tank.origin + model.tank.size).array() - (radius - slack);
+  // Along a periodic axis there is no wall: the centre must lie in the period [origin, origin + size), and a sphere
+  // may reach across the seam.
+  for (int axis = 0; axis < 3; ++axis)
+    if (across_seam && model.tank.periodic[static_cast<std::size_t>(axis)]) {
+      low[axis] = model.tank.origin[axis];
+      high[axis] = std::nextafter(model.tank.origin[axis] + model.tank.size[axis], -1e308);
+    }
   return (centre.array() >= low.array()).all() && (centre.array() <= high.array()).all();
 }
 
@@ -310,7 +347,9 @@ void read_solids(TableReader& solids, Model& model) {
       for (int j = 0; j < static_cast<int>(block.counts[1]); ++j)
         for (int i = 0; i < static_cast<int>(block.counts[0]); ++i) {
           spec.position = block.low + block.spacing * Vec3(i, j, k);
-          if (inside_tank(model, spec.position, spec.radius)) model.solids.spheres.push_back(spec);
+          // Whole spheres only, also along a periodic axis: a lattice that does not divide the period would
+          // overlap its own first row across the seam.
+          if (inside_tank(model, spec.position, spec.radius, false)) model.solids.spheres.push_back(spec);
         }
     if (model.solids.spheres.size() == before)
       block.reader->problem("min", "the block places no sphere inside the tank");
@@ -538,6 +577,52 @@ std::optional<TableReader> table_at(TableReader& scene, std::initializer_list<co
   return reader;
 }
 
+/// A periodic box ([tank] periodic) as a whole: only the grains cross its seams so far (the MPS fluid's halo is the
+/// next step), through the contact list's halo, which needs every period longer than twice the list's reach (so that
+/// a grain meets one image of another, never its own: systems/physics/periodic_box.hpp).
+void check_periodic(TableReader& scene, const Model& model) {
+  if (!model.tank.any_periodic()) return;
+  auto tank = table_at(scene, {"tank"});
+  if (!tank) return;
+  if (model.fluid.enabled) {
+    tank->problem("periodic", "a periodic box takes grains only for now: the MPS fluid across the seam is not built "
+                              "yet (issue 24); remove [fluid] or periodic");
+    return;
+  }
+  if (model.solids.enabled && !model.contact.enabled) {
+    tank->problem("periodic", "periodic grains need [contact]: the contact list's rebuild is where grains are wrapped "
+                              "into the box and their ghosts across the seam are built");
+    return;
+  }
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (const SphereSpec& sphere : model.solids.spheres) {
+    smallest = std::min(smallest, sphere.radius);
+    largest = std::max(largest, sphere.radius);
+  }
+  if (!model.solids.initial_state.empty()) {
+    try {  // a settled bed read from a checkpoint ([solids] initial_state): its radii count too
+      for (double radius : initial_grains(model).radius) {
+        smallest = std::min(smallest, radius);
+        largest = std::max(largest, radius);
+      }
+    } catch (const std::exception&) {
+      // read_solids reported it already
+    }
+  }
+  if (!(largest > 0.0)) return;
+  const double skin = model.contact.skin > 0.0 ? model.contact.skin : 0.5 * smallest;  // default_skin
+  const double reach = 2.0 * largest + skin;
+  if (!periodic_cutoff_fits(periodic_box(model), reach)) {
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "a periodic period must exceed twice the contact list's reach (largest diameter + skin = %g m), "
+                  "so that a grain never meets two images of one neighbour or its own: make tank.size along the "
+                  "periodic axes larger than %g m",
+                  reach, 2.0 * reach);
+    tank->problem("periodic", text);
+  }
+}
+
 /// Scene-wide limits, judged from the budget before any particle is laid out (engine/scene/budget.hpp): the totals over
 /// the per-block caps, the memory estimate against the limit, and a contact skin that would make every grain list
 /// every other one.
@@ -687,6 +772,7 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
     model.output.checkpoint_interval = default_checkpoint_interval(model.end_time, model.dt);
   scene.finish();
   // The budget judges the scene as a whole, so only once every part of it is valid.
+  if (problems.lines.empty()) check_periodic(scene, model);
   if (problems.lines.empty()) check_budget(scene, model);
   if (!problems.lines.empty()) throw SceneError(problems.lines);
 

@@ -25,6 +25,7 @@ Walls tank_walls(const TankModel& tank) {
     for (int side = 0; side < 2; ++side) {
       const std::string name = names[axis][side];
       if (std::find(tank.open_faces.begin(), tank.open_faces.end(), name) != tank.open_faces.end()) continue;
+      if (tank.periodic[static_cast<std::size_t>(axis)]) continue;  // a periodic axis has no walls
       const double sign = side == 0 ? -1.0 : 1.0;
       Vec3 face_centre = centre;
       face_centre[axis] += sign * half[axis];

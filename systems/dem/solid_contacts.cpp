@@ -17,6 +17,51 @@ constexpr std::size_t kGrain = 256;
 // kernel of contact_law.hpp; pass 3 writes the pair arrays back in pair order. Separated candidates (about half of
 // them in a settled bed) cost only the distance test.
 
+/// The second grain of a pair as the contact code reads it: a real grain (no periodic axis), or in a periodic box a
+/// real or a ghost through the halo (components/halo.hpp). One template body serves both, so the walled box keeps
+/// its plain array reads.
+/// Raw pointers, copied into each task: the compiler cannot tell the pair-array stores from the vectors' own fields,
+/// so reading through the vectors would reload their data pointers at every candidate.
+struct RealNeighbours {
+  const Vec3* position_;
+  const Vec3* velocity_;
+  const Vec3* angular_velocity_;
+  const double* radius_;
+  const double* mass_;
+  const std::int32_t* material_;
+  RealNeighbours(const GrainState& grains, const GrainProperties& properties)
+      : position_(grains.position.data()),
+        velocity_(grains.velocity.data()),
+        angular_velocity_(grains.angular_velocity.data()),
+        radius_(properties.radius.data()),
+        mass_(properties.mass.data()),
+        material_(properties.material.data()) {}
+  const Vec3& position(std::uint32_t j) const { return position_[j]; }
+  const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
+  const Vec3& angular_velocity(std::uint32_t j) const { return angular_velocity_[j]; }
+  double radius(std::uint32_t j) const { return radius_[j]; }
+  double mass(std::uint32_t j) const { return mass_[j]; }
+  std::int32_t material(std::uint32_t j) const { return material_[j]; }
+};
+struct GhostedNeighbours {
+  Ghosted<Vec3> position_, velocity_, angular_velocity_;
+  Ghosted<double> radius_, mass_;
+  Ghosted<std::int32_t> material_;
+  GhostedNeighbours(const GrainState& grains, const GrainProperties& properties, const Contacts& contacts)
+      : position_(ghosted(grains.position, contacts.ghosts.position, contacts.halo)),
+        velocity_(ghosted(grains.velocity, contacts.ghosts.velocity, contacts.halo)),
+        angular_velocity_(ghosted(grains.angular_velocity, contacts.ghosts.angular_velocity, contacts.halo)),
+        radius_(ghosted(properties.radius, contacts.ghosts.radius, contacts.halo)),
+        mass_(ghosted(properties.mass, contacts.ghosts.mass, contacts.halo)),
+        material_(ghosted(properties.material, contacts.ghosts.material, contacts.halo)) {}
+  const Vec3& position(std::uint32_t j) const { return position_[j]; }
+  const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
+  const Vec3& angular_velocity(std::uint32_t j) const { return angular_velocity_[j]; }
+  double radius(std::uint32_t j) const { return radius_[j]; }
+  double mass(std::uint32_t j) const { return mass_[j]; }
+  std::int32_t material(std::uint32_t j) const { return material_[j]; }
+};
+
 /// A pair that has just separated carries no overlap, spring, force or torque (the next touch starts afresh).
 void clear_separated(double& overlap, Vec3& spring, Vec3& force, Vec3& torque) {
   overlap = 0.0;
@@ -25,14 +70,15 @@ void clear_separated(double& overlap, Vec3& spring, Vec3& force, Vec3& torque) {
   torque = Vec3::Zero();
 }
 
+template <class Neighbours>
 void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProperties& properties,
-                 const ContactModel& model, bool rolling, double dt,
+                 const Neighbours& neighbours, const ContactModel& model, bool rolling, double dt,
                  Contacts& contacts) {
   // Gather the remaining inputs of the touching pairs.
   for (std::size_t p = 0; p < b.count; ++p) {
     const std::uint32_t i = b.first[p], j = b.second[p];
     const Vec3& velocity_i = grains.velocity[i];
-    const Vec3& velocity_j = grains.velocity[j];
+    const Vec3& velocity_j = neighbours.velocity(j);
     b.vix[p] = velocity_i.x();
     b.viy[p] = velocity_i.y();
     b.viz[p] = velocity_i.z();
@@ -40,7 +86,7 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     b.vjy[p] = velocity_j.y();
     b.vjz[p] = velocity_j.z();
     const Vec3& angular_velocity_i = grains.angular_velocity[i];
-    const Vec3& angular_velocity_j = grains.angular_velocity[j];
+    const Vec3& angular_velocity_j = neighbours.angular_velocity(j);
     b.wix[p] = angular_velocity_i.x();
     b.wiy[p] = angular_velocity_i.y();
     b.wiz[p] = angular_velocity_i.z();
@@ -52,8 +98,8 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     b.sy[p] = spring.y();
     b.sz[p] = spring.z();
     b.mi[p] = properties.mass[i];
-    b.mj[p] = properties.mass[j];
-    const ContactPairParameters& pair = model.pair(properties.material[i], properties.material[j]);
+    b.mj[p] = neighbours.mass(j);
+    const ContactPairParameters& pair = model.pair(properties.material[i], neighbours.material(j));
     b.stiffness_a[p] = pair.normal_stiffness_coefficient;
     b.stiffness_b[p] = pair.tangential_stiffness_coefficient;
     b.damping[p] = lane_damping(model.law, pair);
@@ -77,15 +123,10 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
   }
   b.count = 0;
 }
-}  // namespace
 
-void SolidContactForces::run(SystemContext& context) {
-  const GrainState& grains = context.read<GrainState>();
-  const GrainProperties& properties = context.read<GrainProperties>();
-  const Walls& walls = context.read<Walls>();
-  Contacts& contacts = context.write<Contacts>();
-  const ContactModel& law = context.model.contact;
-  const double dt = context.dt;
+template <class Neighbours>
+void contact_forces(const GrainState& grains, const GrainProperties& properties, const Neighbours& neighbours,
+                    const Walls& walls, Contacts& contacts, const ContactModel& law, double dt) {
   bool rolling = false;
   for (const ContactPairParameters& pair : law.pairs) rolling = rolling || pair.rolling_friction > 0.0;
   contacts.first_force.resize(grains.size());
@@ -97,8 +138,7 @@ void SolidContactForces::run(SystemContext& context) {
     const std::uint32_t* const pair_offsets = contacts.pair_offsets.data();
     const std::uint32_t* const pair_second = contacts.pair_second.data();
     const double* const pair_overlap = contacts.pair_overlap.data();
-    const Vec3* const positions = grains.position.data();
-    const double* const radii = properties.radius.data();
+    const Neighbours view = neighbours;  // a task's own copy, whose pointers stay in registers
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       // Local copies: the pair arrays written below could alias the grain arrays as far as the compiler knows.
       const Vec3 position = grains.position[i];
@@ -112,8 +152,8 @@ void SolidContactForces::run(SystemContext& context) {
       const std::uint32_t pair_end = pair_offsets[i + 1];
       for (std::uint32_t k = pair_offsets[i]; k < pair_end; ++k) {
         const std::uint32_t j = pair_second[k];
-        const Vec3 centre_line = positions[j] - position;
-        const double radius_j = radii[j];
+        const Vec3 centre_line = view.position(j) - position;
+        const double radius_j = view.radius(j);
         const double touching_distance = radius + radius_j;
         const double distance_squared = centre_line.squaredNorm();
         // Branch-free compaction: every candidate is written at the batch end, only touching ones advance it (about
@@ -139,7 +179,7 @@ void SolidContactForces::run(SystemContext& context) {
         }
         if (count == kContactBatch) {
           batch.count = count;
-          flush_batch(batch, grains, properties, law, rolling, dt, contacts);
+          flush_batch(batch, grains, properties, view, law, rolling, dt, contacts);
           count = 0;
         }
       }
@@ -171,8 +211,23 @@ void SolidContactForces::run(SystemContext& context) {
       }
     }
     batch.count = count;
-    flush_batch(batch, grains, properties, law, rolling, dt, contacts);
+    flush_batch(batch, grains, properties, view, law, rolling, dt, contacts);
   });
+}
+}  // namespace
+
+void SolidContactForces::run(SystemContext& context) {
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  const Walls& walls = context.read<Walls>();
+  Contacts& contacts = context.write<Contacts>();
+  // A periodic box: the second grain of a pair may be a ghost (solid_neighbours built and exchanged the halo).
+  if (contacts.halo.valid)
+    contact_forces(grains, properties, GhostedNeighbours(grains, properties, contacts), walls, contacts,
+                   context.model.contact, context.dt);
+  else
+    contact_forces(grains, properties, RealNeighbours(grains, properties), walls, contacts, context.model.contact,
+                   context.dt);
   context.count_items(grains.size());
 }
 

@@ -12,6 +12,7 @@
 #include "systems/physics/cell_index.hpp"
 #include "systems/dem/solid_cell_sort.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/periodic_box.hpp"
 
 namespace riffle {
 
@@ -42,24 +43,24 @@ struct CellGrid {
   }
 };
 
-CellGrid build_grid(const Solids& solids, const DomainBox& domain, double cell_size) {
-  const SolidGridShape shape = solid_grid_shape(solids.position, domain, cell_size);
+CellGrid build_grid(const std::vector<Vec3>& positions, const DomainBox& domain, double cell_size) {
+  const SolidGridShape shape = solid_grid_shape(positions, domain, cell_size);
   CellGrid grid;
   grid.origin = shape.origin;
   grid.cell_size = shape.cell_size;
   grid.cells = shape.cells;
   const std::size_t cell_count = static_cast<std::size_t>(grid.cells[0] * grid.cells[1] * grid.cells[2]);
-  std::vector<std::uint32_t> cell_of_grain(solids.size());
+  std::vector<std::uint32_t> cell_of_grain(positions.size());
   grid.cell_start.assign(cell_count + 1, 0);
-  for (std::size_t i = 0; i < solids.size(); ++i) {
-    const auto cell = grid.cell_of(solids.position[i]);
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const auto cell = grid.cell_of(positions[i]);
     cell_of_grain[i] = static_cast<std::uint32_t>(grid.linear(cell[0], cell[1], cell[2]));
     ++grid.cell_start[cell_of_grain[i] + 1];
   }
   for (std::size_t cell = 0; cell < cell_count; ++cell) grid.cell_start[cell + 1] += grid.cell_start[cell];
-  grid.grains.resize(solids.size());
+  grid.grains.resize(positions.size());
   std::vector<std::uint32_t> fill(grid.cell_start.begin(), grid.cell_start.end() - 1);
-  for (std::size_t i = 0; i < solids.size(); ++i) grid.grains[fill[cell_of_grain[i]]++] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = 0; i < positions.size(); ++i) grid.grains[fill[cell_of_grain[i]]++] = static_cast<std::uint32_t>(i);
   return grid;
 }
 
@@ -70,10 +71,20 @@ double lubrication_reach(const CouplingModel& coupling, double radius_1, double 
   return coupling.lubrication_cutoff_gap(std::isinf(radius_2) ? radius_1 : radius_1 * radius_2 / (radius_1 + radius_2));
 }
 
-/// Calls visit(j) for every grain j > i within r_i + r_j + skin of grain i (plus the lubrication cut-off when on),
-/// in a fixed order.
+/// The grains as the search sees them: reals [0, N) and, in a periodic box, their ghosts [N, N + G) after them
+/// (components/halo.hpp); `owner_of` maps a slot to its real grain.
+struct SearchGrains {
+  const std::vector<Vec3>& position;
+  const std::vector<double>& radius;
+  const Halo* halo = nullptr;  ///< null without periodic axes: every slot is real
+  std::uint32_t owner_of(std::uint32_t j) const { return halo ? halo->owner_of(j) : j; }
+};
+
+/// Calls visit(j) for every grain j whose owner is > i within r_i + r_j + skin of grain i (plus the lubrication
+/// cut-off when on), in a fixed order. A pair across the seam is met from both sides (i with j's ghost, j with i's
+/// ghost); only the side whose first grain has the lower slot keeps it, so each contact is listed once.
 template <class Visit>
-void for_each_candidate(const Solids& solids, const CellGrid& grid, double largest_radius, double skin,
+void for_each_candidate(const SearchGrains& solids, const CellGrid& grid, double largest_radius, double skin,
                         const CouplingModel& coupling, std::size_t i, Visit&& visit) {
   const Vec3& position = solids.position[i];
   // a* < r_i: the reach of r_i bounds every pair of grain i.
@@ -87,7 +98,7 @@ void for_each_candidate(const Solids& solids, const CellGrid& grid, double large
         const std::size_t cell = grid.linear(x, y, z);
         for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
           const std::uint32_t j = grid.grains[k];
-          if (j <= i) continue;
+          if (solids.owner_of(j) <= i) continue;
           const double cutoff = solids.radius[i] + solids.radius[j] + skin +
                                 lubrication_reach(coupling, solids.radius[i], solids.radius[j]);
           if ((solids.position[j] - position).squaredNorm() < cutoff * cutoff) visit(j);
@@ -146,6 +157,34 @@ SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const Domain
   return shape;
 }
 
+double halo_width(const Solids& solids, const Model& model, double skin) {
+  if (solids.size() == 0) return 0.0;
+  const double largest = *std::max_element(solids.radius.begin(), solids.radius.end());
+  return 2.0 * largest + skin + lubrication_reach(model.coupling, largest, std::numeric_limits<double>::infinity());
+}
+
+void exchange_grain_halo(const Solids& solids, Contacts& contacts) {
+  const Halo& halo = contacts.halo;
+  GrainGhosts& ghosts = contacts.ghosts;
+  halo_copy_positions(halo, solids.position, ghosts.position);
+  halo_copy(halo, solids.velocity, ghosts.velocity);
+  halo_copy(halo, solids.angular_velocity, ghosts.angular_velocity);
+  halo_copy(halo, solids.radius, ghosts.radius);
+  halo_copy(halo, solids.mass, ghosts.mass);
+  halo_copy(halo, solids.material, ghosts.material);
+}
+
+bool outside_periodic_box(const Solids& solids, const PeriodicBox& box) {
+  if (!box.any()) return false;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, solids.size(), 4096), false,
+      [&](const tbb::blocked_range<std::size_t>& range, bool outside) {
+        for (std::size_t i = range.begin(); i < range.end() && !outside; ++i) outside = !box.inside(solids.position[i]);
+        return outside;
+      },
+      [](bool a, bool b) { return a || b; });
+}
+
 double default_skin(const Solids& solids) {
   if (solids.size() == 0) return 0.0;
   return 0.5 * *std::min_element(solids.radius.begin(), solids.radius.end());
@@ -166,15 +205,27 @@ bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const 
   return 2.0 * grain_move > contacts.skin || grain_move + wall_move > contacts.skin;
 }
 
+void restore_halo(const Solids& solids, Contacts& contacts, const Model& model) {
+  const PeriodicBox box = periodic_box(model);
+  if (box.any() && contacts.valid && !contacts.halo.valid && contacts.build_position.size() == solids.size()) {
+    build_halo(contacts.build_position, solids.id, box, halo_width(solids, model, contacts.skin), contacts.halo);
+    exchange_grain_halo(solids, contacts);
+  }
+}
+
 void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& walls, const TankMotion& tank,
                             const Model& model, bool reorder) {
+  restore_halo(solids, contacts, model);  // the old list's ghosts name the pairs whose springs are kept below
   // 1. Save the springs of touching pairs by id, before slots change.
   std::vector<SavedSpring> saved_pairs, saved_walls;
   if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
     for (std::size_t i = 0; i < solids.size(); ++i) {
       for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
         if (contacts.pair_overlap[k] <= 0.0) continue;
-        const EntityId first = solids.id[i], second = solids.id[contacts.pair_second[k]];
+        // The old list's halo maps a ghost to its owner: the history of a pair across the seam is the pair's by id.
+        const std::uint32_t second_slot = contacts.pair_second[k];
+        const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(second_slot) : second_slot;
+        const EntityId first = solids.id[i], second = solids.id[j];
         const Vec3& spring = contacts.pair_spring[k];
         saved_pairs.push_back(first < second ? SavedSpring{first, second, spring} : SavedSpring{second, first, -spring});
       }
@@ -191,17 +242,35 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   const double smallest_radius = count ? *std::min_element(solids.radius.begin(), solids.radius.end()) : 0.0;
   const double largest_radius = count ? *std::max_element(solids.radius.begin(), solids.radius.end()) : 0.0;
   const DomainBox domain = domain_box(model);
+  const PeriodicBox box = periodic_box(model);
 
-  // 2. Reorder by cell for locality (ids travel with their data; the springs above are keyed by id).
+  // 2. Wrap into the periodic box (a grain that left through a face comes back through the other; ids and springs
+  // unchanged), then reorder by cell for locality (ids travel with their data; the springs above are keyed by id).
+  if (box.any())
+    for (Vec3& position : solids.position) position = box.wrap(position);
   if (reorder && count > 1) permute_fields(solids, cell_order(solids, domain.low, 2.0 * largest_radius));
 
-  // 3. Grain-grain candidates: count, scan, fill; every grain's list comes out in the same order every time.
-  const CellGrid grid = build_grid(solids, domain, 2.0 * smallest_radius + skin);
+  // 3. Grain-grain candidates: count, scan, fill; every grain's list comes out in the same order every time. In a
+  // periodic box the ghosts of the grains within the list's reach of a seam join the search after the reals.
+  contacts.halo.clear();
+  std::vector<Vec3> search_position;
+  std::vector<double> search_radius;
+  if (box.any()) {
+    build_halo(solids.position, solids.id, box, halo_width(solids, model, skin), contacts.halo);
+    exchange_grain_halo(solids, contacts);
+    search_position = solids.position;
+    search_position.insert(search_position.end(), contacts.ghosts.position.begin(), contacts.ghosts.position.end());
+    search_radius = solids.radius;
+    search_radius.insert(search_radius.end(), contacts.ghosts.radius.begin(), contacts.ghosts.radius.end());
+  }
+  const SearchGrains search{box.any() ? search_position : solids.position, box.any() ? search_radius : solids.radius,
+                            box.any() ? &contacts.halo : nullptr};
+  const CellGrid grid = build_grid(search.position, domain, 2.0 * smallest_radius + skin);
   contacts.pair_offsets.assign(count + 1, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       std::uint32_t found = 0;
-      for_each_candidate(solids, grid, largest_radius, skin, model.coupling, i, [&](std::uint32_t) { ++found; });
+      for_each_candidate(search, grid, largest_radius, skin, model.coupling, i, [&](std::uint32_t) { ++found; });
       contacts.pair_offsets[i + 1] = found;
     }
   });
@@ -211,7 +280,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       std::uint32_t next = contacts.pair_offsets[i];
-      for_each_candidate(solids, grid, largest_radius, skin, model.coupling, i,
+      for_each_candidate(search, grid, largest_radius, skin, model.coupling, i,
                          [&](std::uint32_t j) { contacts.pair_second[next++] = j; });
       std::sort(contacts.pair_second.begin() + contacts.pair_offsets[i], contacts.pair_second.begin() + next);
     }
@@ -222,14 +291,16 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   contacts.pair_torque_second.assign(pairs, Vec3::Zero());
   contacts.pair_overlap.assign(pairs, 0.0);
 
-  // 4. Reverse index: pairs where each grain is second, ascending pair index.
+  // 4. Reverse index: pairs where each grain is second (itself or through a ghost: the force goes to the owner),
+  // ascending pair index.
   contacts.second_offsets.assign(count + 1, 0);
-  for (std::size_t k = 0; k < pairs; ++k) ++contacts.second_offsets[contacts.pair_second[k] + 1];
+  for (std::size_t k = 0; k < pairs; ++k) ++contacts.second_offsets[search.owner_of(contacts.pair_second[k]) + 1];
   for (std::size_t i = 0; i < count; ++i) contacts.second_offsets[i + 1] += contacts.second_offsets[i];
   contacts.second_pairs.resize(pairs);
   {
     std::vector<std::uint32_t> fill(contacts.second_offsets.begin(), contacts.second_offsets.end() - 1);
-    for (std::size_t k = 0; k < pairs; ++k) contacts.second_pairs[fill[contacts.pair_second[k]]++] = static_cast<std::uint32_t>(k);
+    for (std::size_t k = 0; k < pairs; ++k)
+      contacts.second_pairs[fill[search.owner_of(contacts.pair_second[k])]++] = static_cast<std::uint32_t>(k);
   }
 
   // 5. Grain-wall candidates: every wall plane within r + skin (a grain behind a wall is a candidate too).
@@ -255,7 +326,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
         for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
-          const EntityId first = solids.id[i], second = solids.id[contacts.pair_second[k]];
+          const EntityId first = solids.id[i], second = solids.id[search.owner_of(contacts.pair_second[k])];
           const bool first_lower = first < second;
           if (const SavedSpring* found =
                   find_spring(saved_pairs, first_lower ? first : second, first_lower ? second : first))
@@ -283,9 +354,15 @@ void SolidNeighbours::run(SystemContext& context) {
   Contacts& contacts = context.write<Contacts>();
   const TankMotion& tank = context.read<TankMotion>();
   context.count_items(solids.size());
-  if (!neighbour_list_stale(solids, contacts, tank)) return;
-  const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
-  rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);
+  const PeriodicBox box = periodic_box(context.model);
+  restore_halo(solids, contacts, context.model);
+  // A grain past a periodic face is wrapped at a rebuild: its ghosts and its pairs change sides.
+  if (neighbour_list_stale(solids, contacts, tank) || outside_periodic_box(solids, box)) {
+    const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
+    rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);
+  } else if (box.any()) {
+    exchange_grain_halo(solids, contacts);  // the ghosts follow their owners every sub-step
+  }
 }
 
 }  // namespace riffle

@@ -3,13 +3,16 @@
 // r + skin of a wall), rebuilt only when some grain has moved more than half the skin, or a grain plus the tank
 // more than the skin, since the last build. A uniform cell grid sized for the smallest pair; each grain searches as
 // many cells as its own reach needs, so small grains among large ones stay cheap. On rebuild the grains may be
-// reordered by cell for memory locality; tangential springs are carried over by grain id.
+// reordered by cell for memory locality; tangential springs are carried over by grain id. In a periodic box
+// ([tank] periodic) the rebuild wraps the grains into the box and builds the halo of ghosts near the seams
+// (components/halo.hpp); every sub-step between rebuilds exchanges the ghosts' copies.
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "engine/core/system.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/periodic_box.hpp"
 
 namespace riffle {
 
@@ -32,6 +35,21 @@ SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const Domain
 
 /// The skin used when the scene leaves contact.skin at 0: half the smallest grain radius.
 double default_skin(const Solids& solids);
+
+/// [m] How far from a periodic face a grain needs ghosts: the longest candidate distance of the list (the largest
+/// pair's r_i + r_j + skin, plus the lubrication cut-off when on).
+double halo_width(const Solids& solids, const Model& model, double skin);
+
+/// The exchange of the grains' halo: copies each ghost's owner's position (+ shift), velocity, angular velocity,
+/// radius, mass and material into `contacts.ghosts`.
+void exchange_grain_halo(const Solids& solids, Contacts& contacts);
+
+/// A list read from a checkpoint has no halo (it is not stored): rebuilds it from the positions the list was built
+/// at, the very ghosts in the very order of the run that wrote it. Does nothing without periodic axes or when built.
+void restore_halo(const Solids& solids, Contacts& contacts, const Model& model);
+
+/// Whether some grain lies outside the periodic box along a periodic axis (then the list is rebuilt and wraps it).
+bool outside_periodic_box(const Solids& solids, const PeriodicBox& box);
 
 /// True if the list built with `contacts` may miss a contact at the current positions.
 bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank);

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -470,4 +471,22 @@ TEST_CASE("a [solids] initial_state checkpoint is validated like a resumed one")
   // A radius so small that this scene's mass or moment of inertia underflows to zero.
   const std::string tiny = start_from([](Solids& grains) { grains.radius[0] = 1e-80; });
   CHECK_MESSAGE(tiny.find("bed.ckpt: solids.moment_of_inertia[0] = 0: must be positive") != std::string::npos, tiny);
+}
+
+TEST_CASE("a periodic box: a pair with a ghost second is accepted, one beyond the ghosts refused") {
+  // The contact scene's block fills the 3 cm tank wall to wall, so with x and y periodic the grains along the faces
+  // touch their neighbours across the seam: the list holds pairs whose second is a ghost (slot >= grains). The
+  // resumed run rebuilds the halo from the list's build positions; validation does the same to judge the slots.
+  std::string text = contact_scene_text();
+  text.replace(text.find("wall_material = \"glass\"\n"), 0, "periodic = [\"x\", \"y\"]\n");
+  const CheckpointData data = stepped(parse_scene(text, "periodic_contacts.toml"), 3);
+  const auto grains = static_cast<std::uint32_t>(data.world.solids->size());
+  const auto& second = data.world.contacts->pair_second;
+  const auto ghost = std::find_if(second.begin(), second.end(), [&](std::uint32_t j) { return j >= grains; });
+  REQUIRE(ghost != second.end());
+  CHECK(resume(data, [](CheckpointData&) {}) == "accepted");
+  const auto k = static_cast<std::size_t>(ghost - second.begin());
+  refused(resume(data, [&](CheckpointData& d) { d.world.contacts->pair_second[k] = 4000000u; }),
+          "contacts.pair_second[" + std::to_string(k) + "] = 4000000: must be above its first grain");
+  refused(resume(data, [&](CheckpointData& d) { d.world.contacts->pair_second[k] = 4000000u; }), "(ghosts included)");
 }

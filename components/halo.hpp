@@ -1,0 +1,73 @@
+#pragma once
+// A halo: ghost copies of the real particles that lie within a cutoff of a seam, so that neighbour code sees the
+// particles across the seam as if they were next door (docs/ARCHITECTURE.md, "Periodic boundaries and the halo").
+//
+// Real particles hold slots [0, N), ghosts [N, N + G): ghost g is the image of real particle owner[g], at
+// owner's position + shift[g]. Neighbour lists store either kind of slot; `Ghosted<T>` reads a field for any of
+// them, and `owner_of` maps a slot to the real particle that receives its force. The halo is family-agnostic (the
+// grains' lives in Contacts; the MPS fluid's is the next to come): it knows slots, ids and shifts; each family
+// keeps the ghost copies of the fields its neighbour code reads and fills them with `halo_copy`.
+//
+// What a distributed run (MPI ranks, each a subdomain) replaces: the build (which real particles a neighbour needs)
+// and the exchange (here a copy within one box; there a message to the neighbouring rank, which appends the
+// received copies after its own reals). The consumers, which read [0, N + G) through Ghosted and send ghost
+// forces to owner_of, stay as they are.
+#include <cstdint>
+#include <vector>
+
+#include "components/vec.hpp"
+
+namespace riffle {
+
+struct Halo {
+  std::uint32_t real_count = 0;        ///< N: the real particles when the halo was built
+  std::vector<std::uint32_t> owner;    ///< [G] slot of the real particle the ghost copies
+  std::vector<EntityId> owner_id;      ///< [G] its id (stable across reorders; contact history is keyed by id)
+  std::vector<Vec3> shift;             ///< [m] [G] ghost position = owner position + shift (a sum of periods)
+  bool valid = false;                  ///< false until built (never checkpointed: rebuilt from the list's positions)
+
+  std::size_t size() const { return owner.size(); }
+  /// The real particle behind slot j of [0, N + G).
+  std::uint32_t owner_of(std::uint32_t j) const { return j < real_count ? j : owner[j - real_count]; }
+  void clear() {
+    real_count = 0;
+    owner.clear();
+    owner_id.clear();
+    shift.clear();
+    valid = false;
+  }
+};
+
+/// One field seen over [0, N + G): reals first, then the ghost copies.
+template <class T>
+struct Ghosted {
+  const T* real = nullptr;
+  const T* ghost = nullptr;
+  std::uint32_t real_count = 0;
+  const T& operator[](std::uint32_t j) const { return j < real_count ? real[j] : ghost[j - real_count]; }
+};
+template <class T>
+Ghosted<T> ghosted(const std::vector<T>& real, const std::vector<T>& ghost, const Halo& halo) {
+  return {real.data(), ghost.data(), halo.real_count};
+}
+
+/// The exchange of one field: ghost[g] = real[owner[g]].
+template <class T>
+void halo_copy(const Halo& halo, const std::vector<T>& real, std::vector<T>& ghost) {
+  ghost.resize(halo.size());
+  for (std::size_t g = 0; g < halo.size(); ++g) ghost[g] = real[halo.owner[g]];
+}
+/// The exchange of positions: ghost[g] = real[owner[g]] + shift[g].
+inline void halo_copy_positions(const Halo& halo, const std::vector<Vec3>& real, std::vector<Vec3>& ghost) {
+  ghost.resize(halo.size());
+  for (std::size_t g = 0; g < halo.size(); ++g) ghost[g] = real[halo.owner[g]] + halo.shift[g];
+}
+
+/// The grains' ghost copies: what the contact code reads of a neighbour.
+struct GrainGhosts {
+  std::vector<Vec3> position, velocity, angular_velocity;
+  std::vector<double> radius, mass;
+  std::vector<std::int32_t> material;
+};
+
+}  // namespace riffle
