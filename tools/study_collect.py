@@ -2,8 +2,9 @@
 """Tables and plots of a study run by tools/study.py (`tools/study.py collect STUDY.toml` calls collect()).
 
 Per run (out/<study>/runs/<variant>/bed_<N>/):
-- the class centroids at t/T = 10, 20, 30 (class_centroids.csv) and the segregation index S of tools/seed_figures.py
-  (0 at the start, 1 sorted in layers; class volumes from the first grain frame);
+- the class centroids and the segregation index S of tools/seed_figures.py (0 at the start, 1 sorted in layers; class
+  volumes from the first grain frame) at t/T = 10, 20, 30, each the mean over the period that ends there
+  (class_centroids.csv, ten samples a period);
 - the end-wall circulation: from the drift figure of tools/seed_figures.py over t/T = 10-20 and 20-30, the mean
   vertical displacement per period of the coarse grains (medium and large) that start in the two end-wall bands
   (the outer tenths of the tank's length, 24 mm), beside the same in the middle six tenths. Convection rolls that
@@ -67,9 +68,13 @@ def segregation_series(t, z, volumes):
 
 
 def at(t, values, stage):
-    """The value at the sample nearest t/T = stage; nan if the run did not get within 0.2 periods of it."""
-    k = int(np.argmin(np.abs(t - stage)))
-    return float(values[k]) if abs(t[k] - stage) < 0.2 else math.nan
+    """The mean over the period that ends at t/T = stage (the samples in (stage - 1, stage]), so that the in-period
+    swing of the centroids (about 1 mm, 0.01 in S) does not depend on the phase of one sample; nan if the run did not
+    get within 0.2 periods of it."""
+    if t[-1] < stage - 0.2:
+        return math.nan
+    mask = (t > stage - 1.0) & (t <= stage + 1e-6)
+    return float(np.mean(values[mask])) if mask.any() else math.nan
 
 
 def circulation(run_dir, refresh):
