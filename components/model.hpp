@@ -127,6 +127,10 @@ struct ParticleBoxModel {
   double lid_period = 0.0;  ///< [m] the x extent the particles wrap in: the box's particle count along x times l0
   double lid_start_x = 0.0; ///< [m] where that extent starts: the first particle's x less l0/2 (tank at rest)
   double lid_area = 0.0;    ///< [m^2] the plane's area the traction is reported over: lid_period times its y extent
+  /// [m] z of the lid's two no-slip planes (tank at rest): the cell faces of its lowest and highest particle layers.
+  /// A no-slip lid is horizontal: the water below or above it sees its velocity extrapolated across these planes.
+  double lid_plane_low = 0.0;
+  double lid_plane_high = 0.0;
 };
 
 /// A body force along x on the water (docs/FLUID.md, "Driven flows"): the stand-in for a mean pressure gradient

@@ -113,6 +113,8 @@ BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, co
   box.lid_period = static_cast<double>(entry.grid.count[0]) * spacing;
   box.lid_start_x = entry.grid.first[0] - 0.5 * spacing;
   box.lid_area = box.lid_period * static_cast<double>(entry.grid.count[1]) * spacing;
+  box.lid_plane_low = entry.grid.first[2] - 0.5 * spacing;
+  box.lid_plane_high = entry.grid.first[2] + (static_cast<double>(entry.grid.count[2]) - 0.5) * spacing;
   if (box.fit_extent) {  // at least one particle per axis by construction
     entry.laid_out = true;
     return entry;

@@ -42,12 +42,14 @@ Eigen::Vector2d pressure_plane(const FluidParticles& fluid, std::size_t count, U
 // force starts the first sloshing mode (T = 0.53 s); nu = 5e-3 m^2/s damps it (2 nu k^2 = 2.5/s, and the walls'
 // boundary layers more), and the plane is fitted to the time mean over t in [1.5, 2.5] s, about two periods, which
 // averages what is left. The fit uses the particles at least 2 l0 below the surface and l0 from the walls, where the
-// lattice's support is full. Tolerance 3 % of rho f: the surface particles' centres stand on a staircase of l0 steps
-// under the tilted plane (p = 0 is imposed there, numerics amendment 4), which misplaces the zero of pressure by up to
-// rho g l0 / 2 at each step; the interior field smooths that over the steps, and the fit over 18 l0 bounds the slope
-// error at about (g l0 / 2) / (f L) / (number of steps = 2) = 0.6 / 2 / 2 ~ 0.15 in the worst case and a few % in
-// the mean (hydrostatic test: 0.1 l0 / H rms); 3 % is that mean, and the vertical gradient, which the staircase does
-// not touch, must hold to 1 %.
+// lattice's support is full. On the lattice the tilted hydrostatic field is an exact discrete solution (GC
+// reproduces a linear field; the walls' pressure is extrapolated along rho (g + f e_x), fluid_correct), so what is
+// left is the start-up oscillation: its amplitude in grad p starts at rho f (the force is switched on at once) and
+// the free mode decays at least as exp(-2 nu k^2 t) = exp(-2.5 t), 2.4 % at t = 1.5 s before the time mean lowers it
+// further: tolerance 2.5 % of rho f on dp/dx; dp/dz (rho g, ten times larger, the same oscillation) 0.5 %. The
+// surface particles stand on a staircase under the tilted plane (p = 0 at their centres, numerics amendment 4), up
+// to l0/2 off it with zero mean along x: that moves the fit's constant, not its slope, to first order. Measured
+// (-s): dp/dx within 0.02 %, dp/dz within 0.001 %.
 TEST_CASE("a body force along x on water at rest in a closed box gives the hydrostatic field of rho (f, 0, -g)") {
   const double l0 = 0.01, length = 0.2, width = 0.04, depth = 0.1;
   Model model = test::fluid_model(Vec3(length, width, 0.15), l0, {ParticleBoxModel{Vec3::Zero(), Vec3(length, width, depth)}});
@@ -76,103 +78,130 @@ TEST_CASE("a body force along x on water at rest in a closed box gives the hydro
   }
   mean /= samples;
   MESSAGE("dp/dx = ", mean[0], " Pa/m (rho f = ", rho * f, "), dp/dz = ", mean[1], " Pa/m (-rho g = ", -rho * kG, ")");
-  CHECK(std::abs(mean[0] - rho * f) < 0.03 * rho * f);
-  CHECK(std::abs(mean[1] + rho * kG) < 0.01 * rho * kG);
+  CHECK(std::abs(mean[0] - rho * f) < 0.025 * rho * f);
+  CHECK(std::abs(mean[1] + rho * kG) < 0.005 * rho * kG);
   CHECK(run.world.fluid_summary->body_force == f);
 }
 
-// Sizes: l0 = 10 mm, h = 8 l0, L = 48 l0; the fluid 4 l0 wide between free-slip side boxes 3 l0 thick (wider than
-// r_e = 2.4 l0, so the tank's no-slip side walls behind them are out of every support: the flow is plane, not duct
-// flow). The lid is a no-slip wall box 3 l0 thick over the water (the tank's top wall behind it out of reach), cut
-// into three lids of 16 l0 along x: each wraps within its own third, all in phase, so together they are one sliding
-// plane, and the middle one's force is the traction over the middle third, away from the corners. The
-// no-slip planes lie half a spacing outside the outer particle centres (at z = 0 and z = h). nu = 1e-3 m^2/s and
-// U = 12.5 mm/s give Re = U h / nu = 1 (creeping: the closed-box profile holds); the slowest viscous mode decays as
-// exp(-pi^2 nu t / h^2), 1/e in 0.065 s: at t = 1.2 s it is gone (e^-18). Measured over the middle third in x
-// (16 l0 from each end: the end disturbance decays like exp(-pi x / h), e^-6). Tolerances: the profile, RMS of
-// (u - U (3 s^2 - 2 s)) over U below 3 %; the traction 4 mu U / h within 8 %, the discrete no-slip plane being
-// uncertain by a fraction of a spacing (l0 / 4 in h = 8 l0 moves 4 mu U / h by 3 %, and the lid's Laplacian
-// across a velocity jump at the wall is first-order accurate).
+// The water fills the box: with no free surface the pressure is relative, and the lid's suction at the upstream
+// corner needs tension, so negative pressure is not clamped (clamped, a void opens there and its spurious free
+// surface shakes the flow). The lids and the floor span the tank's width over the side boxes, so that the water's
+// edge particles see the plane their whole support wide (as in a channel periodic in y); the traction is the middle
+// lid's force over the area of water under it, 16 l0 by the water's 4 l0.
+// The floor is a no-slip lid at rest and the top a no-slip lid at U: both extrapolate the water's velocity across
+// their planes (Morris et al. 1997; docs/FLUID.md, "Moving lids"), which the tank's own walls do not do.
+// Sizes: l0 = 10 mm, h = 8 l0, the water L = 48 l0 long and 4 l0 wide between free-slip side boxes 3 l0 thick
+// (wider than r_e = 2.4 l0, so the tank's no-slip side walls behind them are out of every support: the flow is
+// plane, not duct flow). The water's ends are wall boxes 3 l0 thick under the lid; the lid, a no-slip wall box 3 l0
+// thick, spans the whole tank over them, so its seams (where its particles wrap, at the tank's end walls) are 3 l0
+// from any water: at a seam next to a fixed wall the lid's row opens a gap or crowds (up to l0), which water in
+// reach would see as a density hole (a spurious free surface) once per l0 of travel. The lid is cut into three along
+// x at the middle third of the water's length: each part wraps within its own extent, all in phase (the parts' faces
+// lie on the lattice), so together they are one sliding plane, and the middle part's force is the traction over
+// the water's middle third, away from the corners. The no-slip planes lie half a spacing outside the outer particle
+// centres (z = 0 and z = h). nu = 2e-3 m^2/s and U = 25 mm/s give Re = U h / nu = 1 (creeping: the closed-box
+// profile holds); the start-up's slowest mode decays as exp(-pi^2 nu t / h^2), 1/e in 0.32 s: at t = 1.6 s what is
+// left is e^-5 (0.7 %) of it. Measured over the middle third in x (16 l0 from each end of the water: the end
+// disturbance decays like exp(-pi x / h), e^-6). Tolerances: the profile, RMS of (u - U (3 s^2 - 2 s)) over U below
+// 3 % (the 0.7 % transient and the walls' first-order treatment; measured 0.9 %). The traction 4 mu U / h within
+// 15 %: the lid's sum takes the shear at the plane from the linear extrapolation between the plane and fluid
+// particles d_i = l0/2 .. r_e away, which reads the slope at about d_i / 2 below the plane; with the profile's
+// curvature u'' = 6 U / h^2 that is low by u'' d_i / 2 over u' = 4 U / h, i.e. 0.75 d_i / h: 5 % at d_i = l0/2,
+// 22 % at r_e, 9 % at the kernel-weighted mean d_i of about l0 (h = 8 l0). First order in l0: halving l0 halves it
+// (tools/driven_flow_study.py closed_lid, docs/FLUID.md).
 TEST_CASE("a lid over a layer in a long closed box: the Couette flow with return flow, and traction 4 mu U / h") {
   const std::string text = R"(
 [run]
 name = "lid"
-end_time = 1.2
+end_time = 1.6
 dt = 5.0e-3
+gravity = [0.0, 0.0, 0.0]
 
 [materials.glass]
 density = 2500.0
 
 [tank]
-size = [0.48, 0.10, 0.11]
+size = [0.54, 0.10, 0.14]
 wall_material = "glass"
 
 [fluid]
 spacing = 0.01
-kinematic_viscosity = 1.0e-3
+kinematic_viscosity = 2.0e-3
+clamp_negative_pressure = false
 
 [[fluid.boxes]]
-low = [0.0, 0.03, 0.0]
-high = [0.48, 0.07, 0.08]
+low = [0.03, 0.03, 0.03]
+high = [0.51, 0.07, 0.11]
+
+[[fluid.wall_boxes]]
+low = [0.0, 0.0, 0.03]
+high = [0.54, 0.03, 0.11]
+lid = "free_slip"
+
+[[fluid.wall_boxes]]
+low = [0.0, 0.07, 0.03]
+high = [0.54, 0.10, 0.11]
+lid = "free_slip"
+
+[[fluid.wall_boxes]]
+low = [0.0, 0.03, 0.03]
+high = [0.03, 0.07, 0.11]
+
+[[fluid.wall_boxes]]
+low = [0.51, 0.03, 0.03]
+high = [0.54, 0.07, 0.11]
 
 [[fluid.wall_boxes]]
 low = [0.0, 0.0, 0.0]
-high = [0.48, 0.03, 0.08]
-lid = "free_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.07, 0.0]
-high = [0.48, 0.10, 0.08]
-lid = "free_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.08]
-high = [0.16, 0.10, 0.11]
+high = [0.54, 0.10, 0.03]
 lid = "no_slip"
-velocity = 0.0125
 
 [[fluid.wall_boxes]]
-low = [0.16, 0.0, 0.08]
-high = [0.32, 0.10, 0.11]
+low = [0.0, 0.0, 0.11]
+high = [0.19, 0.10, 0.14]
 lid = "no_slip"
-velocity = 0.0125
+velocity = 0.025
 
 [[fluid.wall_boxes]]
-low = [0.32, 0.0, 0.08]
-high = [0.48, 0.10, 0.11]
+low = [0.19, 0.0, 0.11]
+high = [0.35, 0.10, 0.14]
 lid = "no_slip"
-velocity = 0.0125
+velocity = 0.025
+
+[[fluid.wall_boxes]]
+low = [0.35, 0.0, 0.11]
+high = [0.54, 0.10, 0.14]
+lid = "no_slip"
+velocity = 0.025
 )";
-  Model model = parse_scene(text, "lid.toml");
-  model.gravity = Vec3::Zero();  // the layer is closed: gravity only adds a hydrostatic field
-  test::FluidRun run(std::move(model));
+  // Gravity off: the layer is closed, gravity would only add a hydrostatic field.
+  test::FluidRun run(parse_scene(text, "lid.toml"));
   REQUIRE(run.fluid_count() == 48 * 4 * 8);
-  REQUIRE_MESSAGE(run.run_until(1.2), run.diagnosis());
-  const double l0 = 0.01, h = 0.08, length = 0.48, speed = 0.0125, nu = 1.0e-3;
+  REQUIRE_MESSAGE(run.run_until(1.6), run.diagnosis());
+  const double h = 0.08, x_low = 0.03, z_low = 0.03, length = 0.48, speed = 0.025, nu = 2.0e-3;
   const FluidParticles& fluid = *run.world.fluid;
   double squared = 0.0;
   std::size_t used = 0;
   for (std::size_t i = 0; i < run.fluid_count(); ++i) {
     const Vec3& r = fluid.position[i];
-    if (std::abs(r.x() - 0.5 * length) > length / 6.0) continue;
-    const double s = r.z() / h;
+    if (std::abs(r.x() - x_low - 0.5 * length) > length / 6.0) continue;
+    const double s = (r.z() - z_low) / h;
     const double error = fluid.velocity[i].x() / speed - (3.0 * s * s - 2.0 * s);
     squared += error * error;
     ++used;
   }
   const double rms = std::sqrt(squared / static_cast<double>(used));
-  // Lids in scene order: the two free-slip side boxes (no viscous force: 0), then the three thirds of the top.
-  REQUIRE(run.world.fluid_summary->lid_force.size() == 5);
+  // Lids in scene order: the two free-slip side boxes (no viscous force: 0), the floor, the three thirds of the top.
+  REQUIRE(run.world.fluid_summary->lid_force.size() == 6);
   CHECK(run.world.fluid_summary->lid_force[0].norm() == 0.0);
-  const double area = run.model.fluid.wall_boxes[3].lid_area;
-  const double traction = run.world.fluid_summary->lid_force[3].x() / area;  // the middle third's lid
+  const double area = 0.16 * 0.04;
+  const double traction = run.world.fluid_summary->lid_force[4].x() / area;  // the middle third's lid
   const double expected = 4.0 * run.model.fluid.density * nu * speed / h;
   MESSAGE("profile rms error ", rms, " U over ", used, " particles; traction ", traction, " Pa against 4 mu U / h = ",
           expected, " Pa");
   CHECK(rms < 0.03);
-  CHECK(std::abs(traction - expected) < 0.08 * expected);
+  CHECK(std::abs(traction - expected) < 0.15 * expected);
   CHECK(run.count_outside_tank(0.0) == 0);
-  (void)l0;
 }
 
 }  // namespace riffle
