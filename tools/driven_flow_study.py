@@ -89,19 +89,20 @@ def tilt_scene(l0):
 
 
 def channel_scene(case, l0, periodic):
-    """Periodic channel of height H = 0.04 m between the tank's floor and a top wall (Poiseuille, Stokes) or lid."""
-    height, length, width = 0.04, 0.04, 0.02
+    """Periodic channel of height H = 0.04 m: the floor a no-slip lid at rest, the top a no-slip lid at rest
+    (Poiseuille), at U (Couette) or a free-slip lid (Stokes: a layer deep compared with delta), each 3 l0 thick (the
+    lids' wall treatment, docs/FLUID.md: the tank's own walls slip). The water fills the channel (tension allowed)."""
+    height, length, width, wall = 0.04, 0.04, 0.02, 3 * l0
+    top = ('lid = "no_slip"\n', 'lid = "no_slip"\nvelocity = 0.01\n', 'lid = "free_slip"\n')[
+        ("poiseuille", "couette", "stokes2").index(case)]
     if case == "poiseuille":
         f = 12 * NU * 0.01 / height ** 2  # bulk velocity 1 cm/s
         end = 2.0 * height ** 2 / NU
         force = f'[fluid.body_force]\nkind = "constant"\nacceleration = {f}\ngrains = "none"\n'
-        extra = ""
         info = dict(f=f, H=height)
     elif case == "couette":
         end = 2.0 * height ** 2 / NU
         force = ""
-        extra = (f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, {height}]\nhigh = [{length}, {width}, {height + 3 * l0}]\n'
-                 f'lid = "no_slip"\nvelocity = 0.01\n')
         info = dict(U=0.01, H=height)
     else:
         period = 1.0
@@ -109,17 +110,19 @@ def channel_scene(case, l0, periodic):
         f = 0.01 * omega  # free-stream amplitude F / omega = 1 cm/s
         end = 6 * period
         force = f'[fluid.body_force]\nkind = "sinusoidal"\namplitude = {f}\nperiod = {period}\ngrains = "none"\n'
-        extra = ""
         info = dict(F=f, omega=omega, H=height, period=period)
-    top = height + (3 * l0 if case == "couette" else 0.0)
     text = (f'[run]\nname = "{case}"\nend_time = {end}\ndt = {min(5e-3, 0.2 * l0 * l0 / NU)}\n'
             f'gravity = [0.0, 0.0, 0.0]\n\n[materials.glass]\ndensity = 2500.0\n\n'
-            f'[tank]\nsize = [{length}, {width}, {top}]\nwall_material = "glass"\n\n'
-            f'[fluid]\nspacing = {l0}\nkinematic_viscosity = {NU}\n\n{force}\n'
-            f'[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [{length}, {width}, {height}]\n\n{extra}\n'
+            f'[tank]\nsize = [{length}, {width}, {height + 2 * wall}]\nwall_material = "glass"\n\n'
+            f'[fluid]\nspacing = {l0}\nkinematic_viscosity = {NU}\nclamp_negative_pressure = false\n\n{force}\n'
+            f'[[fluid.boxes]]\nlow = [0.0, 0.0, {wall}]\nhigh = [{length}, {width}, {wall + height}]\n\n'
+            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [{length}, {width}, {wall}]\nlid = "no_slip"\n\n'
+            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, {wall + height}]\nhigh = [{length}, {width}, {2 * wall + height}]\n'
+            f'{top}\n'
             f'[output]\nvtk_interval = {end / 60}\n[[output.probes]]\nkind = "driven_flow"\nname = "drive"\n'
             f'interval = {end / 100}\n\n{periodic}\n')
     info["end"] = end
+    info["z0"] = wall
     return text, info
 
 
@@ -135,9 +138,9 @@ def run(riffle, scene_text, out_dir, name):
     return run_dir
 
 
-def layer_profile(frame, l0, x_window=None):
-    """(z of each l0 layer, mean u_x of its fluid particles), fluid = kind 0; x_window = (lo, hi) or None."""
-    points, velocity, kind = frame["points"], frame["velocity"], frame["kind"]
+def layer_profile(frame, l0, x_window=None, z0=0.0):
+    """(z - z0 of each l0 layer, mean u_x of its fluid particles), fluid = kind 0; x_window = (lo, hi) or None."""
+    points, velocity, kind = frame["points"] - np.array([0.0, 0.0, z0]), frame["velocity"], frame["kind"]
     use = kind == 0
     if x_window is not None:
         use &= (points[:, 0] > x_window[0]) & (points[:, 0] < x_window[1])
@@ -173,8 +176,7 @@ def study_lid(args, periodic=None):
         run_dir = run(args.riffle, text, args.out, f"lid_{l0}")
         _, frame = last_frame(run_dir)
         length, h, speed = info["length"], info["h"], info["U"]
-        frame["points"] = frame["points"] - np.array([0.0, 0.0, info["z0"]])
-        z, u = layer_profile(frame, l0, (info["x0"] + length / 3, info["x0"] + 2 * length / 3))
+        z, u = layer_profile(frame, l0, (info["x0"] + length / 3, info["x0"] + 2 * length / 3), z0=info["z0"])
         s = z / h
         exact = speed * (3 * s * s - 2 * s) if info["closed"] else speed * s
         error = math.sqrt(np.mean((u - exact) ** 2)) / speed
@@ -221,7 +223,7 @@ def study_channel(args):
         height = info["H"]
         if args.case in ("poiseuille", "couette"):
             _, frame = last_frame(run_dir)
-            z, u = layer_profile(frame, l0)
+            z, u = layer_profile(frame, l0, z0=info["z0"])
             if args.case == "poiseuille":
                 exact = info["f"] * z * (height - z) / (2 * NU)
             else:
@@ -234,7 +236,7 @@ def study_channel(args):
             for time, path in vtp.read_pvd(run_dir / "fluid.pvd"):
                 if time < info["end"] - 2 * info["period"] - 1e-9:
                     continue
-                z, u = layer_profile(vtp.read_vtp(path, ["velocity", "kind"]), l0)
+                z, u = layer_profile(vtp.read_vtp(path, ["velocity", "kind"]), l0, z0=info["z0"])
                 times.append(time)
                 profiles.append(u)
             times, profiles = np.array(times), np.array(profiles)
