@@ -6,7 +6,6 @@
 
 #include "systems/physics/deterministic_sum.hpp"
 #include "systems/physics/driven_flow.hpp"
-
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/mps_operators.hpp"
 #include "systems/physics/tank_kinematics.hpp"

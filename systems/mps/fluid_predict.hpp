@@ -7,7 +7,8 @@
 // a tenth of the fluid step (docs/BENCHMARKS.md).
 // Driven flows (docs/FLUID.md): a body force f along x joins g; the SPS eddy viscosity nu_t = (C_s l0)^2 |S|
 // (Gotoh, Shibahara & Sakai 2001) joins nu with the pair viscosity nu + (nu_t,i + nu_t,j)/2; a moving lid's
-// particles carry its velocity into the viscous term (no slip) or stay out of it (free slip).
+// particles carry its velocity into the viscous term, extrapolated across its plane (no slip: Morris, Fox & Zhu
+// 1997), or stay out of it (free slip).
 #include <cstdint>
 #include <vector>
 

@@ -271,3 +271,37 @@ TEST_CASE("a grain at rest in water at rest under a body force: the imposed grad
 }
 
 }  // namespace riffle
+
+namespace riffle {
+
+// The controller's wiring in the engine (its law: tests/unit/driven_flow_test.cpp). A closed box has no bulk
+// velocity to hold: in a box full of water (no free surface to tilt) the water cannot pass the end walls, its mean
+// u_x stays near 0 (below 1e-3 U here: the density relaxation's compressions), and the controller sees the full
+// error U at every step. The force
+// reported must be exactly K_p (U - U_b) + K_i I with U_b the bulk velocity reported and I the rectangle-rule
+// integral of U - U_b (rounding), and so within 3 % of K_p U + K_i U t_n.
+TEST_CASE("the bulk-velocity controller in a closed box: the force K_p U + K_i U t, reported each step") {
+  Model model = test::fluid_model(Vec3(0.1, 0.04, 0.05), 0.01, {ParticleBoxModel{Vec3::Zero(), Vec3(0.1, 0.04, 0.05)}});
+  model.tank.open_faces.clear();
+  model.fluid.clamp_negative_pressure = false;  // full box: relative pressure, the downstream end pulls
+  model.dt = 2.0e-3;
+  BodyForceModel& force = model.fluid.body_force;
+  force.kind = BodyForceModel::Kind::kBulkVelocity;
+  force.target_velocity = 0.01;
+  force.proportional_gain = 2.0;
+  force.integral_gain = 1.0;
+  test::FluidRun run(std::move(model));
+  double integral = 0.0;
+  for (int n = 0; n < 25; ++n) {
+    const double time = run.world.time;
+    REQUIRE_MESSAGE(run.step(), run.diagnosis());
+    const FluidSummary& summary = *run.world.fluid_summary;
+    const double error = 0.01 - summary.bulk_velocity;
+    CHECK(summary.body_force == doctest::Approx(2.0 * error + 1.0 * integral).epsilon(1e-12));
+    integral += error * 2.0e-3;
+    CHECK(summary.body_force == doctest::Approx(2.0 * 0.01 + 1.0 * 0.01 * time).epsilon(0.03));
+    CHECK(std::abs(summary.bulk_velocity) < 1e-3 * 0.01);
+  }
+}
+
+}  // namespace riffle
