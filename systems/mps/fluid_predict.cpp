@@ -182,8 +182,10 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
           // A free-slip lid exerts no shear: it is left out of the viscous sum (not of the density terms).
           if (lid < 0 || !free_slip[static_cast<std::size_t>(lid)]) {
             // Pair viscosity nu + (nu_t,i + nu_t,j)/2 (a wall's nu_t is 0): symmetric, so the fluid's momentum is
-            // exchanged in pairs.
-            const double pair_viscosity = nu + 0.5 * (own_eddy + (sps && fluid_partner ? eddy_viscosity_[j] : 0.0));
+            // exchanged in pairs. A fluid neighbour beyond the fluid slots (a periodic ghost, once there are any)
+            // reads 0 until the halo carries nu_t.
+            const double pair_viscosity =
+                nu + 0.5 * (own_eddy + (sps && fluid_partner && j < fluid_count ? eddy_viscosity_[j] : 0.0));
             const double beta = lid >= 0 ? extrapolation(static_cast<std::size_t>(lid), position.z(),
                                                          particles.position[j].z())
                                          : 1.0;
