@@ -187,6 +187,13 @@ struct FluidSummary {
   std::size_t initial_fluid_count = 0;
   /// The particles fluid_escape removed in the last step, for the run's log (cleared at every step it runs).
   std::vector<EscapedParticle> escaped;
+  // Driven flows (fluid_predict; docs/FLUID.md), set at every step by scenes that have them:
+  double body_force = 0.0;            ///< [m/s^2] the body force along x applied in the last step
+  double bulk_velocity = 0.0;         ///< [m/s] kind bulk_velocity: the mean u_x of the fluid at the last step's start
+  /// [m] kind bulk_velocity: the controller's integral of (U - U_bulk) dt. Not persistent yet: a resumed run starts
+  /// it again from 0 (docs/FLUID.md says so; a checkpoint format bump will keep it).
+  double body_force_integral = 0.0;
+  std::vector<Vec3> lid_force;        ///< [N] per moving lid (scene order): its viscous force on the water
 
   /// Fluid particles removed so far (fluid_escape).
   std::size_t removed_count() const { return initial_fluid_count > fluid_count ? initial_fluid_count - fluid_count : 0; }

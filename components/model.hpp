@@ -120,6 +120,39 @@ struct ParticleBoxModel {
   /// false: the lattice points of the tank's lattice inside [low, high] (snapped, the default); true ("extent"):
   /// a lattice of its own at spacing l0 that fills the given extent (engine/setup/fluid_layout.hpp box_grid).
   bool fit_extent = false;
+  /// Wall boxes only: a moving lid (docs/FLUID.md, "Driven flows"). lid_velocity [m/s] along x; the box's particles
+  /// move as an infinite plane: x wraps within the box's own x extent (lid_period, a whole number of spacings), so
+  /// none ever leaves the box. No-slip: the particles' velocity enters the viscous term; free-slip: they take no
+  /// part in it (the water slides along them) and lid_velocity must be 0.
+  bool lid = false;
+  double lid_velocity = 0.0;
+  bool lid_free_slip = false;
+  double lid_period = 0.0;  ///< [m] the x extent the particles wrap in: the box's particle count along x times l0
+  double lid_start_x = 0.0; ///< [m] where that extent starts: the first particle's x less l0/2 (tank at rest)
+  double lid_area = 0.0;    ///< [m^2] the plane's area the traction is reported over: lid_period times its y extent
+  /// [m] z of the lid's two no-slip planes (tank at rest): the cell faces of its lowest and highest particle layers.
+  /// A no-slip lid is horizontal: the water below or above it sees its velocity extrapolated across these planes.
+  double lid_plane_low = 0.0;
+  double lid_plane_high = 0.0;
+};
+
+/// A body force along x on the water (docs/FLUID.md, "Driven flows"): the stand-in for a mean pressure gradient
+/// -dp/dx = rho f. Constant f, a sinusoid F sin(2 pi t / T + phase), or the output of a PI controller that holds the
+/// bulk velocity of the water at a target (systems/physics/driven_flow.hpp).
+struct BodyForceModel {
+  enum class Kind { kNone, kConstant, kSinusoidal, kBulkVelocity };
+  Kind kind = Kind::kNone;
+  double acceleration = 0.0;     ///< [m/s^2] constant: f; sinusoidal: the amplitude F
+  double period = 0.0;           ///< [s] sinusoidal: T
+  double phase = 0.0;            ///< [rad] sinusoidal (the scene gives degrees)
+  double target_velocity = 0.0;  ///< [m/s] bulk_velocity: U
+  double proportional_gain = 0.0;  ///< [1/s] bulk_velocity: K_p, f = K_p e + K_i int e dt, e = U - U_bulk
+  double integral_gain = 0.0;      ///< [1/s^2] bulk_velocity: K_i
+  /// How the grains feel it (docs/COUPLING.md, "Driven flows and the grains"): kNone: only through the MPS pressure;
+  /// kPressureGradient: plus V_p rho_f f along x (the mean pressure gradient the body force stands for, which the
+  /// MPS pressure does not hold); kFrame: plus m_p f (a frame acceleration or tilted gravity: it acts on all mass).
+  enum class Grains { kNone, kPressureGradient, kFrame };
+  Grains grains = Grains::kPressureGradient;
 };
 
 /// The enhanced MPS schemes of seed 000 Sec. 3.1, each switchable so that its cost and benefit can be measured.
@@ -178,6 +211,20 @@ struct FluidModel {
   double escape_distance = std::numeric_limits<double>::infinity();
   /// [1] the run stops with a diagnosis once more than this fraction of the fluid laid out has been removed.
   double escape_fraction_limit = 0.01;
+  BodyForceModel body_force;  ///< [fluid.body_force]; kind none = absent
+  /// The sub-particle-scale eddy viscosity (docs/FLUID.md, "Turbulence"): nu_t = (C_s l0)^2 |S| added to nu in the
+  /// viscous term (Gotoh, Shibahara & Sakai 2001; Shao & Gotoh 2005). Off by default.
+  enum class Turbulence { kNone, kSps };
+  Turbulence turbulence = Turbulence::kNone;
+  double smagorinsky_constant = 0.12;  ///< [1] C_s
+
+  bool has_lids() const {
+    for (const ParticleBoxModel& box : wall_boxes)
+      if (box.lid) return true;
+    return false;
+  }
+  /// fluid_predict also writes FluidSummary (the applied body force, the lids' traction) only when a scene has these.
+  bool reports_driving() const { return body_force.kind != BodyForceModel::Kind::kNone || has_lids(); }
 
   double effective_radius() const { return spacing * effective_radius_ratio; }
   double stabilisation_distance() const { return (1.0 - courant) * spacing; }  ///< d_ij = alpha_DS l0
@@ -274,7 +321,8 @@ struct ProbeModel {
     kPackingDensity,  ///< planar packing density lambda of the bed's top layer of resting grains
     kBedloadFlux,     ///< grain volume flux per unit width per class, and its running time mean
     kVelocityProfile, ///< horizontally averaged x velocity of water and grains and solid fraction per layer
-    kBedShearStress   ///< bed shear stress from the momentum balance (and a lid's force) and Shields numbers
+    kBedShearStress,  ///< bed shear stress from the momentum balance (and a lid's force) and Shields numbers
+    kDrivenFlow  ///< the body force applied, the water's bulk velocity, each moving lid's force on the water
   };
   Kind kind = Kind::kGrains;
   std::string name;                 ///< unique among the probes
@@ -294,6 +342,7 @@ struct ProbeModel {
   double average_window = 0.0;
   double radius = 0.0;              ///< [m] wave_gauge: horizontal search radius around each gauge (default l0)
   Vec3 direction = Vec3::UnitX();   ///< [1] surge_front: unit horizontal direction of the front
+  std::vector<double> lid_areas;    ///< [m^2] driven_flow: each moving lid's area (FluidModel::wall_boxes, lid only)
   /// [m] surge_front: only particles less than this above the tank floor count (infinity = the whole depth)
   double below = std::numeric_limits<double>::infinity();
   /// [m/s] moving_fraction, packing_density: a grain moves when |v - v_tank| exceeds this (seed 003: 0.01 m/s)

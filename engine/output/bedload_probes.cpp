@@ -293,9 +293,32 @@ BedShear bed_shear_stress(const Solids* solids, const FluidParticles* fluid, con
   return shear;
 }
 
-std::optional<double> lid_shear_stress(const Model&, const World&) { return std::nullopt; }
+namespace {
+/// Index among the scene's lids (the order of FluidSummary::lid_force) of the one that drives the flow: the first
+/// lid with a velocity (seed 003's plane Couette has one moving lid; a lid at rest is a no-slip wall).
+std::optional<std::size_t> driving_lid(const Model& model, const ParticleBoxModel** box_out = nullptr) {
+  std::size_t index = 0;
+  for (const ParticleBoxModel& box : model.fluid.wall_boxes) {
+    if (!box.lid) continue;
+    if (box.lid_velocity != 0.0) {
+      if (box_out) *box_out = &box;
+      return index;
+    }
+    ++index;
+  }
+  return std::nullopt;
+}
+}  // namespace
 
-bool model_has_lid(const Model&) { return false; }
+std::optional<double> lid_shear_stress(const Model& model, const World& world) {
+  const ParticleBoxModel* box = nullptr;
+  const std::optional<std::size_t> lid = driving_lid(model, &box);
+  if (!lid || !world.fluid_summary || *lid >= world.fluid_summary->lid_force.size() || !(box->lid_area > 0.0))
+    return std::nullopt;
+  return world.fluid_summary->lid_force[*lid].x() / box->lid_area;
+}
+
+bool model_has_lid(const Model& model) { return model.fluid.enabled && driving_lid(model).has_value(); }
 
 std::vector<double> RunningMean::add(double time, const std::vector<double>& values) {
   if (!last_time_ || integral_.size() != values.size()) {

@@ -111,10 +111,11 @@ struct BedShear {
 BedShear bed_shear_stress(const Solids* solids, const FluidParticles* fluid, const ShearSettings& settings,
                           const TankFrame& frame);
 
-/// [Pa] Hook for the lid of issue 24's driven flows: the x force the lid exerts on the water over its area, when
-/// the model has a lid (ProbeModel::lid). No lid exists in this branch: nullopt.
+/// [Pa] The shear stress a moving lid drives (docs/FLUID.md, "Driven flows"): the x force the first lid with a
+/// velocity exerts on the water (FluidSummary::lid_force, the viscous sum of the step) over its area; at steady state
+/// the bed carries the same. nullopt without such a lid or before the first step has summed its force.
 std::optional<double> lid_shear_stress(const Model& model, const World& world);
-/// True when the scene has a moving lid (the bed_shear_stress probe then writes tau_lid_Pa). False until lids exist.
+/// True when the scene has a moving lid: the bed_shear_stress probe then writes tau_lid_Pa and the lid's Shields numbers.
 bool model_has_lid(const Model& model);
 
 /// The running time mean of a probe's rows: each row's values held over the time since the previous row (the first

@@ -273,6 +273,10 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
     header += ",lambda,top_layer_grains";
   } else if (probe.kind == ProbeModel::Kind::kVelocityProfile) {
     header += ",layer,z_low_m,z_high_m,fluid_particles,fluid_ux_m_s,grain_ux_m_s,solid_fraction";
+  } else if (probe.kind == ProbeModel::Kind::kDrivenFlow) {
+    header += ",body_force_m_s2,bulk_velocity_m_s";
+    for (std::size_t k = 0; k < probe.lid_areas.size(); ++k)
+      for (const char* column : {"fx_N", "fy_N", "fz_N", "shear_Pa"}) header += ",lid" + std::to_string(k) + "_" + column;
   } else {
     header += ",fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,surface_particles,"
               "ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3";
@@ -506,6 +510,30 @@ void ProbeWriter::write(const World& world) {
     case ProbeModel::Kind::kBedShearStress:
     case ProbeModel::Kind::kVelocityProfile:
       row += bedload_fields(world);
+      break;
+    case ProbeModel::Kind::kDrivenFlow:
+      if (world.fluid && world.fluid_summary) {
+        // The bulk velocity: the mean u_x of the fluid particles now (each stands for l0^3 of water).
+        const FluidParticles& particles = *world.fluid;
+        double sum = 0.0;
+        std::size_t count = 0;
+        for (std::size_t i = 0; i < particles.size() && particles.kind[i] == kFluidKind; ++i, ++count)
+          sum += particles.velocity[i].x();
+        append_field(row, format_value(world.fluid_summary->body_force));
+        append_field(row, format_value(count > 0 ? sum / static_cast<double>(count) : kNaN));
+        // The lid's force on the water, and the shear stress it stands for: F_x over the lid's area.
+        const std::vector<Vec3>& forces = world.fluid_summary->lid_force;
+        for (std::size_t k = 0; k < probe_.lid_areas.size(); ++k) {
+          if (k < forces.size()) {
+            append(forces[k]);
+            append_field(row, format_value(forces[k].x() / probe_.lid_areas[k]));
+          } else {
+            append_empty(4);
+          }
+        }
+      } else {
+        append_empty(2 + 4 * probe_.lid_areas.size());
+      }
       break;
   }
   file_.write_row(row);

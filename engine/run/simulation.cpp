@@ -100,8 +100,9 @@ void write_text_file(const fs::path& path, const std::string& text) { replace_fi
 class DiagnosticsWriter {
  public:
   DiagnosticsWriter(const fs::path& path, const World& world, const std::vector<SystemTimer>& timers,
-                    bool fresh_run)
-      : file_(path, header(timers, world.fluid_summary.has_value()),
+                    bool fresh_run, bool driving)
+      : driving_(driving),
+        file_(path, header(timers, world.fluid_summary.has_value(), driving),
               // On resume, keep the rows up to the checkpoint's step and continue after them.
               fresh_run ? std::nullopt : std::optional<double>(static_cast<double>(world.step))) {
     for (const SystemTimer& timer : timers) previous_totals_.push_back(timer.total_seconds);
@@ -131,6 +132,11 @@ class DiagnosticsWriter {
       // Escaped particles removed so far (fluid_escape): water + removed = the fluid laid out, exactly.
       std::snprintf(text, sizeof text, ",%zu,%.9g", fluid.removed_count(), removed_mass(fluid, model));
       line += text;
+      // A scene with a body force (docs/FLUID.md, "Driven flows"): the force applied in the step.
+      if (driving_) {
+        std::snprintf(text, sizeof text, ",%.9g", fluid.body_force);
+        line += text;
+      }
     }
     for (std::size_t k = 0; k < timers.size(); ++k) {
       std::snprintf(text, sizeof text, ",%.6g", timers[k].total_seconds - previous_totals_[k]);
@@ -141,7 +147,7 @@ class DiagnosticsWriter {
   }
 
  private:
-  static std::string header(const std::vector<SystemTimer>& timers, bool fluid) {
+  static std::string header(const std::vector<SystemTimer>& timers, bool fluid, bool driving) {
     std::string text = "step,time_s,dt_s,solid_dt_s,solid_translational_energy_J,solid_rotational_energy_J,"
                        "solid_potential_energy_J,solid_max_speed_m_s,solid_cfl,tank_displacement_m,"
                        "tank_velocity_m_s,step_wall_s";
@@ -149,10 +155,12 @@ class DiagnosticsWriter {
       text += ",fluid_particles,fluid_surface_particles,fluid_kinetic_energy_J,fluid_max_speed_m_s,fluid_courant,"
               "fluid_mean_density_ratio,fluid_volume_m3,ppe_iterations,ppe_relative_residual,ppe_unknowns,"
               "fluid_removed_particles,fluid_removed_mass_kg";
+    if (fluid && driving) text += ",body_force_m_s2";
     for (const SystemTimer& timer : timers) text += ",wall_" + timer.name + "_s";
     return text;
   }
 
+  bool driving_;  ///< the scene has a body force: its column is written
   CsvSeries file_;
   std::vector<double> previous_totals_;
 };
@@ -466,7 +474,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
 
   double stepping_seconds = 0.0;
   try {
-    DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run);
+    DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run,
+                                  model_->fluid.body_force.kind != BodyForceModel::Kind::kNone);
     // Probes and the bed profile keep no state in checkpoints: their schedules depend on the time only.
     std::vector<ProbeWriter> probes;
     for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, world_, fresh_run);

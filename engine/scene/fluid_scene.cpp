@@ -1,10 +1,13 @@
 #include "engine/scene/fluid_scene.hpp"
 
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <sstream>
 #include <vector>
 
 #include "engine/setup/fluid_layout.hpp"
+#include "systems/physics/driven_flow.hpp"
 
 namespace riffle {
 
@@ -62,6 +65,15 @@ BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, co
   if (fluid_box) box.velocity = reader.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
   box.fit_extent = reader.choice("placement", "lattice", {"lattice", "extent"}) == "extent";
   entry.fit_extent = box.fit_extent;
+  if (!fluid_box && reader.has("lid")) {
+    // A moving lid (docs/FLUID.md, "Driven flows"): no-slip or free-slip, moving along x only.
+    box.lid = true;
+    box.lid_free_slip = reader.choice("lid", std::nullopt, {"no_slip", "free_slip"}) == "free_slip";
+    box.lid_velocity = reader.number("velocity", 0.0, "m/s", Bounds::any());
+    if (box.lid_free_slip && box.lid_velocity != 0.0)
+      reader.problem("velocity", "a free-slip lid takes no part in the viscous term, so its velocity has no effect: "
+                                 "give 0 or lid = \"no_slip\"");
+  }
   reader.finish();
   if (reader.problem_count() != problems_before) return entry;
 
@@ -96,6 +108,13 @@ BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, co
     return entry;
   }
   entry.grid = box_grid(tank.origin, box.low, box.high, spacing, box.fit_extent);
+  // The lid's particles wrap within the box's own x extent: count along x times l0, so the row stays evenly spaced
+  // across the seam.
+  box.lid_period = static_cast<double>(entry.grid.count[0]) * spacing;
+  box.lid_start_x = entry.grid.first[0] - 0.5 * spacing;
+  box.lid_area = box.lid_period * static_cast<double>(entry.grid.count[1]) * spacing;
+  box.lid_plane_low = entry.grid.first[2] - 0.5 * spacing;
+  box.lid_plane_high = entry.grid.first[2] + (static_cast<double>(entry.grid.count[2]) - 0.5) * spacing;
   if (box.fit_extent) {  // at least one particle per axis by construction
     entry.laid_out = true;
     return entry;
@@ -133,6 +152,46 @@ void check_tank_fits_lattice(TableReader& fluid, const Model& model) {
   if (outer - inner > kMaxParticles)
     fluid.problem("spacing", "the tank walls would need more than 5e7 wall and dummy particles at spacing " +
                                  format_number(spacing) + " m");
+}
+
+/// [fluid.body_force] (docs/SCENES.md): the body force along x on the water.
+void read_body_force(TableReader& reader, BodyForceModel& out) {
+  using Kind = BodyForceModel::Kind;
+  const std::string kind = reader.choice("kind", std::nullopt, {"constant", "sinusoidal", "bulk_velocity"});
+  out.kind = kind == "constant" ? Kind::kConstant : kind == "sinusoidal" ? Kind::kSinusoidal : Kind::kBulkVelocity;
+  // Bounds: 100 g along x is no flow an incompressible particle method can follow; beyond it the key is a typo.
+  const Bounds acceleration_bounds = Bounds::closed(-1000.0, 1000.0);
+  if (out.kind == Kind::kConstant) out.acceleration = reader.number("acceleration", std::nullopt, "m/s^2", acceleration_bounds);
+  if (out.kind == Kind::kSinusoidal) {
+    out.acceleration = reader.number("amplitude", std::nullopt, "m/s^2", acceleration_bounds);
+    out.period = reader.number("period", std::nullopt, "s", Bounds::positive());
+    out.phase = reader.number("phase", 0.0, "deg", Bounds::closed(-360.0, 360.0)) * std::numbers::pi / 180.0;
+  }
+  if (out.kind == Kind::kBulkVelocity) {
+    out.target_velocity = reader.number("target_velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
+    // Gains from the channel's time scales (pi_gains, systems/physics/driven_flow.hpp), or given.
+    const bool given = reader.has("proportional_gain") || reader.has("integral_gain");
+    if (given) {
+      out.proportional_gain = reader.number("proportional_gain", std::nullopt, "1/s", Bounds::non_negative());
+      out.integral_gain = reader.number("integral_gain", std::nullopt, "1/s^2", Bounds::non_negative());
+      for (const char* key : {"response_time", "damping_ratio", "viscous_time"})
+        if (reader.has(key)) reader.problem(key, "give either the gains or the time scales they follow from, not both");
+    } else {
+      const double response = reader.number("response_time", std::nullopt, "s", Bounds::positive());
+      const double damping = reader.number("damping_ratio", 1.0, "1", Bounds::closed(0.1, 10.0));
+      const double plant = reader.number("viscous_time", std::numeric_limits<double>::infinity(), "s", Bounds::positive());
+      if (response > 0.0 && damping > 0.0 && plant > 0.0) {
+        const PiGains gains = pi_gains(plant, response, damping);
+        out.proportional_gain = gains.proportional;
+        out.integral_gain = gains.integral;
+      }
+    }
+  }
+  const std::string grains = reader.choice("grains", "pressure_gradient", {"pressure_gradient", "none", "frame"});
+  out.grains = grains == "none"    ? BodyForceModel::Grains::kNone
+               : grains == "frame" ? BodyForceModel::Grains::kFrame
+                                   : BodyForceModel::Grains::kPressureGradient;
+  reader.finish();
 }
 
 }  // namespace
@@ -180,6 +239,15 @@ void read_fluid(TableReader& fluid, Model& model) {
       fluid.problem("escape_distance", "needs escape = \"remove\" (with \"stop\" no particle is removed)");
   }
   out.escape_fraction_limit = fluid.number("escape_fraction_limit", 0.01, "1", Bounds{0.0, 1.0, false, true});
+
+  if (auto body_force = fluid.table("body_force", false)) read_body_force(*body_force, out.body_force);
+  out.turbulence = fluid.choice("turbulence", "none", {"none", "sps"}) == "sps" ? FluidModel::Turbulence::kSps
+                                                                                : FluidModel::Turbulence::kNone;
+  // C_s = 0.12: the value Gotoh et al. (2001) use for the SPS closure of their particle method (Smagorinsky's
+  // constant is 0.1-0.2 in the literature; 0.17 from the Kolmogorov spectrum, Lilly 1967).
+  out.smagorinsky_constant = fluid.number("smagorinsky_constant", 0.12, "1", Bounds::closed(0.0, 1.0));
+  if (fluid.has("smagorinsky_constant") && out.turbulence != FluidModel::Turbulence::kSps)
+    fluid.problem("smagorinsky_constant", "needs turbulence = \"sps\"");
 
   const double spacing = out.spacing;  // 0 if missing or invalid (reported)
   std::vector<BoxEntry> fluid_boxes, wall_boxes;

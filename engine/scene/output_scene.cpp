@@ -66,6 +66,7 @@ const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
       {"surge_front", ProbeModel::Kind::kSurgeFront},
       {"fluid_totals", ProbeModel::Kind::kFluidTotals},
       {"pressure_transducer", ProbeModel::Kind::kPressureTransducer},
+      {"driven_flow", ProbeModel::Kind::kDrivenFlow},
       {"moving_fraction", ProbeModel::Kind::kMovingFraction},
       {"packing_density", ProbeModel::Kind::kPackingDensity},
       {"bedload_flux", ProbeModel::Kind::kBedloadFlux},
@@ -77,7 +78,7 @@ const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
 bool is_fluid_probe(ProbeModel::Kind kind) {
   return kind == ProbeModel::Kind::kFluidPressure || kind == ProbeModel::Kind::kWaveGauge ||
          kind == ProbeModel::Kind::kSurgeFront || kind == ProbeModel::Kind::kFluidTotals ||
-         kind == ProbeModel::Kind::kPressureTransducer;
+         kind == ProbeModel::Kind::kPressureTransducer || kind == ProbeModel::Kind::kDrivenFlow;
 }
 
 /// The `points` of a fluid_pressure (width 3) or wave_gauge (width 2) probe. Each must lie in the tank's inner box
@@ -361,6 +362,10 @@ void read_probes(TableReader& output, Model& model) {
         read_surge_front(table, probe);
         break;
       case ProbeModel::Kind::kFluidTotals:
+        break;
+      case ProbeModel::Kind::kDrivenFlow:
+        for (const ParticleBoxModel& box : model.fluid.wall_boxes)
+          if (box.lid) probe.lid_areas.push_back(box.lid_area);
         break;
       case ProbeModel::Kind::kPressureTransducer:
         read_transducers(table, model, probe);

@@ -1,6 +1,7 @@
 #include "systems/coupling/solid_fluid_sampling.hpp"
 
 #include "systems/physics/drag_law.hpp"
+#include "systems/physics/driven_flow.hpp"
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/domain.hpp"
 #include "systems/physics/self_induced.hpp"
@@ -19,6 +20,7 @@ SolidFluidSampling::SolidFluidSampling(const Model& model)
       density_(model.fluid.density),
       self_induced_velocity_(model.coupling.self_induced_velocity),
       mixture_velocity_(model.coupling.mixture_velocity),
+      body_force_(model.fluid.body_force),
       overlap_(model.coupling.self_induced_velocity ? self_induced_overlap() : 0.0) {}
 
 void SolidFluidSampling::run(SystemContext& context) {
@@ -27,6 +29,16 @@ void SolidFluidSampling::run(SystemContext& context) {
   const GrainProperties& properties = context.read<GrainProperties>();
   GrainSampledFluid& sampled = context.write<GrainSampledFluid>();
   const std::size_t fluid_count = fluid.size();
+  // The body force along x (docs/COUPLING.md, "Driven flows and the grains"): the imposed mean pressure gradient
+  // -dp/dx = rho f, which the MPS pressure does not hold, pushes a grain with V rho f; a frame acceleration acts on
+  // its mass, m f. A controller's force is the last step's (the grains sample beside the fluid's step).
+  double body_force = 0.0;
+  if (body_force_.kind == BodyForceModel::Kind::kBulkVelocity)
+    body_force = context.read<FluidSummary>().body_force;
+  else if (body_force_.kind != BodyForceModel::Kind::kNone)
+    body_force = prescribed_body_force(body_force_, context.time);
+  const bool imposed_gradient = body_force_.grains == BodyForceModel::Grains::kPressureGradient && pressure_gradient_;
+  const bool frame = body_force_.grains == BodyForceModel::Grains::kFrame;
   const double effective_radius = constants_.kernel.effective_radius;
   double smallest_radius = std::numeric_limits<double>::infinity();
   for (const double radius : properties.radius) smallest_radius = std::min(smallest_radius, radius);
@@ -85,6 +97,12 @@ void SolidFluidSampling::run(SystemContext& context) {
     // history force"). Only when a force uses it: with both off the field stays as it was (bit-identical runs).
     if (fluid_acceleration_)
       sampled.fluid_acceleration[grain] = context.model.gravity - gradient / (weight_sum * density_);
+    if (body_force_.kind != BodyForceModel::Kind::kNone) {
+      if (fluid_acceleration_) sampled.fluid_acceleration[grain].x() += body_force;
+      if (imposed_gradient)
+        sampled.pressure_force[grain].x() += grain_volume(properties.radius[grain]) * density_ * body_force;
+      if (frame) sampled.pressure_force[grain].x() += properties.mass[grain] * body_force;
+    }
     if (self_induced_velocity_ && pressure_gradient_) {
       // The water's pressure answers the irrotational part of the grain's spread reaction -F rho_s / flux_share:
       // at the centre of the isotropic blob, grad p = -F <rho_s rho_w> / 3 sampled, which adds

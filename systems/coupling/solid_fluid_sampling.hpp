@@ -18,10 +18,14 @@ class SolidFluidSampling final : public System {
   Access access() const override {
     // With the self-induced correction, the pressure force loses the grain's own drag reaction (GrainDrag's last
     // drag, GrainVoidage's reading of it), docs/COUPLING.md.
-    if (self_induced_velocity_)
-      return {component_ids<FluidSample, GrainState, GrainProperties, GrainDrag, GrainVoidage>(),
-              component_ids<GrainSampledFluid>()};
-    return {component_ids<FluidSample, GrainState, GrainProperties>(), component_ids<GrainSampledFluid>()};
+    // A bulk-velocity body force is the controller's state (FluidSummary, the last step's force), read only then.
+    Access access{component_ids<FluidSample, GrainState, GrainProperties>(), component_ids<GrainSampledFluid>()};
+    if (self_induced_velocity_) {
+      access.reads.push_back(component_id<GrainDrag>);
+      access.reads.push_back(component_id<GrainVoidage>);
+    }
+    if (body_force_.kind == BodyForceModel::Kind::kBulkVelocity) access.reads.push_back(component_id<FluidSummary>);
+    return access;
   }
   void run(SystemContext& context) override;
 
@@ -32,6 +36,7 @@ class SolidFluidSampling final : public System {
   double density_;          ///< [kg/m^3] the water's
   bool self_induced_velocity_;  ///< CouplingModel::self_induced_velocity
   bool mixture_velocity_;       ///< CouplingModel::mixture_velocity: the water took the drag over eps
+  BodyForceModel body_force_;   ///< the water's body force and how the grains feel it (docs/COUPLING.md)
   double overlap_;              ///< R^3 <rho_s rho_w> (self_induced.hpp), with the correction on
   CellGrid fluid_grid_;
 };

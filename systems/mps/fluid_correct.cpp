@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "systems/physics/driven_flow.hpp"
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/hydrostatic.hpp"
 #include "systems/physics/mps_operators.hpp"
@@ -25,8 +26,14 @@ void FluidCorrect::run(SystemContext& context) {
   const double stabilisation_distance = fluid_.stabilisation_distance();
   // Wall and dummy pressure seen from fluid particle i: hydrostatic in the tank frame (amendment 1), so GC is exact
   // for hydrostatics and the contact line sees p ~ 0.
+  // A body force f along x joins gravity (it is one: the fluid at rest under it has grad p = rho (g + f e_x - a)).
+  Vec3 body_acceleration = context.model.gravity;
+  if (fluid_.body_force.kind == BodyForceModel::Kind::kBulkVelocity)
+    body_acceleration.x() += context.read<FluidSummary>().body_force;
+  else if (fluid_.body_force.kind != BodyForceModel::Kind::kNone)
+    body_acceleration.x() += prescribed_body_force(fluid_.body_force, context.time);
   const Vec3 wall_pressure_gradient = hydrostatic_gradient(
-      rho, context.model.gravity, tank_kinematics(context.model.tank.motion, context.time + dt).acceleration);
+      rho, body_acceleration, tank_kinematics(context.model.tank.motion, context.time + dt).acceleration);
 
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = prediction.predicted_position[i];

@@ -13,7 +13,11 @@ class FluidCorrect final : public System {
  public:
   explicit FluidCorrect(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
   std::string_view name() const override { return "fluid_correct"; }
+  // A bulk-velocity body force is the controller's state: read from FluidSummary (fluid_predict), in those scenes only.
   Access access() const override {
+    if (fluid_.body_force.kind == BodyForceModel::Kind::kBulkVelocity)
+      return {component_ids<FluidNeighbours, ParticlePrediction, FluidSummary>(),
+              component_ids<ParticleState, ParticlePressure>()};
     return {component_ids<FluidNeighbours, ParticlePrediction>(), component_ids<ParticleState, ParticlePressure>()};
   }
   void run(SystemContext& context) override;

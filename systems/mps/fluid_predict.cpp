@@ -1,9 +1,14 @@
 #include "systems/mps/fluid_predict.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
+#include "systems/physics/deterministic_sum.hpp"
+#include "systems/physics/driven_flow.hpp"
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/mps_operators.hpp"
+#include "systems/physics/tank_kinematics.hpp"
 
 namespace riffle {
 
@@ -20,8 +25,13 @@ void FluidPredict::run(SystemContext& context) {
   const double viscous_factor =
       fluid_.kinematic_viscosity * 6.0 / (constants_.laplacian_lambda * constants_.reference_density);
   const bool error_compensation = fluid_.schemes.error_compensating_source;
-  const Vec3 gravity = context.model.gravity;
+  Vec3 gravity = context.model.gravity;
+  if (fluid_.body_force.kind != BodyForceModel::Kind::kNone) gravity.x() += body_force(context, particles, fluid_count);
   acceleration_.resize(fluid_count);
+  // The body force joins gravity; eddy viscosity and lids take their own loop, so this one keeps main's bits.
+  if (fluid_.turbulence == FluidModel::Turbulence::kSps || fluid_.has_lids())
+    driven_viscous_loop(context, gravity);
+  else
   for_each_particle(fluid_count, [&](std::size_t i) {
     Vec3 viscous = Vec3::Zero();
     double density = 0.0, rate = 0.0;
@@ -60,6 +70,152 @@ void FluidPredict::run(SystemContext& context) {
     prediction.predicted_position[i] = particles.position[i] + dt * particles.velocity[i];
   });
   context.count_items(fluid_count);
+}
+
+double FluidPredict::body_force(SystemContext& context, const ParticleState& particles, std::size_t fluid_count) {
+  const BodyForceModel& model = fluid_.body_force;
+  FluidSummary& summary = context.write<FluidSummary>();
+  if (model.kind != BodyForceModel::Kind::kBulkVelocity) {
+    summary.body_force = prescribed_body_force(model, context.time);
+    return summary.body_force;
+  }
+  // The bulk velocity: the mean of the fluid particles' u_x at the step start (each stands for the volume l0^3).
+  const double sum = deterministic_sum(fluid_count, [&](std::size_t i) { return particles.velocity[i].x(); });
+  summary.bulk_velocity = fluid_count > 0 ? sum / static_cast<double>(fluid_count) : 0.0;
+  BulkVelocityController controller{summary.body_force_integral, 0.0};
+  summary.body_force = controller.step(model, summary.bulk_velocity, context.dt);
+  summary.body_force_integral = controller.integral;
+  return summary.body_force;
+}
+
+void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_acceleration) {
+  ParticleState& particles = context.write<ParticleState>();
+  ParticlePrediction& prediction = context.write<ParticlePrediction>();
+  const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  const WendlandKernel kernel = constants_.kernel;
+  const double radius_squared = kernel.effective_radius * kernel.effective_radius;
+  const double n0 = constants_.reference_density;
+  const bool error_compensation = fluid_.schemes.error_compensating_source;
+  const bool sps = fluid_.turbulence == FluidModel::Turbulence::kSps;
+  const double nu = fluid_.kinematic_viscosity;
+  // nu <lap u> of run() with the pair viscosity in place of nu: 2D / (lambda0 n0) sum_j nu_ij (u_j - u_i) w_ij.
+  const double laplacian_factor = 6.0 / (constants_.laplacian_lambda * n0);
+
+  // The lids: which slot belongs to which lid box, from its rest position (ids and rest positions never change;
+  // slots do, at every sort).
+  std::vector<std::size_t> lid_boxes;
+  for (std::size_t b = 0; b < fluid_.wall_boxes.size(); ++b)
+    if (fluid_.wall_boxes[b].lid) lid_boxes.push_back(b);
+  const std::size_t lid_count = lid_boxes.size();
+  lid_of_.assign(particles.size(), -1);
+  if (lid_count > 0) {
+    const double tolerance = 1e-9 * std::max(1.0, context.model.tank.size.maxCoeff());
+    for_each_particle(particles.size() - fluid_count, [&](std::size_t k) {
+      const std::size_t j = fluid_count + k;
+      const Vec3& rest = particles.rest_position[j];
+      for (std::size_t l = 0; l < lid_count; ++l) {
+        const ParticleBoxModel& box = fluid_.wall_boxes[lid_boxes[l]];
+        if ((rest.array() >= box.low.array() - tolerance).all() && (rest.array() <= box.high.array() + tolerance).all()) {
+          lid_of_[j] = static_cast<std::int32_t>(l);
+          break;
+        }
+      }
+    });
+  }
+  std::vector<bool> free_slip(lid_count);
+  std::vector<double> plane_low(lid_count), plane_high(lid_count);
+  const double tank_z = tank_kinematics(context.model.tank.motion, context.time).displacement.z();
+  for (std::size_t l = 0; l < lid_count; ++l) {
+    const ParticleBoxModel& box = fluid_.wall_boxes[lid_boxes[l]];
+    free_slip[l] = box.lid_free_slip;
+    plane_low[l] = box.lid_plane_low + tank_z;
+    plane_high[l] = box.lid_plane_high + tank_z;
+  }
+  // No-slip lids: the lid particle j stands for the velocity extrapolated linearly from the fluid particle i through
+  // the lid's value at its plane, u_j' = U - (d_j / d_i)(u_i - U), d the distances to the plane (Morris, Fox & Zhu
+  // 1997, J. Comput. Phys. 136, Eq. 30): u_j' - u_i = beta (U - u_i), beta = 1 + d_j / d_i, at most kMaxBeta. With
+  // the lid's own velocity instead (beta = 1, as the tank's walls do) a lid 3 layers thick passes 0.48 of the
+  // continuum shear stress to a water in linear shear (the sum worked out on the lattice: docs/FLUID.md), a slip.
+  // The cap keeps a fluid particle that comes close to the plane from an unbounded weight; 3 leaves the sum within
+  // 0.3 % of the uncapped one on the lattice.
+  constexpr double kMaxBeta = 3.0;
+  const auto extrapolation = [&](std::size_t lid, double z_fluid, double z_lid) {
+    double fluid_distance = 0.0, lid_distance = 0.0;
+    if (z_fluid <= plane_low[lid]) {
+      fluid_distance = plane_low[lid] - z_fluid;
+      lid_distance = z_lid - plane_low[lid];
+    } else if (z_fluid >= plane_high[lid]) {
+      fluid_distance = z_fluid - plane_high[lid];
+      lid_distance = plane_high[lid] - z_lid;
+    } else {
+      return 1.0;  // beside the lid, not under or over it
+    }
+    if (!(fluid_distance > 0.0)) return kMaxBeta;
+    return std::clamp(1.0 + lid_distance / fluid_distance, 1.0, kMaxBeta);
+  };
+
+  // nu_t of each fluid particle from the GC-corrected velocity gradient at u^k (wall and lid particles enter with
+  // their velocities): grad u_a = A^-1 (1/n0) sum_j (u_a,j - u_a,i) (w_ij / r_ij^2) r_ij, exact for a linear field
+  // wherever A is well conditioned (seed Eqs. 8-9, numerics 2.6).
+  eddy_viscosity_.assign(sps ? fluid_count : 0, 0.0);
+  if (sps) sps_eddy_viscosity(particles, neighbours, fluid_count, constants_, fluid_.smagorinsky_constant, eddy_viscosity_);
+
+  lid_force_.assign(fluid_count * lid_count, Vec3::Zero());
+  const double particle_mass = fluid_.density * fluid_.spacing * fluid_.spacing * fluid_.spacing;
+  for_each_particle(fluid_count, [&](std::size_t i) {
+    const Vec3 position = particles.position[i];
+    const Vec3 velocity = particles.velocity[i];
+    const double own_eddy = sps ? eddy_viscosity_[i] : 0.0;
+    Vec3 viscous = Vec3::Zero();
+    double density = 0.0, rate = 0.0;
+    FluidPairBatch batch;
+    for_each_pair_within(
+        neighbours_of(neighbours, i), radius_squared, kernel, batch,
+        [&](std::uint32_t j) -> Vec3 { return particles.position[j] - position; },
+        [&](const FluidPairBatch& pair, std::size_t k) {
+          const std::uint32_t j = pair.slot[k];
+          const double weight = pair.weight[k];
+          const Vec3 relative_velocity = particles.velocity[j] - velocity;
+          const bool fluid_partner = particles.kind[j] == kFluidKind;
+          const std::int32_t lid = fluid_partner ? -1 : lid_of_[j];
+          // A free-slip lid exerts no shear: it is left out of the viscous sum (not of the density terms).
+          if (lid < 0 || !free_slip[static_cast<std::size_t>(lid)]) {
+            // Pair viscosity nu + (nu_t,i + nu_t,j)/2 (a wall's nu_t is 0): symmetric, so the fluid's momentum is
+            // exchanged in pairs. A fluid neighbour beyond the fluid slots (a periodic ghost, once there are any)
+            // reads 0 until the halo carries nu_t.
+            const double pair_viscosity =
+                nu + 0.5 * (own_eddy + (sps && fluid_partner && j < fluid_count ? eddy_viscosity_[j] : 0.0));
+            const double beta = lid >= 0 ? extrapolation(static_cast<std::size_t>(lid), position.z(),
+                                                         particles.position[j].z())
+                                         : 1.0;
+            const Vec3 term = (laplacian_factor * pair_viscosity * weight * beta) * relative_velocity;
+            viscous += term;
+            if (lid >= 0) lid_force_[i * lid_count + static_cast<std::size_t>(lid)] += particle_mass * term;
+          }
+          if (error_compensation) {
+            density += weight;
+            const double derivative_over_distance = kernel.derivative_over_distance(pair.distance[k]);
+            rate += density_rate_term(fluid_partner, derivative_over_distance, pair.offset(k), relative_velocity);
+          }
+        });
+    acceleration_[i] = viscous + body_acceleration;
+    if (error_compensation) {
+      const double error = (density - n0) / n0;
+      prediction.density_rate[i] = std::abs(error) * rate + std::abs(rate) * error;
+    }
+  });
+  if (lid_count > 0) {
+    FluidSummary& summary = context.write<FluidSummary>();
+    summary.lid_force.assign(lid_count, Vec3::Zero());
+    for (std::size_t l = 0; l < lid_count; ++l) {
+      const std::array<double, 3> total = deterministic_sums<3>(fluid_count, [&](std::size_t i) {
+        const Vec3& force = lid_force_[i * lid_count + l];
+        return std::array<double, 3>{force.x(), force.y(), force.z()};
+      });
+      summary.lid_force[l] = Vec3(total[0], total[1], total[2]);
+    }
+  }
 }
 
 }  // namespace riffle

@@ -415,3 +415,24 @@ kind = "bed_shear_stress"
   CHECK(std::stod(shear_fields[4]) == doctest::Approx(tau).epsilon(1e-8));
   CHECK(std::stod(shear_fields[8]) == doctest::Approx(tau / (1500.0 * 9.81 * 0.004)).epsilon(1e-8));
 }
+
+TEST_CASE("the lid's shear stress is the x force the first moving lid exerts on the water over its area") {
+  Model model;
+  model.fluid.enabled = true;
+  ParticleBoxModel still_lid, moving_lid, plain_wall;
+  still_lid.lid = true;  // a lid at rest is a no-slip wall, not the drive
+  moving_lid.lid = true;
+  moving_lid.lid_velocity = 0.5;
+  moving_lid.lid_area = 0.02;
+  model.fluid.wall_boxes = {plain_wall, still_lid, moving_lid};
+  CHECK(model_has_lid(model));
+  World world;
+  CHECK_FALSE(lid_shear_stress(model, world).has_value());  // no step has summed the lids' forces yet
+  world.fluid_summary.emplace();
+  world.fluid_summary->lid_force = {Vec3(1.0, 0.0, 0.0), Vec3(0.004, 0.0, -3.0)};  // per lid, in scene order
+  REQUIRE(lid_shear_stress(model, world).has_value());
+  CHECK(*lid_shear_stress(model, world) == doctest::Approx(0.2).epsilon(1e-14));
+  model.fluid.wall_boxes = {plain_wall, still_lid};
+  CHECK_FALSE(model_has_lid(model));
+  CHECK_FALSE(lid_shear_stress(model, world).has_value());
+}

@@ -352,7 +352,8 @@ TEST_CASE("bad fluid probes are reported as file:line:column: key: message") {
 }
 
 TEST_CASE("a fluid probe in a scene without [fluid] is an error at its kind") {
-  for (const char* kind : {"fluid_pressure", "wave_gauge", "surge_front", "fluid_totals", "pressure_transducer"}) {
+  for (const char* kind :
+       {"fluid_pressure", "wave_gauge", "surge_front", "fluid_totals", "pressure_transducer", "driven_flow"}) {
     CAPTURE(kind);
     std::string probe = std::string("[[output.probes]]\nkind = \"") + kind + "\"\n";
     if (std::string(kind) == "fluid_pressure") probe += "points = [[0.1, 0.1, 0.1]]\n";
@@ -719,4 +720,30 @@ average_window = 0.003
   REQUIRE(resumed_mean.size() == 7);
   CHECK(std::vector<std::string>(resumed_mean.begin(), resumed_mean.begin() + 4) ==
         std::vector<std::string>(mean.begin(), mean.begin() + 4));
+}
+
+TEST_CASE("driven_flow probe: body force, bulk velocity and each lid's force and shear over its area") {
+  Model model = fluid_model();
+  ParticleBoxModel lid;
+  lid.lid = true;
+  lid.lid_area = 0.01;
+  model.fluid.wall_boxes = {lid, ParticleBoxModel{}, lid};  // two lids and a plain wall box between them
+  read_output_probes("[output]\n[[output.probes]]\nkind = \"driven_flow\"\n", model);
+  REQUIRE(model.output.probes.size() == 1);
+  CHECK(model.output.probes[0].lid_areas == std::vector<double>{0.01, 0.01});
+  const fs::path directory = test::scratch_dir("driven_flow_probe");
+  World world;
+  world.tank_motion.emplace();
+  world.fluid = still_water();
+  for (std::size_t i = 0; i < world.fluid->size(); ++i)
+    if (world.fluid->kind[i] == kFluidKind) world.fluid->velocity[i] = Vec3(0.25, 0.0, 0.0);
+  world.fluid_summary.emplace();
+  world.fluid_summary->body_force = 0.5;
+  world.fluid_summary->lid_force = {Vec3(0.02, 0.0, -0.01), Vec3(-0.005, 0.0, 0.0)};
+  ProbeWriter(model, model.output.probes[0], directory, world, true).write(world);
+  const std::vector<std::string> lines = lines_of(directory / "probe_driven_flow.csv");
+  REQUIRE(lines.size() == 2);
+  CHECK(lines[0] == "time_s,step,body_force_m_s2,bulk_velocity_m_s,lid0_fx_N,lid0_fy_N,lid0_fz_N,lid0_shear_Pa,"
+                    "lid1_fx_N,lid1_fy_N,lid1_fz_N,lid1_shear_Pa");
+  CHECK(lines[1] == "0,0,0.5,0.25,0.02,0,-0.01,2,-0.005,0,0,-0.5");
 }
