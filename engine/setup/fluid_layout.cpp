@@ -128,7 +128,7 @@ FluidLayout grid_layout(const BoxGrid& grid, const Vec3& lattice_origin, FluidKi
 }
 
 FluidLayout tank_wall_layout(const Vec3& origin, const Vec3& size, const std::vector<std::string>& open_faces,
-                             double spacing, double effective_radius) {
+                             double spacing, double effective_radius, const std::array<bool, 3>& periodic) {
   const std::int64_t layers = 1 + dummy_layer_count(spacing, effective_radius);
   std::array<std::int64_t, 3> cells{};
   for (int axis = 0; axis < 3; ++axis) {
@@ -141,7 +141,8 @@ FluidLayout tank_wall_layout(const Vec3& origin, const Vec3& size, const std::ve
   }
   std::array<bool, 6> closed{};
   for (std::size_t face = 0; face < 6; ++face)
-    closed[face] = std::find(open_faces.begin(), open_faces.end(), kTankFaceNames[face]) == open_faces.end();
+    closed[face] = !periodic[face / 2] &&
+                   std::find(open_faces.begin(), open_faces.end(), kTankFaceNames[face]) == open_faces.end();
   for (const std::string& name : open_faces)
     if (std::find(kTankFaceNames.begin(), kTankFaceNames.end(), name) == kTankFaceNames.end())
       throw std::invalid_argument("tank_wall_layout: unknown face '" + name + "'");

@@ -92,8 +92,12 @@ FluidLayout grid_layout(const BoxGrid& grid, const Vec3& lattice_origin, FluidKi
 /// visited once, so there are no duplicates by construction. Closed form, with L_a^- and L_a^+ the layers (0 if
 /// the face is open) and n_a = size_a / l0: count(L) = prod_a (n_a + L_a^- + L_a^+) - prod_a n_a, walls are
 /// count(1), dummies count(1 + dummy layers) - count(1).
+/// Along a `periodic` axis ([tank] periodic) neither face gets a layer, as if both were open: the water there meets
+/// the images of the water across the seam (the halo, docs/ARCHITECTURE.md), and the shell of the other faces runs
+/// the whole period, so that it too joins its images across the seam without a gap (the size is whole cells).
 FluidLayout tank_wall_layout(const Vec3& origin, const Vec3& size, const std::vector<std::string>& open_faces,
-                             double spacing, double effective_radius);
+                             double spacing, double effective_radius,
+                             const std::array<bool, 3>& periodic = {false, false, false});
 
 /// Appends every particle of `layout` at rest to `particles`, in layout order; returns the first new slot.
 std::size_t append_layout(FluidParticles& particles, const FluidLayout& layout);

@@ -138,7 +138,8 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
   };
   if (fluid.tank_walls)
     for (const LatticeParticle& particle : tank_wall_layout(origin, model.tank.size, model.tank.open_faces,
-                                                            fluid.spacing, fluid.effective_radius())
+                                                            fluid.spacing, fluid.effective_radius(),
+                                                            model.tank.periodic)
                                                .particles)
       add_wall(particle, particle.kind, false);
   for (const ParticleBoxModel& box : fluid.wall_boxes)

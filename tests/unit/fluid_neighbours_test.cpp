@@ -8,7 +8,11 @@
 #include <limits>
 #include <random>
 
+#include "components/halo.hpp"
+#include "engine/setup/fluid_layout.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
+#include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/periodic_box.hpp"
 
 using namespace riffle;
 
@@ -148,5 +152,80 @@ TEST_CASE("the search's 4- and 8-wide candidate tests keep exactly the pairs of 
     build_fluid_neighbours(positions, radius, wide, query_count);
     CHECK(wide.offsets == portable.offsets);
     CHECK(wide.slots == portable.slots);
+  }
+}
+
+TEST_CASE("a box of water periodic along x: no walls on the x faces, and the halo joins the lattice across the seam") {
+  // Theory: the lattice filling the period, with the shell of the other faces, is one period of a lattice infinite
+  // along x, so every particle's number density depends on its (y, z) layer only (no dip at the seam), and equals
+  // the sum over the infinite lattice (here three periods, searched by brute force).
+  const std::array<std::int64_t, 3> cells{8, 5, 6};  // period 8 l0 > 2 r_e
+  const double radius = 3.1 * kSpacing;
+  const Vec3 origin(0.02, -0.01, 0.0);
+  const Vec3 size = kSpacing * Vec3(8.0, 5.0, 6.0);
+  const std::array<bool, 3> periodic{true, false, false};
+  const FluidLayout water = fluid_box_layout(origin, origin, origin + size, kSpacing);
+  const FluidLayout shell = tank_wall_layout(origin, size, {}, kSpacing, radius, periodic);
+  const std::int64_t layers = 1 + dummy_layer_count(kSpacing, radius);
+  REQUIRE(water.fluid == 8 * 5 * 6);
+  CHECK(shell.particles.size() ==
+        static_cast<std::size_t>(cells[0] * (cells[1] + 2 * layers) * (cells[2] + 2 * layers) - 8 * 5 * 6));
+  std::vector<Vec3> positions;
+  for (const LatticeParticle& particle : water.particles) positions.push_back(particle.position);
+  for (const LatticeParticle& particle : shell.particles) {
+    CHECK(particle.cell[0] >= 0);  // no layer beyond a periodic face
+    CHECK(particle.cell[0] < cells[0]);
+    CHECK(particle.face >= 2);  // owned by a y or z face
+    positions.push_back(particle.position);
+  }
+  const std::size_t fluid = water.fluid, real = positions.size();
+  std::vector<EntityId> ids(real);
+  for (std::size_t i = 0; i < real; ++i) ids[i] = static_cast<EntityId>(i);
+
+  PeriodicBox box;
+  box.low = origin;
+  box.length = size;
+  box.periodic = periodic;
+  REQUIRE(periodic_cutoff_fits(box, radius));
+  Halo halo;
+  build_halo(positions, ids, box, radius, halo);
+  REQUIRE(halo.size() > 0);
+  std::vector<Vec3> ghosts;
+  halo_copy_positions(halo, positions, ghosts);
+  std::vector<Vec3> all = positions;
+  all.insert(all.end(), ghosts.begin(), ghosts.end());
+  FluidNeighbours lists;
+  build_fluid_neighbours(all, radius, lists, fluid);
+  REQUIRE(lists.particle_count() == fluid);
+
+  // The infinite lattice's answer: the reals and their images one period either side.
+  std::vector<Vec3> extended;
+  for (const double shift : {-1.0, 0.0, 1.0})
+    for (const Vec3& position : positions) extended.push_back(position + Vec3(shift * size[0], 0.0, 0.0));
+  const WendlandKernel kernel(radius);
+  std::vector<double> density(fluid, 0.0);
+  bool any_ghost = false;
+  for (std::size_t i = 0; i < fluid; ++i) {
+    double nearest = 1e300;
+    for (std::uint32_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) {
+      const std::uint32_t j = lists.slots[k];
+      REQUIRE(j < all.size());
+      CHECK(halo.owner_of(j) != i);  // never its own image: the period exceeds 2 r_e
+      any_ghost = any_ghost || j >= real;
+      const double distance = (all[j] - all[i]).norm();
+      nearest = std::min(nearest, distance);
+      density[i] += kernel.weight(distance);
+    }
+    CHECK(nearest == doctest::Approx(kSpacing).epsilon(1e-12));  // no gap nor overlap across the seam
+    double expected = 0.0;
+    for (std::size_t j = 0; j < extended.size(); ++j)
+      if (j != real + i) expected += kernel.weight((extended[j] - positions[i]).norm());
+    CHECK(density[i] == doctest::Approx(expected).epsilon(1e-12));
+  }
+  CHECK(any_ghost);
+  // No dip at the seam: along x, each (y, z) row of the water has one number density.
+  for (std::size_t i = 0; i < fluid; ++i) {
+    const std::size_t row_start = i - i % static_cast<std::size_t>(cells[0]);  // fluid_box_layout: x fastest
+    CHECK(density[i] == doctest::Approx(density[row_start]).epsilon(1e-12));
   }
 }
