@@ -75,7 +75,8 @@ class Study:
         names = [v["name"] for v in self.variants]
         if len(set(names)) != len(names):
             raise SystemExit(f"{self.path}: variant names repeat")
-        self.out = pathlib.Path(out) if out else ROOT / "out" / self.name
+        # Absolute: the runs name their bed by path, and riffle reads a relative path against the scene's folder.
+        self.out = (pathlib.Path(out) if out else ROOT / "out" / self.name).resolve()
         self.binary = self.out / "riffle"
         self.until = self.periods / self.frequency
 
@@ -129,7 +130,8 @@ def run_riffle(study, directory, job, fresh_args):
     """Runs (or resumes) riffle for one job until it ends; records each segment in job.json. Returns the exit code."""
     directory.mkdir(parents=True, exist_ok=True)
     checkpoint = newest_checkpoint(directory)
-    if job.get("segments") and checkpoint is not None:
+    # Any checkpoint of this job resumes it, also one of a segment whose runner was killed before it could record it.
+    if checkpoint is not None:
         args = [str(study.binary), "resume", str(checkpoint), "--until", f"{job['until']:.9g}",
                 "--threads", str(study.threads), "--log-level", "warn"]
     else:
@@ -143,8 +145,12 @@ def run_riffle(study, directory, job, fresh_args):
     with open(directory / "stdout.txt", "a") as output:
         output.write(f"# {datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M:%S} {' '.join(args)}\n")
         output.flush()
-        process = subprocess.Popen(args, stdout=output, stderr=subprocess.STDOUT, cwd=ROOT)
-        with RUNNING_LOCK:
+        with RUNNING_LOCK:  # with the check: a stop() between the check and the start would miss this process
+            if STOPPING.is_set():
+                job.pop("segment_started", None)
+                write_job(directory, job)
+                return None
+            process = subprocess.Popen(args, stdout=output, stderr=subprocess.STDOUT, cwd=ROOT)
             RUNNING.add(process)
         code = process.wait()
         with RUNNING_LOCK:
@@ -168,10 +174,13 @@ def settle_bed(study, seed):
                                   "until": bed_end_time(study)}
     if job.get("exit_code") in (2, 3):
         return job["exit_code"]
+    if STOPPING.is_set():
+        return None
     log(study, f"bed {seed}: settling")
     fresh = ["run", str(study.bed_scene)] + [a for s in job["set"] for a in ("--set", s)]
     code = run_riffle(study, directory, job, fresh)
-    log(study, f"bed {seed}: exit {code}")
+    if code is not None:
+        log(study, f"bed {seed}: exit {code}")
     return code
 
 
@@ -180,27 +189,43 @@ def bed_end_time(study):
         return float(tomllib.load(handle)["run"]["end_time"])
 
 
+def job_overrides(study, variant, seed):
+    bed = study.bed_dir(seed) / "checkpoints" / "final.ckpt"
+    return [f"{study.initial_state_key}=\"{bed}\""] + study.common_set + list(variant.get("set", []))
+
+
+def job_matches(study, variant, seed, job):
+    """Whether a job on disk ran what the study file asks now: the same scene, overrides and end time. A variant
+    edited in the study file no longer matches its old runs: `run` sets them aside and `collect` skips them."""
+    return (job.get("set") == job_overrides(study, variant, seed) and abs(job.get("until", -1) - study.until) < 1e-9
+            and job.get("scene", str(study.scene)) == str(study.scene))
+
+
 def run_job(study, variant, seed):
     directory = study.run_dir(variant, seed)
     job = read_job(directory)
+    if job and not job_matches(study, variant, seed, job):
+        aside = directory.with_name(f"{directory.name}.replaced-{int(time.time())}")
+        directory.rename(aside)
+        log(study, f"{variant['name']} bed {seed}: the study file changed this run; the old one is kept in {aside}")
+        job = None
     if job and (job.get("done") or job.get("exit_code") in (2, 3)):
         return job.get("exit_code", 0)
     if STOPPING.is_set():
         return None
-    code = settle_bed(study, seed)
-    if code != 0:
-        log(study, f"{variant['name']} bed {seed}: its bed failed (exit {code}); skipped")
-        return code
-    if STOPPING.is_set():
+    # Beds are settled once each before any run (command_run); one that failed is retried by the next `run`, never
+    # here, where two jobs on the same bed would settle it twice at once.
+    if not (study.bed_dir(seed) / "checkpoints" / "final.ckpt").exists():
+        log(study, f"{variant['name']} bed {seed}: its bed is not settled; skipped")
         return None
-    bed = study.bed_dir(seed) / "checkpoints" / "final.ckpt"
-    overrides = [f"{study.initial_state_key}=\"{bed}\""] + study.common_set + list(variant.get("set", []))
-    job = job or {"kind": "run", "variant": variant["name"], "seed": seed, "set": overrides, "until": study.until,
-                  "threads": study.threads, "periods": study.periods}
+    overrides = job_overrides(study, variant, seed)
+    job = job or {"kind": "run", "variant": variant["name"], "seed": seed, "scene": str(study.scene),
+                  "set": overrides, "until": study.until, "threads": study.threads, "periods": study.periods}
     fresh = ["run", str(study.scene), "--until", f"{study.until:.9g}"] + [a for s in overrides for a in ("--set", s)]
     log(study, f"{variant['name']} bed {seed}: {'resuming' if job.get('segments') else 'starting'}")
     code = run_riffle(study, directory, job, fresh)
-    log(study, f"{variant['name']} bed {seed}: exit {code} after {job['wall_s']} s in all")
+    if code is not None:
+        log(study, f"{variant['name']} bed {seed}: exit {code} after {job['wall_s']} s in all")
     return code
 
 

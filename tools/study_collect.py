@@ -151,6 +151,10 @@ def run_summary(study, variant, seed, refresh):
     job = study_job(run_dir)
     if not job or not job.get("done"):
         return None
+    import study as study_module
+    if not study_module.job_matches(study, variant, seed, job):
+        print(f"  {variant['name']} bed {seed}: ran other overrides than the study file now lists; skipped")
+        return None
     t, z, classes = centroid_series(run_dir)
     volumes = class_volumes(run_dir, classes)
     s = segregation_series(t, z, volumes)

@@ -155,7 +155,7 @@ void check_tank_fits_lattice(TableReader& fluid, const Model& model) {
 }
 
 /// [fluid.body_force] (docs/SCENES.md): the body force along x on the water.
-void read_body_force(TableReader& reader, BodyForceModel& out) {
+void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionModel& tank_motion) {
   using Kind = BodyForceModel::Kind;
   const std::string kind = reader.choice("kind", std::nullopt, {"constant", "sinusoidal", "bulk_velocity"});
   out.kind = kind == "constant" ? Kind::kConstant : kind == "sinusoidal" ? Kind::kSinusoidal : Kind::kBulkVelocity;
@@ -168,6 +168,14 @@ void read_body_force(TableReader& reader, BodyForceModel& out) {
     out.phase = reader.number("phase", 0.0, "deg", Bounds::closed(-360.0, 360.0)) * std::numbers::pi / 180.0;
   }
   if (out.kind == Kind::kBulkVelocity) {
+    // The controller holds the mean u_x of the water in the lab frame (fluid_predict): in a tank that moves along x
+    // that is not the flow's bulk velocity, so the combination is refused rather than driven towards the wrong target.
+    const bool tank_moves_along_x =
+        tank_motion.kind == TankMotionModel::Kind::kTable ||
+        (tank_motion.kind == TankMotionModel::Kind::kSinusoidal && tank_motion.direction.x() != 0.0);
+    if (tank_moves_along_x)
+      reader.problem("kind", "bulk_velocity needs a tank that does not move along x (the controller holds the water's "
+                             "mean velocity in the lab frame); use a constant or sinusoidal body force, or a still tank");
     out.target_velocity = reader.number("target_velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
     // Gains from the channel's time scales (pi_gains, systems/physics/driven_flow.hpp), or given.
     const bool given = reader.has("proportional_gain") || reader.has("integral_gain");
@@ -240,7 +248,7 @@ void read_fluid(TableReader& fluid, Model& model) {
   }
   out.escape_fraction_limit = fluid.number("escape_fraction_limit", 0.01, "1", Bounds{0.0, 1.0, false, true});
 
-  if (auto body_force = fluid.table("body_force", false)) read_body_force(*body_force, out.body_force);
+  if (auto body_force = fluid.table("body_force", false)) read_body_force(*body_force, out.body_force, model.tank.motion);
   out.turbulence = fluid.choice("turbulence", "none", {"none", "sps"}) == "sps" ? FluidModel::Turbulence::kSps
                                                                                 : FluidModel::Turbulence::kNone;
   // C_s = 0.12: the value Gotoh et al. (2001) use for the SPS closure of their particle method (Smagorinsky's

@@ -14,6 +14,27 @@ struct PathStep {
   std::optional<std::size_t> index;
 };
 
+/// Whether `text` is well-formed UTF-8 (TOML text must be; a checkpoint's scene is read back as TOML).
+bool is_utf8(const std::string& text) {
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const unsigned char lead = static_cast<unsigned char>(text[at]);
+    const std::size_t length = lead < 0x80 ? 1 : (lead >> 5) == 0x6 ? 2 : (lead >> 4) == 0xe ? 3 : (lead >> 3) == 0x1e ? 4 : 0;
+    if (length == 0 || at + length > text.size()) return false;
+    std::uint32_t code = length == 1 ? lead : lead & (0x7fu >> length);
+    for (std::size_t k = 1; k < length; ++k) {
+      const unsigned char next = static_cast<unsigned char>(text[at + k]);
+      if ((next >> 6) != 0x2) return false;
+      code = (code << 6) | (next & 0x3fu);
+    }
+    // Overlong forms, surrogates and code points past U+10FFFF are not UTF-8.
+    const std::uint32_t smallest[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (code < smallest[length] || (code >= 0xd800 && code <= 0xdfff) || code > 0x10ffff) return false;
+    at += length;
+  }
+  return true;
+}
+
 bool is_bare_key_character(char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
 }
@@ -76,13 +97,7 @@ toml::table parse_value(const std::string& text, const std::string& origin) {
     }
   }
   quoted += '"';
-  try {
-    return toml::parse(quoted, origin);
-  } catch (const toml::parse_error&) {  // not UTF-8: refused by the reader as "expected a string"
-    toml::table snippet;
-    snippet.insert("value", toml::array{});
-    return snippet;
-  }
+  return toml::parse(quoted, origin);  // the text is UTF-8 (checked before), so this parses
 }
 
 /// A new, empty table whose source is the override (so a problem found in it later names the --set).
@@ -154,6 +169,10 @@ void apply_scene_overrides(toml::table& root, const std::vector<std::string>& ov
       refuse("longer than " + std::to_string(kMaxSceneOverrideLength) + " characters");
       continue;
     }
+    if (!is_utf8(text)) {
+      problems.lines.push_back("--set: an override is not valid UTF-8 text");
+      continue;
+    }
     const std::size_t equals = text.find('=');
     if (equals == std::string::npos) {
       refuse("expected KEY=VALUE, e.g. contact.friction=0.3");
@@ -186,10 +205,20 @@ std::string scene_text_with_overrides(const toml::table& root, const std::string
   std::ostringstream text;
   text << "# " << file_name << ", as changed on the command line by:\n";
   for (const std::string& override_text : overrides) {
-    // A newline inside a --set would end the comment: keep the record one line each.
-    std::string line = override_text;
-    for (char& c : line)
-      if (c == '\n' || c == '\r') c = ' ';
+    // A TOML comment may hold no control character but tab (a newline would end it): each is written as \xNN, so
+    // the record stays one line and the stored scene reads back. The text is UTF-8 (apply_scene_overrides refused
+    // any that is not).
+    std::string line;
+    for (const char c : override_text) {
+      const unsigned char byte = static_cast<unsigned char>(c);
+      if (byte < 0x20 || byte == 0x7f) {
+        char escape[8];
+        std::snprintf(escape, sizeof escape, "\\x%02x", static_cast<unsigned>(byte));
+        line += escape;
+      } else {
+        line += c;
+      }
+    }
     text << "#   --set " << line << "\n";
   }
   text << toml::toml_formatter{root} << "\n";

@@ -196,7 +196,30 @@ def main():
     job_again = json.loads((first / "job.json").read_text())
     check(again.returncode == 0 and len(job_again["segments"]) == 2, "a finished study is not rerun")
 
-    # 6. collect: the tables, and S as defined in tools/seed_figures.py.
+    # 6. An edited variant: its old run is set aside and run again. Then the state a runner killed outright leaves
+    #    (SIGKILL with its riffle, as at the end of a session: checkpoints on disk, the segment never recorded) is
+    #    made from that run, and the next `run` must resume the job from its newest checkpoint, not from t = 0.
+    (work / "study.toml").write_text((work / "study.toml").read_text().replace("contact.restitution=0.9",
+                                                                                "contact.restitution=0.8"))
+    subprocess.run(command, capture_output=True, text=True, cwd=ROOT, timeout=300)
+    bouncy = out / "runs" / "bouncy" / "bed_1"
+    job = json.loads((bouncy / "job.json").read_text())
+    check(len(list(out.glob("runs/bouncy/bed_1.replaced-*"))) == 1 and job["done"] and
+          "contact.restitution=0.8" in job["set"], "the edited variant's old run is set aside and the variant rerun")
+    checkpoints = sorted((bouncy / "checkpoints").glob("step_*.ckpt"))
+    for late in checkpoints[len(checkpoints) // 2:] + [bouncy / "checkpoints" / "final.ckpt"]:
+        late.unlink()
+    for key in ("segments", "done", "exit_code", "wall_s"):
+        job.pop(key, None)
+    job["segment_started"] = time.time()
+    (bouncy / "job.json").write_text(json.dumps(job))
+    subprocess.run(command, capture_output=True, text=True, cwd=ROOT, timeout=300)
+    job = json.loads((bouncy / "job.json").read_text())
+    check(job["done"] and job["segments"][0]["command"][1] == "resume" and
+          job["segments"][0]["command"][2] == str(checkpoints[len(checkpoints) // 2 - 1]),
+          "a job whose runner was killed outright resumes from its newest checkpoint (not from t = 0)")
+
+    # 7. collect: the tables, and S as defined in tools/seed_figures.py.
     collected = subprocess.run([sys.executable, str(STUDY), "collect", str(work / "study.toml"), "--out", str(out)],
                                capture_output=True, text=True, cwd=ROOT, timeout=120)
     check(collected.returncode == 0, f"collect exits 0 ({collected.stdout[-300:]} {collected.stderr[-300:]})")

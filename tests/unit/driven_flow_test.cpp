@@ -204,14 +204,17 @@ velocity = 0.25
   CHECK(lid.lid_area == doctest::Approx(0.04 * 0.02));
   CHECK(model.fluid.reports_driving());
 
-  const Model bulk = parse_scene(test::fluid_scene_text(R"(
+  // The controller holds the lab-frame mean velocity: the tank may move, but not along x.
+  std::string bulk_text = test::fluid_scene_text(R"(
 [fluid.body_force]
 kind = "bulk_velocity"
 target_velocity = 0.3
 response_time = 0.5
 viscous_time = 2.0
-)"),
-                                 "bulk.toml");
+)");
+  CHECK(mentions(test::problems_of(bulk_text), "fluid.body_force.kind", "does not move along x"));
+  bulk_text.replace(bulk_text.find("[tank.motion]\n"), 14, "[tank.motion]\ndirection = [0.0, 0.0, 1.0]\n");
+  const Model bulk = parse_scene(bulk_text, "bulk.toml");
   CHECK(bulk.fluid.body_force.integral_gain == doctest::Approx(4.0));
   CHECK(bulk.fluid.body_force.proportional_gain == doctest::Approx(4.0 - 0.5));
   CHECK(bulk.fluid.body_force.grains == BodyForceModel::Grains::kPressureGradient);

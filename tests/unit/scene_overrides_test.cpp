@@ -117,5 +117,17 @@ TEST_CASE("a value with quotes, backslashes or control characters stays one stri
   CHECK(model.name == "quoted\"name");
 }
 
+TEST_CASE("an override that is not UTF-8 is refused, and control characters are escaped in the stored record") {
+  const std::vector<std::string> problems = problems_with({std::string("run.name=a\xff"), "tank.size=\xc0\xaf"});
+  REQUIRE(problems.size() == 2);
+  CHECK(problems[0] == "--set: an override is not valid UTF-8 text");
+  // The record of the overrides is a TOML comment: it must read back, whatever bytes the command line held.
+  toml::table root;
+  root.insert("key", 1);
+  const std::string text = scene_text_with_overrides(root, "s.toml", {std::string("run.name=a\x01" "b\tc\x7f")});
+  CHECK(text.find("#   --set run.name=a\\x01b\\x09c\\x7f\n") != std::string::npos);
+  CHECK_NOTHROW(toml::parse(text));
+}
+
 }  // namespace
 }  // namespace riffle
