@@ -256,7 +256,9 @@ def command_run(study, detach):
     if not study.binary.exists():
         shutil.copy2(study.binary_source, study.binary)
         version = subprocess.run([str(study.binary), "--version"], capture_output=True, text=True).stdout.strip()
-        commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
+        # --dirty: a binary built from a tree with uncommitted changes says so.
+        commit = subprocess.run(["git", "describe", "--always", "--dirty", "--abbrev=12"], capture_output=True,
+                                text=True, cwd=ROOT).stdout.strip()
         (study.out / "binary.json").write_text(json.dumps({"source": str(study.binary_source), "version": version,
                                                            "commit": commit, "copied": time.time()}, indent=1))
     signal.signal(signal.SIGTERM, stop)
