@@ -448,6 +448,29 @@ def fig06(run, out, args):
     return [out / "fig06_centroids.csv", save(figure, out / "fig06_centroids.png")]
 
 
+def class_profiles_figure(profiles, chosen, count, thickness, xlabel, title, xlim=None):
+    """One panel per size class: a profile per chosen stage against the height of the `count` sub-layers of
+    `thickness` [m]; profiles[(target, k)] = (actual t/T, values per sub-layer). Figs. 7-8 and 11."""
+    classes = sorted({k for _, k in profiles})
+    figure, axes = plt.subplots(1, len(classes), figsize=(4 * len(classes), 4.2), sharey=True,
+                                constrained_layout=True, squeeze=False)
+    mids = 1e3 * (np.arange(count) + 0.5) * thickness
+    for ax, k in zip(axes[0], classes):
+        for j, (target, _) in enumerate(chosen):
+            actual, values = profiles[(target, k)]
+            ax.plot(values, mids, marker="o", color=f"C{j}", label=f"t/T = {actual:.3g}")
+        ax.set_title(class_name(k))
+        ax.set_xlabel(xlabel)
+        if xlim is not None:
+            ax.set_xlim(*xlim)
+        ax.set_yticks(1e3 * np.arange(count + 1) * thickness)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    axes[0][0].set_ylabel("height above the floor [mm] (15 mm sub-layers)")
+    figure.suptitle(title, fontsize=9)
+    return figure
+
+
 def fig11(run, out, args):
     times = run.solid_times()
     if len(times) == 0:
@@ -482,22 +505,9 @@ def fig11(run, out, args):
     write_csv(out / "fig11_concentration.csv",
               ["target_t_over_T", "frame_t_over_T", "size_class", "sublayer", "z_low_m", "z_high_m", "grains",
                "grain_volume_m3", "volume_concentration"], rows)
-    classes = sorted({k for _, k in profiles})
-    figure, axes = plt.subplots(1, len(classes), figsize=(4 * len(classes), 4.2), sharey=True,
-                                constrained_layout=True, squeeze=False)
-    mids = 1e3 * (np.arange(count) + 0.5) * thickness
-    for ax, k in zip(axes[0], classes):
-        for j, (target, _) in enumerate(chosen):
-            actual, concentration = profiles[(target, k)]
-            ax.plot(concentration, mids, marker="o", color=f"C{j}", label=f"t/T = {actual:.3g}")
-        ax.set_title(class_name(k))
-        ax.set_xlabel("volume concentration [-]")
-        ax.set_yticks(1e3 * np.arange(count + 1) * thickness)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    axes[0][0].set_ylabel("height above the floor [mm] (15 mm sub-layers)")
-    figure.suptitle("Fig. 11 shape: volume concentration (grain assigned to the sub-layer of its centre; "
-                    "sub-layer volume = tank area x 15 mm)", fontsize=9)
+    figure = class_profiles_figure(profiles, chosen, count, thickness, "volume concentration [-]",
+                                   "Fig. 11 shape: volume concentration (grain assigned to the sub-layer of its "
+                                   "centre; sub-layer volume = tank area x 15 mm)")
     return [out / "fig11_concentration.csv", save(figure, out / "fig11_concentration.png")]
 
 
@@ -1209,23 +1219,9 @@ def fig07_08(run, out, args):
     write_csv(out / "fig07_08_occupancy.csv",
               ["target_t_over_T", "frame_t_over_T", "size_class", "sublayer", "z_low_m", "z_high_m",
                "occupancy_rate", "share_of_covered_area"], rows)
-    classes = sorted({k for _, k in profiles})
-    figure, axes = plt.subplots(1, len(classes), figsize=(4 * len(classes), 4.2), sharey=True,
-                                constrained_layout=True, squeeze=False)
-    mids = 1e3 * (np.arange(SUBLAYERS) + 0.5) * SUBLAYER
-    for ax, k in zip(axes[0], classes):
-        for j, (target, _) in enumerate(chosen):
-            actual, rate = profiles[(target, k)]
-            ax.plot(rate, mids, marker="o", color=f"C{j}", label=f"t/T = {actual:.3g}")
-        ax.set_title(class_name(k))
-        ax.set_xlabel("occupancy rate (side view) [-]")
-        ax.set_xlim(0, 1)
-        ax.set_yticks(1e3 * np.arange(SUBLAYERS + 1) * SUBLAYER)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    axes[0][0].set_ylabel("height above the floor [mm] (15 mm sub-layers)")
-    figure.suptitle("Figs. 7-8 shape: occupancy rate = fraction of each 15 mm strip of the front view (through the "
-                    "wall at y = 0) showing a grain of the class", fontsize=9)
+    figure = class_profiles_figure(profiles, chosen, SUBLAYERS, SUBLAYER, "occupancy rate (side view) [-]",
+                                   "Figs. 7-8 shape: occupancy rate = fraction of each 15 mm strip of the front view "
+                                   "(through the wall at y = 0) showing a grain of the class", xlim=(0, 1))
     return [out / "fig07_08_occupancy.csv", save(figure, out / "fig07_08_occupancy.png")]
 
 

@@ -32,6 +32,7 @@ import numpy as np
 TOOLS = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(TOOLS))
 import seed_figures  # noqa: E402  (matplotlib set up there, headless)
+import study as study_tool  # noqa: E402  (the runner's job records)
 import vtp  # noqa: E402
 
 plt = seed_figures.plt
@@ -148,11 +149,10 @@ def rise_rate(t, z, window=10.0):
 
 def run_summary(study, variant, seed, refresh):
     run_dir = study.run_dir(variant, seed)
-    job = study_job(run_dir)
+    job = study_tool.read_job(run_dir)
     if not job or not job.get("done"):
         return None
-    import study as study_module
-    if not study_module.job_matches(study, variant, seed, job):
+    if not study_tool.job_matches(study, variant, seed, job):
         print(f"  {variant['name']} bed {seed}: ran other overrides than the study file now lists; skipped")
         return None
     t, z, classes = centroid_series(run_dir)
@@ -171,12 +171,6 @@ def run_summary(study, variant, seed, refresh):
         row[f"endwall_coarse_dz_{window}_mm_per_T"] = 1e3 * end_band
         row[f"middle_coarse_dz_{window}_mm_per_T"] = 1e3 * middle
     return row, (t, z, s, classes)
-
-
-def study_job(run_dir):
-    import json
-    path = run_dir / "job.json"
-    return json.loads(path.read_text()) if path.exists() else None
 
 
 def write_csv(path, rows):

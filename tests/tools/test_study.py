@@ -23,12 +23,8 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 STUDY = ROOT / "tools" / "study.py"
 
-BED = """
-[run]
-name = "tiny_bed"
-end_time = 0.06
-dt = 1.0e-3
-
+# The tank, grain and contact both scenes share: the bed is settled in the tank it is shaken in.
+TANK = """
 [materials.grain]
 density = 1318.0
 young_modulus = 1.0e6
@@ -43,7 +39,14 @@ max_impact_speed = 1.0
 size = [0.05, 0.03, 0.08]
 open_faces = ["z_max"]
 wall_material = "grain"
+"""
 
+BED = """
+[run]
+name = "tiny_bed"
+end_time = 0.06
+dt = 1.0e-3
+""" + TANK + """
 [solids]
 [[solids.layered_beds]]
 layers = 1
@@ -71,22 +74,7 @@ RUN = """
 name = "tiny_run"
 end_time = 1.0
 dt = 1.0e-3
-
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e6
-poisson_ratio = 0.3
-
-[contact]
-restitution = 0.5
-friction = 0.4
-max_impact_speed = 1.0
-
-[tank]
-size = [0.05, 0.03, 0.08]
-open_faces = ["z_max"]
-wall_material = "grain"
-
+""" + TANK + """
 [tank.motion]
 kind = "sinusoidal"
 direction = [1.0, 0.0, 0.0]

@@ -21,6 +21,15 @@ using namespace riffle;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+// A layer of glass grains on the floor of test::fluid_scene_text's tank, under its water.
+const std::string kGlassGrains = R"(
+[[solids.blocks]]
+min = [0.105, -0.005, 0.002]
+max = [0.135, 0.005, 0.004]
+spacing = 0.002
+radius = 0.0009
+material = "glass"
+)";
 
 TankFrame box_frame(const Vec3& size, const Vec3& displacement = Vec3::Zero(), const Vec3& velocity = Vec3::Zero()) {
   TankFrame frame;
@@ -264,15 +273,8 @@ layer_thickness = 0.002
   CHECK(model.output.probes[2].kind == ProbeModel::Kind::kBedloadFlux);
   CHECK(model.output.probes[3].layer_thickness == 0.002);
 
-  // With [fluid], a velocity profile's layers default to l0; the shear stress has no lid column (no lid yet).
-  const Model water = parse_scene(test::fluid_scene_text(R"(
-[[solids.blocks]]
-min = [0.105, -0.005, 0.002]
-max = [0.135, 0.005, 0.004]
-spacing = 0.002
-radius = 0.0009
-material = "glass"
-
+  // With [fluid], a velocity profile's layers default to l0; the shear stress has no lid column (no moving lid).
+  const Model water = parse_scene(test::fluid_scene_text(kGlassGrains + R"(
 [output]
 [[output.probes]]
 kind = "velocity_profile"
@@ -336,14 +338,7 @@ std::vector<std::string> fields_of(const std::string& line) {
 }  // namespace
 
 TEST_CASE("the bed-load probe files: headers per class and rows from the grains and water set in the World") {
-  Model model = parse_scene(test::fluid_scene_text(R"(
-[[solids.blocks]]
-min = [0.105, -0.005, 0.002]
-max = [0.135, 0.005, 0.004]
-spacing = 0.002
-radius = 0.0009
-material = "glass"
-
+  Model model = parse_scene(test::fluid_scene_text(kGlassGrains + R"(
 [output]
 [[output.probes]]
 kind = "moving_fraction"
