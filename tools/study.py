@@ -14,6 +14,7 @@ A study is a small TOML file (tools/studies/seed_calibration.toml is the example
     periods = 30                                 # length of every run, in periods of the tank motion
     frequency = 1.7                              # [Hz] of the tank motion (to turn periods into --until)
     workers = 2                                  # runs at once
+    order = "variants"                           # or "beds": every variant's first bed before any second one
     threads = 1                                  # riffle --threads per run
     set = ["output.vtk_interval=0.588235"]       # overrides every run takes (before its variant's own)
 
@@ -72,6 +73,9 @@ class Study:
         self.common_set = list(study.get("set", []))
         self.binary_source = ROOT / study.get("binary", "build/riffle")
         self.variants = spec.get("variants", [])
+        self.order = study.get("order", "variants")
+        if self.order not in ("variants", "beds"):
+            raise SystemExit(f"{self.path}: [study] order must be \"variants\" or \"beds\", not {self.order!r}")
         names = [v["name"] for v in self.variants]
         if len(set(names)) != len(names):
             raise SystemExit(f"{self.path}: variant names repeat")
@@ -87,8 +91,13 @@ class Study:
         return self.out / "runs" / variant["name"] / f"bed_{seed}"
 
     def jobs(self):
-        """(variant, seed) in the order the study file lists them."""
-        return [(variant, seed) for variant in self.variants for seed in variant["beds"]]
+        """(variant, seed) in the order the study file lists them; with order = "beds", by round: each variant's
+        first bed in file order, then each one's second, ... (a screening pass over every variant comes first)."""
+        listed = [(variant, seed) for variant in self.variants for seed in variant["beds"]]
+        if self.order == "variants":
+            return listed
+        rounds = [variant["beds"].index(seed) for variant, seed in listed]
+        return [job for _, job in sorted(zip(rounds, listed), key=lambda pair: pair[0])]
 
     def seeds(self):
         seen = []

@@ -127,11 +127,25 @@ def rows(path):
         return list(csv.DictReader(handle))
 
 
+def check_job_order(work):
+    """order = "beds" runs every variant's first bed before any second one; the default keeps the file's order."""
+    sys.path.insert(0, str(ROOT / "tools"))
+    import study
+    head = '[study]\nname = "order"\nscene = "a.toml"\nbed_scene = "b.toml"\nperiods = 1\nfrequency = 1.0\n'
+    body = ('[[variants]]\nname = "p"\nbeds = [1, 2]\n[[variants]]\nname = "q"\nbeds = [3]\n'
+            '[[variants]]\nname = "r"\nbeds = [1, 2]\n')
+    for order, expected in (("", ["p1", "p2", "q3", "r1", "r2"]), ('order = "beds"\n', ["p1", "q3", "r1", "p2", "r2"])):
+        (work / "order.toml").write_text(head + order + body)
+        got = [f"{variant['name']}{seed}" for variant, seed in study.Study(work / "order.toml", work).jobs()]
+        check(got == expected, f"job order {order.strip() or 'default'}: {got}, expected {expected}")
+
+
 def main():
     binary = pathlib.Path(sys.argv[1]).resolve()
     work = pathlib.Path(sys.argv[2] if len(sys.argv) > 2 else "/tmp/test_study").resolve()
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
+    check_job_order(work)
     (work / "bed.toml").write_text(BED)
     (work / "run.toml").write_text(RUN)
     # The study file names scenes relative to the repository root; absolute paths work as well.
