@@ -8,6 +8,7 @@ run per bed and lid speed (docs/SCENES.md, "Seed 003's sheared beds"):
   fig5_shields.png          the cases on the Shields diagram, Theta against Re_f = u* d / nu, with the Shields curve
                             (Brownlie 1981 and Soulsby & Whitehouse 1997; seed Fig. 5 plots the Shields curve with
                             Dey's angle-of-repose curves, which are not drawn): filled where the grains keep moving;
+                            the mixture per class and at its mean diameter D_m (Wilcock 1993; seed Eq. 31, Table 2);
   fig7_packing.png          the mixture: planar packing density lambda of the top layer and the large grains' moving
                             fraction against time, the onset of their motion marked (seed Fig. 7);
   bedload_vs_shields.png    the monodisperse beds' dimensionless bed-load flux q* = q_s / sqrt((s-1) g d^3) against
@@ -15,7 +16,7 @@ run per bed and lid speed (docs/SCENES.md, "Seed 003's sheared beds"):
 and seed003_summary.csv with one row per run and class (the numbers behind Figs. 5 and the flux plot).
 
 Usage: /usr/bin/python3 tools/seed003_plots.py [--small U=DIR ...] [--large U=DIR ...] [--bidisperse U=DIR ...]
-           [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01] [--fluid-density 1000]
+           [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01] [--mixture-counts 2492 852] [--fluid-density 1000]
            [--viscosity 1e-6] [--gravity 9.81]
 
 U is the lid speed [m/s] of the run in DIR (its output directory, holding probe_moving_fraction.csv,
@@ -141,6 +142,21 @@ def summarise(bed, speed, directory, args):
             entry["q_star_mpm"] = float(meyer_peter_mueller(shields))
             entry["q_star_wong_parker"] = float(wong_parker(shields))
         summary.append(entry)
+    if bed == "bidisperse" and len(summary) == len(args.mixture_counts):
+        # Wilcock (1993): a strongly bimodal bed moves as a whole at the threshold of its number-weighted mean
+        # diameter D_m (seed Eq. 31; 1.3 mm for the seed's 623 + 213 grains), the point the seed's Table 2 places.
+        counts = np.array(args.mixture_counts, dtype=float)
+        diameters = np.array([entry["diameter_m"] for entry in summary])
+        mean_diameter = float(np.sum(counts * diameters) / np.sum(counts))
+        relative_density = summary[0]["relative_density"]
+        shields = (tau / ((relative_density - 1.0) * args.fluid_density * args.gravity * mean_diameter)
+                   if relative_density > 1 else float("nan"))
+        summary.append(dict(bed=bed, lid_speed_m_s=speed, run=directory, size_class="D_m", diameter_m=mean_diameter,
+                            tau_Pa=tau, shields=shields,
+                            friction_reynolds=friction_velocity * mean_diameter / args.viscosity,
+                            relative_density=relative_density,
+                            moving_fraction=summary[0].get("all_moving_fraction", float("nan")),
+                            all_moving_fraction=summary[0].get("all_moving_fraction", float("nan"))))
     return summary
 
 
@@ -203,12 +219,14 @@ def figure_shields(summary, args, path):
         if not (entry["shields"] > 0 and entry["friction_reynolds"] > 0):
             continue
         moving = entry.get("moving_fraction", float("nan")) > args.moving
-        axis.plot(entry["friction_reynolds"], entry["shields"], markers[entry["bed"]], color=f"C{BEDS.index(entry['bed'])}",
+        marker = "*" if entry["size_class"] == "D_m" else markers[entry["bed"]]
+        axis.plot(entry["friction_reynolds"], entry["shields"], marker, color=f"C{BEDS.index(entry['bed'])}",
                   markerfacecolor=None if moving else "none")
         axis.annotate(f"{entry['lid_speed_m_s']:g}", (entry["friction_reynolds"], entry["shields"]), fontsize=7,
                       xytext=(3, 3), textcoords="offset points")
     for bed in BEDS:
         axis.plot([], [], markers[bed], color=f"C{BEDS.index(bed)}", label=f"{bed} (filled: moving)")
+    axis.plot([], [], "*", color=f"C{BEDS.index('bidisperse')}", label="mixture at $D_m$ (Wilcock 1993)")
     axis.set_xscale("log")
     axis.set_yscale("log")
     axis.set_xlim(1, 1e3)
@@ -278,6 +296,8 @@ def main(argv):
     parser.add_argument("--stress", choices=("b", "lid"), default="b")
     parser.add_argument("--moving", type=float, default=0.01, help="mean moving fraction of a moving case")
     parser.add_argument("--onset", type=float, default=0.01, help="large grains' moving fraction at the onset")
+    parser.add_argument("--mixture-counts", type=float, nargs="+", default=[2492, 852],
+                        help="grains per class of the mixture, class order (for D_m; scenes/sheared_bed_bidisperse)")
     parser.add_argument("--fluid-density", type=float, default=1000.0)
     parser.add_argument("--viscosity", type=float, default=1.0e-6)
     parser.add_argument("--gravity", type=float, default=9.81)

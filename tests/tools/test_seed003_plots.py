@@ -87,7 +87,8 @@ def check_synthetic(work):
     synthetic_run(mixture, [0.001, 0.002], tau=1.5, moving=[0.03, 0.02], q_star=[0.01, 0.002], onset=0.5)
     out = work / "figures"
     result = subprocess.run([sys.executable, str(ROOT / "tools" / "seed003_plots.py"), "--small", f"0.6={small}",
-                             "--large", f"1.0={large}", "--bidisperse", f"1.0={mixture}", "--out", str(out)],
+                             "--large", f"1.0={large}", "--bidisperse", f"1.0={mixture}", "--out", str(out),
+                             "--mixture-counts", "623", "213"],
                             capture_output=True, text=True, check=True)
     print(result.stdout)
     for name in ("fig4_moving_fraction.png", "fig5_shields.png", "fig6_mixture_classes.png", "fig7_packing.png",
@@ -96,7 +97,7 @@ def check_synthetic(work):
     assert "onset of the large grains' motion at t = 0.5 s" in result.stdout, result.stdout
     rows = list(csv.DictReader(open(out / "seed003_summary.csv")))
     assert [(r["bed"], r["size_class"]) for r in rows] == [("small", "0"), ("large", "0"), ("bidisperse", "0"),
-                                                           ("bidisperse", "1")]
+                                                           ("bidisperse", "1"), ("bidisperse", "D_m")]
     small_row = rows[0]
     theta = 1.2 / ((S - 1) * RHO * G * 0.001)  # 0.074135
     close(float(small_row["shields"]), theta, 1e-12)
@@ -109,6 +110,9 @@ def check_synthetic(work):
     assert float(rows[1]["moving_fraction"]) == 0.0
     # The mixture's large class moves from 0.5 s: over the second half (1-2 s) its mean is 0.02.
     close(float(rows[3]["moving_fraction"]), 0.02, 1e-12)
+    # D_m of the seed's mixture counts (623 x 1 mm + 213 x 2 mm, its Eq. 31): 1.2548 mm, Theta = 1.5 / (1650 g D_m).
+    close(float(rows[4]["diameter_m"]), 0.001 * (623 + 2 * 213) / (623 + 213), 1e-12)
+    close(float(rows[4]["shields"]), 1.5 / ((S - 1) * RHO * G * 0.001 * (623 + 2 * 213) / (623 + 213)), 1e-12)
 
 
 TINY_SCENE = """
