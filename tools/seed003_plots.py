@@ -16,8 +16,8 @@ run per bed and lid speed (docs/SCENES.md, "Seed 003's sheared beds"):
 and seed003_summary.csv with one row per run and class (the numbers behind Figs. 5 and the flux plot).
 
 Usage: /usr/bin/python3 tools/seed003_plots.py [--small U=DIR ...] [--large U=DIR ...] [--bidisperse U=DIR ...]
-           [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01] [--mixture-counts 2492 852] [--fluid-density 1000]
-           [--viscosity 1e-6] [--gravity 9.81]
+           [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01] [--mixture-counts 2492 852]
+           [--fluid-density 1000] [--viscosity 1e-6] [--gravity 9.81]
 
 U is the lid speed [m/s] of the run in DIR (its output directory, holding probe_moving_fraction.csv,
 probe_bedload_flux.csv, probe_bed_shear_stress.csv and, for the mixture, probe_packing_density.csv). Time means are
@@ -272,7 +272,8 @@ def figure_flux(summary, path):
     for entry in summary:
         if entry["bed"] == "bidisperse" or not np.isfinite(entry.get("q_star", np.nan)):
             continue
-        axis.plot(entry["shields"], entry["q_star"], "os"[entry["bed"] == "large"], color=f"C{BEDS.index(entry['bed'])}")
+        axis.plot(entry["shields"], entry["q_star"], "os"[entry["bed"] == "large"],
+                  color=f"C{BEDS.index(entry['bed'])}")
     for bed in ("small", "large"):
         axis.plot([], [], "os"[bed == "large"], color=f"C{BEDS.index(bed)}", label=f"riffle, {bed} bed")
     axis.set_xlabel(r"$\Theta$")

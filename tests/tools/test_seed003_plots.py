@@ -175,7 +175,8 @@ interval = 0.001
 
 
 def check_real_run(work, riffle):
-    """A tiny closed box of two grain sizes under a slow lid (0.01 m/s, 10 steps): the probes' headers are those assumed above."""
+    """A tiny closed box of two grain sizes under a slow lid (0.01 m/s, 10 steps): the probes' headers are those
+    assumed above."""
     scene = work / "tiny.toml"
     scene.write_text(TINY_SCENE)
     out = work / "tiny_run"

@@ -180,7 +180,8 @@ TEST_CASE("a lubricated pair across the periodic seam feels the same force as th
   const double a1 = 0.0025, a2 = 0.004, gap = 1e-4, period = 0.1;
   const double at_x = 0.05 - 0.5 * (a1 + a2 + gap);
   Bench inside(spec, {{Vec3(at_x, 0.05, 0.05), a1}, {Vec3(at_x + a1 + a2 + gap, 0.05, 0.05), a2}});
-  Bench across(spec, {{Vec3(at_x + 0.5 * period, 0.05, 0.05), a1}, {Vec3(at_x + a1 + a2 + gap - 0.5 * period, 0.05, 0.05), a2}});
+  Bench across(spec, {{Vec3(at_x + 0.5 * period, 0.05, 0.05), a1},
+                      {Vec3(at_x + a1 + a2 + gap - 0.5 * period, 0.05, 0.05), a2}});
   across.model.tank.periodic = {true, true, false};
   for (Bench* bench : {&inside, &across}) {
     bench->world.solids->velocity[0] = Vec3(2e-3, 0.0, 0.0);
@@ -206,7 +207,8 @@ TEST_CASE("a lubricated pair across the periodic seam feels the same force as th
   inside.substep(1e-6);
   across.substep(1e-6);
   for (std::size_t id = 0; id < 2; ++id)
-    CHECK(seam.velocity[slot(seam, id)].x() == doctest::Approx(expected.velocity[slot(expected, id)].x()).epsilon(1e-9));
+    CHECK(seam.velocity[slot(seam, id)].x() ==
+          doctest::Approx(expected.velocity[slot(expected, id)].x()).epsilon(1e-9));
 }
 
 namespace {
