@@ -40,10 +40,9 @@ double friction_reynolds_number(double shields, double particle_reynolds);
 /// natural sands, 0.055 for coarse grains. NaN if D* is not > 0.
 double shields_threshold_soulsby_whitehouse(double grain_size);
 
-/// [1] Threshold Shields number Theta_c(Re_p) = 0.22 Re_p^-0.6 + 0.06 * 10^(-7.7 Re_p^-0.6) (Brownlie 1981, "Prediction
-/// of flow depth and sediment discharge in open channels", Caltech report KH-R-43A): a fit of the Shields curve in the
-/// particle Reynolds number, 0.06 (Shields' value) for coarse grains. (Parker et al. 2003 halve it for the threshold
-/// of gravel mixtures; not used here.) NaN if Re_p is not > 0.
+/// [1] Threshold Shields number Theta_c(Re_p) = 0.22 Re_p^-0.6 + 0.06 * 10^(-7.7 Re_p^-0.6) (Brownlie 1981,
+/// "Prediction of flow depth and sediment discharge in open channels", Caltech report KH-R-43A): a fit of the Shields
+/// curve in the particle Reynolds number, 0.06 (Shields' value) for coarse grains. NaN if Re_p is not > 0.
 double shields_threshold_brownlie(double particle_reynolds);
 
 /// [1] Dimensionless bed-load flux (Einstein number) q* = 8 (Theta - 0.047)^(3/2) (Meyer-Peter & Mueller 1948, Proc.
