@@ -5,7 +5,8 @@
 // are wet). The candidates are the contacts' neighbour list, which reaches the cut-off when lubrication is on
 // (solid_neighbours adds it to each pair's and wall's reach). Equal and opposite between grains; the walls take the
 // reaction (not added to the wall-force probe). Semi-implicit along the normal (implicit_coefficient), so any
-// viscosity and roughness is stable at the contacts' sub-step.
+// viscosity and roughness is stable at the contacts' sub-step. In a periodic box a pair's second grain may be a ghost
+// across the seam (components/halo.hpp), read through the halo as solid_contacts does; its reaction goes to the owner.
 #include <vector>
 
 #include "engine/core/system.hpp"

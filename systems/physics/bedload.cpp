@@ -59,4 +59,55 @@ double shields_number(double tau, double grain_density, double fluid_density, do
   return denominator > 0.0 ? tau / denominator : std::numeric_limits<double>::quiet_NaN();
 }
 
+namespace {
+double nan() { return std::numeric_limits<double>::quiet_NaN(); }
+bool positive(double value) { return value > 0.0; }  // false for NaN
+}  // namespace
+
+double dimensionless_grain_size(double diameter, double relative_density, double gravity, double viscosity) {
+  if (!positive(diameter) || !positive(relative_density - 1.0) || !positive(std::abs(gravity)) || !positive(viscosity))
+    return nan();
+  return diameter * std::cbrt(std::abs(gravity) * (relative_density - 1.0) / (viscosity * viscosity));
+}
+
+double particle_reynolds_number(double diameter, double relative_density, double gravity, double viscosity) {
+  if (!positive(diameter) || !positive(relative_density - 1.0) || !positive(std::abs(gravity)) || !positive(viscosity))
+    return nan();
+  return std::sqrt((relative_density - 1.0) * std::abs(gravity) * diameter) * diameter / viscosity;
+}
+
+double friction_reynolds_number(double shields, double particle_reynolds) {
+  return std::sqrt(shields) * particle_reynolds;
+}
+
+double shields_threshold_soulsby_whitehouse(double grain_size) {
+  if (!positive(grain_size)) return nan();
+  return 0.30 / (1.0 + 1.2 * grain_size) + 0.055 * (1.0 - std::exp(-0.020 * grain_size));
+}
+
+double shields_threshold_brownlie(double particle_reynolds) {
+  if (!positive(particle_reynolds)) return nan();
+  const double y = std::pow(particle_reynolds, -0.6);
+  return 0.22 * y + 0.06 * std::pow(10.0, -7.7 * y);
+}
+
+double bedload_meyer_peter_mueller(double shields) {
+  const double excess = shields - 0.047;
+  return excess > 0.0 ? 8.0 * excess * std::sqrt(excess) : 0.0;
+}
+
+double bedload_wong_parker(double shields) {
+  const double excess = shields - 0.0495;
+  return excess > 0.0 ? 3.97 * excess * std::sqrt(excess) : 0.0;
+}
+
+double bedload_volume_flux(double einstein_number, double diameter, double relative_density, double gravity) {
+  return einstein_number * std::sqrt((relative_density - 1.0) * std::abs(gravity) * diameter * diameter * diameter);
+}
+
+double einstein_number(double flux, double diameter, double relative_density, double gravity) {
+  const double scale = std::sqrt((relative_density - 1.0) * std::abs(gravity) * diameter * diameter * diameter);
+  return positive(scale) ? flux / scale : nan();
+}
+
 }  // namespace riffle
