@@ -1,0 +1,275 @@
+// MPS water in a periodic tank (docs/ARCHITECTURE.md, "Periodic boundaries and the halo"): the neighbour lists see
+// across the seam through the halo's ghosts, the PPE maps a ghost's column to its owner, and fluid_correct wraps the
+// positions into the period. What the theory says, case by case:
+//  - still water in a box periodic along x is one period of water infinite along x: the hydrostatic field of the
+//    closed box (same tolerances as tests/verification/fluid_hydrostatic_test.cpp), and on the lattice every
+//    particle's number density depends on its (y, z) layer only, the same on both sides of the seam;
+//  - a block of water moving at a uniform velocity U, away from every wall and without gravity, is the same block at
+//    rest seen from a frame moving at U (Galilean invariance; MPS reads only relative positions and velocities): its
+//    pressures and its shape are those of the block at rest, to rounding, while it crosses the seam (and, periodic
+//    along x and y, the corner); its momentum does not change beyond rounding (no wall touches it);
+//  - runs are byte-identical on one and two threads and after a resume in mid-run (the halo is rebuilt from the
+//    positions, not checkpointed);
+//  - plane Poiseuille flow in a channel periodic along x and y: u(z) = f z (h - z) / (2 nu) between the no-slip lids.
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/output/checkpoint.hpp"
+#include "engine/run/simulation.hpp"
+#include "engine/scene/scene.hpp"
+#include "tests/fluid_support.hpp"
+#include "tests/test_support.hpp"
+
+namespace riffle {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr double kRho = 1000.0;
+
+/// Whether any fluid particle's list holds a ghost slot (a neighbour across the seam).
+bool lists_cross_seam(const World& world) {
+  const FluidNeighbours& lists = *world.fluid_neighbours;
+  const std::size_t real = world.fluid->size();
+  return std::any_of(lists.slots.begin(), lists.slots.end(), [&](std::uint32_t j) { return j >= real; });
+}
+
+/// The nearest-image difference along the periodic axes (`period` 0: not periodic).
+Vec3 nearest_image(Vec3 d, const Vec3& period) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (period[axis] > 0.0) d[axis] -= period[axis] * std::round(d[axis] / period[axis]);
+  return d;
+}
+
+}  // namespace
+
+// Sizes (CTest time): l0 = 10 mm, water 8 x 3 x 10 l0 (240 particles) in a tank 8 l0 long, periodic along x (the
+// period 8 l0 exceeds twice the lists' reach r_e + skin = 2.7 l0), the closed-box test's 2 ms steps for 10 s.
+TEST_CASE("still water in a box periodic along x: hydrostatic, uniform number density across the seam, at rest") {
+  const double l0 = 0.01, depth = 0.10, length = 0.08;
+  Model model =
+      test::fluid_model(Vec3(length, 0.03, 0.14), l0, {ParticleBoxModel{Vec3::Zero(), Vec3(length, 0.03, depth)}});
+  model.tank.periodic = {true, false, false};
+  model.dt = 2.0e-3;
+  test::FluidRun run(std::move(model));
+  const std::size_t count = run.fluid_count();
+  REQUIRE(count == 240);
+  const std::vector<Vec3> start = run.fluid_positions_by_id();
+
+  // First step: every fluid particle was moved by the same g dt^2 in the prediction, so n* of a particle depends on
+  // its (y, z) layer only, whatever its x: the spread over a layer is rounding (a neighbour missed or seen twice at
+  // the seam would change n by w(l0) ~ 0.1 n0).
+  REQUIRE_MESSAGE(run.step(), run.diagnosis());
+  CHECK(run.world.fluid_neighbours->halo.size() > 0);
+  CHECK(lists_cross_seam(run.world));
+  std::map<std::pair<long, long>, std::pair<double, double>> layer_range;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Vec3& r = start[run.world.fluid->id[i]];
+    const auto key = std::make_pair(std::lround(r.y() / l0 - 0.5), std::lround(r.z() / l0 - 0.5));
+    const double n = run.world.fluid->number_density[i];
+    auto [it, fresh] = layer_range.try_emplace(key, n, n);
+    it->second.first = std::min(it->second.first, n);
+    it->second.second = std::max(it->second.second, n);
+  }
+  const double n0 = MpsConstants::from(run.model.fluid).reference_density;
+  double spread = 0.0;
+  for (const auto& entry : layer_range) spread = std::max(spread, entry.second.second - entry.second.first);
+  MESSAGE("number density: largest spread along x within a (y, z) layer " << spread / n0 << " n0 over "
+                                                                          << layer_range.size() << " layers");
+  CHECK(layer_range.size() == 30);
+  CHECK(spread < 1e-12 * n0);
+
+  double ke_max = 0.0;
+  std::size_t spurious_flags = 0, missed_top = 0;
+  std::int64_t steps = 1;
+  while (run.world.time < 10.0 - 1e-12) {
+    REQUIRE_MESSAGE(run.step(), run.diagnosis());
+    ++steps;
+    ke_max = std::max(ke_max, run.world.fluid_summary->kinetic_energy);
+    if (steps % 50 == 0)
+      for (std::size_t i = 0; i < count; ++i) {
+        const bool top = start[run.world.fluid->id[i]].z() > depth - l0;
+        const bool flagged = run.world.fluid->free_surface[i] != 0;
+        spurious_flags += flagged && !top ? 1 : 0;
+        missed_top += !flagged && top ? 1 : 0;
+      }
+  }
+  // The offset line rho g (H - l0/2 - z) over the particles at least 2 l0 below the surface (the closed-box test).
+  const FluidParticles& fluid = *run.world.fluid;
+  double sum = 0.0, drift = 0.0;
+  int samples = 0;
+  const std::vector<Vec3> now = run.fluid_positions_by_id();
+  for (std::size_t i = 0; i < count; ++i) {
+    drift = std::max(drift, nearest_image(now[fluid.id[i]] - start[fluid.id[i]], Vec3(length, 0.0, 0.0)).norm());
+    const double z = fluid.position[i].z();
+    CHECK(fluid.position[i].x() >= 0.0);  // wrapped into the period
+    CHECK(fluid.position[i].x() < length);
+    if (z > depth - 2.0 * l0) continue;
+    sum += std::pow(fluid.pressure[i] - kRho * kG * (depth - 0.5 * l0 - z), 2);
+    ++samples;
+  }
+  const double rms = std::sqrt(sum / samples) / (kRho * kG * depth);
+  const double mass = kRho * l0 * l0 * l0 * static_cast<double>(count);
+  MESSAGE("steps " << steps << ", pressure RMS vs offset line " << rms << " rho g H, drift " << drift / l0
+                   << " l0, KE max " << ke_max << " J, final " << run.world.fluid_summary->kinetic_energy << " J");
+  CHECK(drift < 0.1 * l0);
+  CHECK(rms < 0.1 * l0 / depth);
+  CHECK(run.world.fluid_summary->kinetic_energy < 0.5 * mass * std::pow(0.01 * l0 / 10.0, 2));
+  CHECK(spurious_flags == 0);
+  CHECK(missed_top == 0);
+}
+
+namespace {
+
+struct BlockRun {
+  std::vector<Vec3> relative;  ///< by id: position less the block's nominal translation, nearest image of the start
+  std::vector<double> pressure;  ///< by id
+  Vec3 momentum_change = Vec3::Zero();  ///< [kg m/s] final less initial sum m u
+  double momentum_scale = 0.0;          ///< [kg m/s] sum m |u| at the start
+  bool crossed = false;                 ///< some list held a ghost
+  double max_pressure = 0.0;            ///< [Pa] largest |p| over the run
+};
+
+/// An 8 x 6 x 6 l0 block of water without gravity, 3 l0 from every wall, moving at `velocity` for `steps` steps in a
+/// tank periodic along `periodic`.
+BlockRun run_block(const Vec3& velocity, const std::array<bool, 3>& periodic, int steps) {
+  const double l0 = 0.01;
+  const Vec3 size(0.16, periodic[1] ? 0.16 : 0.12, 0.12);
+  const Vec3 low(0.07, periodic[1] ? 0.07 : 0.03, 0.03);
+  Model model = test::fluid_model(size, l0, {ParticleBoxModel{low, low + Vec3(0.08, 0.06, 0.06), velocity}});
+  model.tank.open_faces = {};
+  model.tank.periodic = periodic;
+  model.gravity = Vec3::Zero();
+  // Tension allowed: the near-surface particles' deficit of n then gives negative pressures and the block contracts
+  // slightly, a non-trivial pressure field and motion that the moving block must reproduce.
+  model.fluid.clamp_negative_pressure = false;
+  model.dt = 2.0e-3;
+  test::FluidRun run(std::move(model));
+  const std::size_t count = run.fluid_count();
+  const std::vector<Vec3> start = run.fluid_positions_by_id();
+  const double mass = kRho * l0 * l0 * l0;
+  const auto momentum = [&] {
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t i = 0; i < count; ++i) sum += mass * run.world.fluid->velocity[i];
+    return sum;
+  };
+  BlockRun result;
+  const Vec3 initial = momentum();
+  result.momentum_scale = mass * velocity.norm() * static_cast<double>(count);
+  for (int step = 0; step < steps; ++step) {
+    REQUIRE_MESSAGE(run.step(), run.diagnosis());
+    result.crossed = result.crossed || lists_cross_seam(run.world);
+    for (std::size_t i = 0; i < count; ++i)
+      result.max_pressure = std::max(result.max_pressure, std::abs(run.world.fluid->pressure[i]));
+  }
+  result.momentum_change = momentum() - initial;
+  const Vec3 period(periodic[0] ? size.x() : 0.0, periodic[1] ? size.y() : 0.0, 0.0);
+  const Vec3 travel = run.world.time * velocity;
+  const std::vector<Vec3> now = run.fluid_positions_by_id();
+  result.relative.resize(count);
+  result.pressure.resize(count);
+  for (std::size_t id = 0; id < count; ++id) result.relative[id] = nearest_image(now[id] - travel - start[id], period);
+  for (std::size_t i = 0; i < count; ++i) result.pressure[run.world.fluid->id[i]] = run.world.fluid->pressure[i];
+  return result;
+}
+
+/// Largest difference between two block runs: positions [m] and pressures [Pa].
+std::pair<double, double> block_difference(const BlockRun& a, const BlockRun& b) {
+  double position = 0.0, pressure = 0.0;
+  for (std::size_t id = 0; id < a.relative.size(); ++id) {
+    position = std::max(position, (a.relative[id] - b.relative[id]).norm());
+    pressure = std::max(pressure, std::abs(a.pressure[id] - b.pressure[id]));
+  }
+  return {position, pressure};
+}
+
+}  // namespace
+
+// 288 particles, 500 steps of 2 ms: at 0.1 m/s the block travels 0.1 m, more than its length, so every particle
+// crosses the seam at x = 0.16 m. The block at rest is the reference: without gravity its free-surface layers pull
+// slightly (a near-surface particle's n is below n0) and it settles by a fraction of l0, and the moving block must do
+// exactly the same. Rounding: coordinates of 0.1 m carry ulp 1.4e-17 m, and the moving run adds dt U every step, so
+// after 500 steps its positions differ from the resting run's by ~1e-14 m; tolerances 1e-9 l0 in position and 1e-6
+// Pa in pressure (a missed or doubled neighbour at the seam changes n by w(l0) ~ 0.1 n0, a position change of
+// order l0 within a few steps).
+TEST_CASE("a block of water moving across the seam keeps the shape and pressures of the block at rest") {
+  const BlockRun rest = run_block(Vec3::Zero(), {true, false, false}, 500);
+  const BlockRun moving = run_block(Vec3(0.1, 0.0, 0.0), {true, false, false}, 500);
+  const auto [position, pressure] = block_difference(rest, moving);
+  MESSAGE("periodic x: moving vs resting block after 1 s: positions " << position << " m, pressures " << pressure
+                                                                      << " Pa (largest |p| " << moving.max_pressure
+                                                                      << " Pa), momentum change "
+                                                                      << moving.momentum_change.transpose() << " of "
+                                                                      << moving.momentum_scale << " kg m/s");
+  CHECK(moving.crossed);
+  CHECK(position < 1e-9 * 0.01);
+  CHECK(pressure < 1e-6);
+  // Momentum: no wall within reach, so only the pressure and viscous pair terms act, which cancel for a uniform
+  // translation; what is left is rounding of sum m u (|sum m u| = 2.9e-4 kg m/s, ulp 5e-20 per particle-step).
+  CHECK(moving.momentum_change.norm() < 1e-12 * moving.momentum_scale);
+}
+
+TEST_CASE("a block of water moving diagonally in a box periodic along x and y crosses both seams and the corner") {
+  const BlockRun rest = run_block(Vec3::Zero(), {true, true, false}, 500);
+  const BlockRun moving = run_block(Vec3(0.1, 0.07, 0.0), {true, true, false}, 500);
+  const auto [position, pressure] = block_difference(rest, moving);
+  MESSAGE("periodic x, y: moving vs resting block after 1 s: positions " << position << " m, pressures " << pressure
+                                                                         << " Pa, momentum change "
+                                                                         << moving.momentum_change.transpose()
+                                                                         << " of " << moving.momentum_scale
+                                                                         << " kg m/s");
+  CHECK(moving.crossed);
+  CHECK(position < 1e-9 * 0.01);
+  CHECK(pressure < 1e-6);
+  CHECK(moving.momentum_change.norm() < 1e-12 * moving.momentum_scale);
+}
+
+namespace {
+
+/// Water collapsing in a tank periodic along x and y: a column over half the period falls and spreads across the
+/// seams, so particles cross, lists are rebuilt and the slots are sorted.
+std::string collapsing_scene() {
+  return "[run]\nend_time = 1.0\ndt = 2.0e-3\n\n[materials.glass]\ndensity = 2500.0\n\n"
+         "[tank]\nsize = [0.08, 0.07, 0.1]\nwall_material = \"glass\"\nopen_faces = [\"z_max\"]\n"
+         "periodic = [\"x\", \"y\"]\n\n"
+         "[fluid]\nspacing = 0.01\n\n[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [0.04, 0.07, 0.06]\n"
+         "velocity = [0.3, 0.2, 0.0]\n";
+}
+std::string fluid_bytes_after(const std::string& text, int threads, int steps) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  auto simulation = Simulation::from_model(parse_scene(text, "collapse.toml"));
+  for (int step = 0; step < steps; ++step) simulation->step();
+  REQUIRE(simulation->world().step_status.ok());
+  return encode_checkpoint(simulation->checkpoint_data());
+}
+
+}  // namespace
+
+TEST_CASE("periodic water: one and two threads, and a resumed run, give byte-identical checkpoints") {
+  const std::string text = collapsing_scene();
+  const std::string one = fluid_bytes_after(text, 1, 120);
+  const std::string two = fluid_bytes_after(text, 2, 120);
+  CHECK(one == two);
+
+  const auto directory = test::scratch_dir("periodic_fluid_resume");
+  auto first_part = Simulation::from_model(parse_scene(text, "collapse.toml"));
+  for (int step = 0; step < 57; ++step) first_part->step();
+  REQUIRE(first_part->world().step_status.ok());
+  CHECK(first_part->world().fluid_neighbours->builds > 2);
+  CHECK(lists_cross_seam(first_part->world()));
+  const std::string path = (directory / "part.ckpt").string();
+  write_checkpoint(path, first_part->checkpoint_data());
+  first_part.reset();
+  auto resumed = Simulation::from_checkpoint(path);
+  for (int step = 57; step < 120; ++step) resumed->step();
+  REQUIRE(resumed->world().step_status.ok());
+  CHECK(encode_checkpoint(resumed->checkpoint_data()) == two);
+}
+
+}  // namespace riffle
