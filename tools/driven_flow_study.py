@@ -119,9 +119,10 @@ def channel_scene(case, l0, dt_factor=1.0):
             f'[tank]\nsize = [{length}, {width}, {round(height + 2 * wall, 12)}]\nwall_material = "glass"\n'
             f'periodic = ["x", "y"]\n\n'
             f'[fluid]\nspacing = {l0}\nkinematic_viscosity = {NU}\nclamp_negative_pressure = false\n\n{force}\n'
-            f'[[fluid.boxes]]\nlow = [0.0, 0.0, {wall}]\nhigh = [{length}, {width}, {wall + height}]\n\n'
+            f'[[fluid.boxes]]\nlow = [0.0, 0.0, {wall}]\nhigh = [{length}, {width}, {round(wall + height, 12)}]\n\n'
             f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [{length}, {width}, {wall}]\nlid = "no_slip"\n\n'
-            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, {wall + height}]\nhigh = [{length}, {width}, {2 * wall + height}]\n'
+            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, {round(wall + height, 12)}]\nhigh = [{length}, {width}, '
+            f'{round(2 * wall + height, 12)}]\n'
             f'{top}\n'
             f'[output]\nvtk_interval = {end / 60}\n[[output.probes]]\nkind = "driven_flow"\nname = "drive"\n'
             f'interval = {end / 100}\n')
