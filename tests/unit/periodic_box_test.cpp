@@ -187,7 +187,7 @@ frequency = 2.0
     const std::string water = "[fluid]\nspacing = 0.005\n\n[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\n"
                               "high = [0.04, 0.03, 0.01]\n";
     std::string both = periodic_scene("periodic = [\"x\"]\n", water);
-    CHECK(mentions(test::problems_of(both), "a periodic box takes grains or water, not both"));
+    CHECK(mentions(test::problems_of(both), "a periodic box takes grains only for now, or water only"));
     // Water alone, periodic along x and y (periods 8 and 6 l0 > 2 x 2.7 l0): accepted.
     std::string water_only = periodic_scene("periodic = [\"x\", \"y\"]\n", water);
     water_only.erase(water_only.find("[contact]"), water_only.find("[fluid]") - water_only.find("[contact]"));
