@@ -49,29 +49,35 @@ Vec3 nearest_image(Vec3 d, const Vec3& period) {
 
 }  // namespace
 
-// Sizes (CTest time): l0 = 10 mm, water 8 x 3 x 10 l0 (240 particles) in a tank 8 l0 long, periodic along x (the
-// period 8 l0 exceeds twice the lists' reach r_e + skin = 2.7 l0), the closed-box test's 2 ms steps for 10 s.
-TEST_CASE("still water in a box periodic along x: hydrostatic, uniform number density across the seam, at rest") {
-  const double l0 = 0.01, depth = 0.10, length = 0.08;
-  Model model =
-      test::fluid_model(Vec3(length, 0.03, 0.14), l0, {ParticleBoxModel{Vec3::Zero(), Vec3(length, 0.03, depth)}});
-  model.tank.periodic = {true, false, false};
+namespace {
+
+/// Still water 10 l0 deep filling a tank of plan `plan` (whole l0), periodic along `periodic`, for 10 s.
+void check_still_water(const Vec3& plan, const std::array<bool, 3>& periodic) {
+  const double l0 = 0.01, depth = 0.10;
+  Model model = test::fluid_model(Vec3(plan.x(), plan.y(), 0.14), l0,
+                                  {ParticleBoxModel{Vec3::Zero(), Vec3(plan.x(), plan.y(), depth)}});
+  model.tank.periodic = periodic;
   model.dt = 2.0e-3;
   test::FluidRun run(std::move(model));
   const std::size_t count = run.fluid_count();
-  REQUIRE(count == 240);
+  const long columns = std::lround(plan.x() / l0) * std::lround(plan.y() / l0);
+  REQUIRE(count == static_cast<std::size_t>(columns * 10));
   const std::vector<Vec3> start = run.fluid_positions_by_id();
+  const Vec3 period(periodic[0] ? plan.x() : 0.0, periodic[1] ? plan.y() : 0.0, 0.0);
 
   // First step: every fluid particle was moved by the same g dt^2 in the prediction, so n* of a particle depends on
-  // its (y, z) layer only, whatever its x: the spread over a layer is rounding (a neighbour missed or seen twice at
-  // the seam would change n by w(l0) ~ 0.1 n0).
+  // its layer along the closed axes only (y and z when x is periodic, and so on), whatever its coordinates along the
+  // periodic ones: the spread over a layer is rounding (a neighbour missed or seen twice at the seam would change n
+  // by w(l0) ~ 0.1 n0).
   REQUIRE_MESSAGE(run.step(), run.diagnosis());
   CHECK(run.world.fluid_neighbours->halo.size() > 0);
   CHECK(lists_cross_seam(run.world));
   std::map<std::pair<long, long>, std::pair<double, double>> layer_range;
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3& r = start[run.world.fluid->id[i]];
-    const auto key = std::make_pair(std::lround(r.y() / l0 - 0.5), std::lround(r.z() / l0 - 0.5));
+    const long x_cell = periodic[0] ? 0 : std::lround(r.x() / l0 - 0.5);
+    const long y_cell = periodic[1] ? 0 : std::lround(r.y() / l0 - 0.5);
+    const auto key = std::make_pair(x_cell * 1000 + y_cell, std::lround(r.z() / l0 - 0.5));
     const double n = run.world.fluid->number_density[i];
     auto [it, fresh] = layer_range.try_emplace(key, n, n);
     it->second.first = std::min(it->second.first, n);
@@ -80,9 +86,11 @@ TEST_CASE("still water in a box periodic along x: hydrostatic, uniform number de
   const double n0 = MpsConstants::from(run.model.fluid).reference_density;
   double spread = 0.0;
   for (const auto& entry : layer_range) spread = std::max(spread, entry.second.second - entry.second.first);
-  MESSAGE("number density: largest spread along x within a (y, z) layer " << spread / n0 << " n0 over "
-                                                                          << layer_range.size() << " layers");
-  CHECK(layer_range.size() == 30);
+  MESSAGE("periodic " << periodic[0] << periodic[1] << ": number density: largest spread along the periodic axes "
+                       << "within a layer " << spread / n0 << " n0 over " << layer_range.size() << " layers");
+  CHECK(layer_range.size() ==
+        static_cast<std::size_t>(10 * (periodic[0] ? 1 : std::lround(plan.x() / l0)) *
+                                 (periodic[1] ? 1 : std::lround(plan.y() / l0))));
   CHECK(spread < 1e-12 * n0);
 
   double ke_max = 0.0;
@@ -106,23 +114,36 @@ TEST_CASE("still water in a box periodic along x: hydrostatic, uniform number de
   int samples = 0;
   const std::vector<Vec3> now = run.fluid_positions_by_id();
   for (std::size_t i = 0; i < count; ++i) {
-    drift = std::max(drift, nearest_image(now[fluid.id[i]] - start[fluid.id[i]], Vec3(length, 0.0, 0.0)).norm());
+    drift = std::max(drift, nearest_image(now[fluid.id[i]] - start[fluid.id[i]], period).norm());
     const double z = fluid.position[i].z();
     CHECK(fluid.position[i].x() >= 0.0);  // wrapped into the period
-    CHECK(fluid.position[i].x() < length);
+    CHECK(fluid.position[i].x() < plan.x());
+    CHECK(fluid.position[i].y() >= 0.0);
+    CHECK(fluid.position[i].y() < plan.y());
     if (z > depth - 2.0 * l0) continue;
     sum += std::pow(fluid.pressure[i] - kRho * kG * (depth - 0.5 * l0 - z), 2);
     ++samples;
   }
   const double rms = std::sqrt(sum / samples) / (kRho * kG * depth);
   const double mass = kRho * l0 * l0 * l0 * static_cast<double>(count);
-  MESSAGE("steps " << steps << ", pressure RMS vs offset line " << rms << " rho g H, drift " << drift / l0
+  MESSAGE("periodic " << periodic[0] << periodic[1] << ": steps " << steps << ", pressure RMS vs offset line " << rms << " rho g H, drift " << drift / l0
                    << " l0, KE max " << ke_max << " J, final " << run.world.fluid_summary->kinetic_energy << " J");
   CHECK(drift < 0.1 * l0);
   CHECK(rms < 0.1 * l0 / depth);
   CHECK(run.world.fluid_summary->kinetic_energy < 0.5 * mass * std::pow(0.01 * l0 / 10.0, 2));
   CHECK(spurious_flags == 0);
   CHECK(missed_top == 0);
+}
+
+}  // namespace
+
+// Sizes (CTest time): l0 = 10 mm, water 10 l0 deep, 8 x 3 l0 (periodic along x), 3 x 8 l0 (along y), 8 x 6 l0 (along
+// x and y): 240, 240 and 480 particles; every period (6 or 8 l0) exceeds twice the lists' reach r_e + skin = 2.7 l0.
+// The closed-box test's 2 ms steps for 10 s (5000 steps) and its tolerances.
+TEST_CASE("still water in a box periodic along x, y, or both: hydrostatic, uniform number density across the seam") {
+  check_still_water(Vec3(0.08, 0.03, 0.0), {true, false, false});
+  check_still_water(Vec3(0.03, 0.08, 0.0), {false, true, false});
+  check_still_water(Vec3(0.08, 0.06, 0.0), {true, true, false});
 }
 
 namespace {
