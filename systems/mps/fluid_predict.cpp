@@ -128,7 +128,8 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
       }
     });
     // A periodic tank's ghost slots belong to their owner's lid.
-    for (std::size_t g = 0; g < neighbours.halo.size(); ++g) lid_of_[real_count + g] = lid_of_[neighbours.halo.owner[g]];
+    for (std::size_t g = 0; g < neighbours.halo.size(); ++g)
+      lid_of_[real_count + g] = lid_of_[neighbours.halo.owner[g]];
   }
   std::vector<bool> free_slip(lid_count);
   std::vector<double> plane_low(lid_count), plane_high(lid_count);

@@ -126,7 +126,8 @@ void check_still_water(const Vec3& plan, const std::array<bool, 3>& periodic) {
   }
   const double rms = std::sqrt(sum / samples) / (kRho * kG * depth);
   const double mass = kRho * l0 * l0 * l0 * static_cast<double>(count);
-  MESSAGE("periodic " << periodic[0] << periodic[1] << ": steps " << steps << ", pressure RMS vs offset line " << rms << " rho g H, drift " << drift / l0
+  MESSAGE("periodic " << periodic[0] << periodic[1] << ": steps " << steps << ", pressure RMS vs offset line " << rms
+                       << " rho g H, drift " << drift / l0
                    << " l0, KE max " << ke_max << " J, final " << run.world.fluid_summary->kinetic_energy << " J");
   CHECK(drift < 0.1 * l0);
   CHECK(rms < 0.1 * l0 / depth);
@@ -243,7 +244,8 @@ TEST_CASE("a block of water moving diagonally in a box periodic along x and y cr
   const BlockRun rest = run_block(Vec3::Zero(), {true, true, false}, 500, true);
   const BlockRun moving = run_block(Vec3(0.1, 0.07, 0.0), {true, true, false}, 500, true);
   const auto [position, pressure] = block_difference(rest, moving);
-  MESSAGE("periodic x, y, SPS: moving vs resting block after 1 s: positions " << position << " m, pressures " << pressure
+  MESSAGE("periodic x, y, SPS: moving vs resting block after 1 s: positions " << position << " m, pressures "
+                                                                              << pressure
                                                                          << " Pa, momentum change "
                                                                          << moving.momentum_change.transpose()
                                                                          << " of " << moving.momentum_scale
@@ -314,9 +316,10 @@ namespace riffle {
 // measured e_2 = 1.08 %, 0.42 %, 0.33 % at H/l0 = 10, 20, 40 (the error a smooth excess of the velocity, the same
 // in every eighth of the period, the seam's included; it falls at order 1.4 from 10 to 20 and then flattens toward
 // the MPS Laplacian's floor on a sheared lattice), and halving dt changes it by 1e-5 at H/l0 = 10 (by 5 % of itself
-// at 20): it is the spatial discretisation's. The tolerance at H/l0 = 10 is 2 %: the trend puts the error there at 1.1 %, and 2 % leaves 80 %
-// margin for platform rounding while a wrong viscosity, a slip at the lids or a flux lost across the seam (each an
-// error of 10 % or more in the profile) fails it. ~1000 steps of 480 fluid particles: about 1.5 s.
+// at 20): it is the spatial discretisation's. The tolerance at H/l0 = 10 is 2 %: the trend puts the error there at
+// 1.1 %, and 2 % leaves 80 % margin for platform rounding while a wrong viscosity, a slip at the lids or a flux
+// lost across the seam (each an error of 10 % or more in the profile) fails it. ~1000 steps of 480 fluid particles:
+// about 1.5 s.
 TEST_CASE("plane Poiseuille flow in a channel periodic along x and y matches f z (H - z) / (2 nu)") {
   const std::string text = R"([run]
 name = "poiseuille"
