@@ -24,7 +24,7 @@ void FluidPressureSolve::run(SystemContext& context) {
 
   // Slots beyond the reals are a periodic tank's ghosts (fluid_neighbours_predicted exchanged r*, u*, kinds). The
   // unknown behind a ghost is its owner's pressure: its column is the owner's row, so M stays N x N and symmetric
-  // (the pair (i, ghost of j) has the same weight as (j, ghost of i), one period apart).
+  // (the pair (i, ghost of j) has the weight of (j, ghost of i), one period apart: equal to rounding of the shift).
   const Ghosted<Vec3> predicted_of =
       fluid_ghosted(prediction.predicted_position, neighbours.ghosts.predicted_position, neighbours);
   const Ghosted<Vec3> velocity_of = fluid_ghosted(particles.velocity, neighbours.ghosts.velocity, neighbours);
