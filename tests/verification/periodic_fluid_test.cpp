@@ -318,7 +318,7 @@ namespace riffle {
 // Steady: u(z) = f z (H - z) / (2 nu). Norm: e_2 = sqrt(sum_i (u_x,i - u(z_i))^2 / sum_i u(z_i)^2) over the fluid
 // particles, each at its own z. The study (docs/RESULTS.md, "Issue 24: plane Poiseuille flow in a periodic channel")
 // measured e_2 = 1.08 %, 0.42 %, 0.33 % at H/l0 = 10, 20, 40 (the error a smooth excess of the velocity, the same
-// in every eighth of the period, the seam's included; it falls at order 1.4 from 10 to 20 and then flattens toward
+// in every eighth of the period, the seam's included; it falls at order 1.35 from 10 to 20 and then flattens toward
 // the MPS Laplacian's floor on a sheared lattice), and halving dt changes it by 1e-5 at H/l0 = 10 (by 5 % of itself
 // at 20): it is the spatial discretisation's. The tolerance at H/l0 = 10 is 2 %: the trend puts the error there at
 // 1.1 %, and 2 % leaves 80 % margin for platform rounding while a wrong viscosity, a slip at the lids or a flux
