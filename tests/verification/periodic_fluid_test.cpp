@@ -11,13 +11,17 @@
 //  - runs are byte-identical on one and two threads and after a resume in mid-run (the halo is rebuilt from the
 //    positions, not checkpointed);
 //  - plane Poiseuille flow in a channel periodic along x and y: u(z) = f z (h - z) / (2 nu) between the no-slip lids;
-//    plane Couette flow under a lid sliding across the seam: u(z) = U z / h, traction mu U / h.
+//    plane Couette flow under a lid sliding across the seam: u(z) = U z / h, traction mu U / h; Stokes' second
+//    problem (an oscillating body force over a fixed floor): amplitude and phase of each layer.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -451,6 +455,108 @@ velocity = 0.01
                                                                            << traction << " Pa (mu U / H = 0.25 Pa)");
   CHECK(error < 1e-3);
   CHECK(std::abs(traction / 0.25 - 1.0) < 0.01);
+}
+
+}  // namespace riffle
+
+namespace riffle {
+
+// Stokes' second problem in the same channel (tools/driven_flow_study.py stokes2, its coarsest case): f = F sin(omega t)
+// along x, period 1 s, F / omega = 1 cm/s, the no-slip floor at rest and a free-slip lid at H (H / delta = 2.2,
+// delta = sqrt(2 nu / omega) = 17.8 mm), six periods. Exact (finite depth, du/dz = 0 at the lid):
+// u = Re[(F^/(i omega)) (1 - cosh(k (H - z)) / cosh(k H)) e^(i omega t)], k = (1 + i) / delta, F^ = -i F. Each l0
+// layer's mean u_x is fitted by a cos + b sin + c over the last two periods (every step), u^ = a - i b; norm: the RMS
+// over the layers of |u^ - u^_exact| / (F / omega). The study (docs/RESULTS.md, "Issue 24") measured 2.16 %, 0.97 %,
+// 0.49 % at H/l0 = 10, 20, 40 (order 1.07, from frames every 0.1 s); the tolerance at H/l0 = 10 is 3.5 %: the first
+// order trend puts the error there at 2.2 %, and an amplitude or phase wrong by a tenth (a wrong viscosity, slip at
+// the floor, the lid's ghosts missing) gives 10 % or more. ~1900 steps of 480 fluid particles: about 2 s.
+TEST_CASE("Stokes' second problem in a channel periodic along x and y: amplitude and phase of each layer") {
+  const std::string text = R"([run]
+name = "stokes2"
+end_time = 6.0
+dt = 0.0032
+gravity = [0.0, 0.0, 0.0]
+
+[materials.glass]
+density = 2500.0
+
+[tank]
+size = [0.032, 0.024, 0.064]
+wall_material = "glass"
+periodic = ["x", "y"]
+
+[fluid]
+spacing = 0.004
+kinematic_viscosity = 0.001
+clamp_negative_pressure = false
+
+[fluid.body_force]
+kind = "sinusoidal"
+amplitude = 0.06283185307179587
+period = 1.0
+grains = "none"
+
+[[fluid.boxes]]
+low = [0.0, 0.0, 0.012]
+high = [0.032, 0.024, 0.052]
+
+[[fluid.wall_boxes]]
+low = [0.0, 0.0, 0.0]
+high = [0.032, 0.024, 0.012]
+lid = "no_slip"
+
+[[fluid.wall_boxes]]
+low = [0.0, 0.0, 0.052]
+high = [0.032, 0.024, 0.064]
+lid = "free_slip"
+)";
+  const double l0 = 0.004, height = 0.04, z0 = 0.012, nu = 1.0e-3, omega = 2.0 * std::numbers::pi;
+  const double force = 0.01 * omega;
+  test::FluidRun run(parse_scene(text, "stokes2.toml"));
+  REQUIRE_MESSAGE(run.run_until(4.0), run.diagnosis());
+  constexpr int kLayers = 10;
+  // Per layer: the normal equations of the fit u(t) = a cos + b sin + c.
+  std::vector<Eigen::Matrix3d> normal(kLayers, Eigen::Matrix3d::Zero());
+  std::vector<Eigen::Vector3d> right(kLayers, Eigen::Vector3d::Zero());
+  while (run.world.time < 6.0 - 1e-12) {
+    REQUIRE_MESSAGE(run.step(), run.diagnosis());
+    std::vector<double> sum(kLayers, 0.0);
+    std::vector<int> count(kLayers, 0);
+    const FluidParticles& fluid = *run.world.fluid;
+    for (std::size_t i = 0; i < run.fluid_count(); ++i) {
+      const int layer = static_cast<int>(std::floor((fluid.position[i].z() - z0) / l0));
+      if (layer < 0 || layer >= kLayers) continue;
+      sum[static_cast<std::size_t>(layer)] += fluid.velocity[i].x();
+      ++count[static_cast<std::size_t>(layer)];
+    }
+    const Eigen::Vector3d basis(std::cos(omega * run.world.time), std::sin(omega * run.world.time), 1.0);
+    for (std::size_t layer = 0; layer < kLayers; ++layer) {
+      if (count[layer] == 0) continue;
+      normal[layer] += basis * basis.transpose();
+      right[layer] += basis * (sum[layer] / count[layer]);
+    }
+  }
+  const double delta = std::sqrt(2.0 * nu / omega);
+  const std::complex<double> k(1.0 / delta, 1.0 / delta);
+  const std::complex<double> forcing(0.0, -force);  // F sin(omega t) = Re(-i F e^(i omega t))
+  double squared = 0.0;
+  std::complex<double> top, top_exact;
+  for (std::size_t layer = 0; layer < kLayers; ++layer) {
+    const Eigen::Vector3d fit = normal[layer].ldlt().solve(right[layer]);
+    const std::complex<double> measured(fit[0], -fit[1]);
+    const double z = (static_cast<double>(layer) + 0.5) * l0;
+    const std::complex<double> exact =
+        forcing / std::complex<double>(0.0, omega) * (1.0 - std::cosh(k * (height - z)) / std::cosh(k * height));
+    squared += std::norm(measured - exact);
+    top = measured;
+    top_exact = exact;
+  }
+  const double error = std::sqrt(squared / kLayers) / (force / omega);
+  const double degrees = 180.0 / std::numbers::pi;
+  MESSAGE("Stokes' second problem, H = 10 l0: RMS |u^ - u^_exact| over the layers " << error << " of F / omega; "
+          << "top layer " << std::abs(top) << " m/s at " << std::arg(top) * degrees << " deg (exact "
+          << std::abs(top_exact) << ", " << std::arg(top_exact) * degrees << ")");
+  CHECK(error < 0.035);
 }
 
 }  // namespace riffle
