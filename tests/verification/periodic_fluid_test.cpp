@@ -461,9 +461,9 @@ velocity = 0.01
 
 namespace riffle {
 
-// Stokes' second problem in the same channel (tools/driven_flow_study.py stokes2, its coarsest case): f = F sin(omega t)
-// along x, period 1 s, F / omega = 1 cm/s, the no-slip floor at rest and a free-slip lid at H (H / delta = 2.2,
-// delta = sqrt(2 nu / omega) = 17.8 mm), six periods. Exact (finite depth, du/dz = 0 at the lid):
+// Stokes' second problem in the same channel (tools/driven_flow_study.py stokes2, its coarsest case):
+// f = F sin(omega t) along x, period 1 s, F / omega = 1 cm/s, the no-slip floor at rest and a free-slip lid at H
+// (H / delta = 2.2, delta = sqrt(2 nu / omega) = 17.8 mm), six periods. Exact (finite depth, du/dz = 0 at the lid):
 // u = Re[(F^/(i omega)) (1 - cosh(k (H - z)) / cosh(k H)) e^(i omega t)], k = (1 + i) / delta, F^ = -i F. Each l0
 // layer's mean u_x is fitted by a cos + b sin + c over the last two periods (every step), u^ = a - i b; norm: the RMS
 // over the layers of |u^ - u^_exact| / (F / omega). The study (docs/RESULTS.md, "Issue 24") measured 2.16 %, 0.97 %,
