@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "components/component_id.hpp"
+#include "components/halo.hpp"
 #include "components/soa.hpp"
 #include "components/vec.hpp"
 
@@ -271,6 +272,11 @@ struct FluidNeighbours {
   /// near_slots[offsets[i] .. offsets[i] + near_count[i]).
   std::vector<std::uint32_t> near_count;
   std::vector<std::uint32_t> near_slots;
+  /// In a periodic tank ([tank] periodic): the halo built with the lists (slots [N, N + G) of the lists are its
+  /// ghosts) and the ghost copies the operators read (docs/ARCHITECTURE.md, "Periodic boundaries and the halo").
+  /// Invalid (and empty) otherwise.
+  Halo halo;
+  FluidGhosts ghosts;
 
   std::size_t particle_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };

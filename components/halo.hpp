@@ -70,4 +70,15 @@ struct GrainGhosts {
   std::vector<std::int32_t> material;
 };
 
+/// The MPS particles' ghost copies (fluid, wall and dummy slots alike): what the fluid operators read of a neighbour
+/// (systems/mps/). Each search exchanges the positions it searched at, the velocities and the kinds; the pressure
+/// solve exchanges the pressures it solved for.
+struct FluidGhosts {
+  std::vector<Vec3> position;            ///< [m] r^k + shift: the step-start search, the prediction, SPS
+  std::vector<Vec3> predicted_position;  ///< [m] r* + shift: free surface, pressure solve, correction
+  std::vector<Vec3> velocity;            ///< [m/s]
+  std::vector<std::int32_t> kind;        ///< FluidKind
+  std::vector<double> pressure;          ///< [Pa] p^{k+1} (the correction's gradient)
+};
+
 }  // namespace riffle

@@ -8,20 +8,22 @@ Cases that run in a closed box now:
                  u = U (3 s^2 - 2 s), s = z/h (Couette with the return flow a closed box forces), lid traction
                  4 mu U / h (the `driven_flow` probe, middle third of the lid).
   closed_tilt    water at rest under a constant body force f: grad p = rho (f, 0, -g) (time mean of a plane fit).
-Cases that need a periodic channel (issue 24's periodic boundaries; pass the scene lines that make x and y periodic
-with --periodic, e.g. --periodic '[tank]\nperiodic = ["x", "y"]' once that key exists):
+Cases in a channel periodic along x and y ([tank] periodic = ["x", "y"]; 8 x 6 l0 of it, the flow is plane):
   poiseuille     body force f between no-slip walls z = 0, H: u = f z (H - z) / (2 nu)
   couette        lid at U, floor fixed: u = U z / H; lid traction mu U / H
-  stokes2        f = F sin(omega t) over a fixed floor in a deep layer (Stokes' second problem for a pressure-driven
-                 oscillation): u = Re[(F^/(i omega)) (1 - exp(-(1 + i) z / delta)) e^(i omega t)],
-                 delta = sqrt(2 nu / omega); amplitude and phase per layer by least squares over the last periods.
+  stokes2        f = F sin(omega t) over a fixed floor under a free-slip lid at H (Stokes' second problem for a
+                 pressure-driven oscillation, finite depth): u = Re[(F^/(i omega)) (1 - cosh(k (H - z)) / cosh(k H))
+                 e^(i omega t)], k = (1 + i) / delta, delta = sqrt(2 nu / omega) (H / delta = 2.2: the deep-layer
+                 answer 1 - exp(-k z) is 10 % off at the lid); amplitude and phase per layer by least squares over
+                 the last periods.
 
 Norm: e = sqrt(mean over layers of (u_layer - u_exact(z_layer))^2) / U_ref, u_layer the mean u_x of the fluid
 particles of one l0 layer (closed boxes: middle third in x only), U_ref the profile's maximum |u|; the order is the
-least-squares slope of log e against log l0.
+least-squares slope of log e against log l0. Poiseuille and Couette also give the L2 error relative over the fluid
+particles, e_2 = sqrt(sum_i (u_x,i - u(z_i))^2 / sum_i u(z_i)^2), each particle at its own z.
 
     /usr/bin/python3 tools/driven_flow_study.py closed_lid --riffle build/riffle --out /tmp/driven --spacings 0.01 0.005
-    /usr/bin/python3 tools/driven_flow_study.py couette --periodic '...' --spacings 0.01 0.005 0.0025
+    /usr/bin/python3 tools/driven_flow_study.py poiseuille --spacings 0.004 0.002 0.001 [--dt-factor 0.5]
 numpy only (tools/vtp.py reads the frames).
 """
 import argparse
@@ -88,11 +90,14 @@ def tilt_scene(l0):
     return text, dict(length=length, depth=depth, f=0.981)
 
 
-def channel_scene(case, l0, periodic):
-    """Periodic channel of height H = 0.04 m: the floor a no-slip lid at rest, the top a no-slip lid at rest
-    (Poiseuille), at U (Couette) or a free-slip lid (Stokes: a layer deep compared with delta), each 3 l0 thick (the
-    lids' wall treatment, docs/FLUID.md: the tank's own walls slip). The water fills the channel (tension allowed)."""
-    height, length, width, wall = 0.04, 0.04, 0.02, 3 * l0
+def channel_scene(case, l0, dt_factor=1.0):
+    """Channel of height H = 0.04 m periodic along x and y (8 x 6 l0: the periods exceed twice the neighbour lists'
+    reach, 2.7 l0): the floor a no-slip lid at rest, the top a no-slip lid at rest (Poiseuille), at U (Couette) or a
+    free-slip lid (Stokes: a layer deep compared with delta), each 3 l0 thick (the lids' wall treatment,
+    docs/FLUID.md: the tank's own walls slip). The water fills the channel (tension allowed). dt = dt_factor x the
+    viscous limit 0.2 l0^2 / nu (at most 5 ms)."""
+    height, wall = 0.04, 3 * l0
+    length, width = round(8 * l0, 12), round(6 * l0, 12)
     top = ('lid = "no_slip"\n', 'lid = "no_slip"\nvelocity = 0.01\n', 'lid = "free_slip"\n')[
         ("poiseuille", "couette", "stokes2").index(case)]
     if case == "poiseuille":
@@ -111,16 +116,18 @@ def channel_scene(case, l0, periodic):
         end = 6 * period
         force = f'[fluid.body_force]\nkind = "sinusoidal"\namplitude = {f}\nperiod = {period}\ngrains = "none"\n'
         info = dict(F=f, omega=omega, H=height, period=period)
-    text = (f'[run]\nname = "{case}"\nend_time = {end}\ndt = {min(5e-3, 0.2 * l0 * l0 / NU)}\n'
+    text = (f'[run]\nname = "{case}"\nend_time = {end}\ndt = {min(5e-3, dt_factor * 0.2 * l0 * l0 / NU)}\n'
             f'gravity = [0.0, 0.0, 0.0]\n\n[materials.glass]\ndensity = 2500.0\n\n'
-            f'[tank]\nsize = [{length}, {width}, {height + 2 * wall}]\nwall_material = "glass"\n\n'
+            f'[tank]\nsize = [{length}, {width}, {round(height + 2 * wall, 12)}]\nwall_material = "glass"\n'
+            f'periodic = ["x", "y"]\n\n'
             f'[fluid]\nspacing = {l0}\nkinematic_viscosity = {NU}\nclamp_negative_pressure = false\n\n{force}\n'
-            f'[[fluid.boxes]]\nlow = [0.0, 0.0, {wall}]\nhigh = [{length}, {width}, {wall + height}]\n\n'
+            f'[[fluid.boxes]]\nlow = [0.0, 0.0, {wall}]\nhigh = [{length}, {width}, {round(wall + height, 12)}]\n\n'
             f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [{length}, {width}, {wall}]\nlid = "no_slip"\n\n'
-            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, {wall + height}]\nhigh = [{length}, {width}, {2 * wall + height}]\n'
+            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, {round(wall + height, 12)}]\nhigh = [{length}, {width}, '
+            f'{round(2 * wall + height, 12)}]\n'
             f'{top}\n'
             f'[output]\nvtk_interval = {end / 60}\n[[output.probes]]\nkind = "driven_flow"\nname = "drive"\n'
-            f'interval = {end / 100}\n\n{periodic}\n')
+            f'interval = {end / 100}\n')
     info["end"] = end
     info["z0"] = wall
     return text, info
@@ -212,24 +219,31 @@ def study_tilt(args):
               f"{100 * (dpdx / (1000 * info['f']) - 1):+.2f} %), dp/dz = {dpdz:.1f} Pa/m (-rho g = -9810)")
 
 
+def channel_exact(case, info, z):
+    if case == "poiseuille":
+        return info["f"] * z * (info["H"] - z) / (2 * NU)
+    return info["U"] * z / info["H"]
+
+
 def study_channel(args):
-    if not args.periodic:
-        sys.exit(f"{args.case} needs a periodic channel: pass --periodic with the scene lines that make x and y "
-                 "periodic (issue 24's periodic boundaries)")
-    errors = []
+    errors, particle_errors = [], []
     for l0 in args.spacings:
-        text, info = channel_scene(args.case, l0, args.periodic.replace("\\n", "\n"))
-        run_dir = run(args.riffle, text, args.out, f"{args.case}_{l0}")
+        text, info = channel_scene(args.case, l0, args.dt_factor)
+        run_dir = run(args.riffle, text, args.out, f"{args.case}_{l0}_dt{args.dt_factor}")
         height = info["H"]
         if args.case in ("poiseuille", "couette"):
             _, frame = last_frame(run_dir)
             z, u = layer_profile(frame, l0, z0=info["z0"])
-            if args.case == "poiseuille":
-                exact = info["f"] * z * (height - z) / (2 * NU)
-            else:
-                exact = info["U"] * z / height
+            exact = channel_exact(args.case, info, z)
             reference = np.abs(exact).max()
             error = math.sqrt(np.mean((u - exact) ** 2)) / reference
+            fluid = frame["kind"] == 0
+            z_particle = frame["points"][fluid, 2] - info["z0"]
+            u_particle = frame["velocity"][fluid, 0]
+            exact_particle = channel_exact(args.case, info, z_particle)
+            particle_errors.append(math.sqrt(np.sum((u_particle - exact_particle) ** 2) / np.sum(exact_particle ** 2)))
+            print(f"  L2 relative over the {fluid.sum()} fluid particles: {particle_errors[-1]:.5f}; bulk velocity "
+                  f"{u_particle.mean():.6g} m/s (exact {np.mean(exact_particle):.6g})")
         else:  # Stokes: amplitude and phase per layer over the last two periods
             omega, delta = info["omega"], math.sqrt(2 * NU / info["omega"])
             times, profiles = [], []
@@ -244,15 +258,20 @@ def study_channel(args):
             coefficients = np.linalg.lstsq(basis, profiles, rcond=None)[0]
             measured = coefficients[0] - 1j * coefficients[1]  # u = Re(u^ e^(i omega t))
             forcing = info["F"] * np.exp(-0.5j * math.pi)  # F sin(omega t) = Re(F e^(-i pi/2) e^(i omega t))
-            exact = forcing / (1j * omega) * (1 - np.exp(-(1 + 1j) * z / delta))
+            # Finite depth: no slip at z = 0, free slip (du/dz = 0) at z = H under the free-slip lid.
+            k = (1 + 1j) / delta
+            exact = forcing / (1j * omega) * (1 - np.cosh(k * (height - z)) / np.cosh(k * height))
             reference = abs(forcing / omega)
             error = math.sqrt(np.mean(np.abs(measured - exact) ** 2)) / reference
             far = np.argmax(z)
             print(f"  far field: amplitude {abs(measured[far]):.5g} m/s (exact {abs(exact[far]):.5g}), phase "
                   f"{math.degrees(np.angle(measured[far])):.1f} deg (exact {math.degrees(np.angle(exact[far])):.1f})")
         errors.append(error)
-        print(f"l0 = {l0} m: {args.case} profile error {error:.4f} of the profile's maximum")
-    print(f"order in l0: {order(args.spacings, errors):.2f}")
+        print(f"l0 = {l0} m (H = {info['H'] / l0:.0f} l0, dt factor {args.dt_factor}): {args.case} profile error "
+              f"{error:.5f} of the profile's maximum", flush=True)
+    print(f"order in l0: {order(args.spacings, errors):.2f}" +
+          (f" (layer norm), {order(args.spacings, particle_errors):.2f} (L2 over the particles)"
+           if particle_errors else ""))
 
 
 def main():
@@ -261,7 +280,8 @@ def main():
     parser.add_argument("--riffle", default="build/riffle")
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("/tmp/driven_flow_study"))
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.01, 0.005])
-    parser.add_argument("--periodic", default="", help="scene lines making x and y periodic (\\n for newlines)")
+    parser.add_argument("--dt-factor", type=float, default=1.0,
+                        help="channel cases: dt as a multiple of the viscous limit 0.2 l0^2 / nu")
     args = parser.parse_args()
     if args.case == "closed_lid":
         study_lid(args)

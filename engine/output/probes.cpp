@@ -56,6 +56,8 @@ FluidProbeSettings fluid_probe_settings(const Model& model) {
       lattice_constants(3, settings.spacing, settings.effective_radius).number_density;
   settings.floor_height = model.tank.origin.z();
   settings.allow_tension = !model.fluid.clamp_negative_pressure;
+  for (int axis = 0; axis < 3; ++axis)
+    if (model.tank.periodic[static_cast<std::size_t>(axis)]) settings.period[axis] = model.tank.size[axis];
   return settings;
 }
 
@@ -68,10 +70,18 @@ struct SensorSums {
   double solid_weight = 0.0;       ///< [1] sum over wall and dummy j of w_j
 };
 
-/// Adds particle j's share to the sums of a sensor at `sensor`.
+/// `offset` (a difference of two positions) with its nearest image along the axes with a period (> 0); unchanged
+/// along the others, and unchanged entirely in a tank without periodic axes.
+Vec3 nearest_image(Vec3 offset, const Vec3& period) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (period[axis] > 0.0) offset[axis] -= period[axis] * std::round(offset[axis] / period[axis]);
+  return offset;
+}
+
+/// Adds particle j's share to the sums of a sensor at `sensor` (j's nearest image along a periodic axis).
 void add_to_sensor(SensorSums& sums, const FluidParticles& particles, std::size_t j, const Vec3& sensor,
-                   const WendlandKernel& kernel, const Vec3& gradient) {
-  const Vec3 offset = sensor - particles.position[j];
+                   const WendlandKernel& kernel, const Vec3& gradient, const Vec3& period) {
+  const Vec3 offset = nearest_image(sensor - particles.position[j], period);
   const double distance_squared = offset.squaredNorm();
   if (distance_squared >= kernel.effective_radius * kernel.effective_radius) return;
   const double weight = kernel.weight(std::sqrt(distance_squared));
@@ -109,7 +119,8 @@ double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettin
   const Vec3 gradient = hydrostatic_gradient(settings.density, settings.gravity, tank.acceleration);
   const WendlandKernel kernel{settings.effective_radius};
   SensorSums sums;
-  for (std::size_t j = 0; j < particles.size(); ++j) add_to_sensor(sums, particles, j, sensor, kernel, gradient);
+  for (std::size_t j = 0; j < particles.size(); ++j)
+    add_to_sensor(sums, particles, j, sensor, kernel, gradient, settings.period);
   return sensor_reading(sums, settings, kNaN);
 }
 
@@ -124,14 +135,14 @@ double pressure_transducer_reading(const FluidParticles& particles, const FluidP
   const double reach = radius + settings.effective_radius;
   std::vector<std::size_t> near;
   for (std::size_t j = 0; j < particles.size(); ++j)
-    if ((particles.position[j] - centre).squaredNorm() < reach * reach) near.push_back(j);
+    if (nearest_image(particles.position[j] - centre, settings.period).squaredNorm() < reach * reach) near.push_back(j);
   const auto [along, across] = tangents(normal);
   const double spacing = 0.25 * std::min(settings.spacing, radius);
   double reading = 0.0;
   for (const DiscQuadraturePoint& q : disc_quadrature(radius, spacing, 16)) {
     const Vec3 sensor = centre + q.u * along + q.v * across;
     SensorSums sums;
-    for (std::size_t j : near) add_to_sensor(sums, particles, j, sensor, kernel, gradient);
+    for (std::size_t j : near) add_to_sensor(sums, particles, j, sensor, kernel, gradient, settings.period);
     reading += q.weight * sensor_reading(sums, settings, 0.0);  // no water near: dry area, 0
   }
   return reading;
@@ -164,11 +175,13 @@ double WindowMean::latest_time() const { return readings_.empty() ? kNaN : readi
 namespace {
 /// n of particle `slot` at the current positions: sum of w(r) over every other MPS particle (fluid, wall, dummy)
 /// within r_e, as the fluid systems define it.
-double number_density_at(const FluidParticles& particles, const WendlandKernel& kernel, std::size_t slot) {
+double number_density_at(const FluidParticles& particles, const WendlandKernel& kernel, std::size_t slot,
+                         const Vec3& period) {
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   double density = 0.0;
   for (std::size_t j = 0; j < particles.size(); ++j) {
-    const double distance_squared = (particles.position[j] - particles.position[slot]).squaredNorm();
+    const double distance_squared =
+        nearest_image(particles.position[j] - particles.position[slot], period).squaredNorm();
     if (j != slot && distance_squared < radius_squared) density += kernel.weight(std::sqrt(distance_squared));
   }
   return density;
@@ -182,8 +195,9 @@ double wave_gauge_height(const FluidParticles& particles, const FluidProbeSettin
   std::vector<std::pair<double, std::size_t>> column;  // (z, slot) of the fluid particles over the gauge
   for (std::size_t j = 0; j < particles.size(); ++j) {
     if (particles.kind[j] != static_cast<std::int32_t>(FluidKind::kFluid)) continue;
-    const double dx = particles.position[j].x() - gauge.x();
-    const double dy = particles.position[j].y() - gauge.y();
+    const Vec3 offset = nearest_image(particles.position[j] - gauge, settings.period);  // across a periodic seam
+    const double dx = offset.x();
+    const double dy = offset.y();
     if (dx * dx + dy * dy < radius_squared) column.emplace_back(particles.position[j].z(), j);
   }
   std::sort(column.begin(), column.end(), [](const auto& a, const auto& b) {
@@ -195,7 +209,7 @@ double wave_gauge_height(const FluidParticles& particles, const FluidProbeSettin
   // belongs to the predicted positions of the last step and is zero before the first one.
   const WendlandKernel kernel{settings.effective_radius};
   for (const auto& [z, j] : column)
-    if (number_density_at(particles, kernel, j) >= 0.5 * settings.reference_number_density)
+    if (number_density_at(particles, kernel, j, settings.period) >= 0.5 * settings.reference_number_density)
       return z + 0.5 * settings.spacing - tank.displacement.z();  // a particle stands for a cube of side l0
   return kNaN;
 }

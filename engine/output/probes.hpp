@@ -75,6 +75,9 @@ struct FluidProbeSettings {
   double reference_number_density = 0.0; ///< [1] n0 of the initial lattice (lattice_constants(3, l0, r_e))
   double floor_height = 0.0;              ///< [m] z of the tank's inner floor at rest
   bool allow_tension = false;             ///< !fluid.clamp_negative_pressure: a sensor may read p < 0
+  /// [m] per axis: the period of a periodic tank axis ([tank] periodic), 0 otherwise. The sensors, gauges and
+  /// densities take the nearest image of each particle along a periodic axis, so they read across the seam.
+  Vec3 period = Vec3::Zero();
 };
 /// The settings of model.fluid (which must be enabled, with l0 > 0).
 FluidProbeSettings fluid_probe_settings(const Model& model);

@@ -35,8 +35,9 @@ Pipeline build_pipeline(const Model& model) {
     const double skin = fluid.neighbour_skin_ratio * fluid.spacing;
     const double narrow_skin = fluid.narrow_neighbour_skin_ratio * fluid.spacing;
     using At = FluidNeighbourSearch::Positions;
+    const PeriodicBox box = periodic_box(model);  // no periodic axis: the searches build no halo
     pipeline.step.push_back(
-        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent));
+        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent, box));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
     pipeline.step.push_back(std::make_unique<FluidWallMotion>());
     // After the prediction, right before the search at r*: in fast flow that search rebuilds anyway.
@@ -44,9 +45,9 @@ Pipeline build_pipeline(const Model& model) {
       pipeline.step.push_back(std::make_unique<FluidCellSort>(fluid.sort_every, fluid.sort_every_fast,
                                                               fluid.effective_radius() + skin, 0.15 * fluid.spacing));
     pipeline.step.push_back(
-        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted));
+        std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted, box));
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
-    pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid));
+    pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid, box.any()));
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
     // Escaped spray leaves the table before the checks count the water and before the grains' voidage and drag
     // reaction look at it; with escape = "stop" fluid_checks stops the run at the first one instead.

@@ -7,6 +7,7 @@
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/hydrostatic.hpp"
 #include "systems/physics/mps_operators.hpp"
+#include "systems/physics/periodic_box.hpp"
 #include "systems/physics/tank_kinematics.hpp"
 
 namespace riffle {
@@ -35,18 +36,29 @@ void FluidCorrect::run(SystemContext& context) {
   const Vec3 wall_pressure_gradient = hydrostatic_gradient(
       rho, body_acceleration, tank_kinematics(context.model.tank.motion, context.time + dt).acceleration);
 
+  // Slots beyond the reals are a periodic tank's ghosts (r* and kinds from fluid_neighbours_predicted, p^{k+1} from
+  // fluid_pressure).
+  const Ghosted<Vec3> predicted_of =
+      fluid_ghosted(prediction.predicted_position, neighbours.ghosts.predicted_position, neighbours);
+  const Ghosted<std::int32_t> kind_of = fluid_ghosted(particles.kind, neighbours.ghosts.kind, neighbours);
+  const Ghosted<double> pressure_of = fluid_ghosted(pressures.pressure, neighbours.ghosts.pressure, neighbours);
+  // A particle that leaves the period comes back through the other face: the jump of one period uses up the
+  // neighbour lists' skin, so the next search rebuilds them (and the halo).
+  const PeriodicBox box = periodic_box(context.model);
+  const bool periodic = box.any();
+
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = prediction.predicted_position[i];
     const double pressure = pressures.pressure[i];
     const auto partner_pressure = [&](std::uint32_t j, const Vec3& offset) {
-      return particles.kind[j] == kFluidKind ? pressures.pressure[j]
+      return kind_of[j] == kFluidKind ? pressure_of[j]
                                              : hydrostatic_extrapolation(pressure, wall_pressure_gradient, offset);
     };
     // Classic gradient (GC off): p_j - min p over the support, which keeps the pressure force repulsive.
     double base_pressure = pressure;
     if (!schemes.gradient_correction) {
       for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
-        const Vec3 offset = prediction.predicted_position[j] - position;
+        const Vec3 offset = predicted_of[j] - position;
         if (offset.squaredNorm() < radius_squared) base_pressure = std::min(base_pressure, partner_pressure(j, offset));
       }
     }
@@ -55,7 +67,7 @@ void FluidCorrect::run(SystemContext& context) {
     FluidPairBatch batch;
     for_each_near_pair(
         near_neighbours_of(neighbours, i), kernel, batch,
-        [&](std::uint32_t j) -> Vec3 { return prediction.predicted_position[j] - position; },
+        [&](std::uint32_t j) -> Vec3 { return predicted_of[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           if (pair.distance_squared[k] == 0.0) return;
           const std::uint32_t j = pair.slot[k];
@@ -67,7 +79,7 @@ void FluidCorrect::run(SystemContext& context) {
           if (schemes.gradient_correction) moment.add(weight, weight_over_squared, offset);
           if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
             // rho_j / (rho_i + rho_j): 1/2 between fluid particles, 1 against an (infinitely heavy) wall.
-            const double partner_share = particles.kind[j] == kFluidKind ? 0.5 : 1.0;
+            const double partner_share = kind_of[j] == kFluidKind ? 0.5 : 1.0;
             stabilisation +=
                 stabilisation_term(partner_share, stabilisation_distance, distance, weight_over_squared, offset);
           }
@@ -77,7 +89,7 @@ void FluidCorrect::run(SystemContext& context) {
     pressures.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
     const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;
-    particles.position[i] = position + dt * change;
+    particles.position[i] = periodic ? box.wrap(position + dt * change) : position + dt * change;
   });
   context.count_items(fluid_count);
 }

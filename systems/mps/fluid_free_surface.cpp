@@ -15,6 +15,9 @@ void FluidFreeSurface::run(SystemContext& context) {
   const WendlandKernel kernel = constants_.kernel;
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double surface_below = threshold_ * constants_.reference_density;
+  // Slots beyond the reals are a periodic tank's ghosts (fluid_neighbours_predicted exchanged their r*).
+  const Ghosted<Vec3> predicted_of =
+      fluid_ghosted(prediction.predicted_position, neighbours.ghosts.predicted_position, neighbours);
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = prediction.predicted_position[i];
     double density = 0.0;
@@ -23,7 +26,7 @@ void FluidFreeSurface::run(SystemContext& context) {
     FluidPairBatch batch;
     for_each_pair_within(
         neighbours_of(neighbours, i), radius_squared, kernel, batch,
-        [&](std::uint32_t j) -> Vec3 { return prediction.predicted_position[j] - position; },
+        [&](std::uint32_t j) -> Vec3 { return predicted_of[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           density += pair.weight[k];
           near[near_count++] = pair.slot[k];

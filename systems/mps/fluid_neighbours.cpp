@@ -427,11 +427,21 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
   ++neighbours.builds;
 }
 
+void FluidNeighbourSearch::exchange_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions,
+                                           FluidNeighbours& neighbours) const {
+  const Halo& halo = neighbours.halo;
+  halo_copy_positions(halo, positions,
+                      at_ == Positions::kCurrent ? neighbours.ghosts.position : neighbours.ghosts.predicted_position);
+  halo_copy(halo, particles.velocity, neighbours.ghosts.velocity);
+  halo_copy(halo, particles.kind, neighbours.ghosts.kind);
+}
+
 void FluidNeighbourSearch::run(SystemContext& context) {
   const ParticleState& particles = context.read<ParticleState>();
   const ParticlePrediction& prediction = context.read<ParticlePrediction>();
   FluidNeighbours& neighbours = context.write<FluidNeighbours>();
   const std::vector<Vec3>& positions = at_ == Positions::kCurrent ? particles.position : prediction.predicted_position;
+  const bool periodic = box_.any();
   const std::size_t queries = fluid_slot_count(particles);
   // Displacements are measured in the tank's frame: pair distances do not change under a common translation, and
   // the walls, which ride with the tank, then never use up the skin (otherwise the tank alone forces a rebuild
@@ -454,7 +464,10 @@ void FluidNeighbourSearch::run(SystemContext& context) {
         },
         [](bool a, bool b) { return a && b; });
   }
-  if (valid && !neighbours.reordered) return;
+  if (valid && !neighbours.reordered) {
+    if (periodic) exchange_ghosts(particles, positions, neighbours);
+    return;
+  }
   context.count_items(positions.size());
   // A rebuild forced only by a reordering (FluidCellSort) says nothing about the flow: it keeps the last skin.
   const bool reordered_only = valid && neighbours.builds > 0;
@@ -463,8 +476,23 @@ void FluidNeighbourSearch::run(SystemContext& context) {
       reordered_only ? std::clamp(built_skin, narrow_skin_, skin_) : lasted_one_step ? narrow_skin_ : skin_;
   // The grid rides with the tank, on the lattice (cells of the wide skin's radius) FluidCellSort orders the
   // particles by.
-  build_fluid_neighbours(positions, effective_radius_ + skin, neighbours, queries,
-                         context.model.tank.origin + tank_displacement, effective_radius_ + skin_);
+  const Vec3 grid_anchor = context.model.tank.origin + tank_displacement;
+  if (!periodic) {
+    build_fluid_neighbours(positions, effective_radius_ + skin, neighbours, queries, grid_anchor,
+                           effective_radius_ + skin_);
+  } else {
+    // The reals and their ghosts (ascending lists: reals, then ghosts). The positions are not wrapped here, so that
+    // when a rebuild happens changes no result (a resumed run rebuilds at its first step): fluid_correct wraps r^k
+    // at every step, and r* lies at most a step's travel beyond a face, where image_shifts still gives the one
+    // image that comes back into the box.
+    build_halo(positions, particles.id, box_, effective_radius_ + skin, neighbours.halo);
+    exchange_ghosts(particles, positions, neighbours);
+    const std::vector<Vec3>& ghost_positions =
+        at_ == Positions::kCurrent ? neighbours.ghosts.position : neighbours.ghosts.predicted_position;
+    std::vector<Vec3> all = positions;
+    all.insert(all.end(), ghost_positions.begin(), ghost_positions.end());
+    build_fluid_neighbours(all, effective_radius_ + skin, neighbours, queries, grid_anchor, effective_radius_ + skin_);
+  }
   neighbours.built_step = context.step();
   neighbours.built_positions = positions;
   neighbours.reordered = false;

@@ -14,6 +14,7 @@
 
 #include "engine/core/system.hpp"
 #include "systems/physics/mps_common.hpp"
+#include "systems/physics/periodic_box.hpp"
 
 namespace riffle {
 
@@ -46,11 +47,21 @@ FluidSearchSimd fluid_search_simd();
 /// skin of a few tenths of l0 every step), a wide skin buys no reuse and only lengthens every pass over the lists
 /// (r_e + 0.3 l0 holds 42 % more candidates than r_e), so the next build takes `narrow_skin`; once a list lasts
 /// longer, the build goes back to `skin` (docs/BENCHMARKS.md, "Fluid speed work").
+///
+/// In a periodic tank (`box` with a periodic axis) each rebuild builds the halo (components/halo.hpp) of every MPS
+/// slot within the list radius of a periodic face and searches the reals and their ghosts together: list slots
+/// [N, N + G) are ghosts. Every run (rebuild or not) exchanges the ghosts' positions (the ones searched at),
+/// velocities and kinds. fluid_correct wraps the positions into the period at every step: a particle that crosses
+/// a face jumps by one period, which uses up any skin and so forces the next rebuild. The halo reaches r_e + skin:
+/// a particle that comes within r_e of a face before the next rebuild was within r_e + skin / 2 of it at the build,
+/// as for the lists themselves.
 class FluidNeighbourSearch final : public System {
  public:
   enum class Positions { kCurrent, kPredicted };
-  FluidNeighbourSearch(double effective_radius, double skin, double narrow_skin, Positions at)
-      : effective_radius_(effective_radius), skin_(skin), narrow_skin_(std::min(narrow_skin, skin)), at_(at) {}
+  FluidNeighbourSearch(double effective_radius, double skin, double narrow_skin, Positions at,
+                       const PeriodicBox& box = {})
+      : effective_radius_(effective_radius), skin_(skin), narrow_skin_(std::min(narrow_skin, skin)), at_(at),
+        box_(box) {}
   std::string_view name() const override {
     return at_ == Positions::kCurrent ? "fluid_neighbours" : "fluid_neighbours_predicted";
   }
@@ -60,10 +71,15 @@ class FluidNeighbourSearch final : public System {
   void run(SystemContext& context) override;
 
  private:
+  /// Ghost positions (the ones searched at: r^k or r*), velocities and kinds from the reals.
+  void exchange_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions,
+                       FluidNeighbours& neighbours) const;
+
   double effective_radius_;
   double skin_;
   double narrow_skin_;
   Positions at_;
+  PeriodicBox box_;
 };
 
 }  // namespace riffle

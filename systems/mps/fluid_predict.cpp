@@ -28,6 +28,10 @@ void FluidPredict::run(SystemContext& context) {
   Vec3 gravity = context.model.gravity;
   if (fluid_.body_force.kind != BodyForceModel::Kind::kNone) gravity.x() += body_force(context, particles, fluid_count);
   acceleration_.resize(fluid_count);
+  // Neighbour slots beyond the reals are a periodic tank's ghosts (fluid_neighbours exchanged r^k, u^k, kinds).
+  const Ghosted<Vec3> position_of = fluid_ghosted(particles.position, neighbours.ghosts.position, neighbours);
+  const Ghosted<Vec3> velocity_of = fluid_ghosted(particles.velocity, neighbours.ghosts.velocity, neighbours);
+  const Ghosted<std::int32_t> kind_of = fluid_ghosted(particles.kind, neighbours.ghosts.kind, neighbours);
   // The body force joins gravity; eddy viscosity and lids take their own loop, so this one keeps main's bits.
   if (fluid_.turbulence == FluidModel::Turbulence::kSps || fluid_.has_lids())
     driven_viscous_loop(context, gravity);
@@ -41,16 +45,16 @@ void FluidPredict::run(SystemContext& context) {
       FluidPairBatch batch;
       for_each_pair_within(
           neighbours_of(neighbours, i), radius_squared, kernel, batch,
-          [&](std::uint32_t j) -> Vec3 { return particles.position[j] - position; },
+          [&](std::uint32_t j) -> Vec3 { return position_of[j] - position; },
           [&](const FluidPairBatch& pair, std::size_t k) {
             const std::uint32_t j = pair.slot[k];
             const double weight = pair.weight[k];
-            const Vec3 relative_velocity = particles.velocity[j] - velocity;
+            const Vec3 relative_velocity = velocity_of[j] - velocity;
             viscous += weight * relative_velocity;
             if (error_compensation) {
               density += weight;
               const double derivative_over_distance = kernel.derivative_over_distance(pair.distance[k]);
-              rate += density_rate_term(particles.kind[j] == kFluidKind, derivative_over_distance, pair.offset(k),
+              rate += density_rate_term(kind_of[j] == kFluidKind, derivative_over_distance, pair.offset(k),
                                         relative_velocity);
             }
           });
@@ -108,7 +112,8 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   for (std::size_t b = 0; b < fluid_.wall_boxes.size(); ++b)
     if (fluid_.wall_boxes[b].lid) lid_boxes.push_back(b);
   const std::size_t lid_count = lid_boxes.size();
-  lid_of_.assign(particles.size(), -1);
+  const std::size_t real_count = particles.size();
+  lid_of_.assign(real_count + neighbours.halo.size(), -1);
   if (lid_count > 0) {
     const double tolerance = 1e-9 * std::max(1.0, context.model.tank.size.maxCoeff());
     for_each_particle(particles.size() - fluid_count, [&](std::size_t k) {
@@ -122,6 +127,9 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
         }
       }
     });
+    // A periodic tank's ghost slots belong to their owner's lid.
+    for (std::size_t g = 0; g < neighbours.halo.size(); ++g)
+      lid_of_[real_count + g] = lid_of_[neighbours.halo.owner[g]];
   }
   std::vector<bool> free_slip(lid_count);
   std::vector<double> plane_low(lid_count), plane_high(lid_count);
@@ -160,6 +168,15 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   // wherever A is well conditioned (seed Eqs. 8-9, numerics 2.6).
   eddy_viscosity_.assign(sps ? fluid_count : 0, 0.0);
   if (sps) sps_eddy_viscosity(particles, neighbours, fluid_count, constants_, fluid_.smagorinsky_constant, eddy_viscosity_);
+  // nu_t of a neighbour slot: a fluid slot's own, a periodic ghost's owner's (the exchange of nu_t: it lives and
+  // dies within this system), 0 for walls.
+  const auto eddy_of = [&](std::uint32_t j) {
+    const std::uint32_t owner = j < real_count ? j : neighbours.halo.owner[j - real_count];
+    return owner < fluid_count ? eddy_viscosity_[owner] : 0.0;
+  };
+  const Ghosted<Vec3> position_of = fluid_ghosted(particles.position, neighbours.ghosts.position, neighbours);
+  const Ghosted<Vec3> velocity_of = fluid_ghosted(particles.velocity, neighbours.ghosts.velocity, neighbours);
+  const Ghosted<std::int32_t> kind_of = fluid_ghosted(particles.kind, neighbours.ghosts.kind, neighbours);
 
   lid_force_.assign(fluid_count * lid_count, Vec3::Zero());
   const double particle_mass = fluid_.density * fluid_.spacing * fluid_.spacing * fluid_.spacing;
@@ -172,22 +189,20 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
     FluidPairBatch batch;
     for_each_pair_within(
         neighbours_of(neighbours, i), radius_squared, kernel, batch,
-        [&](std::uint32_t j) -> Vec3 { return particles.position[j] - position; },
+        [&](std::uint32_t j) -> Vec3 { return position_of[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           const std::uint32_t j = pair.slot[k];
           const double weight = pair.weight[k];
-          const Vec3 relative_velocity = particles.velocity[j] - velocity;
-          const bool fluid_partner = particles.kind[j] == kFluidKind;
+          const Vec3 relative_velocity = velocity_of[j] - velocity;
+          const bool fluid_partner = kind_of[j] == kFluidKind;
           const std::int32_t lid = fluid_partner ? -1 : lid_of_[j];
           // A free-slip lid exerts no shear: it is left out of the viscous sum (not of the density terms).
           if (lid < 0 || !free_slip[static_cast<std::size_t>(lid)]) {
             // Pair viscosity nu + (nu_t,i + nu_t,j)/2 (a wall's nu_t is 0): symmetric, so the fluid's momentum is
-            // exchanged in pairs. A fluid neighbour beyond the fluid slots (a periodic ghost, once there are any)
-            // reads 0 until the halo carries nu_t.
-            const double pair_viscosity =
-                nu + 0.5 * (own_eddy + (sps && fluid_partner && j < fluid_count ? eddy_viscosity_[j] : 0.0));
+            // exchanged in pairs (a periodic ghost's nu_t is its owner's).
+            const double pair_viscosity = nu + 0.5 * (own_eddy + (sps && fluid_partner ? eddy_of(j) : 0.0));
             const double beta = lid >= 0 ? extrapolation(static_cast<std::size_t>(lid), position.z(),
-                                                         particles.position[j].z())
+                                                         position_of[j].z())
                                          : 1.0;
             const Vec3 term = (laplacian_factor * pair_viscosity * weight * beta) * relative_velocity;
             viscous += term;

@@ -22,6 +22,15 @@ void FluidPressureSolve::run(SystemContext& context) {
   const double dt = context.dt;
   const double rho = fluid_.density;
 
+  // Slots beyond the reals are a periodic tank's ghosts (fluid_neighbours_predicted exchanged r*, u*, kinds). The
+  // unknown behind a ghost is its owner's pressure: its column is the owner's row, so M stays N x N and symmetric
+  // (the pair (i, ghost of j) has the weight of (j, ghost of i), one period apart: equal to rounding of the shift).
+  const Ghosted<Vec3> predicted_of =
+      fluid_ghosted(prediction.predicted_position, neighbours.ghosts.predicted_position, neighbours);
+  const Ghosted<Vec3> velocity_of = fluid_ghosted(particles.velocity, neighbours.ghosts.velocity, neighbours);
+  const Ghosted<std::int32_t> kind_of = fluid_ghosted(particles.kind, neighbours.ghosts.kind, neighbours);
+  const auto row_of = [&](std::uint32_t j) { return row_of_[fluid_owner_of(neighbours, j)]; };
+
   // Unknowns: fluid particles off the free surface, in slot order (so the system is the same for any thread count).
   row_of_.assign(fluid_count, -1);
   slot_of_.clear();
@@ -38,7 +47,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   for_each_particle(unknowns, [&](std::size_t row) {
     std::size_t entries = 0;
     for (const std::uint32_t j : near_neighbours_of(neighbours, slot_of_[row]))
-      entries += particles.kind[j] == kFluidKind && row_of_[j] >= 0 ? 1 : 0;
+      entries += kind_of[j] == kFluidKind && row_of(j) >= 0 ? 1 : 0;
     row_start_[row + 1] = entries;
   });
   for (std::size_t row = 0; row < unknowns; ++row) row_start_[row + 1] += row_start_[row];
@@ -65,24 +74,24 @@ void FluidPressureSolve::run(SystemContext& context) {
     std::uint32_t fluid_neighbours = 0;
     double diagonal = compressibility_diagonal + acoustic_diagonal, rate = 0.0;
     for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {  // all within r_e at r* (fluid_free_surface)
-      const Vec3 offset = prediction.predicted_position[j] - position;
+      const Vec3 offset = predicted_of[j] - position;
       const double distance = std::sqrt(offset.squaredNorm());
       const double derivative_over_distance = kernel.derivative_over_distance(distance);
-      const bool fluid = particles.kind[j] == kFluidKind;
+      const bool fluid = kind_of[j] == kFluidKind;
       if (fluid) {
         // Walls are left out of the Laplacian: zero normal pressure flux (Neumann, amendment 1).
         const double coefficient = schemes.higher_order_laplacian ? laplacian_coefficient(derivative_over_distance)
                                                                   : classic_coefficient * kernel.weight(distance);
         diagonal += coefficient;
         ++fluid_neighbours;
-        if (row_of_[j] >= 0) {  // surface neighbours hold p = 0: their term drops, the diagonal keeps it
-          compact_columns_[first_entry + entries] = static_cast<std::uint32_t>(row_of_[j]);
+        if (row_of(j) >= 0) {  // surface neighbours hold p = 0: their term drops, the diagonal keeps it
+          compact_columns_[first_entry + entries] = static_cast<std::uint32_t>(row_of(j));
           compact_values_[first_entry + entries] = -coefficient;
           ++entries;
         }
       }
       if (schemes.higher_order_source)
-        rate += density_rate_term(fluid, derivative_over_distance, offset, particles.velocity[j] - velocity);
+        rate += density_rate_term(fluid, derivative_over_distance, offset, velocity_of[j] - velocity);
     }
     double rhs = rho * gamma * (densities.number_density[i] - n0) / (dt * dt);
     if (schemes.higher_order_source) rhs += rho / dt * rate;
@@ -186,6 +195,11 @@ void FluidPressureSolve::run(SystemContext& context) {
     const double pressure = row_of_[i] >= 0 ? solution_[static_cast<std::size_t>(row_of_[i])] : 0.0;
     pressures.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
   });
+  // The exchange of p^{k+1}: fluid_correct reads the ghosts' pressures.
+  if (periodic_) {
+    FluidNeighbours& halo_owner = context.write<FluidNeighbours>();
+    halo_copy(halo_owner.halo, pressures.pressure, halo_owner.ghosts.pressure);
+  }
   summary.solver_iterations = iterations;
   summary.solver_residual = rhs_norm > 0.0 ? residual_norm / rhs_norm : 0.0;
   summary.solver_unknowns = unknowns;

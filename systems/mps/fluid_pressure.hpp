@@ -15,9 +15,14 @@ namespace riffle {
 /// b = rho/dt [Dn/Dt* + ECS] + rho gamma (n* - n0)/dt^2 (gamma = rate dt; classic source: gamma = 1, no Dn/Dt).
 class FluidPressureSolve final : public System {
  public:
-  explicit FluidPressureSolve(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
+  /// `periodic`: the tank has a periodic axis; the solve then exchanges the ghosts' pressures (FluidNeighbours).
+  explicit FluidPressureSolve(const FluidModel& fluid, bool periodic = false)
+      : fluid_(fluid), constants_(MpsConstants::from(fluid)), periodic_(periodic) {}
   std::string_view name() const override { return "fluid_pressure"; }
   Access access() const override {
+    if (periodic_)
+      return {component_ids<ParticleState, ParticlePrediction, ParticleDensity>(),
+              component_ids<ParticlePressure, FluidSummary, FluidNeighbours>()};
     return {component_ids<FluidNeighbours, ParticleState, ParticlePrediction, ParticleDensity>(),
             component_ids<ParticlePressure, FluidSummary>()};
   }
@@ -26,6 +31,7 @@ class FluidPressureSolve final : public System {
  private:
   FluidModel fluid_;
   MpsConstants constants_;
+  bool periodic_ = false;
   std::vector<std::int32_t> row_of_;      ///< fluid slot -> unknown index, -1 on the surface
   std::vector<std::uint32_t> slot_of_;    ///< unknown index -> fluid slot
   std::vector<double> diagonal_, inverse_diagonal_;

@@ -56,6 +56,9 @@ void sps_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& n
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants.reference_density;
   out.resize(fluid_count);
+  // Slots beyond the reals are a periodic tank's ghosts (FluidNeighbours::halo).
+  const Ghosted<Vec3> position_of = fluid_ghosted(particles.position, neighbours.ghosts.position, neighbours);
+  const Ghosted<Vec3> velocity_of = fluid_ghosted(particles.velocity, neighbours.ghosts.velocity, neighbours);
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = particles.position[i];
     const Vec3 velocity = particles.velocity[i];
@@ -64,12 +67,12 @@ void sps_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& n
     FluidPairBatch batch;
     for_each_pair_within(
         neighbours_of(neighbours, i), radius_squared, kernel, batch,
-        [&](std::uint32_t j) -> Vec3 { return particles.position[j] - position; },
+        [&](std::uint32_t j) -> Vec3 { return position_of[j] - position; },
         [&](const FluidPairBatch& pair, std::size_t k) {
           if (pair.distance_squared[k] == 0.0) return;
           const Vec3 offset = pair.offset(k);
           const double weight_over_squared = pair.weight[k] * pair.inverse_squared[k];
-          sum += (weight_over_squared * offset) * (particles.velocity[pair.slot[k]] - velocity).transpose();
+          sum += (weight_over_squared * offset) * (velocity_of[pair.slot[k]] - velocity).transpose();
           moment.add(pair.weight[k], weight_over_squared, offset);
         });
     // Column a of (D/n0) C sum is grad u_a; the transpose puts d u_a / d x_b at [a][b].

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "components/fluid.hpp"
@@ -60,6 +61,18 @@ inline NeighbourRange neighbours_of(const FluidNeighbours& neighbours, std::size
 inline NeighbourRange near_neighbours_of(const FluidNeighbours& neighbours, std::size_t i) {
   const std::uint32_t* first = neighbours.near_slots.data() + neighbours.offsets[i];
   return {first, first + neighbours.near_count[i]};
+}
+
+/// A field of the MPS particles over the slots a neighbour list holds: [0, N) the reals, [N, N + G) the ghost copies
+/// of a periodic tank's halo (FluidNeighbours::halo, ::ghosts). Without a halo every slot is real.
+template <class T>
+Ghosted<T> fluid_ghosted(const std::vector<T>& real, const std::vector<T>& ghost, const FluidNeighbours& neighbours) {
+  return {real.data(), ghost.data(),
+          neighbours.halo.valid ? neighbours.halo.real_count : std::numeric_limits<std::uint32_t>::max()};
+}
+/// The real particle behind a neighbour slot (the slot itself without a halo).
+inline std::uint32_t fluid_owner_of(const FluidNeighbours& neighbours, std::uint32_t j) {
+  return neighbours.halo.valid ? neighbours.halo.owner_of(j) : j;
 }
 
 /// Runs body(i) for i in [0, count) in parallel (gather loops: each i writes only its own slot).

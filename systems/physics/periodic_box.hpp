@@ -36,7 +36,8 @@ PeriodicBox periodic_box(const Model& model);
 /// each pair across the seam is seen once from each side.
 bool periodic_cutoff_fits(const PeriodicBox& box, double cutoff);
 
-/// Builds `halo` for `positions` (all inside the box): for each real within `cutoff` of a periodic face, one ghost
+/// Builds `halo` for `positions` (inside the box, or less than `cutoff` beyond a periodic face, where image_shifts
+/// still gives the one image back inside: the fluid's r*): for each real within `cutoff` of a periodic face, one ghost
 /// per image image_shifts lists, ordered by owner slot then image: a pure function of the positions, so a resumed
 /// run rebuilds the same halo from the positions it was built at.
 void build_halo(const std::vector<Vec3>& positions, const std::vector<EntityId>& ids, const PeriodicBox& box,

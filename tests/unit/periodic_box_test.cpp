@@ -174,13 +174,26 @@ frequency = 2.0
     text.replace(text.find("position = [0.02"), 16, "position = [0.006");
     CHECK(mentions(test::problems_of(text), "a periodic period must exceed twice the contact list's reach"));
   }
-  SUBCASE("periodic grains need contacts, and the fluid is not periodic yet") {
+  SUBCASE("periodic grains need contacts; periodic water needs a period of twice its lists' reach, and no grains") {
     std::string no_contact = periodic_scene("periodic = [\"x\"]\n");
     no_contact.erase(no_contact.find("[contact]"), no_contact.find("[solids]") - no_contact.find("[contact]"));
     CHECK(mentions(test::problems_of(no_contact), "periodic grains need [contact]"));
+    // 2 x (2.4 + 0.3) x 5 mm = 27 mm > the 20 mm period along y.
     std::string fluid = test::fluid_scene_text();
     fluid.replace(fluid.find("open_faces"), 0, "periodic = [\"y\"]\n");
-    CHECK(mentions(test::problems_of(fluid), "a periodic box takes grains only for now"));
+    const auto short_period = test::problems_of(fluid, "short.toml");
+    CHECK(mentions(short_period, "short.toml:"));
+    CHECK(mentions(short_period, "a periodic period must exceed twice the fluid neighbour lists' reach"));
+    const std::string water = "[fluid]\nspacing = 0.005\n\n[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\n"
+                              "high = [0.04, 0.03, 0.01]\n";
+    std::string both = periodic_scene("periodic = [\"x\"]\n", water);
+    CHECK(mentions(test::problems_of(both), "a periodic box takes grains only for now, or water only"));
+    // Water alone, periodic along x and y (periods 8 and 6 l0 > 2 x 2.7 l0): accepted.
+    std::string water_only = periodic_scene("periodic = [\"x\", \"y\"]\n", water);
+    water_only.erase(water_only.find("[contact]"), water_only.find("[fluid]") - water_only.find("[contact]"));
+    const Model model = parse_scene(water_only, "water.toml");
+    CHECK(model.fluid.enabled);
+    CHECK(model.tank.periodic == std::array<bool, 3>{true, true, false});
   }
 }
 

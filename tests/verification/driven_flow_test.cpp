@@ -4,7 +4,8 @@
 //  - a lid sliding at U over a layer of depth h in a long closed box: away from the ends the steady flow is the
 //    plane Couette flow with the return flow that a closed box forces (zero net flux through a cross-section):
 //    u = U (3 s^2 - 2 s), s = z / h (the lid at s = 1), and the lid's traction on the water is 4 mu U / h.
-// The full Poiseuille / Couette / Stokes-second-problem sweeps need a periodic channel: tools/driven_flow_study.py.
+// The Poiseuille / Couette / Stokes-second-problem sweeps run in a periodic channel: tools/driven_flow_study.py, and
+// their coarsest cases in tests/verification/periodic_fluid_test.cpp.
 #include <doctest/doctest.h>
 
 #include <Eigen/Dense>
