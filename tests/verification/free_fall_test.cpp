@@ -125,7 +125,7 @@ material = "grain"
 // before T, then fall freely from rest: x = x0 + g (t - t_r)^2 / 2 with t_r the first sub-step start at or after T
 // (velocity Verlet is exact for a constant force, so the bound is rounding, as above). T = 20.125 ms lies mid-way
 // between sub-step starts, so t_r = 20.25 ms whatever the rounding of the sub-step times.
-TEST_CASE("grains held until hold_until stay in place, then fall freely from rest; a resume keeps the hold") {
+TEST_CASE("grains held until hold_until stay in place, then fall freely from rest, and a resume keeps the hold") {
   const std::string text = held_grains_scene("hold_until = 0.020125");
   auto simulation = Simulation::from_model(parse_scene(text, "held.toml"));
   const Solids& solids = *simulation->world().solids;
