@@ -272,7 +272,8 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.escape_fraction_limit = fluid.number("escape_fraction_limit", 0.01, "1", Bounds{0.0, 1.0, false, true});
 
   if (auto body_force = fluid.table("body_force", false)) read_body_force(*body_force, out.body_force, model.tank.motion);
-  if (auto initial = fluid.table("initial_velocity", false)) read_initial_velocity(*initial, out.initial_velocity, model.tank);
+  if (auto initial = fluid.table("initial_velocity", false))
+    read_initial_velocity(*initial, out.initial_velocity, model.tank);
   out.turbulence = fluid.choice("turbulence", "none", {"none", "sps"}) == "sps" ? FluidModel::Turbulence::kSps
                                                                                 : FluidModel::Turbulence::kNone;
   // C_s = 0.12: the value Gotoh et al. (2001) use for the SPS closure of their particle method (Smagorinsky's

@@ -219,19 +219,25 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nxs = true", "^xs", "fluid.schemes.xs",
        "unknown key (known keys here: ds, ecs, gc, hl, hs)"},
       // [fluid.initial_velocity] (the tank spans z in [0, 0.03] m).
-      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"log\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1",
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"log\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1",
        "kind = ^\"log\"", "fluid.initial_velocity.kind", "expected one of \"linear\", \"power\""},
-      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"linear\"\nbottom = 0.02\ntop = 0.01\nvelocity = 0.1",
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"linear\"\nbottom = 0.02\ntop = 0.01\nvelocity = 0.1",
        "top = ^0.01", "fluid.initial_velocity.top", "must be above bottom (0.02 m)"},
-      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"linear\"\nbottom = 0.0\ntop = 0.05\nvelocity = 0.1",
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"linear\"\nbottom = 0.0\ntop = 0.05\nvelocity = 0.1",
        "top = ^0.05", "fluid.initial_velocity.top", "expected a number in [0, 0.03] [m], got 0.05"},
-      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"linear\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nexponent = 0.5",
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"linear\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nexponent = 0.5",
        "exponent = ^0.5", "fluid.initial_velocity.exponent", "needs kind = \"power\""},
-      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"power\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nexponent = 0",
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"power\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nexponent = 0",
        "exponent = ^0", "fluid.initial_velocity.exponent", "expected a number in (0, 10] [1], got 0"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"power\"\nbottom = 0.0\ntop = 0.01",
        "^[fluid.initial_velocity]", "fluid.initial_velocity.velocity", "missing required key"},
-      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"power\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nspeed = 1",
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"power\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nspeed = 1",
        "^speed", "fluid.initial_velocity.speed", "unknown key"},
       // Boxes.
       {"velocity = [0.1, 0.0, -0.2]", "velocity = [0.1, 0.0]", "velocity = ^[0.1, 0.0]", "fluid.boxes[0].velocity",
