@@ -155,6 +155,17 @@ struct BodyForceModel {
   Grains grains = Grains::kPressureGradient;
 };
 
+/// [fluid.initial_velocity]: an initial velocity profile along x added to the fluid boxes' velocities
+/// (systems/physics/initial_profile.hpp); kind none = absent.
+struct InitialVelocityModel {
+  enum class Kind { kNone, kLinear, kPower };
+  Kind kind = Kind::kNone;
+  double bottom = 0.0;        ///< [m] z0: no velocity at and below it (scene coordinates, the tank at rest)
+  double top = 0.0;           ///< [m] z1 > z0: top_velocity at and above it
+  double top_velocity = 0.0;  ///< [m/s] u_top along x
+  double exponent = 1.0 / 7.0;  ///< [1] kPower: u = u_top ((z - z0) / (z1 - z0))^exponent
+};
+
 /// The enhanced MPS schemes of seed 000 Sec. 3.1, each switchable so that its cost and benefit can be measured.
 /// Off means the classic Koshizuka-Oka counterpart (numerics.md 1.4): HS off = density-deviation source
 /// (n* - n0)/(n0 dt^2); HL off = lambda0 Laplacian; GC off = plain gradient with p_j - min_j p_j; ECS, DS off = absent.
@@ -212,6 +223,7 @@ struct FluidModel {
   /// [1] the run stops with a diagnosis once more than this fraction of the fluid laid out has been removed.
   double escape_fraction_limit = 0.01;
   BodyForceModel body_force;  ///< [fluid.body_force]; kind none = absent
+  InitialVelocityModel initial_velocity;  ///< [fluid.initial_velocity]; kind none = absent
   /// The sub-particle-scale eddy viscosity (docs/FLUID.md, "Turbulence"): nu_t = (C_s l0)^2 |S| added to nu in the
   /// viscous term (Gotoh, Shibahara & Sakai 2001; Shao & Gotoh 2005). Off by default.
   enum class Turbulence { kNone, kSps };
@@ -305,6 +317,11 @@ struct SolidsModel {
   /// Grains carried rigidly with the tank (a fixed bed: forces are still computed and written, the grains do not
   /// respond). For fixed-bed flows and for separating what the water does from what the bed does (docs/RESULTS.md).
   bool fixed_to_tank = false;
+  /// [s] the grains are held as with fixed_to_tank during the sub-steps that start before this time, then released
+  /// (seed 003 Sec. 4 holds its bed while the flow develops); the default -infinity: never held.
+  double hold_until = -std::numeric_limits<double>::infinity();
+  /// Whether the grains are held (fixed_to_tank, or hold_until not reached) in the sub-step that starts at `time`.
+  bool held(double time) const { return fixed_to_tank || time < hold_until; }
 };
 
 /// One [[output.probes]] entry: a CSV written while the run goes (engine/output/probes.hpp).

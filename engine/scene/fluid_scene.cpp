@@ -202,6 +202,29 @@ void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionM
   reader.finish();
 }
 
+/// [fluid.initial_velocity] (docs/SCENES.md): the water's initial velocity profile along x.
+void read_initial_velocity(TableReader& reader, InitialVelocityModel& out, const TankModel& tank) {
+  using Kind = InitialVelocityModel::Kind;
+  out.kind = reader.choice("kind", std::nullopt, {"linear", "power"}) == "power" ? Kind::kPower : Kind::kLinear;
+  // Heights in the tank's extent (scene coordinates); a profile outside it would touch no particle: a typo.
+  const Bounds height = tank.size.z() > 0.0 ? Bounds::closed(tank.origin.z(), tank.origin.z() + tank.size.z())
+                                            : Bounds::any();
+  const std::size_t problems_before = reader.problem_count();
+  out.bottom = reader.number("bottom", std::nullopt, "m", height);
+  out.top = reader.number("top", std::nullopt, "m", height);
+  if (reader.problem_count() == problems_before && !(out.top > out.bottom))
+    reader.problem("top", "must be above bottom (" + format_number(out.bottom) + " m)");
+  // The same bound as a body force's bulk velocity: beyond 100 m/s the key is a typo.
+  out.top_velocity = reader.number("velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
+  const bool exponent_given = reader.has("exponent");  // read in either case, so that it is not also "unknown"
+  const double exponent = reader.number("exponent", 1.0 / 7.0, "1", Bounds{0.0, 10.0, false, true});
+  if (out.kind == Kind::kPower)
+    out.exponent = exponent;
+  else if (exponent_given)
+    reader.problem("exponent", "needs kind = \"power\"");
+  reader.finish();
+}
+
 }  // namespace
 
 void read_fluid(TableReader& fluid, Model& model) {
@@ -249,6 +272,8 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.escape_fraction_limit = fluid.number("escape_fraction_limit", 0.01, "1", Bounds{0.0, 1.0, false, true});
 
   if (auto body_force = fluid.table("body_force", false)) read_body_force(*body_force, out.body_force, model.tank.motion);
+  if (auto initial = fluid.table("initial_velocity", false))
+    read_initial_velocity(*initial, out.initial_velocity, model.tank);
   out.turbulence = fluid.choice("turbulence", "none", {"none", "sps"}) == "sps" ? FluidModel::Turbulence::kSps
                                                                                 : FluidModel::Turbulence::kNone;
   // C_s = 0.12: the value Gotoh et al. (2001) use for the SPS closure of their particle method (Smagorinsky's

@@ -262,6 +262,12 @@ void read_solids(TableReader& solids, Model& model) {
   const bool tank_known = (model.tank.size.array() > 0.0).all();
   model.solids.sort_every = solids.integer("sort_every", 0, 0, 1000000000);
   model.solids.fixed_to_tank = solids.boolean("fixed_to_tank", false);
+  // Bounds: a hold beyond a day of simulated time is a typo (no scene here runs a simulated hour).
+  if (solids.has("hold_until")) {
+    model.solids.hold_until = solids.number("hold_until", std::nullopt, "s", Bounds::closed(0.0, 86400.0));
+    if (model.solids.fixed_to_tank)
+      solids.problem("hold_until", "fixed_to_tank already holds the grains for the whole run; give one or the other");
+  }
   if (solids.has("initial_state")) {
     // Relative to the scene file, so a scene and the run it continues can move together.
     std::filesystem::path path = solids.text("initial_state", "");

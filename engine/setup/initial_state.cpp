@@ -10,6 +10,7 @@
 #include "engine/output/checkpoint_validation.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/scene/scene_reader.hpp"
+#include "systems/physics/initial_profile.hpp"
 #include "systems/physics/tank_kinematics.hpp"
 
 namespace riffle {
@@ -91,7 +92,10 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
   };
   for (const ParticleBoxModel& box : fluid.boxes)
     for (const LatticeParticle& particle : layout_of(box, FluidKind::kFluid).particles) {
-      const std::size_t slot = particles.add(particle.position + tank.displacement, box.velocity, FluidKind::kFluid);
+      // [fluid.initial_velocity] adds its profile along x at the particle's height in the tank at rest.
+      const Vec3 velocity =
+          box.velocity + Vec3::UnitX() * initial_profile_velocity(fluid.initial_velocity, particle.position.z());
+      const std::size_t slot = particles.add(particle.position + tank.displacement, velocity, FluidKind::kFluid);
       particles.pressure_gradient[slot] = fluid.density * model.gravity;
     }
 

@@ -104,7 +104,8 @@ Access SolidKick::access() const { return kick_access(settings_); }
 
 void SolidKickDrift::run(SystemContext& context) {
   const double dt = context.dt;
-  if (context.model.solids.fixed_to_tank) {  // a fixed bed: the tank's displacement over the sub-step, exactly
+  // A fixed bed ([solids] fixed_to_tank, or held until hold_until): the tank's displacement over the sub-step, exactly.
+  if (context.model.solids.held(context.time)) {
     GrainState& grains = context.write<GrainState>();
     const TankMotion start = tank_kinematics(context.model.tank.motion, context.time);
     const TankMotion end = tank_kinematics(context.model.tank.motion, context.time + dt);
@@ -128,7 +129,7 @@ void SolidKickDrift::run(SystemContext& context) {
 }
 
 void SolidKick::run(SystemContext& context) {
-  if (context.model.solids.fixed_to_tank) return;
+  if (context.model.solids.held(context.time)) return;
   kick_range(context, settings_, 0.5 * context.dt, false);
   context.count_items(context.read<GrainProperties>().size());
 }

@@ -218,6 +218,27 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
        "expected true or false, got a string"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nxs = true", "^xs", "fluid.schemes.xs",
        "unknown key (known keys here: ds, ecs, gc, hl, hs)"},
+      // [fluid.initial_velocity] (the tank spans z in [0, 0.03] m).
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"log\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1",
+       "kind = ^\"log\"", "fluid.initial_velocity.kind", "expected one of \"linear\", \"power\""},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"linear\"\nbottom = 0.02\ntop = 0.01\nvelocity = 0.1",
+       "top = ^0.01", "fluid.initial_velocity.top", "must be above bottom (0.02 m)"},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"linear\"\nbottom = 0.0\ntop = 0.05\nvelocity = 0.1",
+       "top = ^0.05", "fluid.initial_velocity.top", "expected a number in [0, 0.03] [m], got 0.05"},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"linear\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nexponent = 0.5",
+       "exponent = ^0.5", "fluid.initial_velocity.exponent", "needs kind = \"power\""},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"power\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nexponent = 0",
+       "exponent = ^0", "fluid.initial_velocity.exponent", "expected a number in (0, 10] [1], got 0"},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\nkind = \"power\"\nbottom = 0.0\ntop = 0.01",
+       "^[fluid.initial_velocity]", "fluid.initial_velocity.velocity", "missing required key"},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
+       "kind = \"power\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1\nspeed = 1",
+       "^speed", "fluid.initial_velocity.speed", "unknown key"},
       // Boxes.
       {"velocity = [0.1, 0.0, -0.2]", "velocity = [0.1, 0.0]", "velocity = ^[0.1, 0.0]", "fluid.boxes[0].velocity",
        "got an array of 2 items"},
@@ -353,4 +374,47 @@ TEST_CASE("the tank shell grows with the effective radius and every closed face"
   CHECK(count_kind(*world.fluid, FluidKind::kWall) == shell_count(cells, closed, 1) + 8);
   CHECK(count_kind(*world.fluid, FluidKind::kDummy) == shell_count(cells, closed, 4) - shell_count(cells, closed, 1));
   CHECK(world.walls->size() == 6);
+}
+
+// [fluid.initial_velocity]: every fluid particle starts with its box's velocity plus the profile along x at its
+// height, written out here from the formulas of docs/SCENES.md (not through initial_profile_velocity): 0 at and below
+// z0, u_top (z - z0)/(z1 - z0) (linear) or u_top ((z - z0)/(z1 - z0))^(1/7) (power, seed 003's Eq. 27) between, u_top
+// above z1. The fluid scene's particles sit at z = 2.5, 7.5 and 12.5 mm: one in each branch for z0 = 4, z1 = 12 mm.
+// Walls and dummies keep the tank's velocity.
+TEST_CASE("the initial velocity profile is the formula at every fluid particle") {
+  for (const char* kind : {"linear", "power"}) {
+    CAPTURE(kind);
+    const std::string extra = std::string("[fluid.initial_velocity]\nkind = \"") + kind +
+                              "\"\nbottom = 0.004\ntop = 0.012\nvelocity = 0.3\n";
+    const Model plain = parse_scene(test::fluid_scene_text(), "fluid.toml");
+    const Model model = parse_scene(test::fluid_scene_text(extra), "fluid.toml");
+    const World start = initial_world(plain);
+    const World world = initial_world(model);
+    const FluidParticles& particles = *world.fluid;
+    REQUIRE(particles.size() == start.fluid->size());
+    int below = 0, between = 0, above = 0;
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      CAPTURE(i);
+      const double z = particles.position[i].z();
+      double expected = 0.0;
+      if (particles.kind[i] == static_cast<std::int32_t>(FluidKind::kFluid)) {
+        if (z <= 0.004) {
+          ++below;
+        } else if (z >= 0.012) {
+          expected = 0.3;
+          ++above;
+        } else {
+          const double eta = (z - 0.004) / 0.008;
+          expected = std::string(kind) == "linear" ? 0.3 * eta : 0.3 * std::pow(eta, 1.0 / 7.0);
+          ++between;
+        }
+      }
+      CHECK(particles.velocity[i].x() == doctest::Approx(start.fluid->velocity[i].x() + expected).epsilon(1e-14));
+      CHECK(particles.velocity[i].y() == start.fluid->velocity[i].y());
+      CHECK(particles.velocity[i].z() == start.fluid->velocity[i].z());
+    }
+    CHECK(below == 16 + 16);  // the first box's bottom layer and the second box
+    CHECK(between == 16);
+    CHECK(above == 16);
+  }
 }

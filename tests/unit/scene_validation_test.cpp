@@ -213,6 +213,11 @@ TEST_CASE("bad scenes are rejected with file, line, column, key and a useful mes
        "got a number", 1},
       {"checkpoint_keep = 2", "checkpoint_keep = -1", "checkpoint_keep = ^-1", "output.checkpoint_keep",
        "expected an integer in [1, 1000000], got -1", 1},
+      // [solids] hold_until: a time in [0, 1 day], not with fixed_to_tank.
+      {"sort_every = 10", "sort_every = 10\nhold_until = -1.0", "hold_until = ^-1.0", "solids.hold_until",
+       "expected a number in [0, 86400] [s], got -1", 1},
+      {"sort_every = 10", "sort_every = 10\nfixed_to_tank = true\nhold_until = 2.0", "hold_until = ^2.0",
+       "solids.hold_until", "fixed_to_tank already holds the grains for the whole run", 1},
       {"size_class = 1", "size_class = 1001", "size_class = ^1001", "solids.spheres[0].size_class", "got 1001", 1},
       // Unknown keys: top level, misspelt table, nested, in an array of tables.
       {"[run]", "colour = \"red\"\n[run]", "^colour", "colour",
