@@ -30,8 +30,8 @@ void FluidDragReaction::run(SystemContext& context) {
   const DomainBox domain = domain_box(context.model);
   // A periodic box: the grid wraps along its periodic axes (whole cells per period), so a grain's stencil by the
   // seam reaches the nodes, and through them the fluid particles, on the other side.
-  grid_.build(grains.position, volumes_, particles.position, fluid_count, constants_.particle_volume, cell_size, domain.low,
-              domain.high, periodic_box(context.model));
+  grid_.build(grains.position, volumes_, particles.position, fluid_count, constants_.particle_volume, cell_size,
+              domain.low, domain.high, periodic_box(context.model));
 
   // Impulses to the nodes (slot order), then each fluid particle takes its weight's share of its nodes' impulse:
   // sum_j w_jn / W_n = 1 at every node with water, so the water receives exactly minus the grains' impulse.

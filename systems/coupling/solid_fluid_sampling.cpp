@@ -78,16 +78,16 @@ void SolidFluidSampling::run(SystemContext& context) {
     // image of every fluid particle across the seam; the period exceeds twice the sampling radius, so no particle
     // is met twice): exact and without a halo as wide as the sampling radius. Without a period: the centre alone.
     const auto gather = [&](const Vec3& query) {
-      fluid_grid_.for_each_candidate_run(query, sampling_kernel.effective_radius,
-                                         [&](const std::uint32_t* first, const std::uint32_t* last) {
-                                           for (const std::uint32_t* member = first; member < last; ++member) {
-                                             const std::size_t k = batch.count;
-                                             batch.slot[k] = *member;
-                                             batch.distance_squared[k] = (fluid.position[*member] - query).squaredNorm();
-                                             batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
-                                             if (batch.count == kPairBatch) flush();
-                                           }
-                                         });
+      const auto keep = [&](const std::uint32_t* first, const std::uint32_t* last) {
+        for (const std::uint32_t* member = first; member < last; ++member) {
+          const std::size_t k = batch.count;
+          batch.slot[k] = *member;
+          batch.distance_squared[k] = (fluid.position[*member] - query).squaredNorm();
+          batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
+          if (batch.count == kPairBatch) flush();
+        }
+      };
+      fluid_grid_.for_each_candidate_run(query, sampling_kernel.effective_radius, keep);
     };
     gather(centre);
     std::array<Vec3, 3> shifts;
