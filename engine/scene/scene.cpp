@@ -586,19 +586,13 @@ std::optional<TableReader> table_at(TableReader& scene, std::initializer_list<co
 /// A periodic box ([tank] periodic) as a whole: grains cross its seams through the contact list's halo, the MPS
 /// fluid through the neighbour lists' halo; each needs every period longer than twice its list's reach (so that a
 /// particle meets one image of another, never its own: systems/physics/periodic_box.hpp). Grains and water together
-/// are not coupled across the seam yet.
+/// are coupled across the seam through the grains' images (systems/coupling/, docs/COUPLING.md): the period must
+/// also exceed twice the largest sampling radius r + r_e.
 void check_periodic(TableReader& scene, const Model& model) {
   if (!model.tank.any_periodic()) return;
   auto tank = table_at(scene, {"tank"});
   if (!tank) return;
   if (model.fluid.enabled) {
-    if (model.solids.enabled) {
-      // The message keeps the words of the refusal before periodic water (tests of the seed 003 scenes look for it).
-      tank->problem("periodic", "a periodic box takes grains only for now, or water only: grains and water are not "
-                                "coupled across the seam yet (the grains' sampling of the water, voidage, drag "
-                                "reaction, lubrication; issue 24); remove [solids], [fluid] or periodic");
-      return;
-    }
     const double reach = model.fluid.effective_radius() + model.fluid.neighbour_skin_ratio * model.fluid.spacing;
     if (!periodic_cutoff_fits(periodic_box(model), reach)) {
       char text[512];
@@ -608,8 +602,9 @@ void check_periodic(TableReader& scene, const Model& model) {
                     "periodic axes larger than %g m",
                     reach, 2.0 * reach);
       tank->problem("periodic", text);
+      return;
     }
-    return;
+    if (!model.solids.enabled) return;
   }
   if (model.solids.enabled && !model.contact.enabled) {
     tank->problem("periodic", "periodic grains need [contact]: the contact list's rebuild is where grains are wrapped "
@@ -641,6 +636,20 @@ void check_periodic(TableReader& scene, const Model& model) {
                   "so that a grain never meets two images of one neighbour or its own: make tank.size along the "
                   "periodic axes larger than %g m",
                   reach, 2.0 * reach);
+    tank->problem("periodic", text);
+    return;
+  }
+  if (!model.fluid.enabled) return;
+  // A grain samples the water (and spreads its drag back) within r + r_e, through its images across the seams:
+  // one image per axis, never two, only while the period exceeds twice that radius.
+  const double sampling = largest + model.fluid.effective_radius();
+  if (!periodic_cutoff_fits(periodic_box(model), sampling)) {
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "a periodic period must exceed twice the grains' sampling radius of the water (largest radius + "
+                  "r_e = %g m), so that a grain never samples two images of one fluid particle: make tank.size "
+                  "along the periodic axes larger than %g m",
+                  sampling, 2.0 * sampling);
     tank->problem("periodic", text);
   }
 }

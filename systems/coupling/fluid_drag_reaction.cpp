@@ -1,9 +1,11 @@
 #include "systems/coupling/fluid_drag_reaction.hpp"
 
 #include <algorithm>
+#include <array>
 
 #include "systems/physics/domain.hpp"
 #include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/periodic_box.hpp"
 #include "systems/coupling/solid_drag.hpp"
 
 namespace riffle {
@@ -26,8 +28,10 @@ void FluidDragReaction::run(SystemContext& context) {
   const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
   volumes_.assign(grains.size(), 0.0);
   const DomainBox domain = domain_box(context.model);
-  grid_.build(grains.position, volumes_, particles.position, fluid_count, constants_.particle_volume, cell_size, domain.low,
-              domain.high);
+  // A periodic box: the grid wraps along its periodic axes (whole cells per period), so a grain's stencil by the
+  // seam reaches the nodes, and through them the fluid particles, on the other side.
+  grid_.build(grains.position, volumes_, particles.position, fluid_count, constants_.particle_volume, cell_size,
+              domain.low, domain.high, periodic_box(context.model));
 
   // Impulses to the nodes (slot order), then each fluid particle takes its weight's share of its nodes' impulse:
   // sum_j w_jn / W_n = 1 at every node with water, so the water receives exactly minus the grains' impulse.
@@ -81,23 +85,40 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, doub
   for (std::size_t grain = 0; grain < grains.size() && !any; ++grain) any = spreads_here(grain);
   if (!any) return;
   const DomainBox domain = domain_box(context.model);
+  const PeriodicBox box = periodic_box(context.model);
   fluid_grid_.build(particles.position, 0, fluid_count, largest_radius + effective_radius, domain.low, domain.high);
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
     if (!spreads_here(grain)) continue;
     const Vec3 centre = grains.position[grain];
     const WendlandKernel kernel(properties.radius[grain] + effective_radius);
+    // The grain's query centres: itself, and in a periodic box its images across the seams (the nearest image of
+    // each fluid particle; the period exceeds twice R_I, so none is met twice), so the impulse lands on the real
+    // fluid particles on the other side, the same ones solid_fluid_sampling sampled.
+    std::array<Vec3, 4> queries;
+    queries[0] = centre;
+    std::array<Vec3, 3> shifts;
+    const int images = box.any() ? box.image_shifts(centre, kernel.effective_radius, shifts) : 0;
+    for (int image = 0; image < images; ++image)
+      queries[static_cast<std::size_t>(image) + 1] = centre + shifts[static_cast<std::size_t>(image)];
+    const std::size_t query_count = static_cast<std::size_t>(images) + 1;
     double weight_sum = 0.0;
-    fluid_grid_.for_each_within(particles.position, centre, kernel.effective_radius, [&](std::uint32_t j) {
-      weight_sum += kernel.weight((particles.position[j] - centre).norm());
-    });
+    for (std::size_t q = 0; q < query_count; ++q) {
+      const Vec3 query = queries[q];
+      fluid_grid_.for_each_within(particles.position, query, kernel.effective_radius, [&](std::uint32_t j) {
+        weight_sum += kernel.weight((particles.position[j] - query).norm());
+      });
+    }
     if (weight_sum <= 0.0) continue;  // out of the water since the sampling: its drag was zero while dry
     // Per volume l0^3; the mixture reading gives the water the drag over eps (docs/COUPLING.md).
     const double share = (mixture_velocity_ ? 1.0 / voidages.voidage[grain] : 1.0) /
                          (weight_sum * constants_.particle_volume);
     const Vec3 impulse = drag.drag_impulse[grain];
-    fluid_grid_.for_each_within(particles.position, centre, kernel.effective_radius, [&](std::uint32_t j) {
-      reaction.drag_reaction[j] -= (kernel.weight((particles.position[j] - centre).norm()) * share) * impulse;
-    });
+    for (std::size_t q = 0; q < query_count; ++q) {
+      const Vec3 query = queries[q];
+      fluid_grid_.for_each_within(particles.position, query, kernel.effective_radius, [&](std::uint32_t j) {
+        reaction.drag_reaction[j] -= (kernel.weight((particles.position[j] - query).norm()) * share) * impulse;
+      });
+    }
     drag.drag_impulse[grain] = Vec3::Zero();
   }
 }

@@ -4,10 +4,12 @@
 #include "systems/physics/driven_flow.hpp"
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/periodic_box.hpp"
 #include "systems/physics/self_induced.hpp"
 #include "systems/coupling/solid_drag.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -45,6 +47,7 @@ void SolidFluidSampling::run(SystemContext& context) {
   // Cells of half the smallest sampling radius: a query scans about 5^3 cells holding about twice the sphere's
   // volume; cells of the largest radius made every small grain test ten times the particles it keeps.
   const DomainBox domain = domain_box(context.model);
+  const PeriodicBox box = periodic_box(context.model);
   if (!properties.radius.empty())
     fluid_grid_.build(fluid.position, 0, fluid_count, 0.5 * (smallest_radius + effective_radius), domain.low,
                       domain.high);
@@ -71,16 +74,25 @@ void SolidFluidSampling::run(SystemContext& context) {
       }
       batch.count = 0;
     };
-    fluid_grid_.for_each_candidate_run(centre, sampling_kernel.effective_radius,
-                                       [&](const std::uint32_t* first, const std::uint32_t* last) {
-                                         for (const std::uint32_t* member = first; member < last; ++member) {
-                                           const std::size_t k = batch.count;
-                                           batch.slot[k] = *member;
-                                           batch.distance_squared[k] = (fluid.position[*member] - centre).squaredNorm();
-                                           batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
-                                           if (batch.count == kPairBatch) flush();
-                                         }
-                                       });
+    // In a periodic box the sphere cut by a seam is completed by the grain's images (centre + shift, the nearest
+    // image of every fluid particle across the seam; the period exceeds twice the sampling radius, so no particle
+    // is met twice): exact and without a halo as wide as the sampling radius. Without a period: the centre alone.
+    const auto gather = [&](const Vec3& query) {
+      const auto keep = [&](const std::uint32_t* first, const std::uint32_t* last) {
+        for (const std::uint32_t* member = first; member < last; ++member) {
+          const std::size_t k = batch.count;
+          batch.slot[k] = *member;
+          batch.distance_squared[k] = (fluid.position[*member] - query).squaredNorm();
+          batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
+          if (batch.count == kPairBatch) flush();
+        }
+      };
+      fluid_grid_.for_each_candidate_run(query, sampling_kernel.effective_radius, keep);
+    };
+    gather(centre);
+    std::array<Vec3, 3> shifts;
+    const int images = box.any() ? box.image_shifts(centre, sampling_kernel.effective_radius, shifts) : 0;
+    for (int image = 0; image < images; ++image) gather(centre + shifts[static_cast<std::size_t>(image)]);
     if (batch.count > 0) flush();
     sampled.fluid_weight[grain] = weight_sum;
     if (weight_sum <= 0.0) {  // out of the water: no fluid forces

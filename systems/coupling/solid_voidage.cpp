@@ -6,6 +6,7 @@
 #include "systems/physics/drag_law.hpp"
 #include "systems/physics/mps_common.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/periodic_box.hpp"
 
 namespace riffle {
 
@@ -34,7 +35,7 @@ void SolidVoidage::run(SystemContext& context) {
     // main before issue 21: cells of (2 pi / 21)^(1/3) R_eps (one cell holds the volume of the Wendland kernel on
     // R_eps, numerics 1.2), trilinear deposit and read back, the grain's own volume included.
     grid_.build(grains.position, grain_volumes_, particles.position, fluid_slot_count(particles), particle_volume_,
-                kCloudInCellCell * voidage_radius_, domain.low, domain.high);
+                kCloudInCellCell * voidage_radius_, domain.low, domain.high, periodic_box(context.model));
     for_each_particle(grains.size(), [&](std::size_t grain) {
       voidages.voidage[grain] = std::clamp(1.0 - grid_.solid_fraction(grains.position[grain]), min_voidage_, 1.0);
     });
@@ -46,7 +47,7 @@ void SolidVoidage::run(SystemContext& context) {
   // reads the other grains' fraction exactly (its own deposit, read back, taken out) and gets its own volume back
   // times 1 - S(0), the share its neighbours' excluded volume leaves out.
   grid_.build(grains.position, grain_volumes_, particles.position, fluid_slot_count(particles), particle_volume_,
-              kSmoothCell * voidage_radius_, domain.low, domain.high);
+              kSmoothCell * voidage_radius_, domain.low, domain.high, periodic_box(context.model));
   grid_.smooth();
   for_each_particle(grains.size(), [&](std::size_t grain) {
     const GrainSolidFraction read = grid_.grain_fraction(grains.position[grain], grain_volumes_[grain]);

@@ -9,19 +9,32 @@ namespace riffle {
 
 CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
   CloudInCellStencil result{};
-  std::array<std::int64_t, 3> base{};
+  std::array<std::array<std::int64_t, 2>, 3> index{};  // per axis, the nodes of corner bit 0 and 1
   std::array<double, 3> fraction{};
   for (int axis = 0; axis < 3; ++axis) {
-    const double scaled = (point[axis] - origin_[axis]) / cell_size_;
+    const auto a = static_cast<std::size_t>(axis);
+    const double scaled = (point[axis] - origin_[axis]) / cell_[a];
+    if (wraps_[a]) {
+      // Along a periodic axis the cell is taken modulo the period: the last cell's upper node is node 0.
+      const double whole = std::isfinite(scaled) ? std::floor(scaled) : 0.0;
+      fraction[a] = std::isfinite(scaled) ? scaled - whole : 0.0;
+      const std::int64_t n = nodes_[a];
+      const std::int64_t base = ((static_cast<std::int64_t>(std::clamp(whole, -1e15, 1e15)) % n) + n) % n;
+      index[a] = {base, (base + 1) % n};
+      continue;
+    }
     // A non-finite grain lands on node 0.
-    const double top = static_cast<double>(nodes_[static_cast<std::size_t>(axis)] - 2);
+    const double top = static_cast<double>(nodes_[a] - 2);
     const double clamped = clamp_to_cells(scaled, top);
-    base[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(std::floor(clamped));
-    fraction[static_cast<std::size_t>(axis)] = clamped - std::floor(clamped);
+    const auto base = static_cast<std::int64_t>(std::floor(clamped));
+    fraction[a] = clamped - std::floor(clamped);
+    index[a] = {base, base + 1};
   }
   result.fraction = fraction;
   for (int corner = 0; corner < 8; ++corner) {
-    const std::int64_t x = base[0] + (corner & 1), y = base[1] + ((corner >> 1) & 1), z = base[2] + ((corner >> 2) & 1);
+    const std::int64_t x = index[0][static_cast<std::size_t>(corner & 1)],
+                       y = index[1][static_cast<std::size_t>((corner >> 1) & 1)],
+                       z = index[2][static_cast<std::size_t>((corner >> 2) & 1)];
     result.node[static_cast<std::size_t>(corner)] = static_cast<std::size_t>((z * nodes_[1] + y) * nodes_[0] + x);
     result.weight[static_cast<std::size_t>(corner)] = ((corner & 1) ? fraction[0] : 1.0 - fraction[0]) *
                                                       (((corner >> 1) & 1) ? fraction[1] : 1.0 - fraction[1]) *
@@ -32,7 +45,7 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
 
 void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
                         const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
-                        double cell_size, const Vec3& bound_low, const Vec3& bound_high) {
+                        double cell_size, const Vec3& bound_low, const Vec3& bound_high, const PeriodicBox& box) {
   cell_size_ = cell_size;
   Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
   for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
@@ -55,8 +68,19 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
   while (axis_nodes(0) * axis_nodes(1) * axis_nodes(2) > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
   const bool fits = axis_nodes(0) * axis_nodes(1) * axis_nodes(2) <= limit;  // not with an infinite coordinate
   origin_ = low - Vec3::Constant(cell_size_);
-  for (int axis = 0; axis < 3; ++axis)
-    nodes_[static_cast<std::size_t>(axis)] = fits ? static_cast<std::int64_t>(axis_nodes(axis)) : 2;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    nodes_[a] = fits ? static_cast<std::int64_t>(axis_nodes(axis)) : 2;
+    cell_[a] = cell_size_;
+    wraps_[a] = box.periodic[a] && fits;
+    if (!wraps_[a]) continue;
+    // Whole cells per period (at least 4, so that the smoothing's reach of one node either side of a grain's cell
+    // never folds back onto it), from the period's low face.
+    const double period = box.length[axis];
+    nodes_[a] = static_cast<std::int64_t>(std::max(4.0, clamp_to_cells(std::floor(period / cell_size_), 4096.0)));
+    cell_[a] = period / static_cast<double>(nodes_[a]);
+    origin_[axis] = box.low[axis];
+  }
   const std::size_t total = static_cast<std::size_t>(nodes_[0] * nodes_[1] * nodes_[2]);
   smoothed_ = false;
   solid_.assign(total, 0.0);
@@ -87,17 +111,20 @@ namespace {
 
 /// One binomial (1/4, 1/2, 1/4) pass along `axis` of a field of nodes[0] x nodes[1] x nodes[2] values (x fastest),
 /// zero beyond the ends, in place: each line is filtered with a running copy of the value below.
-void binomial_pass(std::vector<double>& field, const std::array<std::int64_t, 3>& nodes, int axis) {
+void binomial_pass(std::vector<double>& field, const std::array<std::int64_t, 3>& nodes, int axis, bool wraps) {
   const std::array<std::int64_t, 3> stride{1, nodes[0], nodes[0] * nodes[1]};
   const auto a = static_cast<std::size_t>(axis), b = (a + 1) % 3, c = (a + 2) % 3;
   const std::int64_t length = nodes[a], step = stride[a];
   for (std::int64_t j = 0; j < nodes[c]; ++j)
     for (std::int64_t i = 0; i < nodes[b]; ++i) {
       double* line = field.data() + i * stride[b] + j * stride[c];
-      double below = 0.0;
+      // Along a periodic axis the line is a ring: node 0's lower neighbour is the last node, and the last node's
+      // upper neighbour is node 0 as it was before the pass.
+      const double first = line[0];
+      double below = wraps ? line[(length - 1) * step] : 0.0;
       for (std::int64_t k = 0; k < length; ++k) {
         const double here = line[k * step];
-        const double above = k + 1 < length ? line[(k + 1) * step] : 0.0;
+        const double above = k + 1 < length ? line[(k + 1) * step] : (wraps ? first : 0.0);
         line[k * step] = 0.25 * below + 0.5 * here + 0.25 * above;
         below = here;
       }
@@ -120,8 +147,8 @@ double self_corrected_solid_fraction(double others, double own) {
 
 void VoidageGrid::smooth() {
   for (int axis = 0; axis < 3; ++axis) {
-    binomial_pass(solid_, nodes_, axis);
-    binomial_pass(fluid_, nodes_, axis);
+    binomial_pass(solid_, nodes_, axis, wraps_[static_cast<std::size_t>(axis)]);
+    binomial_pass(fluid_, nodes_, axis, wraps_[static_cast<std::size_t>(axis)]);
   }
   smoothed_ = true;
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "components/vec.hpp"
+#include "systems/physics/periodic_box.hpp"
 
 namespace riffle {
 
@@ -47,10 +48,13 @@ class VoidageGrid {
  public:
   /// Grid of nodes spaced `cell_size` covering every point given (grains and fluid) within the box [low, high] (the
   /// domain: a point outside it has left the domain, which fails the step, and is deposited on the nearest edge node
-  /// instead of stretching the grid to wherever it flew).
+  /// instead of stretching the grid to wherever it flew). Along a periodic axis of `box` the grid wraps: it spans
+  /// the period with n = max(4, floor(period / cell_size)) cells of period / n (so slightly larger than asked),
+  /// node n is node 0, and the deposits, the smoothing and the read back run across the seam (docs/COUPLING.md);
+  /// other axes are as without a period.
   void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
              const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
-             double cell_size, const Vec3& low, const Vec3& high);
+             double cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{});
 
   /// Solid volume fraction at `point`: interpolated over the surrounding nodes that hold water; 0 if none does.
   double solid_fraction(const Vec3& point) const;
@@ -74,6 +78,8 @@ class VoidageGrid {
  private:
   Vec3 origin_ = Vec3::Zero();
   double cell_size_ = 1.0;
+  std::array<double, 3> cell_{1.0, 1.0, 1.0};  ///< per axis: cell_size_, or period / n along a periodic axis
+  std::array<bool, 3> wraps_{false, false, false};
   std::array<std::int64_t, 3> nodes_{1, 1, 1};
   bool smoothed_ = false;
   std::vector<double> solid_, fluid_;

@@ -174,7 +174,7 @@ frequency = 2.0
     text.replace(text.find("position = [0.02"), 16, "position = [0.006");
     CHECK(mentions(test::problems_of(text), "a periodic period must exceed twice the contact list's reach"));
   }
-  SUBCASE("periodic grains need contacts; periodic water needs a period of twice its lists' reach, and no grains") {
+  SUBCASE("periodic grains need contacts; periodic water and coupled grains need periods long enough") {
     std::string no_contact = periodic_scene("periodic = [\"x\"]\n");
     no_contact.erase(no_contact.find("[contact]"), no_contact.find("[solids]") - no_contact.find("[contact]"));
     CHECK(mentions(test::problems_of(no_contact), "periodic grains need [contact]"));
@@ -186,8 +186,18 @@ frequency = 2.0
     CHECK(mentions(short_period, "a periodic period must exceed twice the fluid neighbour lists' reach"));
     const std::string water = "[fluid]\nspacing = 0.005\n\n[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\n"
                               "high = [0.04, 0.03, 0.01]\n";
+    // Grains and water together (coupled across the seam through the grains' images): accepted while the period
+    // exceeds twice the sampling radius r + r_e = 2.5 + 12 mm; a 4 mm grain in a 30 mm period (2 x 16 mm) is not.
     std::string both = periodic_scene("periodic = [\"x\"]\n", water);
-    CHECK(mentions(test::problems_of(both), "a periodic box takes grains only for now, or water only"));
+    const Model coupled = parse_scene(both, "both.toml");
+    CHECK(coupled.fluid.enabled);
+    CHECK(coupled.solids.enabled);
+    std::string wide = both;
+    wide.replace(wide.find("size = [0.04"), 12, "size = [0.03");
+    wide.replace(wide.find("position = [0.02"), 16, "position = [0.015");
+    wide.replace(wide.find("radius = 0.0025"), 15, "radius = 0.004");
+    wide.replace(wide.find("high = [0.04"), 12, "high = [0.03");
+    CHECK(mentions(test::problems_of(wide), "exceed twice the grains' sampling radius of the water"));
     // Water alone, periodic along x and y (periods 8 and 6 l0 > 2 x 2.7 l0): accepted.
     std::string water_only = periodic_scene("periodic = [\"x\", \"y\"]\n", water);
     water_only.erase(water_only.find("[contact]"), water_only.find("[fluid]") - water_only.find("[contact]"));

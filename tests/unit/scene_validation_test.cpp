@@ -466,13 +466,7 @@ TEST_CASE("the shipped scenes load") {
       const bool only_missing_start = problems.size() == 1 &&
                                       problems[0].find(": solids.initial_state: ") != std::string::npos &&
                                       problems[0].find("cannot open the checkpoint") != std::string::npos;
-      // Seed 003's sheared beds and the oscillatory sheet flow wait for the periodic MPS water (issue 24): until it
-      // lands their one problem is its refusal (tests/cli/test_seed003_scenes.sh checks their closed-box copies load).
-      // Drop this once periodic water lands.
-      const bool only_periodic_water = problems.size() == 1 &&
-                                       problems[0].find(": tank.periodic: a periodic box takes grains only for now") !=
-                                           std::string::npos;
-      if (!only_missing_start && !only_periodic_water) FAIL_CHECK(error.what());
+      if (!only_missing_start) FAIL_CHECK(error.what());
     }
   }
 }

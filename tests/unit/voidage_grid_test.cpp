@@ -85,3 +85,41 @@ TEST_CASE("voidage: the hard-sphere structure factor and the self correction") {
   const double others = 0.08, own = 0.04, phi = riffle::self_corrected_solid_fraction(others, own);
   CHECK(phi == doctest::Approx(others + own * (1.0 - riffle::hard_sphere_structure_factor(phi))).epsilon(1e-3));
 }
+
+// Periodic along x and y (a 0.1 m period over the lattice, which joins its image at 1 cm): the grid wraps, so the
+// fluid field repeats along x and y across the seam, the smoothing keeps the totals round the ring, and a grain on
+// the seam reads what the same grain half a period away reads (the period is 8 whole cells of 12.5 mm, asked 12 mm).
+TEST_CASE("voidage grid: periodic axes wrap the deposits, the smoothing and the read back") {
+  const std::vector<riffle::Vec3> fluid = fluid_lattice();
+  riffle::PeriodicBox box;
+  box.low = riffle::Vec3::Zero();
+  box.length = riffle::Vec3(0.1, 0.1, 0.1);
+  box.periodic = {true, true, false};
+  const auto build = [&](const riffle::Vec3& grain, bool smoothed) {
+    riffle::VoidageGrid grid;
+    grid.build({grain}, {2e-6}, fluid, fluid.size(), 1e-6, 0.012, riffle::Vec3::Constant(-1.0),
+               riffle::Vec3::Constant(1.0), box);
+    if (smoothed) grid.smooth();
+    return grid;
+  };
+  for (const bool smoothed : {false, true}) {
+    CAPTURE(smoothed);
+    const riffle::VoidageGrid seam = build({0.001, 0.099, 0.05}, smoothed);
+    CHECK(total_fluid(seam) == doctest::Approx(1e-3).epsilon(1e-12));
+    // The same along x and y wherever the lattice is (nodes 12.5 mm apart over points 10 mm apart repeat every
+    // 4 nodes): the cell at the seam holds what the cell half a period away holds (a grid that did not wrap would
+    // hold less at its ends).
+    const riffle::CloudInCellStencil a = seam.stencil({0.001, 0.001, 0.05});
+    const riffle::CloudInCellStencil b = seam.stencil({0.051, 0.051, 0.05});
+    for (std::size_t c = 0; c < 8; ++c)
+      CHECK(seam.fluid_volume(a.node[c]) == doctest::Approx(seam.fluid_volume(b.node[c])).epsilon(1e-12));
+    const riffle::VoidageGrid middle = build({0.051, 0.049, 0.05}, smoothed);
+    const riffle::GrainSolidFraction on_seam = seam.grain_fraction({0.001, 0.099, 0.05}, 2e-6);
+    const riffle::GrainSolidFraction away = middle.grain_fraction({0.051, 0.049, 0.05}, 2e-6);
+    CHECK(on_seam.included > 0.0);
+    CHECK(on_seam.included == doctest::Approx(away.included).epsilon(1e-12));
+    CHECK(on_seam.own == doctest::Approx(away.own).epsilon(1e-12));
+    CHECK(seam.solid_fraction({0.001, 0.099, 0.05}) == doctest::Approx(middle.solid_fraction({0.051, 0.049, 0.05}))
+                                                           .epsilon(1e-12));
+  }
+}
