@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/scene/scene.hpp"
+#include "systems/mps/fluid_pressure.hpp"
 #include "systems/physics/periodic_box.hpp"
 #include "tests/test_support.hpp"
 
@@ -258,6 +259,22 @@ TEST_CASE("periodic water: the period fits the lattice, a moving lid spans the p
     along_y.replace(along_y.find("DIRECTION"), 9, "0.0, 1.0, 0.0");
     CHECK_NOTHROW(parse_scene(along_y, "y.toml"));
   }
+}
+
+TEST_CASE("the pressure solve exchanges the ghosts' pressures exactly when the model is periodic") {
+  // One source for "is periodic" (the model, as the searches' periodic_box): a periodic model's solve writes
+  // FluidNeighbours (the ghost pressures fluid_correct reads), a closed one's only reads it.
+  const std::string water = "[fluid]\nspacing = 0.005\ntank_walls = false\n\n[[fluid.boxes]]\n"
+                            "low = [0.0, 0.0, 0.0]\nhigh = [0.04, 0.03, 0.01]\n";
+  std::string periodic = periodic_scene("periodic = [\"x\"]\n", water);
+  periodic.erase(periodic.find("[contact]"), periodic.find("[fluid]") - periodic.find("[contact]"));
+  std::string closed = periodic;
+  closed.erase(closed.find("periodic = [\"x\"]"), 16);
+  const FluidPressureSolve periodic_solve(parse_scene(periodic, "periodic.toml"));
+  const FluidPressureSolve closed_solve(parse_scene(closed, "closed.toml"));
+  CHECK(periodic_solve.access().writes_component(component_id<FluidNeighbours>));
+  CHECK_FALSE(closed_solve.access().writes_component(component_id<FluidNeighbours>));
+  CHECK(closed_solve.access().reads_component(component_id<FluidNeighbours>));
 }
 
 TEST_CASE("a layered bed generated in a periodic box overlaps nowhere, across the seam included") {
