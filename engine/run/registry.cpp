@@ -47,7 +47,7 @@ Pipeline build_pipeline(const Model& model) {
     pipeline.step.push_back(
         std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kPredicted, box));
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
-    pipeline.step.push_back(std::make_unique<FluidPressureSolve>(fluid, box.any()));
+    pipeline.step.push_back(std::make_unique<FluidPressureSolve>(model));
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
     // Escaped spray leaves the table before the checks count the water and before the grains' voidage and drag
     // reaction look at it; with escape = "stop" fluid_checks stops the run at the first one instead.

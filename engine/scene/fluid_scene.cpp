@@ -115,6 +115,18 @@ BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, co
   box.lid_area = box.lid_period * static_cast<double>(entry.grid.count[1]) * spacing;
   box.lid_plane_low = entry.grid.first[2] - 0.5 * spacing;
   box.lid_plane_high = entry.grid.first[2] + (static_cast<double>(entry.grid.count[2]) - 0.5) * spacing;
+  // With x periodic the lid's row must be the whole period: a row that wraps within a shorter extent makes its
+  // particles jump mid-domain (and leaves the rest of the plane without a lid). Lids move along x only, so y needs
+  // no such check.
+  if (box.lid && box.lid_velocity != 0.0 && tank.periodic[0] &&
+      (std::abs(box.lid_start_x - tank.origin.x()) > tolerance + 1e-9 * spacing ||
+       std::abs(box.lid_period - tank.size.x()) > tolerance + 1e-9 * spacing)) {
+    reader.problem("low", "with x periodic a moving lid must span the whole period along x: its particles cover [" +
+                              format_number(box.lid_start_x) + ", " + format_number(box.lid_start_x + box.lid_period) +
+                              ") m, the period is [" + format_number(tank.origin.x()) + ", " +
+                              format_number(tank_high.x()) + ") m");
+    return entry;
+  }
   if (box.fit_extent) {  // at least one particle per axis by construction
     entry.laid_out = true;
     return entry;
@@ -152,6 +164,26 @@ void check_tank_fits_lattice(TableReader& fluid, const Model& model) {
   if (outer - inner > kMaxParticles)
     fluid.problem("spacing", "the tank walls would need more than 5e7 wall and dummy particles at spacing " +
                                  format_number(spacing) + " m");
+}
+
+/// A periodic axis without tank walls: the period must still hold a whole number of lattice cells, or the water
+/// meets its own image across the seam at a gap other than l0 (a density spike or hole along the seam).
+void check_period_fits_lattice(TableReader& fluid, const Model& model) {
+  const double spacing = model.fluid.spacing;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!model.tank.periodic[static_cast<std::size_t>(axis)]) continue;
+    const double size = model.tank.size[axis];
+    const double ratio = size / spacing;
+    const double cells = std::max(1.0, std::round(ratio));
+    if (std::abs(ratio - cells) > 1e-6) {  // the tolerance of tank_wall_layout
+      fluid.problem("spacing", std::string("with ") + kAxisNames[axis] + " periodic the tank size along " +
+                                   kAxisNames[axis] + " (" + format_number(size) +
+                                   " m) must be an integer multiple of spacing (" + format_number(spacing) +
+                                   " m), so the water meets its image across the seam at l0; nearest valid size " +
+                                   format_number(cells * spacing) + " m");
+      return;
+    }
+  }
 }
 
 /// [fluid.body_force] (docs/SCENES.md): the body force along x on the water.
@@ -306,6 +338,7 @@ void read_fluid(TableReader& fluid, Model& model) {
       }
 
   if (out.tank_walls && spacing > 0.0 && (model.tank.size.array() > 0.0).all()) check_tank_fits_lattice(fluid, model);
+  else if (spacing > 0.0 && (model.tank.size.array() > 0.0).all()) check_period_fits_lattice(fluid, model);
   fluid.finish();
 }
 

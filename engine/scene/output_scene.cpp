@@ -112,7 +112,7 @@ std::vector<Vec3> read_points(TableReader& table, const Model& model, std::size_
 }
 
 /// The keys of a surge_front probe: a non-zero horizontal direction (normalised) and the height limit.
-void read_surge_front(TableReader& table, ProbeModel& probe) {
+void read_surge_front(TableReader& table, const Model& model, ProbeModel& probe) {
   const std::size_t problems_before = table.problem_count();
   const Vec3 direction = table.vec3("direction", Vec3::UnitX(), "1", Bounds::any());
   if (table.problem_count() == problems_before) {
@@ -120,6 +120,12 @@ void read_surge_front(TableReader& table, ProbeModel& probe) {
       table.problem("direction", "expected a horizontal direction (z component 0): the front runs along the floor");
     else if (direction.norm() == 0.0)
       table.problem("direction", "expected a non-zero direction");
+    else if ((model.tank.periodic[0] && direction.x() != 0.0) || (model.tank.periodic[1] && direction.y() != 0.0))
+      // The front is the farthest water along the direction: across a seam the water wraps, so there is none.
+      table.problem("direction", std::string("a surge front along a periodic axis (") +
+                                     (model.tank.periodic[0] && direction.x() != 0.0 ? "x" : "y") +
+                                     ") has no meaning: the water wraps across the seam, so it has no farthest "
+                                     "point; give a direction along a walled axis or drop the probe");
     else
       probe.direction = direction.normalized();
   }
@@ -359,7 +365,7 @@ void read_probes(TableReader& output, Model& model) {
         probe.radius = table.number("radius", model.fluid.spacing, "m", Bounds::positive());
         break;
       case ProbeModel::Kind::kSurgeFront:
-        read_surge_front(table, probe);
+        read_surge_front(table, model, probe);
         break;
       case ProbeModel::Kind::kFluidTotals:
         break;

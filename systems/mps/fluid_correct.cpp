@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "systems/physics/driven_flow.hpp"
 #include "systems/physics/fluid_pair_batch.hpp"
@@ -41,6 +43,15 @@ void FluidCorrect::run(SystemContext& context) {
   const Ghosted<Vec3> predicted_of =
       fluid_ghosted(prediction.predicted_position, neighbours.ghosts.predicted_position, neighbours);
   const Ghosted<std::int32_t> kind_of = fluid_ghosted(particles.kind, neighbours.ghosts.kind, neighbours);
+  // The ghosts' p^{k+1} come from fluid_pressure's exchange, which runs only if that solve was built periodic (it
+  // takes the model, as the searches' box does): a pipeline whose searches built a halo but whose solve did not
+  // exchange would read past the ghost pressures. Refuse it by name rather than read garbage.
+  if (neighbours.halo.valid && neighbours.ghosts.pressure.size() != neighbours.halo.size())
+    throw std::logic_error("fluid_correct: the neighbour lists hold " + std::to_string(neighbours.halo.size()) +
+                           " periodic ghosts but fluid_pressure exchanged " +
+                           std::to_string(neighbours.ghosts.pressure.size()) +
+                           " ghost pressures: the pressure solve and the searches disagree on the periodic box "
+                           "(build FluidPressureSolve from the same model as the searches' periodic_box)");
   const Ghosted<double> pressure_of = fluid_ghosted(pressures.pressure, neighbours.ghosts.pressure, neighbours);
   // A particle that leaves the period comes back through the other face: the jump of one period uses up the
   // neighbour lists' skin, so the next search rebuilds them (and the halo).

@@ -6,6 +6,7 @@
 
 #include "engine/core/system.hpp"
 #include "systems/physics/mps_common.hpp"
+#include "systems/physics/periodic_box.hpp"
 #include "systems/physics/pressure_preconditioner.hpp"
 
 namespace riffle {
@@ -15,9 +16,10 @@ namespace riffle {
 /// b = rho/dt [Dn/Dt* + ECS] + rho gamma (n* - n0)/dt^2 (gamma = rate dt; classic source: gamma = 1, no Dn/Dt).
 class FluidPressureSolve final : public System {
  public:
-  /// `periodic`: the tank has a periodic axis; the solve then exchanges the ghosts' pressures (FluidNeighbours).
-  explicit FluidPressureSolve(const FluidModel& fluid, bool periodic = false)
-      : fluid_(fluid), constants_(MpsConstants::from(fluid)), periodic_(periodic) {}
+  /// Whether the tank has a periodic axis comes from the model (periodic_box), as for the searches' halo and
+  /// fluid_correct: the solve then exchanges the ghosts' pressures (FluidNeighbours), which fluid_correct reads.
+  explicit FluidPressureSolve(const Model& model)
+      : fluid_(model.fluid), constants_(MpsConstants::from(model.fluid)), periodic_(periodic_box(model).any()) {}
   std::string_view name() const override { return "fluid_pressure"; }
   Access access() const override {
     if (periodic_)

@@ -99,7 +99,7 @@ TEST_CASE("the role split lets contact beside drag, and the fluid's step beside 
   fluid_step.push_back(std::make_unique<FluidCellSort>(10, 1, 0.01, 0.001));
   fluid_step.push_back(std::make_unique<FluidNeighbourSearch>(0.01, 0.001, 0.001, At::kPredicted));
   fluid_step.push_back(std::make_unique<FluidFreeSurface>(model.fluid));
-  fluid_step.push_back(std::make_unique<FluidPressureSolve>(model.fluid));
+  fluid_step.push_back(std::make_unique<FluidPressureSolve>(model));
   fluid_step.push_back(std::make_unique<FluidCorrect>(model.fluid));
   grain_substep.push_back(std::make_unique<SolidFluidSampling>(model));
   grain_substep.push_back(std::make_unique<SolidKickDrift>(model));

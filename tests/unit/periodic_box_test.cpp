@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/scene/scene.hpp"
+#include "systems/mps/fluid_pressure.hpp"
 #include "systems/physics/periodic_box.hpp"
 #include "tests/test_support.hpp"
 
@@ -205,6 +206,75 @@ frequency = 2.0
     CHECK(model.fluid.enabled);
     CHECK(model.tank.periodic == std::array<bool, 3>{true, true, false});
   }
+}
+
+TEST_CASE("periodic water: the period fits the lattice, a moving lid spans the period, no surge front across a seam") {
+  // Water alone in a box periodic along x (size 0.04 x 0.03 x 0.02 m, l0 = 5 mm, tank_walls = false: with tank walls
+  // every axis is checked against the lattice already).
+  const auto water_scene = [](const std::string& tank_extra, const std::string& fluid_extra) {
+    const std::string water = "[fluid]\nspacing = 0.005\ntank_walls = false\n\n[[fluid.boxes]]\n"
+                              "low = [0.0, 0.0, 0.0]\nhigh = [0.04, 0.03, 0.01]\n";
+    std::string text = periodic_scene(tank_extra, water + fluid_extra);
+    text.erase(text.find("[contact]"), text.find("[fluid]") - text.find("[contact]"));
+    return text;
+  };
+  CHECK_NOTHROW(parse_scene(water_scene("periodic = [\"x\"]\n", ""), "water.toml"));
+  SUBCASE("a period that is no whole number of cells is refused (the water would meet its image off l0)") {
+    std::string text = water_scene("periodic = [\"x\"]\n", "");
+    text.replace(text.find("size = [0.04"), 12, "size = [0.042");
+    const auto problems = test::problems_of(text, "period.toml");
+    CHECK(mentions(problems, "period.toml:"));
+    CHECK(mentions(problems, "fluid.spacing"));
+    CHECK(mentions(problems, "with x periodic the tank size along x (0.042 m) must be an integer multiple of spacing"));
+    // The same size along a walled axis without tank walls is the water's own business: accepted.
+    std::string walled = water_scene("periodic = [\"y\"]\n", "");
+    walled.replace(walled.find("size = [0.04, 0.03"), 18, "size = [0.042, 0.03");
+    CHECK_NOTHROW(parse_scene(walled, "walled.toml"));
+  }
+  SUBCASE("a moving lid along a periodic x must span the whole period") {
+    const std::string lid = "\n[[fluid.wall_boxes]]\nlow = [0.0, 0.0, 0.015]\nhigh = [0.04, 0.03, 0.02]\n"
+                            "lid = \"no_slip\"\nvelocity = 0.01\n";
+    CHECK_NOTHROW(parse_scene(water_scene("periodic = [\"x\"]\n", lid), "lid.toml"));
+    std::string short_lid = water_scene("periodic = [\"x\"]\n", lid);
+    short_lid.replace(short_lid.find("high = [0.04, 0.03, 0.02]"), 25, "high = [0.03, 0.03, 0.02]");
+    const auto problems = test::problems_of(short_lid, "lid.toml");
+    CHECK(mentions(problems, "lid.toml:"));
+    CHECK(mentions(problems, "fluid.wall_boxes[0].low"));
+    CHECK(mentions(problems, "with x periodic a moving lid must span the whole period along x"));
+    // Periodic along y only: the lid wraps within its own box along x, as before.
+    std::string y_only = short_lid;
+    y_only.replace(y_only.find("periodic = [\"x\"]"), 16, "periodic = [\"y\"]");
+    CHECK_NOTHROW(parse_scene(y_only, "y.toml"));
+  }
+  SUBCASE("a surge front along a periodic axis is refused; along a walled one it is fine") {
+    const std::string probe = "\n[output]\n[[output.probes]]\nkind = \"surge_front\"\nname = \"front\"\n"
+                              "direction = [DIRECTION]\n";
+    std::string along_x = water_scene("periodic = [\"x\"]\n", probe);
+    along_x.replace(along_x.find("DIRECTION"), 9, "1.0, 0.0, 0.0");
+    const auto problems = test::problems_of(along_x, "front.toml");
+    CHECK(mentions(problems, "front.toml:"));
+    CHECK(mentions(problems, "direction"));
+    CHECK(mentions(problems, "a surge front along a periodic axis (x) has no meaning"));
+    std::string along_y = water_scene("periodic = [\"x\"]\n", probe);
+    along_y.replace(along_y.find("DIRECTION"), 9, "0.0, 1.0, 0.0");
+    CHECK_NOTHROW(parse_scene(along_y, "y.toml"));
+  }
+}
+
+TEST_CASE("the pressure solve exchanges the ghosts' pressures exactly when the model is periodic") {
+  // One source for "is periodic" (the model, as the searches' periodic_box): a periodic model's solve writes
+  // FluidNeighbours (the ghost pressures fluid_correct reads), a closed one's only reads it.
+  const std::string water = "[fluid]\nspacing = 0.005\ntank_walls = false\n\n[[fluid.boxes]]\n"
+                            "low = [0.0, 0.0, 0.0]\nhigh = [0.04, 0.03, 0.01]\n";
+  std::string periodic = periodic_scene("periodic = [\"x\"]\n", water);
+  periodic.erase(periodic.find("[contact]"), periodic.find("[fluid]") - periodic.find("[contact]"));
+  std::string closed = periodic;
+  closed.erase(closed.find("periodic = [\"x\"]"), 16);
+  const FluidPressureSolve periodic_solve(parse_scene(periodic, "periodic.toml"));
+  const FluidPressureSolve closed_solve(parse_scene(closed, "closed.toml"));
+  CHECK(periodic_solve.access().writes_component(component_id<FluidNeighbours>));
+  CHECK_FALSE(closed_solve.access().writes_component(component_id<FluidNeighbours>));
+  CHECK(closed_solve.access().reads_component(component_id<FluidNeighbours>));
 }
 
 TEST_CASE("a layered bed generated in a periodic box overlaps nowhere, across the seam included") {
