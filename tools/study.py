@@ -24,7 +24,8 @@ A study is a small TOML file (tools/studies/seed_calibration.toml is the example
     set = []
 
 Layout: out/<name>/riffle (the binary the study runs, copied when it starts so a rebuild cannot mix two builds in
-one study), out/<name>/beds/seed_<N>/ (the settled beds), out/<name>/runs/<variant>/bed_<N>/ (each run, with
+one study), out/<name>/scenes/ (the scene and bed scene the study runs, copied when it starts for the same reason: a
+later change of a scene's defaults, such as a calibration, must not reach the runs not yet started), out/<name>/beds/seed_<N>/ (the settled beds), out/<name>/runs/<variant>/bed_<N>/ (each run, with
 job.json: its command, segments, wall times and exit codes), out/<name>/study.log, out/<name>/collect/ (tables and
 plots).
 
@@ -82,6 +83,9 @@ class Study:
         # Absolute: the runs name their bed by path, and riffle reads a relative path against the scene's folder.
         self.out = (pathlib.Path(out) if out else ROOT / "out" / self.name).resolve()
         self.binary = self.out / "riffle"
+        # The runs read these copies; self.scene and self.bed_scene stay the study's names for them (job records).
+        self.scene_copy = self.out / "scenes" / self.scene.name
+        self.bed_scene_copy = self.out / "scenes" / ("bed_" + self.bed_scene.name)
         self.until = self.periods / self.frequency
 
     def bed_dir(self, seed):
@@ -186,15 +190,26 @@ def settle_bed(study, seed):
     if STOPPING.is_set():
         return None
     log(study, f"bed {seed}: settling")
-    fresh = ["run", str(study.bed_scene)] + [a for s in job["set"] for a in ("--set", s)]
+    fresh = ["run", str(study.bed_scene_copy)] + [a for s in job["set"] for a in ("--set", s)]
     code = run_riffle(study, directory, job, fresh)
     if code is not None:
         log(study, f"bed {seed}: exit {code}")
     return code
 
 
+def pin_scenes(study):
+    """Copies the scene and the bed scene into the study the first time it runs; later runs use those copies. A
+    scene changed in the repository since then is named in the log: the study goes on with its copy."""
+    for source, copy in ((study.scene, study.scene_copy), (study.bed_scene, study.bed_scene_copy)):
+        if not copy.exists():
+            copy.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, copy)
+        elif source.read_bytes() != copy.read_bytes():
+            log(study, f"{source} has changed since the study copied it; the study runs its copy {copy}")
+
+
 def bed_end_time(study):
-    with open(study.bed_scene, "rb") as handle:
+    with open(study.bed_scene_copy, "rb") as handle:
         return float(tomllib.load(handle)["run"]["end_time"])
 
 
@@ -230,7 +245,8 @@ def run_job(study, variant, seed):
     overrides = job_overrides(study, variant, seed)
     job = job or {"kind": "run", "variant": variant["name"], "seed": seed, "scene": str(study.scene),
                   "set": overrides, "until": study.until, "threads": study.threads, "periods": study.periods}
-    fresh = ["run", str(study.scene), "--until", f"{study.until:.9g}"] + [a for s in overrides for a in ("--set", s)]
+    fresh = ["run", str(study.scene_copy), "--until", f"{study.until:.9g}"] + [a for s in overrides
+                                                                               for a in ("--set", s)]
     log(study, f"{variant['name']} bed {seed}: {'resuming' if job.get('segments') else 'starting'}")
     code = run_riffle(study, directory, job, fresh)
     if code is not None:
@@ -270,6 +286,7 @@ def command_run(study, detach):
                                 text=True, cwd=ROOT).stdout.strip()
         (study.out / "binary.json").write_text(json.dumps({"source": str(study.binary_source), "version": version,
                                                            "commit": commit, "copied": time.time()}, indent=1))
+    pin_scenes(study)
     signal.signal(signal.SIGTERM, stop)
     signal.signal(signal.SIGINT, stop)
     log(study, f"runner started: {len(study.jobs())} jobs, {study.workers} at a time, {study.threads} thread(s) each")

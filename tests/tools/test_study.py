@@ -167,9 +167,16 @@ def main():
     check(job["segments"][0]["exit_code"] == 143 and not job["done"],
           f"SIGTERM stops the running job with riffle's exit 143, not done (got {job['segments'][0]['exit_code']})")
 
-    # 2. The next run resumes it and finishes the study.
+    # 2. The next run resumes it and finishes the study, from the scenes the study copied when it first ran: the
+    #    scene is changed in between (a key riffle refuses), and the jobs that start now must not see the change.
+    check((out / "scenes" / "run.toml").read_text() == RUN and (out / "scenes" / "bed_bed.toml").read_text() == BED,
+          "the study copied its scene and bed scene when it first ran")
+    (work / "run.toml").write_text(RUN + "\n[not_a_table]\nkey = 1\n")
     finished = subprocess.run(command, capture_output=True, text=True, cwd=ROOT, timeout=300)
     check(finished.returncode == 0, f"the second runner finishes (exit {finished.returncode})")
+    check("has changed since the study copied it" in (out / "study.log").read_text(),
+          "the log names the scene changed since the study copied it")
+    (work / "run.toml").write_text(RUN)
     job = json.loads((first / "job.json").read_text())
     check(job["done"] and len(job["segments"]) == 2 and job["segments"][1]["command"][1] == "resume",
           "the interrupted job resumed from its checkpoint (two segments, the second `riffle resume`)")
