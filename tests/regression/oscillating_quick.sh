@@ -4,7 +4,8 @@
 # fluid particle is still there and inside the tank, the fluid volume is kept within 1 %, the PPE converged, the bed
 # is still a bed (class centroids within the bed's height), and it sorts the seed's way: over the second half of the
 # third period the large grains' centroid is more than 1 mm above its start and the small grains' more than 0.5 mm
-# below (+1.25 and -0.91 mm on the settled bed with the calibrated rolling friction 0.05; +2.1 and -1.2 without). Exact numbers are not checked.
+# below (+1.25 and -0.91 mm on the settled bed with the calibrated rolling friction 0.05; +2.1 and -1.2 without).
+# Exact numbers are not checked.
 #
 #   bash tests/regression/oscillating_quick.sh <riffle-binary> <source-dir> <work-dir>
 #
