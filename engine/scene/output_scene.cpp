@@ -55,8 +55,6 @@ std::size_t wall_count(const Model& model) {
   return 6 - model.tank.open_faces.size() - periodic_faces;
 }
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
   static const std::vector<std::pair<std::string, ProbeModel::Kind>> kinds = {
       {"grains", ProbeModel::Kind::kGrains},
