@@ -321,7 +321,12 @@ struct SolidsModel {
   /// (seed 003 Sec. 4 holds its bed while the flow develops); the default -infinity: never held.
   double hold_until = -std::numeric_limits<double>::infinity();
   /// Whether the grains are held (fixed_to_tank, or hold_until not reached) in the sub-step that starts at `time`.
-  bool held(double time) const { return fixed_to_tank || time < hold_until; }
+  /// The run's time is a sum of steps, so a hold_until on a step boundary arrives rounded (2 s after 4000 steps of
+  /// 5e-4 s is 1.99999999999984): a sub-step starting within hold_release_slack of hold_until counts as released.
+  bool held(double time) const { return fixed_to_tank || time < hold_until - hold_release_slack; }
+  /// [s] above the summed time's rounding (of order 1e-16 relative per step: 1.6e-13 s after 4000 steps to 2 s) and a
+  /// thousandth of a 1 microsecond sub-step, so it never moves the release by a whole sub-step.
+  static constexpr double hold_release_slack = 1e-9;
 };
 
 /// One [[output.probes]] entry: a CSV written while the run goes (engine/output/probes.hpp).

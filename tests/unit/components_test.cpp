@@ -120,3 +120,19 @@ TEST_CASE("tank_walls builds one inward-facing plane per closed face") {
     CHECK(walls.half_extent_v[wall].dot(walls.normal[wall]) == 0.0);
   }
 }
+
+TEST_CASE("hold_until on a step boundary releases the grains at that step, whatever the summed time's rounding") {
+  SolidsModel solids;
+  solids.hold_until = 2.0;
+  double time = 0.0;  // the stepper's time: a sum of steps, as a run reaches the seed 003 scenes' 2 s hold
+  for (int step = 0; step < 4000; ++step) time += 5.0e-4;
+  CHECK(time != 2.0);  // the rounding this guards against (1.99999999999984 on IEEE doubles)
+  CHECK_FALSE(solids.held(time));
+  CHECK(solids.held(time - 1.25e-5));  // the step's last sub-step before 2 s (40 sub-steps of 12.5 us) is held
+  CHECK(solids.held(0.0));
+  CHECK_FALSE(solids.held(2.0));
+  solids.hold_until = -std::numeric_limits<double>::infinity();  // the default: never held
+  CHECK_FALSE(solids.held(0.0));
+  solids.fixed_to_tank = true;
+  CHECK(solids.held(1.0e9));
+}
