@@ -316,6 +316,39 @@ TEST_CASE("periodic water: one and two threads, and a resumed run, give byte-ide
 
 namespace riffle {
 
+// The channel the three laminar cases share (tools/driven_flow_study.py's coarsest): 8 x 6 x 10 l0 of water
+// (l0 = 4 mm, nu = 1e-3 m^2/s, no gravity) between a no-slip lid at rest below and a lid above, each 3 l0 thick,
+// periodic along x and y; `body_force` is a [fluid.body_force] table or empty, `top_lid` the top lid's keys.
+std::string periodic_channel(const std::string& name, double end_time, const std::string& body_force,
+                             const std::string& top_lid) {
+  return "[run]\nname = \"" + name + "\"\nend_time = " + std::to_string(end_time) +
+         "\ndt = 0.0032\ngravity = [0.0, 0.0, 0.0]\n\n" + R"([materials.glass]
+density = 2500.0
+
+[tank]
+size = [0.032, 0.024, 0.064]
+wall_material = "glass"
+periodic = ["x", "y"]
+
+[fluid]
+spacing = 0.004
+kinematic_viscosity = 0.001
+clamp_negative_pressure = false
+)" + body_force + "\n" + R"([[fluid.boxes]]
+low = [0.0, 0.0, 0.012]
+high = [0.032, 0.024, 0.052]
+
+[[fluid.wall_boxes]]
+low = [0.0, 0.0, 0.0]
+high = [0.032, 0.024, 0.012]
+lid = "no_slip"
+
+[[fluid.wall_boxes]]
+low = [0.0, 0.0, 0.052]
+high = [0.032, 0.024, 0.064]
+)" + top_lid + "\n";
+}
+
 // Plane Poiseuille flow (tools/driven_flow_study.py poiseuille, its coarsest case): a channel of height H = 0.04 m
 // periodic along x and y (8 x 6 l0), no-slip lids 3 l0 thick at rest below and above (their planes at the lid
 // boxes' faces, z = 0 and H), a constant body force f = 12 nu U / H^2 along x (bulk velocity U = 1 cm/s),
@@ -330,44 +363,12 @@ namespace riffle {
 // lost across the seam (each an error of 10 % or more in the profile) fails it. ~1000 steps of 480 fluid particles:
 // about 1.5 s.
 TEST_CASE("plane Poiseuille flow in a channel periodic along x and y matches f z (H - z) / (2 nu)") {
-  const std::string text = R"([run]
-name = "poiseuille"
-end_time = 3.2
-dt = 0.0032
-gravity = [0.0, 0.0, 0.0]
-
-[materials.glass]
-density = 2500.0
-
-[tank]
-size = [0.032, 0.024, 0.064]
-wall_material = "glass"
-periodic = ["x", "y"]
-
-[fluid]
-spacing = 0.004
-kinematic_viscosity = 0.001
-clamp_negative_pressure = false
-
+  const std::string text = periodic_channel("poiseuille", 3.2, R"(
 [fluid.body_force]
 kind = "constant"
 acceleration = 0.075
 grains = "none"
-
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.012]
-high = [0.032, 0.024, 0.052]
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.032, 0.024, 0.012]
-lid = "no_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.052]
-high = [0.032, 0.024, 0.064]
-lid = "no_slip"
-)";
+)", R"(lid = "no_slip")");
   const double height = 0.04, z0 = 0.012, nu = 1.0e-3, f = 0.075;
   test::FluidRun run(parse_scene(text, "poiseuille.toml"));
   REQUIRE(run.fluid_count() == 8 * 6 * 10);
@@ -402,40 +403,7 @@ namespace riffle {
 // a fraction of U (an error of order 10 %). The lid's traction on the water: mu U / H, less what the cap on the
 // no-slip extrapolation (fluid_predict, kMaxBeta = 3) takes off the lattice sum, 0.3 % (docs/FLUID.md); tolerance 1 %.
 TEST_CASE("plane Couette flow under a lid sliding across the seam matches U z / H") {
-  const std::string text = R"([run]
-name = "couette"
-end_time = 3.2
-dt = 0.0032
-gravity = [0.0, 0.0, 0.0]
-
-[materials.glass]
-density = 2500.0
-
-[tank]
-size = [0.032, 0.024, 0.064]
-wall_material = "glass"
-periodic = ["x", "y"]
-
-[fluid]
-spacing = 0.004
-kinematic_viscosity = 0.001
-clamp_negative_pressure = false
-
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.012]
-high = [0.032, 0.024, 0.052]
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.032, 0.024, 0.012]
-lid = "no_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.052]
-high = [0.032, 0.024, 0.064]
-lid = "no_slip"
-velocity = 0.01
-)";
+  const std::string text = periodic_channel("couette", 3.2, "", "lid = \"no_slip\"\nvelocity = 0.01");
   const double height = 0.04, z0 = 0.012, speed = 0.01;
   test::FluidRun run(parse_scene(text, "couette.toml"));
   REQUIRE(run.fluid_count() == 8 * 6 * 10);
@@ -471,45 +439,13 @@ namespace riffle {
 // order trend puts the error there at 2.2 %, and an amplitude or phase wrong by a tenth (a wrong viscosity, slip at
 // the floor, the lid's ghosts missing) gives 10 % or more. ~1900 steps of 480 fluid particles: about 2 s.
 TEST_CASE("Stokes' second problem in a channel periodic along x and y: amplitude and phase of each layer") {
-  const std::string text = R"([run]
-name = "stokes2"
-end_time = 6.0
-dt = 0.0032
-gravity = [0.0, 0.0, 0.0]
-
-[materials.glass]
-density = 2500.0
-
-[tank]
-size = [0.032, 0.024, 0.064]
-wall_material = "glass"
-periodic = ["x", "y"]
-
-[fluid]
-spacing = 0.004
-kinematic_viscosity = 0.001
-clamp_negative_pressure = false
-
+  const std::string text = periodic_channel("stokes2", 6.0, R"(
 [fluid.body_force]
 kind = "sinusoidal"
 amplitude = 0.06283185307179587
 period = 1.0
 grains = "none"
-
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.012]
-high = [0.032, 0.024, 0.052]
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.032, 0.024, 0.012]
-lid = "no_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.052]
-high = [0.032, 0.024, 0.064]
-lid = "free_slip"
-)";
+)", R"(lid = "free_slip")");
   const double l0 = 0.004, height = 0.04, z0 = 0.012, nu = 1.0e-3, omega = 2.0 * std::numbers::pi;
   const double force = 0.01 * omega;
   test::FluidRun run(parse_scene(text, "stokes2.toml"));
