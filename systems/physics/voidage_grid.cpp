@@ -61,24 +61,29 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
     const double span = (high[axis] - (low[axis] - cell_size_)) / cell_size_;
     return clamp_to_cells(std::floor(span), 4093.0) + 3.0;
   };
-  // A stray particle far from the others (still inside a wide domain) must not make the grid huge: above
-  // voidage_node_limit the cells double until it fits. That changes the field, but only for a grid that big, which
-  // no valid scene builds (64 nodes per particle; the seed scenes use well under one).
+  // Along a periodic axis the grid spans the whole period in whole cells (at least 4, so that the smoothing's reach
+  // of one node either side of a grain's cell never folds back onto it), however few points there are.
+  auto nodes_along = [&](int axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    if (!box.periodic[a]) return axis_nodes(axis);
+    return std::max(4.0, clamp_to_cells(std::floor(box.length[axis] / cell_size_), 4096.0));
+  };
+  auto total_nodes = [&] { return nodes_along(0) * nodes_along(1) * nodes_along(2); };
+  // A stray particle far from the others (still inside a wide domain), or a long period with few points, must not
+  // make the grid huge: above voidage_node_limit the cells double until it fits. That changes the field, but only for
+  // a grid that big, which no valid scene builds (64 nodes per particle; the seed scenes use well under one).
   const double limit = voidage_node_limit(grain_positions.size() + fluid_count);
-  while (axis_nodes(0) * axis_nodes(1) * axis_nodes(2) > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
-  const bool fits = axis_nodes(0) * axis_nodes(1) * axis_nodes(2) <= limit;  // not with an infinite coordinate
+  while (total_nodes() > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
+  const bool fits = total_nodes() <= limit;  // not with an infinite coordinate
   origin_ = low - Vec3::Constant(cell_size_);
   for (int axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<std::size_t>(axis);
-    nodes_[a] = fits ? static_cast<std::int64_t>(axis_nodes(axis)) : 2;
+    nodes_[a] = fits ? static_cast<std::int64_t>(nodes_along(axis)) : 2;
     cell_[a] = cell_size_;
     wraps_[a] = box.periodic[a] && fits;
     if (!wraps_[a]) continue;
-    // Whole cells per period (at least 4, so that the smoothing's reach of one node either side of a grain's cell
-    // never folds back onto it), from the period's low face.
-    const double period = box.length[axis];
-    nodes_[a] = static_cast<std::int64_t>(std::max(4.0, clamp_to_cells(std::floor(period / cell_size_), 4096.0)));
-    cell_[a] = period / static_cast<double>(nodes_[a]);
+    // Whole cells per period, from the period's low face.
+    cell_[a] = box.length[axis] / static_cast<double>(nodes_[a]);
     origin_[axis] = box.low[axis];
   }
   const std::size_t total = static_cast<std::size_t>(nodes_[0] * nodes_[1] * nodes_[2]);

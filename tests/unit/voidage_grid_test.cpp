@@ -123,3 +123,26 @@ TEST_CASE("voidage grid: periodic axes wrap the deposits, the smoothing and the 
                                                            .epsilon(1e-12));
   }
 }
+
+// Periodic axes take the whole period in whole cells whatever the points span, so the node limit must count them:
+// two grains in a 40 m x 40 m periodic channel with 1 cm cells asked for 4000 x 4000 nodes along x and y (16e6 per
+// layer, two arrays) before the check did.
+TEST_CASE("voidage grid: a long period with few points stays within the node limit") {
+  riffle::PeriodicBox box;
+  box.low = riffle::Vec3::Zero();
+  box.length = riffle::Vec3(40.0, 40.0, 1.0);
+  box.periodic = {true, true, false};
+  riffle::VoidageGrid grid;
+  const std::vector<riffle::Vec3> grains = {{1.0, 1.0, 0.1}};
+  const std::vector<riffle::Vec3> fluid = {{39.9999, 1.0, 0.1}};  // just below the seam at x = 40 m
+  grid.build(grains, {1e-6}, fluid, 1, 1e-6, 0.01, riffle::Vec3::Zero(), riffle::Vec3(40.0, 40.0, 1.0), box);
+  CHECK(static_cast<double>(grid.node_count()) <= riffle::voidage_node_limit(2));
+  CHECK(grid.node_count() > 1000);  // coarsened only as far as needed
+  // Still a wrapping grid: the water just below the seam lands on the node at x = 0, the one nearest a point just
+  // above it.
+  CHECK(total_fluid(grid) == doctest::Approx(1e-6).epsilon(1e-12));
+  const riffle::CloudInCellStencil above_seam = grid.stencil({0.0001, 1.0, 0.1});
+  double largest = 0.0;
+  for (std::size_t c = 0; c < 8; ++c) largest = std::max(largest, grid.fluid_volume(above_seam.node[c]));
+  CHECK(largest > 0.5e-6);
+}
