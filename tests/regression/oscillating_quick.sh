@@ -3,9 +3,10 @@
 # (l0 = 10 mm) for three periods and check what must hold whatever the numbers: it finishes, every grain and every
 # fluid particle is still there and inside the tank, the fluid volume is kept within 1 %, the PPE converged, the bed
 # is still a bed (class centroids within the bed's height), and it sorts the seed's way: over the second half of the
-# third period the large grains' centroid is more than 1 mm above its start and the small grains' more than 0.5 mm
-# below (+1.25 and -0.91 mm on the settled bed with the calibrated rolling friction 0.05; +2.1 and -1.2 without).
-# Exact numbers are not checked.
+# third period the large grains' centroid is more than 0.5 mm above its start and the small grains' more than 0.3 mm
+# below (+0.85 and -0.62 mm on the settled bed with the calibrated rolling friction 0.1, which slows the sorting about
+# twice; +1.25 and -0.91 with 0.05; +2.1 and -1.2 without). The small grains' sinking is the telling half: the
+# shaken bed dilates, which lifts every class. Exact numbers are not checked.
 #
 #   bash tests/regression/oscillating_quick.sh <riffle-binary> <source-dir> <work-dir>
 #
@@ -80,7 +81,7 @@ by_header 'NR == 2 { small0 = $col["class_0_centroid_m"]; large0 = $col["class_2
            END { if (n == 0) { print "no centroid rows in the third period"; exit 1 }
                  rise = 1000 * (large / n - large0); sink = 1000 * (small0 - small / n)
                  printf "#   large grains rose %.2f mm, small grains sank %.2f mm\n", rise, sink
-                 if (rise <= 1.0 || sink <= 0.5) exit 1 }' quick/class_centroids.csv \
+                 if (rise <= 0.5 || sink <= 0.3) exit 1 }' quick/class_centroids.csv \
   t_over_T class_0_centroid_m class_2_centroid_m \
   && pass "the bed sorts the seed's way (large up, small down)" || fail "the bed sorts the seed's way (large up, small down)"
 echo "$((failed == 0 ? 1 : 0)) passed all, $failed failed"
