@@ -78,18 +78,19 @@ def at(t, values, stage):
     return float(np.mean(values[mask])) if mask.any() else math.nan
 
 
-def circulation(run_dir, refresh):
-    """{window: (end-band coarse dz, middle coarse dz)} [m per period] from the drift figure's table."""
+def circulation(run_dir, refresh, windows=DRIFT_WINDOWS):
+    """{window: (end-band coarse dz, middle coarse dz)} [m per period] from the drift figure's table (drawn again when
+    it lacks one of `windows`)."""
     table = run_dir / "figures" / "drift.csv"
-    if refresh or not table.exists():
+    if refresh or not table.exists() or not set(windows) <= {r["window"] for r in read_rows(table)}:
         subprocess.run([sys.executable, str(TOOLS / "seed_figures.py"), str(run_dir), "--figures", "drift",
-                        "--drift-windows", *DRIFT_WINDOWS], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
+                        "--drift-windows", *windows], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
                        check=False)
     if not table.exists():
         return {}
     result = {}
     rows = read_rows(table)
-    for window in DRIFT_WINDOWS:
+    for window in windows:
         picked = [r for r in rows if r["window"] == window and r["group"] in ("1", "2")]
         if not picked:
             continue
@@ -104,8 +105,9 @@ def circulation(run_dir, refresh):
     return result
 
 
-def bed_state(run_dir):
-    """What the seed's picture asks of the bed, from the run's first and last grain frames (tank frame):
+def bed_state(run_dir, period=None):
+    """What the seed's picture asks of the bed, from the run's first grain frame and its last (or the one nearest
+    t/T = `period`), in the tank frame:
     - the largest displacement [mm] of the large grains that start in a bottom corner (centre within 1.5 large
       diameters of the floor, of an end wall and of a side wall: the seed's two large corner grains stay put);
     - the small grains' share of the grain volume whose centres lie in the bottom 15 mm sub-layer, at the start and
@@ -114,8 +116,9 @@ def bed_state(run_dir):
     times = run.solid_times()
     if len(times) < 2:
         return {}
+    end = len(times) - 1 if period is None else int(np.argmin(np.abs(np.asarray(times) * run.frequency - period)))
     first = run.solids(0, ("id", "radius", "size_class"))
-    last = run.solids(len(times) - 1, ("id", "radius", "size_class"))
+    last = run.solids(end, ("id", "radius", "size_class"))
     large = int(first["size_class"].max())
     diameter = 2.0 * float(first["radius"][first["size_class"] == large].max())
     p0 = first["tank_frame_points"]
@@ -141,9 +144,15 @@ def bed_state(run_dir):
     return result
 
 
-def rise_rate(t, z, window=10.0):
-    """[mm per period] least-squares slope of a centroid over the run's last `window` periods."""
-    mask = t >= t[-1] - window
+def rise_rate(t, z, window=10.0, start=None, end=None):
+    """[mm per period] least-squares slope of a centroid over the run's last `window` periods, or over t/T in
+    [start, end] when given (nan where the run does not reach `end`)."""
+    if start is None:
+        mask = t >= t[-1] - window
+    else:
+        if t[-1] < end - 0.2:
+            return math.nan
+        mask = (t >= start) & (t <= end)
     return 1e3 * float(np.polyfit(t[mask], z[mask], 1)[0]) if mask.sum() > 2 else math.nan
 
 
@@ -155,19 +164,36 @@ def run_summary(study, variant, seed, refresh):
     if not study_tool.job_matches(study, variant, seed, job):
         print(f"  {variant['name']} bed {seed}: ran other overrides than the study file now lists; skipped")
         return None
+    row = {"variant": variant["name"], "bed": seed, "threads": job.get("threads"), "wall_s": job.get("wall_s"),
+           "periods": job.get("periods")}
+    measures, data = measure(run_dir, STAGES, DRIFT_WINDOWS, refresh=refresh)
+    row.update(measures)
+    return row, data
+
+
+def measure(run_dir, stages, drift_windows, rise_windows=(), bed_periods=(), refresh=False):
+    """The study's measures of one run directory at any stages and windows: S and the class centroids at each stage
+    (means over the period that ends there), each centroid's rise over the last 10 periods and over each of
+    `rise_windows` ((start, end) in t/T), the seed's picture (bed_state) at the last frame and at each of
+    `bed_periods`, and the end-wall circulation over each of `drift_windows` ("K1-K2"). Returns (row, series)."""
+    run_dir = pathlib.Path(run_dir)
     t, z, classes = centroid_series(run_dir)
     volumes = class_volumes(run_dir, classes)
     s = segregation_series(t, z, volumes)
-    row = {"variant": variant["name"], "bed": seed, "threads": job.get("threads"), "wall_s": job.get("wall_s"),
-           "periods": job.get("periods")}
-    for stage in STAGES:
-        row[f"S_{stage}"] = at(t, s, stage)
+    row = {}
+    for stage in stages:
+        row[f"S_{stage:g}"] = at(t, s, stage)
         for j, k in enumerate(classes):
-            row[f"z{k}_{stage}_mm"] = 1e3 * at(t, z[:, j], stage)
+            row[f"z{k}_{stage:g}_mm"] = 1e3 * at(t, z[:, j], stage)
     for j, k in enumerate(classes):
         row[f"z{k}_rise_last10_mm_per_T"] = rise_rate(t, z[:, j])
+        for start, end in rise_windows:
+            row[f"z{k}_rise_{start:g}-{end:g}_mm_per_T"] = rise_rate(t, z[:, j], start=start, end=end)
     row.update(bed_state(run_dir))
-    for window, (end_band, middle) in circulation(run_dir, refresh).items():
+    for period in bed_periods:
+        row.update({f"{key}_at_{period:g}": value for key, value in bed_state(run_dir, period).items()
+                    if key not in ("corner_large_grains", "small_share_bottom_start")})
+    for window, (end_band, middle) in circulation(run_dir, refresh, tuple(drift_windows)).items():
         row[f"endwall_coarse_dz_{window}_mm_per_T"] = 1e3 * end_band
         row[f"middle_coarse_dz_{window}_mm_per_T"] = 1e3 * middle
     return row, (t, z, s, classes)
@@ -326,3 +352,39 @@ def collect(study, refresh=False):
     print(f"study {study.name}: {len(rows)} runs collected into {out}")
     print((out / "sensitivity.md").read_text() if (out / "sensitivity.md").exists() else "")
     return 0
+
+
+def main(argv=None):
+    """`study_collect.py measure RUN_DIR ...`: the study's measures of any run directory (a 100-period run, say)."""
+    import argparse
+    parser = argparse.ArgumentParser(description="The study's measures of one riffle run directory (S and the class "
+                                     "centroids at stages, the centroids' rise over windows, the seed's picture, "
+                                     "the end-wall circulation), as name,value lines.")
+    parser.add_argument("command", choices=["measure"])
+    parser.add_argument("run_dir", type=pathlib.Path)
+    parser.add_argument("--stages", type=float, nargs="+", default=list(STAGES), help="t/T (default 10 20 30)")
+    parser.add_argument("--drift-windows", nargs="+", default=list(DRIFT_WINDOWS), metavar="K1-K2",
+                        help="circulation windows in t/T (default 10-20 20-30)")
+    parser.add_argument("--rise-windows", nargs="*", default=[], metavar="K1-K2",
+                        help="centroid rise windows in t/T (least-squares slope)")
+    parser.add_argument("--bed-periods", type=float, nargs="*", default=[],
+                        help="the seed's picture (corner grains, small share at the floor) also at these t/T")
+    parser.add_argument("--refresh", action="store_true", help="draw the drift table again")
+    args = parser.parse_args(argv)
+    if not (args.run_dir / "class_centroids.csv").exists():
+        parser.error(f"{args.run_dir}: no class_centroids.csv (not a riffle run directory with grains)")
+    windows = []
+    for text in args.rise_windows:
+        try:
+            start, end = (float(v) for v in text.split("-"))
+        except ValueError:
+            parser.error(f"--rise-windows {text!r}: expected K1-K2, e.g. 50-70")
+        windows.append((start, end))
+    row, _ = measure(args.run_dir, args.stages, args.drift_windows, windows, args.bed_periods, args.refresh)
+    for key, value in row.items():
+        print(f"{key},{value:.6g}" if isinstance(value, float) else f"{key},{value}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

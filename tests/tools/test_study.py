@@ -250,6 +250,25 @@ def main():
     got = float(ensemble[-1]["S_mean"])
     check(abs(got - sum(expected) / 2) < 1e-5, f"the ensemble's mean S at the end ({got:.6f}) is the beds' mean "
           f"segregation index computed here ({sum(expected) / 2:.6f})")
+
+    # 8. measure: any run directory at any stage. S at t/T = 2 is the mean over the period that ends there (samples
+    # in (1, 2]) of the segregation index computed here.
+    def s_by_hand(table, row):
+        z0 = [float(table[0]["class_0_centroid_m"]), float(table[0]["class_1_centroid_m"])]
+        z = [float(row["class_0_centroid_m"]), float(row["class_1_centroid_m"])]
+        full_gap = 2 * (volumes[0] * z[0] + volumes[1] * z[1]) / sum(volumes) * 0.5
+        return ((z[1] - z[0]) - (z0[1] - z0[0])) / (full_gap - (z0[1] - z0[0]))
+
+    period_two = [s_by_hand(centroids[0], r) for r in centroids[0] if 1.0 < float(r["t_over_T"]) <= 2.0 + 1e-6]
+    measured = subprocess.run([sys.executable, str(ROOT / "tools" / "study_collect.py"), "measure",
+                               str(out / "runs" / "base" / "bed_1"), "--stages", "2", "--drift-windows", "0-2",
+                               "--rise-windows", "1-2"], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    values = dict(line.split(",", 1) for line in measured.stdout.split())
+    check(measured.returncode == 0 and "z1_rise_1-2_mm_per_T" in values and
+          "endwall_coarse_dz_0-2_mm_per_T" in values, f"measure exits 0 with its rows ({measured.stderr[-300:]})")
+    check(period_two and abs(float(values.get("S_2", "nan")) - sum(period_two) / len(period_two)) < 1e-5,
+          f"measure's S at t/T = 2 ({values.get('S_2')}) is the mean over the second period of the segregation "
+          f"index computed here ({sum(period_two) / max(1, len(period_two)):.6f})")
     print(f"{len(failures)} failure(s)")
     return 1 if failures else 0
 
