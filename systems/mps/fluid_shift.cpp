@@ -1,5 +1,7 @@
 #include "systems/mps/fluid_shift.hpp"
 
+#include <cmath>
+
 #include "systems/physics/mps_operators.hpp"
 #include "systems/physics/particle_shifting.hpp"
 #include "systems/physics/periodic_box.hpp"
@@ -18,6 +20,7 @@ void FluidShift::run(SystemContext& context) {
   const double dt = context.dt;
   const double smoothing_length = 0.5 * kernel.effective_radius;  // Wendland C2: support 2 h
   const double max_length = fluid_.shifting_max_ratio * fluid_.spacing;
+  const double stabilisation_distance = fluid_.stabilisation_distance();
   const ShiftingLaw law = fluid_.shifting_diffusivity == FluidModel::ShiftingDiffusivity::kConstant
                               ? ShiftingLaw::kConstant
                               : ShiftingLaw::kVelocity;
@@ -67,6 +70,16 @@ void FluidShift::run(SystemContext& context) {
     if (near_surface) {
       const double length = outward.norm();
       shift = length > 0.0 ? tangential_shift(shift, outward / length) : Vec3::Zero();
+    }
+    // Walls: no shift toward a wall or dummy particle within the DS distance plus the cap (the nearest a particle
+    // may come to one), so that a shift never carries water into a wall, whatever grad C says there.
+    const double guard_squared = std::pow(stabilisation_distance + max_length, 2);
+    for (const std::uint32_t j : neighbours_of(neighbours, i)) {
+      const std::uint32_t owner = fluid_owner_of(neighbours, j);
+      if (particles.kind[owner] == kFluidKind) continue;
+      const Vec3 offset = predicted_of[j] - position;  // walls and dummies: r* is r^{k+1}
+      if (offset.squaredNorm() >= guard_squared) continue;
+      shift = shift_off_wall(shift, offset);
     }
     shift_[i] = shift;
     velocity_[i] = velocity;

@@ -16,6 +16,14 @@ Vec3 fickian_shift(double diffusivity, const Vec3& concentration_gradient, doubl
   return shift;
 }
 
+Vec3 shift_off_wall(const Vec3& shift, const Vec3& offset) {
+  const double length = offset.norm();
+  if (length == 0.0) return shift;
+  const Vec3 direction = offset / length;
+  const double toward = shift.dot(direction);
+  return toward > 0.0 ? Vec3(shift - toward * direction) : shift;
+}
+
 Vec3 tangential_shift(const Vec3& shift, const Vec3& normal) { return shift - normal.dot(shift) * normal; }
 
 Vec3 nearest_image_difference(const PeriodicBox& box, const Vec3& difference) {

@@ -40,6 +40,10 @@ Vec3 fickian_shift(double diffusivity, const Vec3& concentration_gradient, doubl
 /// (I - n n^T) delta r; a zero normal leaves the shift unchanged.
 Vec3 tangential_shift(const Vec3& shift, const Vec3& normal);
 
+/// The shift without its component toward a wall or dummy particle at `offset` (r_j - r_i), when it has one: a
+/// shift never brings a fluid particle closer to a wall particle that is already near (fluid_shift's guard).
+Vec3 shift_off_wall(const Vec3& shift, const Vec3& offset);
+
 /// The velocity carried to the shifted position, u + (delta r . grad) u to first order (Lind et al. 2012), with
 /// `velocity_gradient`(a, b) = d u_a / d x_b.
 inline Vec3 shifted_velocity(const Vec3& velocity, const Eigen::Matrix3d& velocity_gradient, const Vec3& shift) {

@@ -85,6 +85,10 @@ TEST_CASE("particle shifting: diffusivity laws, cap, free-surface projection, Ta
   CHECK(std::abs(tangential.dot(normal)) < 1e-15);
   CHECK(tangential.x() == 1.0);
   CHECK((tangential_shift(Vec3(1.0, 2.0, 3.0), Vec3::Zero()) - Vec3(1.0, 2.0, 3.0)).norm() == 0.0);
+  // The wall guard: the component toward the wall particle goes, one away from it stays.
+  const Vec3 off_wall = shift_off_wall(Vec3(0.1, 0.0, -0.2), Vec3(0.0, 0.0, -1.0));
+  CHECK((off_wall - Vec3(0.1, 0.0, 0.0)).norm() < 1e-15);
+  CHECK((shift_off_wall(Vec3(0.1, 0.0, 0.2), Vec3(0.0, 0.0, -1.0)) - Vec3(0.1, 0.0, 0.2)).norm() == 0.0);
   // u + (delta r . grad) u is exact for a linear field.
   Eigen::Matrix3d gradient_tensor;
   gradient_tensor << 0.0, 0.0, 28.0, 1.0, -2.0, 0.5, 3.0, 0.0, 2.0;
