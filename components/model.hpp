@@ -229,6 +229,17 @@ struct FluidModel {
   enum class Turbulence { kNone, kSps };
   Turbulence turbulence = Turbulence::kNone;
   double smagorinsky_constant = 0.12;  ///< [1] C_s
+  /// Particle shifting after each step (docs/FLUID.md, "Particle shifting"; systems/mps/fluid_shift.hpp): each fluid
+  /// particle moves by delta r = -D grad C (Lind et al. 2012), its velocity carried along to first order. Off by
+  /// default (and then the step graph has no fluid_shift).
+  enum class Shifting { kOff, kFickian };
+  Shifting shifting = Shifting::kOff;
+  /// kVelocity: D = A h |u| dt (Skillen et al. 2013); kConstant: D = A h^2 (Lind et al. 2012); h = r_e / 2.
+  enum class ShiftingDiffusivity { kVelocity, kConstant };
+  ShiftingDiffusivity shifting_diffusivity = ShiftingDiffusivity::kVelocity;
+  double shifting_coefficient = 2.0;  ///< [1] A (the scene's default: 2 for kVelocity, 0.25 for kConstant)
+  double shifting_max_ratio = 0.1;    ///< [1] the largest shift per step / l0
+  bool shifting_velocity_correction = true;  ///< u += (delta r . grad) u after the shift (Lind et al. 2012)
 
   bool has_lids() const {
     for (const ParticleBoxModel& box : wall_boxes)

@@ -14,6 +14,7 @@
 #include "systems/mps/fluid_neighbours.hpp"
 #include "systems/mps/fluid_predict.hpp"
 #include "systems/mps/fluid_pressure.hpp"
+#include "systems/mps/fluid_shift.hpp"
 #include "systems/mps/fluid_wall_motion.hpp"
 #include "systems/dem/solid_cell_sort.hpp"
 #include "systems/dem/solid_domain_check.hpp"
@@ -49,6 +50,8 @@ Pipeline build_pipeline(const Model& model) {
     pipeline.step.push_back(std::make_unique<FluidFreeSurface>(fluid));
     pipeline.step.push_back(std::make_unique<FluidPressureSolve>(model));
     pipeline.step.push_back(std::make_unique<FluidCorrect>(fluid));
+    // Particle shifting (docs/FLUID.md): only in scenes that ask for it, so the seed's step graph is unchanged.
+    if (fluid.shifting != FluidModel::Shifting::kOff) pipeline.step.push_back(std::make_unique<FluidShift>(fluid));
     // Escaped spray leaves the table before the checks count the water and before the grains' voidage and drag
     // reaction look at it; with escape = "stop" fluid_checks stops the run at the first one instead.
     if (fluid.escape == FluidModel::EscapePolicy::kRemove)

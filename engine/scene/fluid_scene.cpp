@@ -234,6 +234,24 @@ void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionM
   reader.finish();
 }
 
+// Particle shifting (docs/FLUID.md, "Particle shifting"): the law, its coefficient A and the cap per step.
+void read_shifting(TableReader& fluid, FluidModel& out) {
+  out.shifting = fluid.choice("shifting", "off", {"off", "fickian"}) == "fickian" ? FluidModel::Shifting::kFickian
+                                                                                 : FluidModel::Shifting::kOff;
+  const bool constant = fluid.choice("shifting_diffusivity", "velocity", {"velocity", "constant"}) == "constant";
+  out.shifting_diffusivity =
+      constant ? FluidModel::ShiftingDiffusivity::kConstant : FluidModel::ShiftingDiffusivity::kVelocity;
+  // A = 2 with D = A h |u| dt (Skillen et al. 2013); A = 0.25 with D = A h^2. The bounds keep the shift an explicit
+  // diffusion step well inside its stability limit (docs/FLUID.md).
+  out.shifting_coefficient = constant ? fluid.number("shifting_coefficient", 0.25, "1", Bounds{0.0, 1.0, false, true})
+                                      : fluid.number("shifting_coefficient", 2.0, "1", Bounds{0.0, 10.0, false, true});
+  out.shifting_max_ratio = fluid.number("shifting_max", 0.1, "l0", Bounds{0.0, 0.25, false, true});
+  out.shifting_velocity_correction = fluid.boolean("shifting_velocity_correction", true);
+  if (out.shifting == FluidModel::Shifting::kOff)
+    for (const char* key : {"shifting_diffusivity", "shifting_coefficient", "shifting_max", "shifting_velocity_correction"})
+      if (fluid.has(key)) fluid.problem(key, "needs shifting = \"fickian\"");
+}
+
 /// [fluid.initial_velocity] (docs/SCENES.md): the water's initial velocity profile along x.
 void read_initial_velocity(TableReader& reader, InitialVelocityModel& out, const TankModel& tank) {
   using Kind = InitialVelocityModel::Kind;
@@ -313,6 +331,7 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.smagorinsky_constant = fluid.number("smagorinsky_constant", 0.12, "1", Bounds::closed(0.0, 1.0));
   if (fluid.has("smagorinsky_constant") && out.turbulence != FluidModel::Turbulence::kSps)
     fluid.problem("smagorinsky_constant", "needs turbulence = \"sps\"");
+  read_shifting(fluid, out);
 
   const double spacing = out.spacing;  // 0 if missing or invalid (reported)
   std::vector<BoxEntry> fluid_boxes, wall_boxes;
