@@ -187,6 +187,11 @@ def temperature_lines(table):
         values = [number(r["Tg_all_m2_s2"]) for r in cells]
         if len(values) < 5:
             continue
+        spacing = (number(cells[-1]["t_over_T"]) - number(cells[0]["t_over_T"])) / (len(values) - 1)
+        if spacing > 0.125:  # two peaks a period need at least 8 frames a period to be told from aliasing
+            lines.append(f"- fig20, periods {period}-{period + 2}: frames {spacing:.2f} periods apart, too sparse "
+                         "for peaks a period")
+            continue
         # Peaks a period from the first to the last peak (the window's ends cut a peak or not, by phase alone).
         peaks = [number(cells[i]["t_over_T"]) for i in range(1, len(values) - 1)
                  if values[i] > values[i - 1] and values[i] >= values[i + 1]]

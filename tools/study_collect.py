@@ -78,14 +78,15 @@ def at(t, values, stage):
     return float(np.mean(values[mask])) if mask.any() else math.nan
 
 
-def circulation(run_dir, refresh, windows=DRIFT_WINDOWS):
-    """{window: (end-band coarse dz, middle coarse dz)} [m per period] from the drift figure's table (drawn again when
-    it lacks one of `windows`)."""
-    table = run_dir / "figures" / "drift.csv"
-    if refresh or not table.exists() or not set(windows) <= {r["window"] for r in read_rows(table)}:
+def circulation(run_dir, refresh, windows=DRIFT_WINDOWS, figures=None):
+    """{window: (end-band coarse dz, middle coarse dz)} [m per period] from the drift figure's table in `figures`
+    (default RUN_DIR/figures), drawn when missing or asked to (`refresh`); windows the run has not reached give none."""
+    figures = figures or run_dir / "figures"
+    table = figures / "drift.csv"
+    if refresh or not table.exists():
         subprocess.run([sys.executable, str(TOOLS / "seed_figures.py"), str(run_dir), "--figures", "drift",
-                        "--drift-windows", *windows], stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
-                       check=False)
+                        "--out", str(figures), "--drift-windows", *windows], stdout=subprocess.DEVNULL,
+                       stderr=subprocess.STDOUT, check=False)
     if not table.exists():
         return {}
     result = {}
@@ -116,7 +117,9 @@ def bed_state(run_dir, period=None):
     times = run.solid_times()
     if len(times) < 2:
         return {}
-    end = len(times) - 1 if period is None else int(np.argmin(np.abs(np.asarray(times) * run.frequency - period)))
+    end = len(times) - 1 if period is None else run.nearest_frame(np.asarray(times), period)
+    if end is None:  # beyond the run
+        return {}
     first = run.solids(0, ("id", "radius", "size_class"))
     last = run.solids(end, ("id", "radius", "size_class"))
     large = int(first["size_class"].max())
@@ -193,7 +196,10 @@ def measure(run_dir, stages, drift_windows, rise_windows=(), bed_periods=(), ref
     for period in bed_periods:
         row.update({f"{key}_at_{period:g}": value for key, value in bed_state(run_dir, period).items()
                     if key not in ("corner_large_grains", "small_share_bottom_start")})
-    for window, (end_band, middle) in circulation(run_dir, refresh, tuple(drift_windows)).items():
+    # measure draws its own drift table (RUN_DIR/figures/measure/), so the run's figures keep their windows.
+    measured = run_dir / "figures" / "measure" if tuple(drift_windows) != DRIFT_WINDOWS else None
+    for window, (end_band, middle) in circulation(run_dir, refresh or measured is not None, tuple(drift_windows),
+                                                  measured).items():
         row[f"endwall_coarse_dz_{window}_mm_per_T"] = 1e3 * end_band
         row[f"middle_coarse_dz_{window}_mm_per_T"] = 1e3 * middle
     return row, (t, z, s, classes)
