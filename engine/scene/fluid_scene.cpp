@@ -241,8 +241,10 @@ void read_shifting(TableReader& fluid, FluidModel& out) {
   const bool constant = fluid.choice("shifting_diffusivity", "velocity", {"velocity", "constant"}) == "constant";
   out.shifting_diffusivity =
       constant ? FluidModel::ShiftingDiffusivity::kConstant : FluidModel::ShiftingDiffusivity::kVelocity;
-  // A = 2 with D = A h |u| dt (Skillen et al. 2013); A = 0.25 with D = A h^2. The bounds keep the shift an explicit
-  // diffusion step well inside its stability limit (docs/FLUID.md).
+  // A = 2 with D = A h |u| dt (Skillen et al. 2013); A = 0.25 with D = A h^2. The bounds are not a stability limit:
+  // the explicit step is stable for D < 0.67 l0^2 at r_e = 2.4 l0 (docs/FLUID.md, "Particle shifting"), which the
+  // defaults meet (0.36 l0^2 constant; 2 h |u| dt = 0.48 l0^2 at Courant 0.2) but A near the top of either range
+  // does not; the cap (shifting_max) bounds the displacement, not the instability. A check against r_e is to come.
   out.shifting_coefficient = constant ? fluid.number("shifting_coefficient", 0.25, "1", Bounds{0.0, 1.0, false, true})
                                       : fluid.number("shifting_coefficient", 2.0, "1", Bounds{0.0, 10.0, false, true});
   out.shifting_max_ratio = fluid.number("shifting_max", 0.1, "l0", Bounds{0.0, 0.25, false, true});
