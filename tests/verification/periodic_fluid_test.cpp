@@ -402,6 +402,20 @@ high = [0.032, 0.024, 0.064]
 )" + top_lid + "\n";
 }
 
+// e_2 = sqrt(sum_i (u_x,i - u(z_i))^2 / sum_i u(z_i)^2) over the fluid particles, each at its own height above the
+// channel's floor z0: the norm of the laminar cases.
+template <typename Profile>
+double profile_error(const test::FluidRun& run, double z0, Profile exact_at) {
+  double squared_error = 0.0, squared_exact = 0.0;
+  const FluidParticles& fluid = *run.world.fluid;
+  for (std::size_t i = 0; i < run.fluid_count(); ++i) {
+    const double exact = exact_at(fluid.position[i].z() - z0);
+    squared_error += std::pow(fluid.velocity[i].x() - exact, 2);
+    squared_exact += exact * exact;
+  }
+  return std::sqrt(squared_error / squared_exact);
+}
+
 // Plane Poiseuille flow (tools/driven_flow_study.py poiseuille, its coarsest case): a channel of height H = 0.04 m
 // periodic along x and y (8 x 6 l0), no-slip lids 3 l0 thick at rest below and above (their planes at the lid
 // boxes' faces, z = 0 and H), a constant body force f = 12 nu U / H^2 along x (bulk velocity U = 1 cm/s),
@@ -427,16 +441,9 @@ grains = "none"
   REQUIRE(run.fluid_count() == 8 * 6 * 10);
   REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
   CHECK(lists_cross_seam(run.world));
-  double squared_error = 0.0, squared_exact = 0.0, bulk = 0.0;
-  const FluidParticles& fluid = *run.world.fluid;
-  for (std::size_t i = 0; i < run.fluid_count(); ++i) {
-    const double z = fluid.position[i].z() - z0;
-    const double exact = f * z * (height - z) / (2.0 * nu);
-    squared_error += std::pow(fluid.velocity[i].x() - exact, 2);
-    squared_exact += exact * exact;
-    bulk += fluid.velocity[i].x();
-  }
-  const double error = std::sqrt(squared_error / squared_exact);
+  const double error = profile_error(run, z0, [&](double z) { return f * z * (height - z) / (2.0 * nu); });
+  double bulk = 0.0;
+  for (std::size_t i = 0; i < run.fluid_count(); ++i) bulk += run.world.fluid->velocity[i].x();
   bulk /= static_cast<double>(run.fluid_count());
   MESSAGE("Poiseuille, H = 10 l0: L2 relative error over the fluid particles " << error << ", bulk velocity " << bulk
                                                                               << " m/s (exact 0.01)");
@@ -461,14 +468,7 @@ TEST_CASE("plane Couette flow under a lid sliding across the seam matches U z / 
   test::FluidRun run(parse_scene(text, "couette.toml"));
   REQUIRE(run.fluid_count() == 8 * 6 * 10);
   REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
-  double squared_error = 0.0, squared_exact = 0.0;
-  const FluidParticles& fluid = *run.world.fluid;
-  for (std::size_t i = 0; i < run.fluid_count(); ++i) {
-    const double exact = speed * (fluid.position[i].z() - z0) / height;
-    squared_error += std::pow(fluid.velocity[i].x() - exact, 2);
-    squared_exact += exact * exact;
-  }
-  const double error = std::sqrt(squared_error / squared_exact);
+  const double error = profile_error(run, z0, [&](double z) { return speed * z / height; });
   const std::vector<Vec3>& lid_force = run.world.fluid_summary->lid_force;
   REQUIRE(lid_force.size() == 2);
   const double traction = lid_force[1].x() / (0.032 * 0.024);
@@ -496,14 +496,7 @@ TEST_CASE("plane Couette and Poiseuille flows with particle shifting on match U 
                                    "couette_shift.toml"));
     REQUIRE(run.model.fluid.shifting == FluidModel::Shifting::kFickian);
     REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
-    double squared_error = 0.0, squared_exact = 0.0;
-    const FluidParticles& fluid = *run.world.fluid;
-    for (std::size_t i = 0; i < run.fluid_count(); ++i) {
-      const double exact = speed * (fluid.position[i].z() - z0) / height;
-      squared_error += std::pow(fluid.velocity[i].x() - exact, 2);
-      squared_exact += exact * exact;
-    }
-    const double error = std::sqrt(squared_error / squared_exact);
+    const double error = profile_error(run, z0, [&](double z) { return speed * z / height; });
     const double traction = run.world.fluid_summary->lid_force[1].x() / (0.032 * 0.024);
     MESSAGE("Couette with shifting: L2 relative error " << error << ", lid traction " << traction << " Pa");
     CHECK(error < 1e-3);
@@ -518,15 +511,7 @@ acceleration = 0.075
 grains = "none"
 )", R"(lid = "no_slip")")), "poiseuille_shift.toml"));
     REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
-    double squared_error = 0.0, squared_exact = 0.0;
-    const FluidParticles& fluid = *run.world.fluid;
-    for (std::size_t i = 0; i < run.fluid_count(); ++i) {
-      const double z = fluid.position[i].z() - z0;
-      const double exact = f * z * (height - z) / (2.0 * nu);
-      squared_error += std::pow(fluid.velocity[i].x() - exact, 2);
-      squared_exact += exact * exact;
-    }
-    const double error = std::sqrt(squared_error / squared_exact);
+    const double error = profile_error(run, z0, [&](double z) { return f * z * (height - z) / (2.0 * nu); });
     MESSAGE("Poiseuille with shifting: L2 relative error " << error);
     CHECK(error < 0.02);
   }
