@@ -260,6 +260,13 @@ struct CouplingModel {
   bool drag = true;                      ///< Ergun / Wen-Yu drag and its reaction on the fluid (Eqs. 20-26)
   bool pressure_gradient = true;         ///< -V <grad p> on each grain (Eq. 13): buoyancy and pressure forces
   double voidage_radius = 0.0;           ///< [m] R_eps of the voidage kernel; 0 = max(3 l0, 2 d_max) (numerics 5.3)
+  /// [m] R_eps across the bed (along z); 0 = voidage_radius. A thin bed needs a kernel narrower across it than along
+  /// it (docs/COUPLING.md, "A thin bed's voidage").
+  double voidage_vertical_radius = 0.0;
+  /// What the grains' volume is divided by: false ("fluid_particles"): the volume the fluid particles fill, deposited on
+  /// the same grid (walls and the free surface truncate both alike); true ("tank"): the volume of the tank box each
+  /// node covers, exact and free of the lattice's aliasing, for water that fills the tank around the grains.
+  bool voidage_over_tank = false;
   double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
   /// true ("self_corrected", docs/COUPLING.md "The voidage at a grain"): smoothed grid, the grain's own volume taken
   /// out exactly and put back times 1 - S(0) (a lone grain reads 1); false ("cloud_in_cell"): main's trilinear grid

@@ -77,11 +77,12 @@ double tank_shell(const TankModel& tank, double spacing, double layers) {
 
 /// Nodes of a voidage grid (systems/physics/voidage_grid.cpp) over `extent` with `cell` wide cells: extent / cell + 3 per
 /// axis, at most 4096.
-double voidage_nodes(const Vec3& extent, double cell) {
+double voidage_nodes(const Vec3& extent, const Vec3& cell) {
   double nodes = 1.0;
-  for (int axis = 0; axis < 3; ++axis) nodes *= std::min(std::floor(extent[axis] / cell) + 3.0, 4096.0);
+  for (int axis = 0; axis < 3; ++axis) nodes *= std::min(std::floor(extent[axis] / cell[axis]) + 3.0, 4096.0);
   return nodes;
 }
+double voidage_nodes(const Vec3& extent, double cell) { return voidage_nodes(extent, Vec3::Constant(cell)); }
 
 struct GrainSizes {
   double count = 0.0;
@@ -184,7 +185,10 @@ SceneBudget estimate_budget(const Model& model) {
     const double node_limit = voidage_node_limit(static_cast<std::size_t>(grains.count + budget.fluid_particles));
     const double voidage_cell = model.coupling.self_corrected_voidage ? SolidVoidage::kSmoothCell
                                                                       : SolidVoidage::kCloudInCellCell;
-    budget.voidage_nodes = std::min(voidage_nodes(extent, voidage_cell * voidage_radius), node_limit) +
+    const double across = model.coupling.voidage_vertical_radius > 0.0 ? model.coupling.voidage_vertical_radius
+                                                                         : voidage_radius;
+    const Vec3 voidage_cells(voidage_cell * voidage_radius, voidage_cell * voidage_radius, voidage_cell * across);
+    budget.voidage_nodes = std::min(voidage_nodes(extent, voidage_cells), node_limit) +
                            std::min(voidage_nodes(extent, 0.668 * (grains.largest + fluid_reach)), node_limit);
     // systems/coupling/solid_fluid_sampling.cpp: cells of 0.5 (r_min + r_e) over the fluid, bounded by cell_grid.hpp.
     const double cell = 0.5 * (grains.smallest + fluid_reach);

@@ -748,6 +748,15 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.drag = coupling.boolean("drag", true);
   out.pressure_gradient = coupling.boolean("pressure_gradient", true);
   out.voidage_radius = coupling.number("voidage_radius", 0.0, "m", Bounds::non_negative());
+  out.voidage_vertical_radius = coupling.number("voidage_vertical_radius", 0.0, "m", Bounds::non_negative());
+  out.voidage_over_tank = coupling.choice("voidage_volume", "fluid_particles", {"fluid_particles", "tank"}) == "tank";
+  // Cells narrower than about 3 l0 see the water's layers one by one: the fluid deposit then ripples with the lattice
+  // (numerics 5.3), which the tank's volume does not.
+  if (!out.voidage_over_tank && model.fluid.enabled && out.voidage_vertical_radius > 0.0 &&
+      out.voidage_vertical_radius < 3.0 * model.fluid.spacing)
+    coupling.problem("voidage_vertical_radius", "below 3 l0 (" + std::to_string(3.0 * model.fluid.spacing) +
+                                                    " m) the fluid particles' layers alias on the voidage grid; set "
+                                                    "voidage_volume = \"tank\"");
   out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
   out.self_corrected_voidage =
       coupling.choice("voidage_estimate", "self_corrected", {"self_corrected", "cloud_in_cell"}) == "self_corrected";

@@ -26,10 +26,13 @@ class SolidVoidage final : public System {
   void run(SystemContext& context) override;
 
  private:
+  void run_over_tank(SystemContext& context);  ///< voidage_volume = "tank"
   double particle_volume_;  ///< [m^3] l0^3
   double spacing_;          ///< [m] l0
   double voidage_radius_;   ///< [m] R_eps; 0 until the first run picks it from the grains present
   double min_voidage_;      ///< [1]
+  double vertical_radius_;  ///< [m] R_eps along z; 0 = voidage_radius_
+  bool over_tank_;          ///< true: the grains' volume over the tank's, not over the fluid particles'
   bool self_corrected_;     ///< false: main's trilinear reading with the grain's own volume included
   VoidageGrid grid_;
   std::vector<double> grain_volumes_;

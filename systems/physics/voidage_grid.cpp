@@ -46,7 +46,14 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
 void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
                         const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
                         double cell_size, const Vec3& bound_low, const Vec3& bound_high, const PeriodicBox& box) {
-  cell_size_ = cell_size;
+  build(grain_positions, grain_volumes, fluid_positions, fluid_count, fluid_particle_volume, Vec3::Constant(cell_size),
+        bound_low, bound_high, box);
+}
+
+void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
+                        const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+                        const Vec3& cell_size, const Vec3& bound_low, const Vec3& bound_high, const PeriodicBox& box) {
+  Vec3 asked = cell_size;
   Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
   for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
   for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
@@ -58,7 +65,7 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
   }
   // Nodes per axis in doubles, capped before the conversion, at most 4096 each.
   auto axis_nodes = [&](int axis) {
-    const double span = (high[axis] - (low[axis] - cell_size_)) / cell_size_;
+    const double span = (high[axis] - (low[axis] - asked[axis])) / asked[axis];
     return clamp_to_cells(std::floor(span), 4093.0) + 3.0;
   };
   // Along a periodic axis the grid spans the whole period in whole cells (at least 4, so that the smoothing's reach
@@ -66,20 +73,20 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
   auto nodes_along = [&](int axis) {
     const auto a = static_cast<std::size_t>(axis);
     if (!box.periodic[a]) return axis_nodes(axis);
-    return std::max(4.0, clamp_to_cells(std::floor(box.length[axis] / cell_size_), 4096.0));
+    return std::max(4.0, clamp_to_cells(std::floor(box.length[axis] / asked[axis]), 4096.0));
   };
   auto total_nodes = [&] { return nodes_along(0) * nodes_along(1) * nodes_along(2); };
   // A stray particle far from the others (still inside a wide domain), or a long period with few points, must not
   // make the grid huge: above voidage_node_limit the cells double until it fits. That changes the field, but only for
   // a grid that big, which no valid scene builds (64 nodes per particle; the seed scenes use well under one).
   const double limit = voidage_node_limit(grain_positions.size() + fluid_count);
-  while (total_nodes() > limit && cell_size_ < 1e300) cell_size_ *= 2.0;
+  while (total_nodes() > limit && asked.maxCoeff() < 1e300) asked *= 2.0;
   const bool fits = total_nodes() <= limit;  // not with an infinite coordinate
-  origin_ = low - Vec3::Constant(cell_size_);
+  origin_ = low - asked;
   for (int axis = 0; axis < 3; ++axis) {
     const auto a = static_cast<std::size_t>(axis);
     nodes_[a] = fits ? static_cast<std::int64_t>(nodes_along(axis)) : 2;
-    cell_[a] = cell_size_;
+    cell_[a] = asked[axis];
     wraps_[a] = box.periodic[a] && fits;
     if (!wraps_[a]) continue;
     // Whole cells per period, from the period's low face.
@@ -98,6 +105,44 @@ void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vec
     const CloudInCellStencil s = stencil(fluid_positions[k]);
     for (int c = 0; c < 8; ++c) fluid_[s.node[static_cast<std::size_t>(c)]] += fluid_particle_volume * s.weight[static_cast<std::size_t>(c)];
   }
+}
+
+namespace {
+
+/// The integral over [low, high] of the cloud-in-cell weight max(0, 1 - |x - centre| / cell) of a node at `centre`:
+/// `cell` for a node whose whole support is inside, less where the interval cuts it.
+double clipped_tent_integral(double centre, double cell, double low, double high) {
+  // The tent's integral from -infinity to x.
+  const auto below = [&](double x) {
+    const double u = (x - centre) / cell;
+    if (u <= -1.0) return 0.0;
+    if (u <= 0.0) return 0.5 * cell * (1.0 + u) * (1.0 + u);
+    if (u < 1.0) return cell * (1.0 - 0.5 * (1.0 - u) * (1.0 - u));
+    return cell;
+  };
+  return high > low ? below(high) - below(low) : 0.0;
+}
+
+}  // namespace
+
+void VoidageGrid::fill_box_volume(const Vec3& low, const Vec3& high) {
+  // Per axis, each node's share of the box; a wrapping axis has no faces, so every node has its whole cell.
+  std::array<std::vector<double>, 3> share;
+  for (std::size_t a = 0; a < 3; ++a) {
+    share[a].resize(static_cast<std::size_t>(nodes_[a]));
+    for (std::int64_t i = 0; i < nodes_[a]; ++i)
+      share[a][static_cast<std::size_t>(i)] =
+          wraps_[a] ? cell_[a]
+                    : clipped_tent_integral(origin_[static_cast<int>(a)] + static_cast<double>(i) * cell_[a], cell_[a],
+                                            low[static_cast<int>(a)], high[static_cast<int>(a)]);
+  }
+  for (std::int64_t z = 0; z < nodes_[2]; ++z)
+    for (std::int64_t y = 0; y < nodes_[1]; ++y)
+      for (std::int64_t x = 0; x < nodes_[0]; ++x)
+        fluid_[static_cast<std::size_t>((z * nodes_[1] + y) * nodes_[0] + x)] =
+            share[0][static_cast<std::size_t>(x)] * share[1][static_cast<std::size_t>(y)] *
+            share[2][static_cast<std::size_t>(z)];
+  smoothed_ = false;
 }
 
 double VoidageGrid::solid_fraction(const Vec3& point) const {

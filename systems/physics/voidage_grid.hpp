@@ -55,6 +55,16 @@ class VoidageGrid {
   void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
              const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
              double cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{});
+  /// The same with a cell size per axis (a voidage kernel narrower across a bed than along it).
+  void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
+             const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+             const Vec3& cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{});
+
+  /// Replaces the fluid deposit by the volume of the box [low, high] each node's weight covers (docs/COUPLING.md,
+  /// "A thin bed's voidage"): exactly what a fluid filling the box with a fine quadrature would deposit, without the
+  /// aliasing of the water's lattice against cells narrower than a few l0. For water that fills the box around the
+  /// grains (a sealed box, a bed well under the free surface). Call after build, before smooth.
+  void fill_box_volume(const Vec3& low, const Vec3& high);
 
   /// Solid volume fraction at `point`: interpolated over the surrounding nodes that hold water; 0 if none does.
   double solid_fraction(const Vec3& point) const;
@@ -77,8 +87,7 @@ class VoidageGrid {
 
  private:
   Vec3 origin_ = Vec3::Zero();
-  double cell_size_ = 1.0;
-  std::array<double, 3> cell_{1.0, 1.0, 1.0};  ///< per axis: cell_size_, or period / n along a periodic axis
+  std::array<double, 3> cell_{1.0, 1.0, 1.0};  ///< per axis: the cell asked for, or period / n along a periodic axis
   std::array<bool, 3> wraps_{false, false, false};
   std::array<std::int64_t, 3> nodes_{1, 1, 1};
   bool smoothed_ = false;

@@ -199,3 +199,41 @@ high = [0.1, 0.1, 0.08]
   CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nadded_mass = 1\n", "coupled.toml"),
                     doctest::Contains("coupling.added_mass"));
 }
+
+TEST_CASE("the scene's voidage keys: volume and the radius across the bed; a narrow radius over the water refused") {
+  const std::string scene = R"(
+[run]
+end_time = 0.1
+dt = 1.0e-3
+[materials.grain]
+density = 1318.0
+[tank]
+size = [0.1, 0.1, 0.1]
+wall_material = "grain"
+[solids]
+[[solids.spheres]]
+position = [0.05, 0.05, 0.05]
+radius = 0.005
+material = "grain"
+[fluid]
+spacing = 0.01
+[[fluid.boxes]]
+low = [0.0, 0.0, 0.0]
+high = [0.1, 0.1, 0.08]
+)";
+  const Model plain = parse_scene(scene, "coupled.toml");
+  CHECK_FALSE(plain.coupling.voidage_over_tank);
+  CHECK(plain.coupling.voidage_vertical_radius == 0.0);
+  const Model thin =
+      parse_scene(scene + "[coupling]\nvoidage_volume = \"tank\"\nvoidage_vertical_radius = 0.005\n", "coupled.toml");
+  CHECK(thin.coupling.voidage_over_tank);
+  CHECK(thin.coupling.voidage_vertical_radius == 0.005);
+  // Over the fluid particles' volume, a radius under 3 l0 aliases with the water's layers: refused, naming the key.
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nvoidage_vertical_radius = 0.02\n", "coupled.toml"),
+                    doctest::Contains("coupling.voidage_vertical_radius: below 3 l0"));
+  CHECK_NOTHROW(parse_scene(scene + "[coupling]\nvoidage_vertical_radius = 0.03\n", "coupled.toml"));
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nvoidage_volume = \"cells\"\n", "coupled.toml"),
+                    doctest::Contains("coupling.voidage_volume"));
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nvoidage_vertical_radius = -0.01\n", "coupled.toml"),
+                    doctest::Contains("coupling.voidage_vertical_radius"));
+}
