@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "systems/physics/domain.hpp"
+#include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/mps_kernel.hpp"
 #include "systems/physics/periodic_box.hpp"
 #include "systems/coupling/solid_drag.hpp"
@@ -70,12 +71,40 @@ void FluidDragReaction::run(SystemContext& context) {
 
 namespace {
 
-/// w(|x - centre|) of the Wendland kernel on R, zero at and beyond R: the one expression both passes of the kernel
-/// spreading evaluate for a pair, so the weights a grain is normalised with are, bit for bit, the ones it spreads with.
-double pair_weight(const Vec3& point, const Vec3& centre, const WendlandKernel& kernel) {
-  const double squared = (point - centre).squaredNorm();
-  return squared < kernel.effective_radius * kernel.effective_radius ? kernel.weight_inside(std::sqrt(squared)) : 0.0;
-}
+/// Pairs of the kernel spreading a batch at a time (as fluid_pair_batch.hpp's, with a kernel radius per pair): the
+/// candidates within their R are kept by advancing the end, then the weights of the batch are evaluated in one
+/// straight-line pass the compiler vectorises. Both passes evaluate a pair's weight here, with the same operations
+/// as WendlandKernel::weight of the distance (those solid_fluid_sampling's weights are), so the weights a grain is
+/// normalised with are, bit for bit, the ones it spreads with.
+struct KernelPairBatch {
+  std::size_t count = 0;
+  alignas(64) double distance_squared[kPairBatch];
+  alignas(64) double radius[kPairBatch];          ///< [m] R of the pair's grain
+  alignas(64) double inverse_radius[kPairBatch];  ///< [1/m] 1 / R
+  alignas(64) double weight[kPairBatch];
+  std::uint32_t index[kPairBatch];                ///< the fluid slot (pass 1) or the grain's entry (pass 2)
+
+  /// Adds a candidate; kept (count advanced) only within R.
+  void offer(std::uint32_t entry, double squared, const WendlandKernel& kernel) {
+    const std::size_t k = count;
+    index[k] = entry;
+    distance_squared[k] = squared;
+    radius[k] = kernel.effective_radius;
+    inverse_radius[k] = kernel.inverse_radius;
+    count += squared < kernel.effective_radius * kernel.effective_radius ? 1 : 0;
+  }
+  bool full() const { return count == kPairBatch; }
+  void evaluate() {
+    for (std::size_t k = 0; k < count; ++k) {
+      const double distance = std::sqrt(distance_squared[k]);
+      const double q = distance * inverse_radius[k];
+      const double one_minus = 1.0 - q;
+      const double squared = one_minus * one_minus;
+      const double inside = squared * squared * (1.0 + 4.0 * q);  // WendlandKernel::weight_inside
+      weight[k] = distance >= radius[k] ? 0.0 : inside;
+    }
+  }
+};
 
 }  // namespace
 
@@ -130,34 +159,53 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
   spread_per_weight_.assign(count, Vec3::Zero());
   for_each_particle(count, [&](std::size_t k) {
     const Vec3 centre = spread_centre_[k];
-    const WendlandKernel& kernel = spread_kernel_[k];
+    const WendlandKernel kernel = spread_kernel_[k];
     double weight_sum = 0.0;
+    KernelPairBatch batch;
+    const auto flush = [&] {
+      batch.evaluate();
+      for (std::size_t pair = 0; pair < batch.count; ++pair) weight_sum += batch.weight[pair];
+      batch.count = 0;
+    };
     const auto gather = [&](const Vec3& query) {
       fluid_grid_.for_each_candidate_run(query, kernel.effective_radius,
                                          [&](const std::uint32_t* first, const std::uint32_t* last) {
-                                           for (const std::uint32_t* j = first; j < last; ++j)
-                                             weight_sum += pair_weight(particles.position[*j], query, kernel);
+                                           for (const std::uint32_t* j = first; j < last; ++j) {
+                                             batch.offer(*j, (particles.position[*j] - query).squaredNorm(), kernel);
+                                             if (batch.full()) flush();
+                                           }
                                          });
     };
     gather(centre);
     std::array<Vec3, 3> shifts;
     const int images = box.any() ? box.image_shifts(centre, kernel.effective_radius, shifts) : 0;
     for (int image = 0; image < images; ++image) gather(centre + shifts[static_cast<std::size_t>(image)]);
+    if (batch.count > 0) flush();
     if (weight_sum <= 0.0) return;  // out of the water since the sampling: it keeps its impulse (zero while dry)
     const std::size_t grain = spread_slot_[k];
     const double share = (mixture_velocity_ ? 1.0 / voidages.voidage[grain] : 1.0) / (weight_sum * volume);
     spread_per_weight_[k] = -share * drag.drag_impulse[grain];
     drag.drag_impulse[grain] = Vec3::Zero();
   });
+  // Only the grains that spread go on (order kept).
+  std::size_t wet = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (spread_per_weight_[k].isZero(0.0)) continue;
+    spread_centre_[wet] = spread_centre_[k];
+    spread_kernel_[wet] = spread_kernel_[k];
+    spread_per_weight_[wet] = spread_per_weight_[k];
+    ++wet;
+  }
+  if (wet == 0) return;
 
   // Pass 2. A grid over the grains' centres with cells of half the largest R; a fluid particle farther than R_max
   // from the centres' bounding box meets no grain and skips the search (most of the water above a bed).
-  grain_grid_.build(spread_centre_, 0, count, 0.5 * largest, domain.low - Vec3::Constant(largest),
+  grain_grid_.build(spread_centre_, 0, wet, 0.5 * largest, domain.low - Vec3::Constant(largest),
                     domain.high + Vec3::Constant(largest));
   Vec3 low = spread_centre_[0], high = spread_centre_[0];
-  for (const Vec3& centre : spread_centre_) {
-    low = low.cwiseMin(centre);
-    high = high.cwiseMax(centre);
+  for (std::size_t k = 0; k < wet; ++k) {
+    low = low.cwiseMin(spread_centre_[k]);
+    high = high.cwiseMax(spread_centre_[k]);
   }
   low -= Vec3::Constant(largest);
   high += Vec3::Constant(largest);
@@ -165,16 +213,22 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
     const Vec3 point = particles.position[j];
     Vec3 received = Vec3::Zero();
     bool reached = false;
+    KernelPairBatch batch;
+    const auto flush = [&] {
+      batch.evaluate();
+      for (std::size_t pair = 0; pair < batch.count; ++pair)
+        received += batch.weight[pair] * spread_per_weight_[batch.index[pair]];
+      reached = true;
+      batch.count = 0;
+    };
     const auto gather = [&](const Vec3& shift) {  // the grains near point + shift, i.e. their images centre - shift
       const Vec3 query = point + shift;
       if ((query.array() < low.array()).any() || (query.array() > high.array()).any()) return;
       grain_grid_.for_each_candidate_run(query, largest, [&](const std::uint32_t* first, const std::uint32_t* last) {
         for (const std::uint32_t* k = first; k < last; ++k) {
-          if (spread_per_weight_[*k].isZero(0.0)) continue;  // dry: not spread
-          const double weight = pair_weight(point, Vec3(spread_centre_[*k] - shift), spread_kernel_[*k]);
-          if (weight == 0.0) continue;
-          received += weight * spread_per_weight_[*k];
-          reached = true;
+          // The same offset as pass 1's, point - (centre + s) with s = -shift, bit for bit.
+          batch.offer(*k, (point - Vec3(spread_centre_[*k] - shift)).squaredNorm(), spread_kernel_[*k]);
+          if (batch.full()) flush();
         }
       });
     };
@@ -182,6 +236,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
     std::array<Vec3, 3> shifts;
     const int images = box.any() ? box.image_shifts(point, largest, shifts) : 0;
     for (int image = 0; image < images; ++image) gather(shifts[static_cast<std::size_t>(image)]);
+    if (batch.count > 0) flush();
     if (reached) reaction.drag_reaction[j] += received;
   });
 }
