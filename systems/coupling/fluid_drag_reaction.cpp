@@ -22,16 +22,16 @@ void FluidDragReaction::run(SystemContext& context) {
   const std::size_t fluid_count = fluid_slot_count(particles);
   double largest_radius = 0.0;
   for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
-  // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
-  // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
-  // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
-  // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
   if (kernel_reaction_) {  // every grain spreads with its sampling kernel: no grid
     spread_with_sampling_kernel(context, false);
     context.count_items(grains.size());
     return;
   }
+  // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
+  // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
   if (self_induced_velocity_) spread_with_sampling_kernel(context, true);
+  // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
+  // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
   const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
   volumes_.assign(grains.size(), 0.0);
   const DomainBox domain = domain_box(context.model);
@@ -111,7 +111,8 @@ struct KernelPairBatch {
 // The sampling kernel's spreading (docs/COUPLING.md, "Where the drag reaction lands"; seed Eq. 26's own form): grain
 // I's impulse goes to the fluid particles j within R_I = r_I + r_e with the weights w_Ij / W_I it samples the water
 // with (W_I = sum_j w_Ij), at the positions of now. The water then receives exactly minus the grains' impulse, and
-// what a grain pushes is what it reads: for a held grain the reaction's power on the water is -beta |u_bar|^2 V.
+// what a grain pushes is what it reads: the reaction's power on the water is -share_I J_I . u_bar_I, which for a held
+// grain (J_I = k u_bar_I dt, k > 0) is <= 0 in any water velocity field.
 // With the self-induced correction the dilute grains spread this way, since the correction's <1/r> and
 // <rho_s rho_w> assume a footprint centred on the grain (the grid's moves with the grain's place in its cell).
 // Two gathers, so that nothing depends on the thread count and no two threads write one place:
