@@ -316,6 +316,12 @@ struct CouplingModel {
   /// regularised Stokes/Oseen disturbance (Balachandar et al. 2019), built up over time, is taken out of the sampled
   /// velocity and pressure gradient. Dilute grains only (voidage above 0.8, Wen & Yu's branch).
   bool self_induced_velocity = false;
+  /// How each grain's drag impulse goes back to the water (docs/COUPLING.md, "Where the drag reaction lands").
+  /// false ("grid", the calibrated default): through a cloud-in-cell grid of cells 0.668 (r_max + r_e). true
+  /// ("sampling_kernel"): to the fluid particles within R = r + r_e with the normalised Wendland weights the grain
+  /// samples the water with, so a grain pushes the water it reads and the reaction's power on the water is
+  /// -beta |u_bar|^2 <= 0 for a held grain (the grid's pushes the pore water under a bed backwards).
+  bool sampling_kernel_reaction = false;
 };
 
 struct SphereSpec {

@@ -772,6 +772,8 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.wen_yu_dense = coupling.choice("dense_drag", "ergun", {"ergun", "wen_yu"}) == "wen_yu";
   out.mixture_velocity = coupling.choice("fluid_velocity", "mixture", {"pore", "mixture"}) == "mixture";
   out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
+  out.sampling_kernel_reaction =
+      coupling.choice("drag_reaction", "grid", {"grid", "sampling_kernel"}) == "sampling_kernel";
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

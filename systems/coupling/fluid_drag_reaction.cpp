@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "systems/physics/domain.hpp"
+#include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/mps_kernel.hpp"
 #include "systems/physics/periodic_box.hpp"
 #include "systems/coupling/solid_drag.hpp"
@@ -20,11 +22,16 @@ void FluidDragReaction::run(SystemContext& context) {
   const std::size_t fluid_count = fluid_slot_count(particles);
   double largest_radius = 0.0;
   for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
-  // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
-  // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
+  if (kernel_reaction_) {  // every grain spreads with its sampling kernel: no grid
+    spread_with_sampling_kernel(context, false);
+    context.count_items(grains.size());
+    return;
+  }
   // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
   // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
-  if (self_induced_velocity_) spread_with_sampling_kernel(context, largest_radius);
+  if (self_induced_velocity_) spread_with_sampling_kernel(context, true);
+  // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
+  // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
   const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
   volumes_.assign(grains.size(), 0.0);
   const DomainBox domain = domain_box(context.model);
@@ -62,13 +69,62 @@ void FluidDragReaction::run(SystemContext& context) {
   context.count_items(grains.size());
 }
 
-// With the self-induced correction (docs/COUPLING.md, "The undisturbed fluid velocity"), each grain's impulse goes
-// to the fluid particles within R_I = r_I + r_e with the normalised Wendland weights it samples with (seed Eq. 26's
-// own form): the water's answer to it is then centred on the grain and isotropic wherever the grain sits, which is
-// what the correction's <1/r> and <rho_s rho_w> assume; the grid form's footprint moves with the grain's place in
-// its cell. Grains deposit in slot order, one after the other (the sums then do not depend on the thread count),
-// and each grain's weights sum to one, so the water receives exactly minus the grains' impulse.
-void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, double largest_radius) {
+namespace {
+
+/// Pairs of the kernel spreading a batch at a time (as fluid_pair_batch.hpp's, with a kernel radius per pair): the
+/// candidates within their R are kept by advancing the end, then the weights of the batch are evaluated in one
+/// straight-line pass the compiler vectorises. Both passes evaluate a pair's weight here, with the same operations
+/// as WendlandKernel::weight of the distance (those solid_fluid_sampling's weights are), so the weights a grain is
+/// normalised with are, bit for bit, the ones it spreads with.
+struct KernelPairBatch {
+  std::size_t count = 0;
+  alignas(64) double distance_squared[kPairBatch];
+  alignas(64) double radius[kPairBatch];          ///< [m] R of the pair's grain
+  alignas(64) double inverse_radius[kPairBatch];  ///< [1/m] 1 / R
+  alignas(64) double weight[kPairBatch];
+  std::uint32_t index[kPairBatch];                ///< the fluid slot (pass 1) or the grain's entry (pass 2)
+
+  /// Adds a candidate; kept (count advanced) only within R.
+  void offer(std::uint32_t entry, double squared, const WendlandKernel& kernel) {
+    const std::size_t k = count;
+    index[k] = entry;
+    distance_squared[k] = squared;
+    radius[k] = kernel.effective_radius;
+    inverse_radius[k] = kernel.inverse_radius;
+    count += squared < kernel.effective_radius * kernel.effective_radius ? 1 : 0;
+  }
+  bool full() const { return count == kPairBatch; }
+  void evaluate() {
+    for (std::size_t k = 0; k < count; ++k) {
+      const double distance = std::sqrt(distance_squared[k]);
+      const double q = distance * inverse_radius[k];
+      const double one_minus = 1.0 - q;
+      const double squared = one_minus * one_minus;
+      const double inside = squared * squared * (1.0 + 4.0 * q);  // WendlandKernel::weight_inside
+      weight[k] = distance >= radius[k] ? 0.0 : inside;
+    }
+  }
+};
+
+}  // namespace
+
+// The sampling kernel's spreading (docs/COUPLING.md, "Where the drag reaction lands"; seed Eq. 26's own form): grain
+// I's impulse goes to the fluid particles j within R_I = r_I + r_e with the weights w_Ij / W_I it samples the water
+// with (W_I = sum_j w_Ij), at the positions of now. The water then receives exactly minus the grains' impulse, and
+// what a grain pushes is what it reads: the reaction's power on the water is -share_I J_I . u_bar_I, which for a held
+// grain (J_I = k u_bar_I dt, k > 0) is <= 0 in any water velocity field.
+// With the self-induced correction the dilute grains spread this way, since the correction's <1/r> and
+// <rho_s rho_w> assume a footprint centred on the grain (the grid's moves with the grain's place in its cell).
+// Two gathers, so that nothing depends on the thread count and no two threads write one place:
+//  1. per grain (parallel): W_I over the fluid particles within R_I, and a_I = -J_I share_I / (W_I l0^3), the
+//     impulse per volume per unit weight (share_I = 1/eps_I in the mixture reading, docs/COUPLING.md);
+//  2. per fluid particle (parallel): sum over the grains within R_I of it of w_Ij a_I, the grains met in the fixed
+//     order of a grid over their centres.
+// In a periodic box a grain cut by a seam is completed by its images (centre + s, s from image_shifts: the nearest
+// image of each fluid particle; the period exceeds twice R_I, so none is met twice), as in solid_fluid_sampling; in
+// pass 2 the fluid particle looks from x_j + t for its own shifts t, which meets the grain's image centre - t, the
+// same point (bit for bit: t = -s) pass 1 summed from. Both passes wrap the grain's centre into the box first.
+void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool dilute_only) {
   const GrainState& grains = context.read<GrainState>();
   const GrainProperties& properties = context.read<GrainProperties>();
   const GrainVoidage& voidages = context.read<GrainVoidage>();
@@ -77,50 +133,113 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, doub
   ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const double effective_radius = constants_.kernel.effective_radius;
-  const auto spreads_here = [&](std::size_t grain) {
-    return !drag.drag_impulse[grain].isZero(0.0) && voidages.voidage[grain] > kSelfInducedMinVoidage;
-  };
-  // A bed has no dilute grain (the seed's never does): then the fluid grid is not built at all.
-  bool any = false;
-  for (std::size_t grain = 0; grain < grains.size() && !any; ++grain) any = spreads_here(grain);
-  if (!any) return;
-  const DomainBox domain = domain_box(context.model);
   const PeriodicBox box = periodic_box(context.model);
-  fluid_grid_.build(particles.position, 0, fluid_count, largest_radius + effective_radius, domain.low, domain.high);
+  spread_slot_.clear();
+  spread_centre_.clear();
+  spread_kernel_.clear();
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
-    if (!spreads_here(grain)) continue;
-    const Vec3 centre = grains.position[grain];
-    const WendlandKernel kernel(properties.radius[grain] + effective_radius);
-    // The grain's query centres: itself, and in a periodic box its images across the seams (the nearest image of
-    // each fluid particle; the period exceeds twice R_I, so none is met twice), so the impulse lands on the real
-    // fluid particles on the other side, the same ones solid_fluid_sampling sampled.
-    std::array<Vec3, 4> queries;
-    queries[0] = centre;
+    if (drag.drag_impulse[grain].isZero(0.0)) continue;
+    if (dilute_only && !(voidages.voidage[grain] > kSelfInducedMinVoidage)) continue;
+    spread_slot_.push_back(static_cast<std::uint32_t>(grain));
+    spread_centre_.push_back(box.any() ? box.wrap(grains.position[grain]) : grains.position[grain]);
+    spread_kernel_.emplace_back(properties.radius[grain] + effective_radius);
+  }
+  // A bed has no dilute grain (the seed's never does): then no grid is built at all.
+  if (spread_slot_.empty() || fluid_count == 0) return;
+  const std::size_t count = spread_slot_.size();
+  double smallest = spread_kernel_[0].effective_radius, largest = smallest;
+  for (const WendlandKernel& kernel : spread_kernel_) {
+    smallest = std::min(smallest, kernel.effective_radius);
+    largest = std::max(largest, kernel.effective_radius);
+  }
+  const DomainBox domain = domain_box(context.model);
+  const double volume = constants_.particle_volume;
+
+  // Pass 1. Cells of half the smallest R, as solid_fluid_sampling's (a query scans about 5^3 cells).
+  fluid_grid_.build(particles.position, 0, fluid_count, 0.5 * smallest, domain.low, domain.high);
+  spread_per_weight_.assign(count, Vec3::Zero());
+  for_each_particle(count, [&](std::size_t k) {
+    const Vec3 centre = spread_centre_[k];
+    const WendlandKernel kernel = spread_kernel_[k];
+    double weight_sum = 0.0;
+    KernelPairBatch batch;
+    const auto flush = [&] {
+      batch.evaluate();
+      for (std::size_t pair = 0; pair < batch.count; ++pair) weight_sum += batch.weight[pair];
+      batch.count = 0;
+    };
+    const auto gather = [&](const Vec3& query) {
+      fluid_grid_.for_each_candidate_run(query, kernel.effective_radius,
+                                         [&](const std::uint32_t* first, const std::uint32_t* last) {
+                                           for (const std::uint32_t* j = first; j < last; ++j) {
+                                             batch.offer(*j, (particles.position[*j] - query).squaredNorm(), kernel);
+                                             if (batch.full()) flush();
+                                           }
+                                         });
+    };
+    gather(centre);
     std::array<Vec3, 3> shifts;
     const int images = box.any() ? box.image_shifts(centre, kernel.effective_radius, shifts) : 0;
-    for (int image = 0; image < images; ++image)
-      queries[static_cast<std::size_t>(image) + 1] = centre + shifts[static_cast<std::size_t>(image)];
-    const std::size_t query_count = static_cast<std::size_t>(images) + 1;
-    double weight_sum = 0.0;
-    for (std::size_t q = 0; q < query_count; ++q) {
-      const Vec3 query = queries[q];
-      fluid_grid_.for_each_within(particles.position, query, kernel.effective_radius, [&](std::uint32_t j) {
-        weight_sum += kernel.weight((particles.position[j] - query).norm());
-      });
-    }
-    if (weight_sum <= 0.0) continue;  // out of the water since the sampling: its drag was zero while dry
-    // Per volume l0^3; the mixture reading gives the water the drag over eps (docs/COUPLING.md).
-    const double share = (mixture_velocity_ ? 1.0 / voidages.voidage[grain] : 1.0) /
-                         (weight_sum * constants_.particle_volume);
-    const Vec3 impulse = drag.drag_impulse[grain];
-    for (std::size_t q = 0; q < query_count; ++q) {
-      const Vec3 query = queries[q];
-      fluid_grid_.for_each_within(particles.position, query, kernel.effective_radius, [&](std::uint32_t j) {
-        reaction.drag_reaction[j] -= (kernel.weight((particles.position[j] - query).norm()) * share) * impulse;
-      });
-    }
+    for (int image = 0; image < images; ++image) gather(centre + shifts[static_cast<std::size_t>(image)]);
+    if (batch.count > 0) flush();
+    if (weight_sum <= 0.0) return;  // out of the water since the sampling: it keeps its impulse (zero while dry)
+    const std::size_t grain = spread_slot_[k];
+    const double share = (mixture_velocity_ ? 1.0 / voidages.voidage[grain] : 1.0) / (weight_sum * volume);
+    spread_per_weight_[k] = -share * drag.drag_impulse[grain];
     drag.drag_impulse[grain] = Vec3::Zero();
+  });
+  // Only the grains that spread go on (order kept).
+  std::size_t wet = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (spread_per_weight_[k].isZero(0.0)) continue;
+    spread_centre_[wet] = spread_centre_[k];
+    spread_kernel_[wet] = spread_kernel_[k];
+    spread_per_weight_[wet] = spread_per_weight_[k];
+    ++wet;
   }
+  if (wet == 0) return;
+
+  // Pass 2. A grid over the grains' centres with cells of half the largest R; a fluid particle farther than R_max
+  // from the centres' bounding box meets no grain and skips the search (most of the water above a bed).
+  grain_grid_.build(spread_centre_, 0, wet, 0.5 * largest, domain.low - Vec3::Constant(largest),
+                    domain.high + Vec3::Constant(largest));
+  Vec3 low = spread_centre_[0], high = spread_centre_[0];
+  for (std::size_t k = 0; k < wet; ++k) {
+    low = low.cwiseMin(spread_centre_[k]);
+    high = high.cwiseMax(spread_centre_[k]);
+  }
+  low -= Vec3::Constant(largest);
+  high += Vec3::Constant(largest);
+  for_each_particle(fluid_count, [&](std::size_t j) {
+    const Vec3 point = particles.position[j];
+    Vec3 received = Vec3::Zero();
+    bool reached = false;
+    KernelPairBatch batch;
+    const auto flush = [&] {
+      batch.evaluate();
+      for (std::size_t pair = 0; pair < batch.count; ++pair)
+        received += batch.weight[pair] * spread_per_weight_[batch.index[pair]];
+      reached = true;
+      batch.count = 0;
+    };
+    const auto gather = [&](const Vec3& shift) {  // the grains near point + shift, i.e. their images centre - shift
+      const Vec3 query = point + shift;
+      if ((query.array() < low.array()).any() || (query.array() > high.array()).any()) return;
+      grain_grid_.for_each_candidate_run(query, largest, [&](const std::uint32_t* first, const std::uint32_t* last) {
+        for (const std::uint32_t* k = first; k < last; ++k) {
+          // The same offset as pass 1's, point - (centre + s) with s = -shift, bit for bit.
+          batch.offer(*k, (point - Vec3(spread_centre_[*k] - shift)).squaredNorm(), spread_kernel_[*k]);
+          if (batch.full()) flush();
+        }
+      });
+    };
+    gather(Vec3::Zero());
+    std::array<Vec3, 3> shifts;
+    const int images = box.any() ? box.image_shifts(point, largest, shifts) : 0;
+    for (int image = 0; image < images; ++image) gather(shifts[static_cast<std::size_t>(image)]);
+    if (batch.count > 0) flush();
+    if (reached) reaction.drag_reaction[j] += received;
+  });
 }
 
 }  // namespace riffle

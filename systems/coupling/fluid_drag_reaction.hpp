@@ -1,15 +1,22 @@
 #pragma once
 // The grains' drag given back to the fluid (seed 000 Eq. 26; numerics.md 5.5): after the sub-steps, each grain's
 // drag impulse over the fluid step is spread over the fluid around it as an impulse per volume that the next
-// prediction applies. The spreading goes through a cloud-in-cell grid (systems/physics/voidage_grid.hpp) with cells sized
-// so one cell holds the volume of Eq. 26's influence domain: grain -> nodes -> fluid particles, with weights that
-// sum to one at each step, so the fluid receives exactly minus what the grains received (momentum conserved to
-// rounding) at a cost linear in the particle counts. Grains deposit in slot order and each fluid particle gathers
-// from its own nodes, so nothing depends on the thread count.
+// prediction applies. Two forms ([coupling] drag_reaction, docs/COUPLING.md "Where the drag reaction lands"):
+//  - "grid" (the default): a cloud-in-cell grid (systems/physics/voidage_grid.hpp) with cells sized so one cell
+//    holds the volume of Eq. 26's influence domain: grain -> nodes -> fluid particles, with weights that sum to one
+//    at each step, at a cost linear in the particle counts. Grains deposit in slot order and each fluid particle
+//    gathers from its own nodes;
+//  - "sampling_kernel": each grain's impulse goes to the fluid particles within R = r + r_e with the normalised
+//    Wendland weights it samples the water with (solid_fluid_sampling), so a grain pushes the water it reads. Two
+//    gather passes: per grain its weight sum, per fluid particle the sum over the grains that reach it. The dilute
+//    grains of the self-induced correction take the same path.
+// Either way the fluid receives exactly minus what the grains received (momentum conserved to rounding), and
+// nothing depends on the thread count.
 #include "engine/core/system.hpp"
 #include "systems/physics/voidage_grid.hpp"
 #include "systems/physics/cell_grid.hpp"
 #include "systems/physics/mps_common.hpp"
+#include "systems/physics/mps_kernel.hpp"
 
 namespace riffle {
 
@@ -18,7 +25,8 @@ class FluidDragReaction final : public System {
   explicit FluidDragReaction(const Model& model)
       : constants_(MpsConstants::from(model.fluid)),
         mixture_velocity_(model.coupling.mixture_velocity),
-        self_induced_velocity_(model.coupling.self_induced_velocity) {}
+        self_induced_velocity_(model.coupling.self_induced_velocity),
+        kernel_reaction_(model.coupling.sampling_kernel_reaction) {}
   std::string_view name() const override { return "fluid_drag_reaction"; }
   Access access() const override {
     return {component_ids<GrainState, GrainProperties, GrainVoidage, ParticleState>(),
@@ -27,12 +35,22 @@ class FluidDragReaction final : public System {
   void run(SystemContext& context) override;
 
  private:
-  void spread_with_sampling_kernel(SystemContext& context, double largest_radius);
+  /// Spreads with the sampling kernel the impulse of every grain with one that is in the water (a fluid particle
+  /// within its R), all of them or (dilute_only) those above the self-induced correction's voidage, and zeroes it.
+  void spread_with_sampling_kernel(SystemContext& context, bool dilute_only);
 
   MpsConstants constants_;
   bool mixture_velocity_ = false;  ///< the water takes the drag per volume over eps (CouplingModel)
-  bool self_induced_velocity_ = false;  ///< spread with the sampling kernel (CouplingModel::self_induced_velocity)
-  CellGrid fluid_grid_;          ///< the fluid particles, for the kernel spreading
+  bool self_induced_velocity_ = false;  ///< dilute grains spread with the sampling kernel (CouplingModel)
+  bool kernel_reaction_ = false;        ///< every grain spreads with it (CouplingModel::sampling_kernel_reaction)
+  CellGrid fluid_grid_;          ///< the fluid particles, for the kernel spreading's weight sums
+  CellGrid grain_grid_;          ///< the spreading grains' centres, for the fluid particles' gather
+  // The kernel spreading's grains, compact, in slot order: slot, centre (wrapped into a periodic box), kernel on R = r + r_e,
+  // and the impulse per volume per unit weight the water takes from it (zero: not spread, dry).
+  std::vector<std::uint32_t> spread_slot_;
+  std::vector<Vec3> spread_centre_;
+  std::vector<WendlandKernel> spread_kernel_;
+  std::vector<Vec3> spread_per_weight_;
   VoidageGrid grid_;             ///< its fluid deposit is the normalisation; the solid deposit is unused (zero volumes)
   std::vector<double> volumes_;
   std::vector<Vec3> node_impulse_;
