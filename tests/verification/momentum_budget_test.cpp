@@ -350,6 +350,8 @@ TEST_CASE("momentum budget sweep: where the total momentum goes, by system and b
       {"GC off (p_j - p_min form)", 1.0e-3, 0.01, "", "\n[fluid.schemes]\ngc = false\n"},
       {"DS off", 1.0e-3, 0.01, "", "\n[fluid.schemes]\nds = false\n"},
       {"shifting on (Taylor velocity correction)", 1.0e-3, 0.01, "shifting = \"fickian\"\n", ""},
+      // Appended to [coupling]: main's trilinear voidage, which reads eps < 1 for a lone grain.
+      {"cloud-in-cell voidage (mixture reading's 1/eps)", 1.0e-3, 0.01, "", "voidage_estimate = \"cloud_in_cell\"\n"},
   };
   for (const Variant& variant : variants) {
     for (const bool periodic : {true, false}) {
