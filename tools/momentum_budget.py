@@ -14,9 +14,9 @@ In steady flow tau_lid = tau_b, the bed shear stress, exactly when the pressure 
 is momentum the water's pressure solve makes or destroys (docs/RESULTS.md, issue 24).
 
 Usage: /usr/bin/python3 tools/momentum_budget.py RUN_DIR [--from T] [--to T] [--band 0.0025] [--spacing L0]
-           [--density 1000]
-RUN_DIR holds fluid.pvd, solids.pvd and probe_driven_flow.csv. --spacing: l0 [m] (default: read from the scene the
-run's riffle.log names). Prints the mean of each term over the frames with --from <= t <= --to (default: the second
+           [--density 1000] [--area A]
+RUN_DIR holds fluid.pvd, solids.pvd and probe_driven_flow.csv. --spacing: l0 [m], --area: the plan area [m^2]
+(default: both read from the scene the run's riffle.log names). Prints the mean of each term over the frames with --from <= t <= --to (default: the second
 half of the run), and the pressure term per band of --band metres. numpy only.
 """
 import argparse
@@ -110,8 +110,9 @@ def main(argv=None):
     parser.add_argument("--band", type=float, default=0.0025)
     parser.add_argument("--spacing", type=float)
     parser.add_argument("--density", type=float, default=1000.0)
+    parser.add_argument("--area", type=float, help="plan area [m^2] (default: the scene's tank, x times y)")
     args = parser.parse_args(argv)
-    r = budget(args.run_dir, args.start, args.end, args.band, args.spacing, args.density)
+    r = budget(args.run_dir, args.start, args.end, args.band, args.spacing, args.density, args.area)
     print(f"{args.run_dir}: x momentum of the water per plan area, {r['frames']} frames, "
           f"t = {r['start']:.3g} to {r['end']:.3g} s [Pa]")
     print(f"  tau_lid {r['tau_lid']:+.4f}   pressure {r['pressure']:+.4f}   grains {r['grains']:+.4f}   "
