@@ -9,7 +9,8 @@
 //  - "sampling_kernel": each grain's impulse goes to the fluid particles within R = r + r_e with the normalised
 //    Wendland weights it samples the water with (solid_fluid_sampling), so a grain pushes the water it reads. Two
 //    gather passes: per grain its weight sum, per fluid particle the sum over the grains that reach it. The dilute
-//    grains of the self-induced correction take the same path.
+//    grains of the self-induced correction take the same path. With sampling_vertical_radius both passes use the
+//    sampling's ellipsoidal kernel (the same stretched offsets), so the footprint stays the sampled one.
 // Either way the fluid receives exactly minus what the grains received (momentum conserved to rounding), and
 // nothing depends on the thread count.
 #include "engine/core/system.hpp"

@@ -4,7 +4,9 @@
 // R_I = d_I/2 + r_e) and the pressure force -V <grad p> (Eq. 13). It reads the water of the step start from
 // FluidSample and runs first in the grains' branch (phase solid_step, docs/COUPLING.md), beside the fluid's step
 // graph; the sub-steps then hold these fixed (solid_drag). The voidage is solid_voidage's. With added mass or the
-// history force on, also the water's acceleration -<grad p>/rho + g (Maxey & Riley 1983).
+// history force on, also the water's acceleration -<grad p>/rho + g (Maxey & Riley 1983). With
+// [coupling] sampling_vertical_radius the kernel is an ellipsoid, R_v across the bed (docs/COUPLING.md, "A thin bed's
+// sampling"; systems/physics/sampling_kernel.hpp).
 #include "engine/core/system.hpp"
 #include "systems/physics/cell_grid.hpp"
 #include "systems/physics/mps_common.hpp"
