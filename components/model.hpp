@@ -322,6 +322,10 @@ struct CouplingModel {
   /// samples the water with, so a grain pushes the water it reads and the reaction's power on the water is
   /// -beta |u_bar|^2 <= 0 for a held grain (the grid's pushes the pore water under a bed backwards).
   bool sampling_kernel_reaction = false;
+  /// [m] R_v, the sampling kernel's radius across the bed (along z); 0 = isotropic (docs/COUPLING.md, "A thin bed's
+  /// sampling"). Each grain reads (and, with sampling_kernel_reaction, pushes) the water with the ellipsoidal
+  /// Wendland kernel w(s R_h), s^2 = (dx^2 + dy^2) / R_h^2 + dz^2 / min(R_v, R_h)^2, R_h = r + r_e as before.
+  double sampling_vertical_radius = 0.0;
 };
 
 struct SphereSpec {

@@ -774,6 +774,15 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
   out.sampling_kernel_reaction =
       coupling.choice("drag_reaction", "grid", {"grid", "sampling_kernel"}) == "sampling_kernel";
+  out.sampling_vertical_radius = coupling.number("sampling_vertical_radius", 0.0, "m", Bounds::non_negative());
+  // Fewer than one layer of water across the kernel leaves a grain reading one or two particles.
+  if (model.fluid.enabled && out.sampling_vertical_radius > 0.0 && out.sampling_vertical_radius < model.fluid.spacing)
+    coupling.problem("sampling_vertical_radius", "below l0 (" + std::to_string(model.fluid.spacing) +
+                                                     " m) a grain's kernel holds one or two layers of water");
+  // The correction's analytic overlap <rho_s rho_w> and <1/r> are those of the isotropic kernel.
+  if (out.self_induced_velocity && out.sampling_vertical_radius > 0.0)
+    coupling.problem("sampling_vertical_radius", "self_induced_velocity assumes the isotropic sampling kernel; "
+                                                 "leave sampling_vertical_radius at 0 with it");
   if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
   coupling.finish();
 }

@@ -8,6 +8,7 @@
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/mps_kernel.hpp"
 #include "systems/physics/periodic_box.hpp"
+#include "systems/physics/sampling_kernel.hpp"
 #include "systems/coupling/solid_drag.hpp"
 
 namespace riffle {
@@ -137,12 +138,14 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
   spread_slot_.clear();
   spread_centre_.clear();
   spread_kernel_.clear();
+  spread_stretch_.clear();
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
     if (drag.drag_impulse[grain].isZero(0.0)) continue;
     if (dilute_only && !(voidages.voidage[grain] > kSelfInducedMinVoidage)) continue;
     spread_slot_.push_back(static_cast<std::uint32_t>(grain));
     spread_centre_.push_back(box.any() ? box.wrap(grains.position[grain]) : grains.position[grain]);
     spread_kernel_.emplace_back(properties.radius[grain] + effective_radius);
+    spread_stretch_.push_back(sampling_vertical_stretch(spread_kernel_.back().effective_radius, vertical_radius_));
   }
   // A bed has no dilute grain (the seed's never does): then no grid is built at all.
   if (spread_slot_.empty() || fluid_count == 0) return;
@@ -161,6 +164,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
   for_each_particle(count, [&](std::size_t k) {
     const Vec3 centre = spread_centre_[k];
     const WendlandKernel kernel = spread_kernel_[k];
+    const double stretch = spread_stretch_[k];
     double weight_sum = 0.0;
     KernelPairBatch batch;
     const auto flush = [&] {
@@ -169,13 +173,13 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
       batch.count = 0;
     };
     const auto gather = [&](const Vec3& query) {
-      fluid_grid_.for_each_candidate_run(query, kernel.effective_radius,
-                                         [&](const std::uint32_t* first, const std::uint32_t* last) {
-                                           for (const std::uint32_t* j = first; j < last; ++j) {
-                                             batch.offer(*j, (particles.position[*j] - query).squaredNorm(), kernel);
-                                             if (batch.full()) flush();
-                                           }
-                                         });
+      const auto keep = [&](const std::uint32_t* first, const std::uint32_t* last) {
+        for (const std::uint32_t* j = first; j < last; ++j) {
+          batch.offer(*j, sampling_distance_squared(particles.position[*j] - query, stretch), kernel);
+          if (batch.full()) flush();
+        }
+      };
+      fluid_grid_.for_each_candidate_run(query, kernel.effective_radius, keep);
     };
     gather(centre);
     std::array<Vec3, 3> shifts;
@@ -194,6 +198,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
     if (spread_per_weight_[k].isZero(0.0)) continue;
     spread_centre_[wet] = spread_centre_[k];
     spread_kernel_[wet] = spread_kernel_[k];
+    spread_stretch_[wet] = spread_stretch_[k];
     spread_per_weight_[wet] = spread_per_weight_[k];
     ++wet;
   }
@@ -227,8 +232,10 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
       if ((query.array() < low.array()).any() || (query.array() > high.array()).any()) return;
       grain_grid_.for_each_candidate_run(query, largest, [&](const std::uint32_t* first, const std::uint32_t* last) {
         for (const std::uint32_t* k = first; k < last; ++k) {
-          // The same offset as pass 1's, point - (centre + s) with s = -shift, bit for bit.
-          batch.offer(*k, (point - Vec3(spread_centre_[*k] - shift)).squaredNorm(), spread_kernel_[*k]);
+          // The same offset as pass 1's, point - (centre + s) with s = -shift, bit for bit, in the same metric
+          // (an ellipsoidal kernel's stretched dz): the weights pass 1 normalised with are the ones spread with.
+          batch.offer(*k, sampling_distance_squared(point - Vec3(spread_centre_[*k] - shift), spread_stretch_[*k]),
+                      spread_kernel_[*k]);
           if (batch.full()) flush();
         }
       });

@@ -9,7 +9,8 @@
 //  - "sampling_kernel": each grain's impulse goes to the fluid particles within R = r + r_e with the normalised
 //    Wendland weights it samples the water with (solid_fluid_sampling), so a grain pushes the water it reads. Two
 //    gather passes: per grain its weight sum, per fluid particle the sum over the grains that reach it. The dilute
-//    grains of the self-induced correction take the same path.
+//    grains of the self-induced correction take the same path. With sampling_vertical_radius both passes use the
+//    sampling's ellipsoidal kernel (the same stretched offsets), so the footprint stays the sampled one.
 // Either way the fluid receives exactly minus what the grains received (momentum conserved to rounding), and
 // nothing depends on the thread count.
 #include "engine/core/system.hpp"
@@ -26,7 +27,8 @@ class FluidDragReaction final : public System {
       : constants_(MpsConstants::from(model.fluid)),
         mixture_velocity_(model.coupling.mixture_velocity),
         self_induced_velocity_(model.coupling.self_induced_velocity),
-        kernel_reaction_(model.coupling.sampling_kernel_reaction) {}
+        kernel_reaction_(model.coupling.sampling_kernel_reaction),
+        vertical_radius_(model.coupling.sampling_vertical_radius) {}
   std::string_view name() const override { return "fluid_drag_reaction"; }
   Access access() const override {
     return {component_ids<GrainState, GrainProperties, GrainVoidage, ParticleState>(),
@@ -43,6 +45,7 @@ class FluidDragReaction final : public System {
   bool mixture_velocity_ = false;  ///< the water takes the drag per volume over eps (CouplingModel)
   bool self_induced_velocity_ = false;  ///< dilute grains spread with the sampling kernel (CouplingModel)
   bool kernel_reaction_ = false;        ///< every grain spreads with it (CouplingModel::sampling_kernel_reaction)
+  double vertical_radius_ = 0.0;        ///< [m] R_v (CouplingModel::sampling_vertical_radius), 0 = isotropic
   CellGrid fluid_grid_;          ///< the fluid particles, for the kernel spreading's weight sums
   CellGrid grain_grid_;          ///< the spreading grains' centres, for the fluid particles' gather
   // The kernel spreading's grains, compact, in slot order: slot, centre (wrapped into a periodic box), kernel on R = r + r_e,
@@ -50,6 +53,7 @@ class FluidDragReaction final : public System {
   std::vector<std::uint32_t> spread_slot_;
   std::vector<Vec3> spread_centre_;
   std::vector<WendlandKernel> spread_kernel_;
+  std::vector<double> spread_stretch_;  ///< R_h / R_v of each kernel (sampling_kernel.hpp), 1 = isotropic
   std::vector<Vec3> spread_per_weight_;
   VoidageGrid grid_;             ///< its fluid deposit is the normalisation; the solid deposit is unused (zero volumes)
   std::vector<double> volumes_;

@@ -5,6 +5,7 @@
 #include "systems/physics/fluid_pair_batch.hpp"
 #include "systems/physics/domain.hpp"
 #include "systems/physics/periodic_box.hpp"
+#include "systems/physics/sampling_kernel.hpp"
 #include "systems/physics/self_induced.hpp"
 #include "systems/coupling/solid_drag.hpp"
 
@@ -22,6 +23,7 @@ SolidFluidSampling::SolidFluidSampling(const Model& model)
       density_(model.fluid.density),
       self_induced_velocity_(model.coupling.self_induced_velocity),
       mixture_velocity_(model.coupling.mixture_velocity),
+      vertical_radius_(model.coupling.sampling_vertical_radius),
       body_force_(model.fluid.body_force),
       overlap_(model.coupling.self_induced_velocity ? self_induced_overlap() : 0.0) {}
 
@@ -56,6 +58,9 @@ void SolidFluidSampling::run(SystemContext& context) {
     const Vec3 centre = grains.position[grain];
     const WendlandKernel sampling_kernel(properties.radius[grain] + effective_radius);
     const double radius_squared = sampling_kernel.effective_radius * sampling_kernel.effective_radius;
+    // An ellipsoidal kernel (sampling_vertical_radius) measures the offsets with dz stretched by R_h / R_v: the same
+    // Wendland polynomial and cut on R_h; its candidates lie inside the sphere of R_h the grid search covers.
+    const double stretch = sampling_vertical_stretch(sampling_kernel.effective_radius, vertical_radius_);
     double weight_sum = 0.0;
     Vec3 velocity = Vec3::Zero(), gradient = Vec3::Zero();
     // The fluid particles within the sampling radius, in grid order, a batch at a time: each candidate is written
@@ -82,7 +87,7 @@ void SolidFluidSampling::run(SystemContext& context) {
         for (const std::uint32_t* member = first; member < last; ++member) {
           const std::size_t k = batch.count;
           batch.slot[k] = *member;
-          batch.distance_squared[k] = (fluid.position[*member] - query).squaredNorm();
+          batch.distance_squared[k] = sampling_distance_squared(fluid.position[*member] - query, stretch);
           batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
           if (batch.count == kPairBatch) flush();
         }

@@ -4,7 +4,9 @@
 // R_I = d_I/2 + r_e) and the pressure force -V <grad p> (Eq. 13). It reads the water of the step start from
 // FluidSample and runs first in the grains' branch (phase solid_step, docs/COUPLING.md), beside the fluid's step
 // graph; the sub-steps then hold these fixed (solid_drag). The voidage is solid_voidage's. With added mass or the
-// history force on, also the water's acceleration -<grad p>/rho + g (Maxey & Riley 1983).
+// history force on, also the water's acceleration -<grad p>/rho + g (Maxey & Riley 1983). With
+// [coupling] sampling_vertical_radius the kernel is an ellipsoid, R_v across the bed (docs/COUPLING.md, "A thin bed's
+// sampling"; systems/physics/sampling_kernel.hpp).
 #include "engine/core/system.hpp"
 #include "systems/physics/cell_grid.hpp"
 #include "systems/physics/mps_common.hpp"
@@ -36,6 +38,7 @@ class SolidFluidSampling final : public System {
   double density_;          ///< [kg/m^3] the water's
   bool self_induced_velocity_;  ///< CouplingModel::self_induced_velocity
   bool mixture_velocity_;       ///< CouplingModel::mixture_velocity: the water took the drag over eps
+  double vertical_radius_;      ///< [m] CouplingModel::sampling_vertical_radius: 0 = the isotropic kernel
   BodyForceModel body_force_;   ///< the water's body force and how the grains feel it (docs/COUPLING.md)
   double overlap_;              ///< R^3 <rho_s rho_w> (self_induced.hpp), with the correction on
   CellGrid fluid_grid_;

@@ -237,3 +237,42 @@ high = [0.1, 0.1, 0.08]
   CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nvoidage_vertical_radius = -0.01\n", "coupled.toml"),
                     doctest::Contains("coupling.voidage_vertical_radius"));
 }
+
+TEST_CASE("the scene's sampling_vertical_radius: read in metres, at least l0, not with the self-induced correction") {
+  const std::string scene = R"(
+[run]
+end_time = 0.1
+dt = 1.0e-3
+[materials.grain]
+density = 1318.0
+[tank]
+size = [0.1, 0.1, 0.1]
+wall_material = "grain"
+[solids]
+[[solids.spheres]]
+position = [0.05, 0.05, 0.05]
+radius = 0.005
+material = "grain"
+[fluid]
+spacing = 0.01
+[[fluid.boxes]]
+low = [0.0, 0.0, 0.0]
+high = [0.1, 0.1, 0.08]
+)";
+  CHECK(parse_scene(scene, "coupled.toml").coupling.sampling_vertical_radius == 0.0);
+  const Model thin = parse_scene(scene + "[coupling]\nsampling_vertical_radius = 0.015\n", "coupled.toml");
+  CHECK(thin.coupling.sampling_vertical_radius == 0.015);
+  CHECK_NOTHROW(parse_scene(scene + "[coupling]\nsampling_vertical_radius = 0.01\n", "coupled.toml"));
+  // Under l0 the kernel holds one or two layers of water: refused, naming the key and the reason.
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nsampling_vertical_radius = 0.005\n", "coupled.toml"),
+                    doctest::Contains("coupling.sampling_vertical_radius: below l0"));
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nsampling_vertical_radius = -0.01\n", "coupled.toml"),
+                    doctest::Contains("coupling.sampling_vertical_radius"));
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nsampling_vertical_radius = \"wide\"\n", "coupled.toml"),
+                    doctest::Contains("coupling.sampling_vertical_radius"));
+  // The self-induced correction's overlap integrals are the isotropic kernel's.
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nsampling_vertical_radius = 0.015\nself_induced_velocity = true\n",
+                                "coupled.toml"),
+                    doctest::Contains("self_induced_velocity assumes the isotropic sampling kernel"));
+  CHECK_NOTHROW(parse_scene(scene + "[coupling]\nself_induced_velocity = true\n", "coupled.toml"));
+}

@@ -9,6 +9,8 @@
 //    u_bar = sum_j w_j u_j / W is what the grain sampled; for a held grain J = k u_bar dt (k > 0), so it is <= 0 for
 //    any water velocity field; the grid's footprint differs from the sampled one and is not bound to that sign;
 //  - the sums do not depend on the thread count (byte-identical on 1 and 2 threads).
+// Each also with the ellipsoidal kernel of `[coupling] sampling_vertical_radius` (docs/COUPLING.md, "A thin bed's
+// sampling"): the same statements hold for any normalised footprint the grain both samples and spreads with.
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
@@ -37,8 +39,9 @@ constexpr double kVolume = kSpacing * kSpacing * kSpacing;
 
 /// The small test model with water at l0 = 1 cm and the reaction spread by the sampling kernel (or the grid);
 /// periodic along x and y in a 0.1 m box if asked.
-Model reaction_model(bool kernel, bool mixture, bool periodic = false) {
+Model reaction_model(bool kernel, bool mixture, bool periodic = false, double vertical_radius = 0.0) {
   Model model = test::small_model();
+  model.coupling.sampling_vertical_radius = vertical_radius;
   model.fluid.enabled = true;
   model.fluid.spacing = kSpacing;
   model.coupling.enabled = true;
@@ -86,12 +89,21 @@ Vec3 received_momentum(const World& world) {
   return received;
 }
 
-/// w(|x - c|) summed over the nearest images of the water (the kernel's definition, mps_kernel.hpp), for checking
-/// the footprint independently of the system's grids.
-double wrapped_distance(Vec3 offset, bool periodic) {
+/// The offset to the nearest image of the water, for checking the footprint independently of the system's grids.
+Vec3 wrapped_offset(Vec3 offset, bool periodic) {
   if (periodic)
     for (int axis = 0; axis < 2; ++axis) offset[axis] -= 0.1 * std::round(offset[axis] / 0.1);
-  return offset.norm();
+  return offset;
+}
+
+/// The sampling kernel's weight written out from its definition (docs/COUPLING.md): (1 - s)^4 (1 + 4 s) for s < 1,
+/// s^2 = (dx^2 + dy^2) / R_h^2 + dz^2 / R_v^2, R_v = min(vertical, R_h), or R_h when vertical = 0 (the isotropic
+/// Wendland kernel of mps_kernel.hpp).
+double kernel_weight(const Vec3& offset, double horizontal, double vertical) {
+  const double across = vertical > 0.0 ? std::min(vertical, horizontal) : horizontal;
+  const double s = std::sqrt((offset.x() * offset.x() + offset.y() * offset.y()) / (horizontal * horizontal) +
+                             offset.z() * offset.z() / (across * across));
+  return s >= 1.0 ? 0.0 : std::pow(1.0 - s, 4) * (1.0 + 4.0 * s);
 }
 
 }  // namespace
@@ -107,12 +119,15 @@ TEST_CASE("sampling-kernel reaction: the water receives exactly minus the grains
       {Vec3(0.002, 0.05, 0.05), 0.0025, Vec3(1.0e-4, -2.0e-5, 3.0e-4), 0.6},
       {Vec3(0.098, 0.003, 0.06), 0.005, Vec3(-5.0e-5, 7.0e-5, 1.0e-5), 0.45},
       {Vec3(0.05, 0.05, 0.04), 0.0025, Vec3(2.0e-5, 0.0, -4.0e-5), 1.0}};
+  // R_v = 1.5 l0: a kernel 1.8-3.2 times narrower across than along (R_h = r + 2.4 l0).
+  for (const double vertical : {0.0, 0.015})
   for (const bool periodic : {false, true}) {
     for (const bool mixture : {false, true}) {
+      CAPTURE(vertical);
       CAPTURE(periodic);
       CAPTURE(mixture);
       const std::vector<GrainSpec>& grains = periodic ? seam : closed;
-      const Model model = reaction_model(true, mixture, periodic);
+      const Model model = reaction_model(true, mixture, periodic, vertical);
       World world = reaction_world(grains);
       run_reaction(model, world);
       Vec3 expected = Vec3::Zero();
@@ -128,16 +143,17 @@ TEST_CASE("sampling-kernel reaction: the water receives exactly minus the grains
       for (const GrainSpec& grain : grains) {
         World alone = reaction_world({grain});
         run_reaction(model, alone);
-        const WendlandKernel kernel(grain.radius + 2.4 * kSpacing);
+        const double horizontal = grain.radius + 2.4 * kSpacing;
         const FluidParticles& water = *alone.fluid;
         double weight_sum = 0.0;
         for (std::size_t j = 0; j < water.size(); ++j)
-          weight_sum += kernel.weight(wrapped_distance(water.position[j] - grain.centre, periodic));
+          weight_sum += kernel_weight(wrapped_offset(water.position[j] - grain.centre, periodic), horizontal, vertical);
         REQUIRE(weight_sum > 0.0);
         const double share = mixture ? 1.0 / grain.voidage : 1.0;
         double worst = 0.0, far_side = 0.0;
         for (std::size_t j = 0; j < water.size(); ++j) {
-          const double weight = kernel.weight(wrapped_distance(water.position[j] - grain.centre, periodic));
+          const double weight =
+              kernel_weight(wrapped_offset(water.position[j] - grain.centre, periodic), horizontal, vertical);
           const Vec3 expected_j = -grain.impulse * (share * weight / (weight_sum * kVolume));
           worst = std::max(worst, (water.drag_reaction[j] - expected_j).norm());
           if (std::abs(water.position[j].x() - grain.centre.x()) > 0.05) far_side += weight / weight_sum;
@@ -171,8 +187,9 @@ TEST_CASE("sampling-kernel reaction: a held grain in sheared water pushes the wa
     double centroid = 0.0;
   };
   const double share = 1.0 / 0.45;  // the mixture reading (the default): the water takes J / eps
-  const auto run = [&](bool kernel, double z0) {
+  const auto run = [&](bool kernel, double z0, double vertical = 0.0) {
     Model model = test::small_model();
+    model.coupling.sampling_vertical_radius = vertical;
     model.fluid.enabled = true;
     model.fluid.spacing = l0;
     model.coupling.enabled = true;
@@ -201,10 +218,9 @@ TEST_CASE("sampling-kernel reaction: a held grain in sheared water pushes the wa
     Outcome out;
     out.impulse = world.solids->drag_force[grain] * dt;
     out.sampled = world.solids->fluid_velocity[grain];
-    const WendlandKernel sampling_kernel(radius + 2.4 * l0);
     double weight_sum = 0.0, pushed_weight = 0.0;
     for (std::size_t j = 0; j < water.size(); ++j) {
-      const double weight = sampling_kernel.weight((water.position[j] - grain_centre).norm());
+      const double weight = kernel_weight(water.position[j] - grain_centre, radius + 2.4 * l0, vertical);
       weight_sum += weight;
       out.centroid += weight * water.position[j].z();
     }
@@ -252,12 +268,29 @@ TEST_CASE("sampling-kernel reaction: a held grain in sheared water pushes the wa
   CHECK(std::abs(kernel_between.power + share * kernel_between.impulse.dot(kernel_between.sampled)) <
         1e-12 * std::abs(kernel_between.power));
   CHECK(grid_between.power > 0.0);  // the held grain's reaction does work on the water
+  // The ellipsoidal kernel (sampling_vertical_radius = r + l0 and l0, the held large bed's choices): the footprint
+  // is still the sampled one, so the same power statement holds exactly, for a z0 below, at and above the grain.
+  for (const double vertical : {radius + l0, l0}) {
+    for (const double z0 : {0.0, 0.003, 0.006}) {
+      CAPTURE(vertical);
+      CAPTURE(z0);
+      const Outcome squeezed = run(true, z0, vertical);
+      REQUIRE(squeezed.impulse.norm() > 0.0);
+      CHECK((squeezed.pushed - squeezed.sampled).norm() < 1e-12 * squeezed.sampled.norm());
+      const double expected = -share * squeezed.impulse.dot(squeezed.sampled);
+      CHECK(expected < 0.0);
+      CHECK(std::abs(squeezed.power - expected) < 1e-12 * std::abs(expected));
+      if (z0 == first_z0)
+        MESSAGE("R_v = ", vertical, " m: sampled u_x ", squeezed.sampled.x(), " m/s (centroid z = ", squeezed.centroid,
+                " m; isotropic ", kernel.centroid, " m), power ", squeezed.power, " J per step");
+    }
+  }
 }
 
 namespace {
 
 /// The reaction of a bed of `count` grains (pseudo-random, fixed) on `threads` threads, as raw bytes.
-std::string reaction_bytes(bool periodic, int threads) {
+std::string reaction_bytes(bool periodic, int threads, double vertical = 0.0) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   std::vector<GrainSpec> grains;
   std::uint64_t state = 12345;
@@ -268,7 +301,7 @@ std::string reaction_bytes(bool periodic, int threads) {
   for (int k = 0; k < 300; ++k)
     grains.push_back({Vec3(0.1 * next(), 0.1 * next(), 0.04 * next()), 0.002 + 0.004 * next(),
                       Vec3(next() - 0.5, next() - 0.5, next() - 0.5) * 1e-4, 0.4 + 0.6 * next()});
-  const Model model = reaction_model(true, true, periodic);
+  const Model model = reaction_model(true, true, periodic, vertical);
   World world = reaction_world(grains);
   run_reaction(model, world);
   const std::vector<Vec3>& reaction = world.fluid->drag_reaction;
@@ -281,6 +314,8 @@ TEST_CASE("sampling-kernel reaction: byte-identical on one and two threads, and 
   for (const bool periodic : {false, true}) {
     CAPTURE(periodic);
     CHECK(reaction_bytes(periodic, 1) == reaction_bytes(periodic, 2));
+    CHECK(reaction_bytes(periodic, 1, 0.015) == reaction_bytes(periodic, 2, 0.015));
+    CHECK(reaction_bytes(periodic, 1, 0.015) != reaction_bytes(periodic, 1));  // the key reaches the spreading
   }
   // The key through a scene: a 5 mm grain settling in a periodic box of water, 40 steps, 1 and 2 threads.
   const std::string scene = R"([run]
@@ -311,15 +346,17 @@ high = [0.08, 0.08, 0.16]
 [coupling]
 drag_reaction = "sampling_kernel"
 )";
-  const auto bytes_after = [&](int threads) {
+  const auto bytes_after = [&](int threads, const std::string& extra) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-    auto simulation = Simulation::from_model(parse_scene(scene, "kernel.toml"));
+    auto simulation = Simulation::from_model(parse_scene(scene + extra, "kernel.toml"));
     REQUIRE(simulation->model().coupling.sampling_kernel_reaction);
     for (int step = 0; step < 40; ++step) simulation->step();
     REQUIRE(simulation->world().step_status.ok());
     return encode_checkpoint(simulation->checkpoint_data());
   };
-  CHECK(bytes_after(1) == bytes_after(2));
+  CHECK(bytes_after(1, "") == bytes_after(2, ""));
+  // With the ellipsoidal kernel (R_v = 1.2 l0): sampling and spreading alike on 1 and 2 threads.
+  CHECK(bytes_after(1, "sampling_vertical_radius = 0.012\n") == bytes_after(2, "sampling_vertical_radius = 0.012\n"));
 }
 
 }  // namespace riffle

@@ -1,0 +1,22 @@
+#pragma once
+// The grains' sampling kernel (docs/COUPLING.md, "A thin bed's sampling"): the Wendland kernel on R_h = r + r_e,
+// optionally squeezed along z to an ellipsoid of half-axes R_h, R_h, R_v. A pair's offset d is measured in the
+// metric s^2 = (dx^2 + dy^2 + (R_h/R_v)^2 dz^2), so the weight is the usual w(s) on the kernel of radius R_h and the
+// cut is s < R_h: the ellipsoid lies inside the sphere of R_h, so a search of radius R_h finds every pair. With
+// R_v = R_h the stretch is exactly 1 and s^2 is |d|^2 bit for bit (x * 1.0 = x).
+#include "components/vec.hpp"
+
+namespace riffle {
+
+/// R_h / min(R_v, R_h) [1], >= 1; 1 when R_v <= 0 (isotropic).
+inline double sampling_vertical_stretch(double horizontal_radius, double vertical_radius) {
+  return vertical_radius > 0.0 && vertical_radius < horizontal_radius ? horizontal_radius / vertical_radius : 1.0;
+}
+
+/// s^2 of an offset [m^2]: the squared distance the Wendland kernel on R_h is evaluated at.
+inline double sampling_distance_squared(const Vec3& offset, double vertical_stretch) {
+  // Eigen's squaredNorm, as the isotropic loops used: the same operations in the same order.
+  return Vec3(offset.x(), offset.y(), offset.z() * vertical_stretch).squaredNorm();
+}
+
+}  // namespace riffle
