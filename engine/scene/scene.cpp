@@ -757,6 +757,15 @@ void read_coupling(TableReader& coupling, Model& model) {
     coupling.problem("voidage_vertical_radius", "below 3 l0 (" + std::to_string(3.0 * model.fluid.spacing) +
                                                     " m) the fluid particles' layers alias on the voidage grid; set "
                                                     "voidage_volume = \"tank\"");
+  // Over the tank's volume any width is exact, but a kernel far thinner than the tank would need more cells across it
+  // than the grid may hold (4096 nodes an axis: grains beyond pile onto its last node), and one thicker than the tank
+  // covers no node fully: both are typing errors, not beds.
+  const double tank_height = model.tank.size.z();
+  if (out.voidage_over_tank && out.voidage_vertical_radius > 0.0 &&
+      (out.voidage_vertical_radius < tank_height / 2000.0 || out.voidage_vertical_radius > tank_height))
+    coupling.problem("voidage_vertical_radius", "must lie between the tank's height / 2000 (" +
+                                                    std::to_string(tank_height / 2000.0) + " m) and its height (" +
+                                                    std::to_string(tank_height) + " m)");
   out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
   out.self_corrected_voidage =
       coupling.choice("voidage_estimate", "self_corrected", {"self_corrected", "cloud_in_cell"}) == "self_corrected";

@@ -78,7 +78,8 @@ void SolidVoidage::run_over_tank(SystemContext& context) {
   const double cell_ratio = self_corrected_ ? kSmoothCell : kCloudInCellCell;
   const double across = vertical_radius_ > 0.0 ? vertical_radius_ : voidage_radius_;
   const Vec3 cell(cell_ratio * voidage_radius_, cell_ratio * voidage_radius_, cell_ratio * across);
-  const Vec3 tank_low = model.tank.origin + tank_kinematics(model.tank.motion, context.time).displacement;
+  // The end of the step, where the grains now are (as fluid_escape; dt = 0 in the initial-forces pass).
+  const Vec3 tank_low = model.tank.origin + tank_kinematics(model.tank.motion, context.time + context.dt).displacement;
   const DomainBox domain = domain_box(model);
   grid_.build(grains.position, grain_volumes_, grains.position, 0, 0.0, cell, domain.low, domain.high,
               periodic_box(model));

@@ -21,7 +21,7 @@ def main():
     # 3 frames at t = 0, 1, 2 s. dp/dx = 100 Pa/m at the two upper particles, 0 below: the pressure term is
     # -2 * 1e-6 * 100 / 0.01 = -0.02 Pa, all in the band 10-20 mm. u_x = 0.1 t at each water particle: dP/dt =
     # 4 * 1000 * 1e-6 * 0.1 / 0.01 = 0.04 Pa. Two grains with drag 1e-4 and pressure force 5e-5 N along x: grains =
-    # 1.5e-4 / 0.01 = 0.015 Pa. tau_lid 0.1 Pa at every row: the residual is 0.1 - 0.02 - 0.015 - 0.04 = 0.025 Pa.
+    # 1.5e-4 / 0.01 = 0.015 Pa (the force on the bed). tau_lid 0.1 Pa at every row.
     # The wall particles carry a huge gradient that must not count.
     points = np.array([[0.01, 0.01, 0.001], [0.02, 0.02, 0.003], [0.03, 0.03, 0.011], [0.04, 0.04, 0.013],
                        [0.05, 0.05, -0.005], [0.06, 0.06, 0.025]])
@@ -41,15 +41,21 @@ def main():
         drag = np.array([[1e-4, 0.0, 0.0], [0.0, 0.0, 0.0]])
         pressure = np.array([[0.0, 0.0, 0.0], [5e-5, 0.0, 0.0]])
         name = f"solids_{int(t)}.vtp"
-        write_vtp(work / name, grains, {"drag_force": (drag, "Float64"), "pressure_force": (pressure, "Float64")})
+        voidage = np.array([0.5, 0.8])
+        write_vtp(work / name, grains, {"drag_force": (drag, "Float64"), "pressure_force": (pressure, "Float64"),
+                                        "voidage": (voidage, "Float64")})
         solid_entries.append(f'<DataSet timestep="{t}" file="{name}"/>')
     write_pvd(work / "fluid.pvd", fluid_entries)
     write_pvd(work / "solids.pvd", solid_entries)
     (work / "probe_driven_flow.csv").write_text("time_s,step,lid0_shear_Pa\n0,0,\n0.5,1,0.1\n1.5,2,0.1\n")
-    r = momentum_budget.budget(str(work), 0.0, 2.0, band=0.01, spacing=0.01, plan_area=0.01)
-    expected = {"tau_lid": 0.1, "pressure": -0.02, "grains": 0.015, "momentum_rate": 0.04, "residual": 0.025}
-    for key, value in expected.items():
-        assert abs(r[key] - value) < 1e-12, (key, r[key], value)
+    # The water loses the drag's reaction: 1e-4 / 0.5 / 0.01 = 0.02 Pa in the mixture reading (drag over eps), 0.01 Pa
+    # in the pore reading; the grains' pressure force has no reaction. Residual 0.1 - 0.02 - r - 0.04.
+    for reading, reaction in (("mixture", 0.02), ("pore", 0.01)):
+        r = momentum_budget.budget(str(work), 0.0, 2.0, band=0.01, spacing=0.01, plan_area=0.01, reading=reading)
+        expected = {"tau_lid": 0.1, "pressure": -0.02, "grains": 0.015, "reaction": reaction, "momentum_rate": 0.04,
+                    "residual": 0.1 - 0.02 - reaction - 0.04}
+        for key, value in expected.items():
+            assert abs(r[key] - value) < 1e-12, (reading, key, r[key], value)
     assert r["frames"] == 3
     assert np.allclose(r["pressure_bands"], [0.0, -0.02], atol=1e-15), r["pressure_bands"]
     print("momentum_budget: all checks passed")

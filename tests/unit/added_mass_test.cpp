@@ -236,6 +236,13 @@ high = [0.1, 0.1, 0.08]
                     doctest::Contains("coupling.voidage_volume"));
   CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nvoidage_vertical_radius = -0.01\n", "coupled.toml"),
                     doctest::Contains("coupling.voidage_vertical_radius"));
+  // Over the tank's volume: between the tank's height / 2000 and its height (0.1 m here).
+  CHECK_THROWS_WITH(
+      parse_scene(scene + "[coupling]\nvoidage_volume = \"tank\"\nvoidage_vertical_radius = 1e-6\n", "coupled.toml"),
+      doctest::Contains("coupling.voidage_vertical_radius: must lie between"));
+  CHECK_THROWS_WITH(
+      parse_scene(scene + "[coupling]\nvoidage_volume = \"tank\"\nvoidage_vertical_radius = 0.2\n", "coupled.toml"),
+      doctest::Contains("coupling.voidage_vertical_radius: must lie between"));
 }
 
 TEST_CASE("the scene's sampling_vertical_radius: read in metres, at least l0, not with the self-induced correction") {
