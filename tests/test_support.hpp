@@ -122,6 +122,31 @@ high = [0.13, 0.01, 0.01]
 
 inline Model fluid_model() { return parse_scene(fluid_scene_text(), "fluid.toml"); }
 
+/// A small coupled scene for the [coupling] keys' tests: one 5 mm grain in a 10 cm closed tank of water (l0 = 1 cm) up
+/// to 8 cm, no [coupling] table (a test appends one). The text's first line is [run], so the appended [coupling] is
+/// line 19.
+inline std::string coupled_scene_text() {
+  return R"([run]
+end_time = 0.1
+dt = 1.0e-3
+[materials.grain]
+density = 2650.0
+[tank]
+size = [0.1, 0.1, 0.1]
+wall_material = "grain"
+[solids]
+[[solids.spheres]]
+position = [0.05, 0.05, 0.05]
+radius = 0.005
+material = "grain"
+[fluid]
+spacing = 0.01
+[[fluid.boxes]]
+low = [0.0, 0.0, 0.0]
+high = [0.1, 0.1, 0.08]
+)";
+}
+
 /// A fresh, empty directory under the system's temporary directory.
 inline std::filesystem::path scratch_dir(const std::string& name) {
   // Per process: ctest runs every test case as its own process, two at a time, and test cases share names.

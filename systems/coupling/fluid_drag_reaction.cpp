@@ -21,13 +21,13 @@ void FluidDragReaction::run(SystemContext& context) {
   const ParticleState& particles = context.read<ParticleState>();
   ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
   const std::size_t fluid_count = fluid_slot_count(particles);
-  double largest_radius = 0.0;
-  for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
   if (kernel_reaction_) {  // every grain spreads with its sampling kernel: no grid
     spread_with_sampling_kernel(context, false);
     context.count_items(grains.size());
     return;
   }
+  double largest_radius = 0.0;
+  for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
   // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
   // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
   if (self_induced_velocity_) spread_with_sampling_kernel(context, true);

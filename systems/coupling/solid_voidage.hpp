@@ -26,7 +26,6 @@ class SolidVoidage final : public System {
   void run(SystemContext& context) override;
 
  private:
-  void run_over_tank(SystemContext& context);  ///< voidage_volume = "tank"
   double particle_volume_;  ///< [m^3] l0^3
   double spacing_;          ///< [m] l0
   double voidage_radius_;   ///< [m] R_eps; 0 until the first run picks it from the grains present

@@ -161,26 +161,7 @@ TEST_CASE("the implicit kick is stable for added mass far above the grain's mass
 }
 
 TEST_CASE("the scene's added-mass and history switches: off by default, and a window too short is refused") {
-  const std::string scene = R"(
-[run]
-end_time = 0.1
-dt = 1.0e-3
-[materials.grain]
-density = 1318.0
-[tank]
-size = [0.1, 0.1, 0.1]
-wall_material = "grain"
-[solids]
-[[solids.spheres]]
-position = [0.05, 0.05, 0.05]
-radius = 0.005
-material = "grain"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.1, 0.08]
-)";
+  const std::string scene = test::coupled_scene_text();
   const Model off = parse_scene(scene, "coupled.toml");
   CHECK_FALSE(off.coupling.added_mass);
   CHECK_FALSE(off.coupling.history_force);
@@ -201,26 +182,7 @@ high = [0.1, 0.1, 0.08]
 }
 
 TEST_CASE("the scene's voidage keys: volume and the radius across the bed; a narrow radius over the water refused") {
-  const std::string scene = R"(
-[run]
-end_time = 0.1
-dt = 1.0e-3
-[materials.grain]
-density = 1318.0
-[tank]
-size = [0.1, 0.1, 0.1]
-wall_material = "grain"
-[solids]
-[[solids.spheres]]
-position = [0.05, 0.05, 0.05]
-radius = 0.005
-material = "grain"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.1, 0.08]
-)";
+  const std::string scene = test::coupled_scene_text();
   const Model plain = parse_scene(scene, "coupled.toml");
   CHECK_FALSE(plain.coupling.voidage_over_tank);
   CHECK(plain.coupling.voidage_vertical_radius == 0.0);
@@ -246,26 +208,7 @@ high = [0.1, 0.1, 0.08]
 }
 
 TEST_CASE("the scene's sampling_vertical_radius: read in metres, at least l0, not with the self-induced correction") {
-  const std::string scene = R"(
-[run]
-end_time = 0.1
-dt = 1.0e-3
-[materials.grain]
-density = 1318.0
-[tank]
-size = [0.1, 0.1, 0.1]
-wall_material = "grain"
-[solids]
-[[solids.spheres]]
-position = [0.05, 0.05, 0.05]
-radius = 0.005
-material = "grain"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.1, 0.08]
-)";
+  const std::string scene = test::coupled_scene_text();
   CHECK(parse_scene(scene, "coupled.toml").coupling.sampling_vertical_radius == 0.0);
   const Model thin = parse_scene(scene + "[coupling]\nsampling_vertical_radius = 0.015\n", "coupled.toml");
   CHECK(thin.coupling.sampling_vertical_radius == 0.015);

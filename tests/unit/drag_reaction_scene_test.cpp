@@ -12,25 +12,7 @@
 namespace riffle {
 
 TEST_CASE("coupling.drag_reaction: grid by default, sampling_kernel on request, a bad value named with its line") {
-  const std::string scene = R"([run]
-end_time = 0.1
-dt = 1.0e-3
-[materials.grain]
-density = 2650.0
-[tank]
-size = [0.1, 0.1, 0.1]
-wall_material = "grain"
-[solids]
-[[solids.spheres]]
-position = [0.05, 0.05, 0.05]
-radius = 0.005
-material = "grain"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.1, 0.08]
-)";
+  const std::string scene = test::coupled_scene_text();
   CHECK_FALSE(parse_scene(scene, "coupled.toml").coupling.sampling_kernel_reaction);
   CHECK_FALSE(parse_scene(scene + "[coupling]\ndrag_reaction = \"grid\"\n", "coupled.toml")
                   .coupling.sampling_kernel_reaction);
