@@ -175,6 +175,11 @@ struct FluidSchemes {
   bool higher_order_laplacian = true;     ///< HL, Eq. 7 with the closure a = -2 w'/r (numerics 2.5)
   bool gradient_correction = true;        ///< GC, Eqs. 8-9
   bool dynamic_stabilisation = true;      ///< DS, Eqs. 10-12 (repulsive, numerics 2.7)
+  /// Not of seed 000: in place of GC, the hydrostatic gradient G plus a sum form (q_i + q_j) of the rest of the
+  /// pressure, q = p - G . r - min, which conserves the water's momentum pair by pair (GC does not: docs/COUPLING.md
+  /// "Where the total momentum goes"); for sealed boxes full of water (docs/FLUID.md, "A momentum-conserving
+  /// gradient").
+  bool conservative_gradient = false;
 };
 
 /// The incompressible free-surface fluid (MPS, seed 000 Sec. 3.1; numerics.md with the prototype's amendments).

@@ -16,6 +16,7 @@ enum class StepProblem : std::uint8_t {
   kSolverFailed,       ///< the pressure solve produced a non-finite residual
   kTimeStepCollapse,   ///< the Courant limit fell below the scene's minimum step (the flow blew up)
   kTooManyEscaped,     ///< more fluid particles removed as escaped than fluid.escape_fraction_limit allows
+  kSurfaceWithConservativeGradient,  ///< a free-surface particle under [fluid.schemes] conservative_gradient
 };
 
 struct StepStatus {

@@ -70,6 +70,7 @@ const char* problem_name(StepProblem problem) {
     case StepProblem::kSolverFailed: return "solver_failed";
     case StepProblem::kTimeStepCollapse: return "dt_collapse";
     case StepProblem::kTooManyEscaped: return "too_many_escaped";
+    case StepProblem::kSurfaceWithConservativeGradient: return "surface_with_conservative_gradient";
   }
   return "unknown";
 }

@@ -278,6 +278,12 @@ std::string diagnosis(const World& world, const Model& model) {
                   model.fluid.escape_fraction_limit);
     return when + text;
   }
+  if (status.problem == StepProblem::kSurfaceWithConservativeGradient)
+    return when + std::to_string(world.fluid_summary->surface_count) +
+           " fluid particles are flagged as free surface (the first, id " + std::to_string(status.entity) + ", at " +
+           format_vec(status.position) + " m), but [fluid.schemes] conservative_gradient is for water without a free "
+           "surface (a sealed box full of water; docs/FLUID.md, \"A momentum-conserving gradient\"): use the default "
+           "gradient (GC), or fill the box and lower fluid.surface_threshold";
   if (status.problem == StepProblem::kSolverFailed)
     return when + "the pressure solve diverged (non-finite residual after " +
            std::to_string(world.fluid_summary ? world.fluid_summary->solver_iterations : 0) + " iterations)";

@@ -23,11 +23,20 @@ std::string format_vec(const Vec3& v) {
   return stream.str();
 }
 
-void read_schemes(TableReader& schemes, FluidSchemes& out) {
+// `open_tank`: [tank] has open faces (the conservative gradient is for water without a free surface).
+void read_schemes(TableReader& schemes, FluidSchemes& out, bool open_tank) {
   out.higher_order_source = schemes.boolean("hs", true);
   out.error_compensating_source = schemes.boolean("ecs", true);
   out.higher_order_laplacian = schemes.boolean("hl", true);
-  out.gradient_correction = schemes.boolean("gc", true);
+  out.conservative_gradient = schemes.boolean("conservative_gradient", false);
+  out.gradient_correction = schemes.boolean("gc", !out.conservative_gradient);
+  if (out.conservative_gradient && out.gradient_correction)
+    schemes.problem("gc", "the conservative gradient replaces the gradient correction (its C_i differ between the two "
+                          "ends of a pair, which would break the pair's balance): give gc = false or leave gc out");
+  else if (out.conservative_gradient && open_tank)
+    schemes.problem("conservative_gradient",
+                    "is for water without a free surface (a sealed box full of water; docs/FLUID.md, \"A "
+                    "momentum-conserving gradient\"), but [tank] has open faces");
   out.dynamic_stabilisation = schemes.boolean("ds", true);
   schemes.finish();
 }
@@ -312,7 +321,7 @@ void read_fluid(TableReader& fluid, Model& model) {
                   "must not exceed neighbour_skin (" + format_number(out.neighbour_skin_ratio) + ")");
   out.sort_every = fluid.integer("sort_every", 20, 0, 1000000000);
   out.sort_every_fast = fluid.integer("sort_every_fast", 5, 0, 1000000000);
-  if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes);
+  if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes, !model.tank.open_faces.empty());
   // Escaped spray (systems/mps/fluid_escape.hpp): removed and counted, or the run stops at the first particle.
   out.escape = fluid.choice("escape", "remove", {"remove", "stop"}) == "stop" ? FluidModel::EscapePolicy::kStop
                                                                               : FluidModel::EscapePolicy::kRemove;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -58,6 +59,27 @@ void FluidCorrect::run(SystemContext& context) {
   const PeriodicBox box = periodic_box(context.model);
   const bool periodic = box.any();
 
+  // The conservative gradient ([fluid.schemes] conservative_gradient; docs/FLUID.md, "A momentum-conserving
+  // gradient"): <grad p>_i = G + (3/n0) sum_j (q_i + q_j) (w_ij / r_ij^2) r_ij with q = p - G . r - min(p - G . r),
+  // G the hydrostatic gradient. The bracket is the same seen from either end of a pair and r_ij changes sign, so the
+  // fluid pairs' pressure forces cancel (the water's momentum changes only through G, which has no component along
+  // a periodic axis, and the walls). G is taken out first so that still water is exact (q constant: the sum
+  // vanishes) and only the dynamic pressure carries the sum form's error 2 q_i m_i (m_i the first moment of i's
+  // neighbourhood); the global min keeps every bracket >= 0 (repulsive, as the classic p_j - min p).
+  const bool conservative = schemes.conservative_gradient;
+  Vec3 split_gradient = wall_pressure_gradient;
+  double reduced_minimum = 0.0;
+  if (conservative) {
+    // Along a periodic axis the water's pressure has no mean gradient, and a ghost's G . r must differ from its
+    // owner's by nothing, or the pair's two brackets would differ by G . shift.
+    for (int axis = 0; axis < 3; ++axis)
+      if (box.periodic[axis]) split_gradient[axis] = 0.0;
+    reduced_minimum = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < fluid_count; ++i)
+      reduced_minimum =
+          std::min(reduced_minimum, pressures.pressure[i] - split_gradient.dot(prediction.predicted_position[i]));
+  }
+
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = prediction.predicted_position[i];
     const double pressure = pressures.pressure[i];
@@ -67,12 +89,19 @@ void FluidCorrect::run(SystemContext& context) {
     };
     // Classic gradient (GC off): p_j - min p over the support, which keeps the pressure force repulsive.
     double base_pressure = pressure;
-    if (!schemes.gradient_correction) {
+    if (!schemes.gradient_correction && !conservative) {
       for (const std::uint32_t j : near_neighbours_of(neighbours, i)) {
         const Vec3 offset = predicted_of[j] - position;
         if (offset.squaredNorm() < radius_squared) base_pressure = std::min(base_pressure, partner_pressure(j, offset));
       }
     }
+    // q_i, and a partner's q_j from its own p and r* (a wall's from its extrapolated p at r_i + r_ij).
+    const double reduced = pressure - split_gradient.dot(position) - reduced_minimum;
+    const auto pressure_difference = [&](std::uint32_t j, const Vec3& offset) {
+      if (!conservative) return partner_pressure(j, offset) - base_pressure;
+      const Vec3 partner_position = kind_of[j] == kFluidKind ? predicted_of[j] : Vec3(position + offset);
+      return reduced + (partner_pressure(j, offset) - split_gradient.dot(partner_position) - reduced_minimum);
+    };
     Vec3 gradient_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
     GradientMoment moment;
     FluidPairBatch batch;
@@ -86,7 +115,7 @@ void FluidCorrect::run(SystemContext& context) {
           const double distance = pair.distance[k];
           const double weight = pair.weight[k];
           const double weight_over_squared = weight * pair.inverse_squared[k];
-          gradient_sum += gradient_term(partner_pressure(j, offset) - base_pressure, weight_over_squared, offset);
+          gradient_sum += gradient_term(pressure_difference(j, offset), weight_over_squared, offset);
           if (schemes.gradient_correction) moment.add(weight, weight_over_squared, offset);
           if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
             // rho_j / (rho_i + rho_j): 1/2 between fluid particles, 1 against an (infinitely heavy) wall.
@@ -97,6 +126,7 @@ void FluidCorrect::run(SystemContext& context) {
         });
     Vec3 gradient = (3.0 / n0) * gradient_sum;
     if (schemes.gradient_correction) gradient = gradient_correction_matrix(moment, n0) * gradient;
+    if (conservative) gradient += split_gradient;
     pressures.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
     const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;

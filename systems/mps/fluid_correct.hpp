@@ -1,6 +1,7 @@
 #pragma once
 // Pressure correction (seed 000 Eqs. 8-12; numerics 2.6-2.7, amendment 1): GC gradient with the wall pressure
-// extrapolated per pair, p_j = p_i + rho (g - a_tank) . r_ij, plus repulsive DS; then
+// extrapolated per pair, p_j = p_i + rho (g - a_tank) . r_ij (or the classic, or a momentum-conserving form,
+// [fluid.schemes]), plus repulsive DS; then
 // u^{k+1} = u* - dt/rho grad p + du_DS and r^{k+1} = r* + dt (u^{k+1} - u*).
 #include <vector>
 

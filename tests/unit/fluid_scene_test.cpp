@@ -163,6 +163,15 @@ ds = false
   CHECK_FALSE(fluid.schemes.higher_order_laplacian);
   CHECK(fluid.schemes.gradient_correction);
   CHECK_FALSE(fluid.schemes.dynamic_stabilisation);
+  CHECK_FALSE(fluid.schemes.conservative_gradient);
+  // The conservative gradient turns GC off unless gc is given (and refused true: the bad-table case below).
+  const FluidSchemes conservative =
+      parse_scene(replaced(replaced(test::fluid_scene_text(), "open_faces = [\"z_max\"]\n", ""), "spacing = 0.005\n",
+                           "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true\n"),
+                  "conservative.toml")
+          .fluid.schemes;
+  CHECK(conservative.conservative_gradient);
+  CHECK_FALSE(conservative.gradient_correction);
 }
 
 TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
@@ -217,7 +226,11 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nhs = \"yes\"", "hs = ^\"yes\"", "fluid.schemes.hs",
        "expected true or false, got a string"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nxs = true", "^xs", "fluid.schemes.xs",
-       "unknown key (known keys here: ds, ecs, gc, hl, hs)"},
+       "unknown key (known keys here: conservative_gradient, ds, ecs, gc, hl, hs)"},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true\ngc = true", "gc = ^true",
+       "fluid.schemes.gc", "the conservative gradient replaces the gradient correction"},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true", "conservative_gradient = ^true",
+       "fluid.schemes.conservative_gradient", "is for water without a free surface (a sealed box full of water"},
       // [fluid.initial_velocity] (the tank spans z in [0, 0.03] m).
       {"spacing = 0.005", "spacing = 0.005\n[fluid.initial_velocity]\n"
        "kind = \"log\"\nbottom = 0.0\ntop = 0.01\nvelocity = 0.1",

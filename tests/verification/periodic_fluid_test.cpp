@@ -517,6 +517,40 @@ grains = "none"
   }
 }
 
+// The Couette and Poiseuille channels with the conservative pressure gradient ([fluid.schemes] conservative_gradient,
+// GC off): the same analytic profiles, the lid's traction mu U / H and the tolerances of the GC cases above (the
+// pressure in these channels is uniform, so the form only has to leave the laminar flow alone and keep the flux
+// across the seam).
+TEST_CASE("plane Couette and Poiseuille flows with the conservative gradient match U z / H and f z (H - z) / (2 nu)") {
+  const auto conservative = [](std::string text) { return text + "\n[fluid.schemes]\nconservative_gradient = true\n"; };
+  const double height = 0.04, z0 = 0.012;
+  {
+    const double speed = 0.01;
+    test::FluidRun run(parse_scene(conservative(periodic_channel("couette", 3.2, "", "lid = \"no_slip\"\nvelocity = 0.01")),
+                                   "couette_conservative.toml"));
+    REQUIRE(run.model.fluid.schemes.conservative_gradient);
+    REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
+    const double error = profile_error(run, z0, [&](double z) { return speed * z / height; });
+    const double traction = run.world.fluid_summary->lid_force[1].x() / (0.032 * 0.024);
+    MESSAGE("Couette, conservative gradient: L2 relative error " << error << ", lid traction " << traction << " Pa");
+    CHECK(error < 1e-3);
+    CHECK(std::abs(traction / 0.25 - 1.0) < 0.01);
+  }
+  {
+    const double nu = 1.0e-3, f = 0.075;
+    test::FluidRun run(parse_scene(conservative(periodic_channel("poiseuille", 3.2, R"(
+[fluid.body_force]
+kind = "constant"
+acceleration = 0.075
+grains = "none"
+)", R"(lid = "no_slip")")), "poiseuille_conservative.toml"));
+    REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
+    const double error = profile_error(run, z0, [&](double z) { return f * z * (height - z) / (2.0 * nu); });
+    MESSAGE("Poiseuille, conservative gradient: L2 relative error " << error);
+    CHECK(error < 0.02);
+  }
+}
+
 }  // namespace riffle
 
 namespace riffle {
