@@ -257,6 +257,8 @@ void write_vtk_frame(const fs::path& out, const World& world, OutputState& outpu
   }
 }
 
+}  // namespace
+
 /// The one-line diagnosis of a failed step.
 std::string diagnosis(const World& world, const Model& model) {
   const StepStatus& status = world.step_status;
@@ -279,9 +281,10 @@ std::string diagnosis(const World& world, const Model& model) {
     return when + text;
   }
   if (status.problem == StepProblem::kSurfaceWithConservativeGradient)
-    return when + std::to_string(world.fluid_summary->surface_count) +
-           " fluid particles are flagged as free surface (the first, id " + std::to_string(status.entity) + ", at " +
-           format_vec(status.position) + " m), but [fluid.schemes] conservative_gradient is for water without a free "
+    return when + "fluid particle id " + std::to_string(status.entity) + " at " + format_vec(status.position) +
+           " m is flagged as free surface (" +
+           std::to_string(world.fluid_summary ? world.fluid_summary->surface_count : 0) +
+           " flagged in this step), but [fluid.schemes] conservative_gradient is for water without a free "
            "surface (a sealed box full of water; docs/FLUID.md, \"A momentum-conserving gradient\"): use the default "
            "gradient (GC), or fill the box and lower fluid.surface_threshold";
   if (status.problem == StepProblem::kSolverFailed)
@@ -294,6 +297,8 @@ std::string diagnosis(const World& world, const Model& model) {
               : " left the domain " + format_vec(domain.low) + " - " + format_vec(domain.high) + " m") +
          " at position " + format_vec(status.position) + " m with velocity " + format_vec(status.velocity) + " m/s";
 }
+
+namespace {
 
 /// Progress: a line on the terminal at most once a second, or a log line every 30 s when not on a terminal.
 class ProgressReporter {

@@ -45,6 +45,9 @@ struct RunOutcome {
   std::string last_checkpoint;  ///< path of the newest checkpoint written, if any
 };
 
+/// The one-line diagnosis of a failed step (world.step_status), as a run's outcome message gives it.
+std::string diagnosis(const World& world, const Model& model);
+
 class Simulation {
  public:
   /// Throws SceneError.

@@ -70,15 +70,16 @@ void FluidChecks::run(SystemContext& context) {
     // fluid_escape removed more of the water than the scene accepts: the run no longer models its experiment.
     status.problem = StepProblem::kTooManyEscaped;
     status.phase = "fluid";
-  } else if (context.model.fluid.schemes.conservative_gradient && summary.surface_count > 0) {
+  } else if (context.model.fluid.schemes.conservative_gradient) {
     // The conservative gradient's sum form lifts a surface particle (p = 0 while p - G . r grows with its height)
     // harder the higher it rises: unstable at a free surface (docs/FLUID.md, "A momentum-conserving gradient").
-    // Stop at once, naming the first flagged particle, rather than let the surface blow up.
+    // Stop at once, naming the first flagged particle still here (fluid_escape may have removed others), rather
+    // than let the surface blow up.
     std::size_t flagged = 0;
     while (flagged < fluid_count && !densities.free_surface[flagged]) ++flagged;
-    status.problem = StepProblem::kSurfaceWithConservativeGradient;
-    status.phase = "fluid";
     if (flagged < fluid_count) {
+      status.problem = StepProblem::kSurfaceWithConservativeGradient;
+      status.phase = "fluid";
       status.entity = particles.id[flagged];
       status.position = particles.position[flagged];
       status.velocity = particles.velocity[flagged];

@@ -3,6 +3,7 @@
 // extrapolated per pair, p_j = p_i + rho (g - a_tank) . r_ij (or the classic, or a momentum-conserving form,
 // [fluid.schemes]), plus repulsive DS; then
 // u^{k+1} = u* - dt/rho grad p + du_DS and r^{k+1} = r* + dt (u^{k+1} - u*).
+#include <stdexcept>
 #include <vector>
 
 #include "engine/core/system.hpp"
@@ -12,7 +13,11 @@ namespace riffle {
 
 class FluidCorrect final : public System {
  public:
-  explicit FluidCorrect(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
+  explicit FluidCorrect(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {
+    // The scene reader refuses both; a model built in code must not apply GC's C_i on top of the pair form.
+    if (fluid.schemes.conservative_gradient && fluid.schemes.gradient_correction)
+      throw std::logic_error("fluid_correct: conservative_gradient replaces the gradient correction: turn gc off");
+  }
   std::string_view name() const override { return "fluid_correct"; }
   // A bulk-velocity body force is the controller's state: read from FluidSummary (fluid_predict), in those scenes only.
   Access access() const override {
