@@ -65,7 +65,7 @@ void FluidCorrect::run(SystemContext& context) {
   // fluid pairs' pressure forces cancel (the water's momentum changes only through G, which has no component along
   // a periodic axis, and the walls). G is taken out first so that still water is exact (q constant: the sum
   // vanishes) and only the dynamic pressure carries the sum form's error 2 q_i m_i (m_i the first moment of i's
-  // neighbourhood); the global min keeps every bracket >= 0 (repulsive, as the classic p_j - min p).
+  // neighbourhood); the global min keeps every fluid pair's bracket >= 0 (repulsive, as the classic p_j - min p).
   const bool conservative = schemes.conservative_gradient;
   Vec3 split_gradient = wall_pressure_gradient;
   double reduced_minimum = 0.0;
