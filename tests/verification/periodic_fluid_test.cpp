@@ -478,77 +478,61 @@ TEST_CASE("plane Couette flow under a lid sliding across the seam matches U z / 
   CHECK(std::abs(traction / 0.25 - 1.0) < 0.01);
 }
 
-// The Couette and Poiseuille channels with particle shifting on (the scene key, so the registry adds fluid_shift):
-// the same analytic profiles and tolerances. The layers sliding past each other across the seam give every particle
-// a grad C that changes from step to step, so this checks that the shifts, the velocity carried with them and the
-// wrapped positions leave a laminar flow laminar (a shift that dragged momentum across the layers would act as an
-// extra viscosity and bend the Couette line; one that lost the seam would break the flux).
-TEST_CASE("plane Couette and Poiseuille flows with particle shifting on match U z / H and f z (H - z) / (2 nu)") {
-  const auto with_shifting = [](std::string text) {
-    const std::string anchor = "clamp_negative_pressure = false\n";
-    text.replace(text.find(anchor), anchor.size(), anchor + "shifting = \"fickian\"\n");
-    return text;
-  };
+// The Couette and Poiseuille channels of the two cases above, each scene passed through `variant` (a scene key the
+// case is about), against the same analytic profiles, lid traction and tolerances; `expect` holds on the parsed
+// model (that the key took effect), `label` names the runs.
+template <typename Variant, typename Expect>
+void check_laminar_channels(Variant variant, Expect expect, const std::string& label) {
   const double height = 0.04, z0 = 0.012;
   {
     const double speed = 0.01;
-    test::FluidRun run(parse_scene(with_shifting(periodic_channel("couette", 3.2, "", "lid = \"no_slip\"\nvelocity = 0.01")),
-                                   "couette_shift.toml"));
-    REQUIRE(run.model.fluid.shifting == FluidModel::Shifting::kFickian);
+    test::FluidRun run(parse_scene(variant(periodic_channel("couette", 3.2, "", "lid = \"no_slip\"\nvelocity = 0.01")),
+                                   "couette_" + label + ".toml"));
+    REQUIRE(expect(run.model));
     REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
     const double error = profile_error(run, z0, [&](double z) { return speed * z / height; });
     const double traction = run.world.fluid_summary->lid_force[1].x() / (0.032 * 0.024);
-    MESSAGE("Couette with shifting: L2 relative error " << error << ", lid traction " << traction << " Pa");
+    MESSAGE("Couette, " << label << ": L2 relative error " << error << ", lid traction " << traction << " Pa");
     CHECK(error < 1e-3);
     CHECK(std::abs(traction / 0.25 - 1.0) < 0.01);
   }
   {
     const double nu = 1.0e-3, f = 0.075;
-    test::FluidRun run(parse_scene(with_shifting(periodic_channel("poiseuille", 3.2, R"(
+    test::FluidRun run(parse_scene(variant(periodic_channel("poiseuille", 3.2, R"(
 [fluid.body_force]
 kind = "constant"
 acceleration = 0.075
 grains = "none"
-)", R"(lid = "no_slip")")), "poiseuille_shift.toml"));
+)", R"(lid = "no_slip")")), "poiseuille_" + label + ".toml"));
+    REQUIRE(expect(run.model));
     REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
     const double error = profile_error(run, z0, [&](double z) { return f * z * (height - z) / (2.0 * nu); });
-    MESSAGE("Poiseuille with shifting: L2 relative error " << error);
+    MESSAGE("Poiseuille, " << label << ": L2 relative error " << error);
     CHECK(error < 0.02);
   }
 }
 
-// The Couette and Poiseuille channels with the conservative pressure gradient ([fluid.schemes] conservative_gradient,
-// GC off): the same analytic profiles, the lid's traction mu U / H and the tolerances of the GC cases above (the
-// pressure in these channels is uniform, so the form only has to leave the laminar flow alone and keep the flux
-// across the seam).
+// With particle shifting on (the scene key, so the registry adds fluid_shift). The layers sliding past each other
+// across the seam give every particle a grad C that changes from step to step, so this checks that the shifts, the
+// velocity carried with them and the wrapped positions leave a laminar flow laminar (a shift that dragged momentum
+// across the layers would act as an extra viscosity and bend the Couette line; one that lost the seam would break
+// the flux).
+TEST_CASE("plane Couette and Poiseuille flows with particle shifting on match U z / H and f z (H - z) / (2 nu)") {
+  check_laminar_channels(
+      [](std::string text) {
+        const std::string anchor = "clamp_negative_pressure = false\n";
+        text.replace(text.find(anchor), anchor.size(), anchor + "shifting = \"fickian\"\n");
+        return text;
+      },
+      [](const Model& model) { return model.fluid.shifting == FluidModel::Shifting::kFickian; }, "shift");
+}
+
+// With the conservative pressure gradient ([fluid.schemes] conservative_gradient, GC off): the pressure in these
+// channels is uniform, so the form only has to leave the laminar flow alone and keep the flux across the seam.
 TEST_CASE("plane Couette and Poiseuille flows with the conservative gradient match U z / H and f z (H - z) / (2 nu)") {
-  const auto conservative = [](std::string text) { return text + "\n[fluid.schemes]\nconservative_gradient = true\n"; };
-  const double height = 0.04, z0 = 0.012;
-  {
-    const double speed = 0.01;
-    test::FluidRun run(parse_scene(conservative(periodic_channel("couette", 3.2, "", "lid = \"no_slip\"\nvelocity = 0.01")),
-                                   "couette_conservative.toml"));
-    REQUIRE(run.model.fluid.schemes.conservative_gradient);
-    REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
-    const double error = profile_error(run, z0, [&](double z) { return speed * z / height; });
-    const double traction = run.world.fluid_summary->lid_force[1].x() / (0.032 * 0.024);
-    MESSAGE("Couette, conservative gradient: L2 relative error " << error << ", lid traction " << traction << " Pa");
-    CHECK(error < 1e-3);
-    CHECK(std::abs(traction / 0.25 - 1.0) < 0.01);
-  }
-  {
-    const double nu = 1.0e-3, f = 0.075;
-    test::FluidRun run(parse_scene(conservative(periodic_channel("poiseuille", 3.2, R"(
-[fluid.body_force]
-kind = "constant"
-acceleration = 0.075
-grains = "none"
-)", R"(lid = "no_slip")")), "poiseuille_conservative.toml"));
-    REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
-    const double error = profile_error(run, z0, [&](double z) { return f * z * (height - z) / (2.0 * nu); });
-    MESSAGE("Poiseuille, conservative gradient: L2 relative error " << error);
-    CHECK(error < 0.02);
-  }
+  check_laminar_channels(
+      [](const std::string& text) { return text + "\n[fluid.schemes]\nconservative_gradient = true\n"; },
+      [](const Model& model) { return model.fluid.schemes.conservative_gradient; }, "conservative");
 }
 
 }  // namespace riffle
