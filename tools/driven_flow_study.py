@@ -24,6 +24,7 @@ particles, e_2 = sqrt(sum_i (u_x,i - u(z_i))^2 / sum_i u(z_i)^2), each particle 
 
     /usr/bin/python3 tools/driven_flow_study.py closed_lid --riffle build/riffle --out /tmp/driven --spacings 0.01 0.005
     /usr/bin/python3 tools/driven_flow_study.py poiseuille --spacings 0.004 0.002 0.001 [--dt-factor 0.5]
+        [--set fluid.schemes.conservative_gradient=true]
 numpy only (tools/vtp.py reads the frames).
 """
 import argparse
@@ -133,13 +134,16 @@ def channel_scene(case, l0, dt_factor=1.0):
     return text, info
 
 
-def run(riffle, scene_text, out_dir, name):
+def run(riffle, scene_text, out_dir, name, overrides=()):
+    """riffle run of the scene; `overrides` are its --set KEY=VALUE arguments (e.g. a scheme under study)."""
     out_dir.mkdir(parents=True, exist_ok=True)
     scene = out_dir / f"{name}.toml"
     scene.write_text(scene_text)
     run_dir = out_dir / name
-    result = subprocess.run([riffle, "run", str(scene), "--out", str(run_dir), "--threads", "1"],
-                            capture_output=True, text=True)
+    command = [riffle, "run", str(scene), "--out", str(run_dir), "--threads", "1"]
+    for override in overrides:
+        command += ["--set", override]
+    result = subprocess.run(command, capture_output=True, text=True)
     if result.returncode != 0:
         raise RuntimeError(f"riffle failed on {scene} (exit {result.returncode}):\n{result.stderr[-2000:]}")
     return run_dir
@@ -180,7 +184,7 @@ def study_lid(args, periodic=None):
     errors, tractions = [], []
     for l0 in args.spacings:
         text, info = lid_scene(l0, periodic)
-        run_dir = run(args.riffle, text, args.out, f"lid_{l0}")
+        run_dir = run(args.riffle, text, args.out, f"lid_{l0}", args.set)
         _, frame = last_frame(run_dir)
         length, h, speed = info["length"], info["h"], info["U"]
         z, u = layer_profile(frame, l0, (info["x0"] + length / 3, info["x0"] + 2 * length / 3), z0=info["z0"])
@@ -202,7 +206,7 @@ def study_lid(args, periodic=None):
 def study_tilt(args):
     for l0 in args.spacings:
         text, info = tilt_scene(l0)
-        run_dir = run(args.riffle, text, args.out, f"tilt_{l0}")
+        run_dir = run(args.riffle, text, args.out, f"tilt_{l0}", args.set)
         slopes = []
         for time, path in vtp.read_pvd(run_dir / "fluid.pvd"):
             if time < 1.5 - 1e-9:
@@ -229,7 +233,7 @@ def study_channel(args):
     errors, particle_errors = [], []
     for l0 in args.spacings:
         text, info = channel_scene(args.case, l0, args.dt_factor)
-        run_dir = run(args.riffle, text, args.out, f"{args.case}_{l0}_dt{args.dt_factor}")
+        run_dir = run(args.riffle, text, args.out, f"{args.case}_{l0}_dt{args.dt_factor}", args.set)
         height = info["H"]
         if args.case in ("poiseuille", "couette"):
             _, frame = last_frame(run_dir)
@@ -282,6 +286,9 @@ def main():
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.01, 0.005])
     parser.add_argument("--dt-factor", type=float, default=1.0,
                         help="channel cases: dt as a multiple of the viscous limit 0.2 l0^2 / nu")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="a scene override passed to every riffle run (repeatable), e.g. "
+                             "fluid.schemes.conservative_gradient=true")
     args = parser.parse_args()
     if args.case == "closed_lid":
         study_lid(args)
