@@ -74,6 +74,9 @@ struct ParticlePressure {
   std::vector<double> pressure;           ///< [Pa] gauge pressure (0 at the free surface)
   std::vector<double> previous_pressure;  ///< [Pa] pressure of the step before (the PPE's warm start extrapolates)
   std::vector<Vec3> pressure_gradient;    ///< [Pa/m] fluid: the GC gradient of p^{k+1} (without DS), sampled by grains
+  /// [Pa/m] fluid: the gradient fluid_correct moved the water with (without DS): pressure_gradient, or with [fluid.
+  /// schemes] conservative_gradient the conservative form (the grains still sample GC's: docs/FLUID.md). Output only.
+  std::vector<Vec3> applied_pressure_gradient;
 
   std::size_t size() const { return pressure.size(); }
 
@@ -82,6 +85,8 @@ struct ParticlePressure {
     visit(FieldInfo{"pressure", "Pa", true}, self.pressure);
     visit(FieldInfo{"previous_pressure", "Pa", false}, self.previous_pressure);
     visit(FieldInfo{"pressure_gradient", "Pa/m", true}, self.pressure_gradient);
+    // Written by fluid_correct for every particle before any reader: not in checkpoints (their format stays).
+    visit(FieldInfo{"applied_pressure_gradient", "Pa/m", true, 0.0, 0, false}, self.applied_pressure_gradient);
   }
 };
 
@@ -125,11 +130,11 @@ struct FluidParticles
   static constexpr bool kPersistent = true;
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
-  /// before the split into roles (for_each_field_in_order).
-  static constexpr std::array<const char*, 13> kFieldOrder = {
+  /// before the split into roles (for_each_field_in_order); fields added since at the end.
+  static constexpr std::array<const char*, 14> kFieldOrder = {
       "id",          "kind",          "position",          "velocity",          "rest_position",
       "predicted_position", "density_rate", "pressure", "previous_pressure", "pressure_gradient",
-      "drag_reaction", "number_density", "free_surface"};
+      "drag_reaction", "number_density", "free_surface", "applied_pressure_gradient"};
 
   EntityId next_id = 0;  ///< the id the next added particle gets
 
@@ -148,10 +153,15 @@ struct FluidParticles
     return slot;
   }
 
+  /// Fields not checkpointed (FieldInfo::checkpointed) are left out; a read gives them their default.
   template <class Archive>
   void serialize(Archive& archive) {
     archive(next_id);
-    for_each_field_in_order(*this, [&](const FieldInfo&, auto& field) { archive(field); });
+    for_each_field_in_order(*this, [&](const FieldInfo& info, auto& field) {
+      if (info.checkpointed) archive(field);
+      else if constexpr (Archive::is_loading::value) field.clear();
+    });
+    if constexpr (Archive::is_loading::value) resize_fields(*this, id.size());
   }
 };
 

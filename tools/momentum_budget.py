@@ -4,7 +4,8 @@ over a bed in a box periodic along x and y), per unit plan area, from the run's 
 
   tau_lid        the lid's viscous traction on the water (probe_driven_flow.csv, lid0_shear_Pa);
   pressure       the net force of the MPS pressure gradient on the water, -sum_j V_j (dp/dx)_j / A (fluid frames,
-                 field pressure_gradient, V = l0^3): zero for a pressure that is periodic along x, whatever the flow,
+                 field applied_pressure_gradient, the gradient the water moved with, or pressure_gradient in
+                 frames older than that field, V = l0^3): zero for a pressure that is periodic along x, whatever the flow,
                  in the continuum (the integral of dp/dx over a period vanishes); printed per height band too;
   grains         the grains' drag and pressure forces along x, sum / A (solids frames): the force on the bed, the
                  bed shear stress tau_b of the bed_shear_stress probe;
@@ -53,7 +54,10 @@ def frame_terms(fluid, solids, volume, density, area, band_edges, mixture=True):
     pressure force / A per band)."""
     water = fluid["kind"] == 0 if "kind" in fluid else np.ones(len(fluid["points"]), bool)
     z = fluid["points"][water, 2]
-    pressure_x = -volume * fluid["pressure_gradient"][water, 0] / area
+    # The water moves with applied_pressure_gradient (the conservative form where the scene sets it; the grains sample
+    # pressure_gradient, GC's); frames written before that field hold only pressure_gradient, then the same thing.
+    applied = fluid["applied_pressure_gradient"] if "applied_pressure_gradient" in fluid else fluid["pressure_gradient"]
+    pressure_x = -volume * applied[water, 0] / area
     momentum = density * volume * fluid["velocity"][water, 0].sum() / area
     per_band, _ = np.histogram(z, band_edges, weights=pressure_x)
     grains = reaction = 0.0

@@ -97,6 +97,7 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
           box.velocity + Vec3::UnitX() * initial_profile_velocity(fluid.initial_velocity, particle.position.z());
       const std::size_t slot = particles.add(particle.position + tank.displacement, velocity, FluidKind::kFluid);
       particles.pressure_gradient[slot] = fluid.density * model.gravity;
+      particles.applied_pressure_gradient[slot] = particles.pressure_gradient[slot];
     }
 
   // Wall-box points that coincide with a tank wall particle, or with another wall box, are placed once. With a

@@ -105,7 +105,11 @@ void FluidCorrect::run(SystemContext& context) {
       const Vec3 partner_position = kind_of[j] == kFluidKind ? predicted_of[j] : Vec3(position + offset);
       return reduced + (partner_pressure(j, offset) - split_gradient.dot(partner_position) - reduced_minimum);
     };
-    Vec3 gradient_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
+    // With the conservative form the grains still sample GC's gradient of the same p^{k+1} (sampled_sum, through the
+    // moment): the form's error 2 q_i m_i is a force on the water that the pairs cancel in sum, but sampled by a
+    // grain it is a net push (along x under a shear flow: docs/FLUID.md).
+    const bool gc_moment = schemes.gradient_correction || conservative;
+    Vec3 gradient_sum = Vec3::Zero(), sampled_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
     GradientMoment moment;
     FluidPairBatch batch;
     for_each_near_pair(
@@ -119,7 +123,9 @@ void FluidCorrect::run(SystemContext& context) {
           const double weight = pair.weight[k];
           const double weight_over_squared = weight * pair.inverse_squared[k];
           gradient_sum += gradient_term(pressure_difference(j, offset), weight_over_squared, offset);
-          if (schemes.gradient_correction) moment.add(weight, weight_over_squared, offset);
+          if (conservative)
+            sampled_sum += gradient_term(partner_pressure(j, offset) - pressure, weight_over_squared, offset);
+          if (gc_moment) moment.add(weight, weight_over_squared, offset);
           if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
             // rho_j / (rho_i + rho_j): 1/2 between fluid particles, 1 against an (infinitely heavy) wall.
             const double partner_share = kind_of[j] == kFluidKind ? 0.5 : 1.0;
@@ -130,7 +136,10 @@ void FluidCorrect::run(SystemContext& context) {
     Vec3 gradient = (3.0 / n0) * gradient_sum;
     if (schemes.gradient_correction) gradient = gradient_correction_matrix(moment, n0) * gradient;
     if (conservative) gradient += split_gradient;
-    pressures.pressure_gradient[i] = gradient;  // sampled by the grains (solid_fluid_sampling)
+    pressures.applied_pressure_gradient[i] = gradient;
+    // Sampled by the grains (solid_fluid_sampling).
+    pressures.pressure_gradient[i] =
+        conservative ? Vec3(gradient_correction_matrix(moment, n0) * ((3.0 / n0) * sampled_sum)) : gradient;
     const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;
     particles.position[i] = periodic ? box.wrap(position + dt * change) : position + dt * change;

@@ -58,6 +58,20 @@ def main():
             assert abs(r[key] - value) < 1e-12, (reading, key, r[key], value)
     assert r["frames"] == 3
     assert np.allclose(r["pressure_bands"], [0.0, -0.02], atol=1e-15), r["pressure_bands"]
+    # Frames with applied_pressure_gradient (the gradient the water moved with; the grains' pressure_gradient differs
+    # under the conservative form): the pressure term is the applied one's.
+    for t in (0.0, 1.0, 2.0):
+        velocity = np.zeros((6, 3))
+        velocity[:4, 0] = 0.1 * t
+        applied = np.zeros((6, 3))
+        applied[0:2, 0] = 50.0
+        applied[4:, 0] = 1e9
+        write_vtp(work / f"fluid_{int(t)}.vtp", points,
+                  {"kind": (kind, "Int32"), "velocity": (velocity, "Float64"),
+                   "pressure_gradient": (np.full((6, 3), 7.0), "Float64"), "applied_pressure_gradient": (applied, "Float64")})
+    r = momentum_budget.budget(str(work), 0.0, 2.0, band=0.01, spacing=0.01, plan_area=0.01, reading="mixture")
+    assert abs(r["pressure"] - (-0.01)) < 1e-12, r["pressure"]
+    assert np.allclose(r["pressure_bands"], [-0.01, 0.0], atol=1e-15), r["pressure_bands"]
     print("momentum_budget: all checks passed")
     return 0
 

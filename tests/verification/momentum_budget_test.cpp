@@ -75,7 +75,7 @@ struct Ledger {
   const Model* model = nullptr;
   Vec3 last = Vec3::Zero();
   std::map<std::string, Vec3> by_system;
-  Vec3 pressure = Vec3::Zero();      ///< -dt l0^3 sum_i <grad p>_i (GC, stored by fluid_correct), over the run
+  Vec3 pressure = Vec3::Zero();      ///< -dt l0^3 sum_i <grad p>_i (applied_pressure_gradient), over the run
   Vec3 substeps_step = Vec3::Zero(); ///< the sub-step systems' share in the current engine step
   double worst_substep_residual = 0.0;  ///< max over steps of |share of the sub-steps - dt_s (F_0 - F_n) / 2|
   Vec3 step_start_drag = Vec3::Zero();  ///< sum of the grains' drag forces at the step start (F_0)
@@ -108,7 +108,8 @@ struct Ledger {
     const Ghosted<std::int32_t> kind_of = fluid_ghosted(fluid.kind, lists.ghosts.kind, lists);
     const Ghosted<double> pressure_of = fluid_ghosted(fluid.pressure, lists.ghosts.pressure, lists);
     double largest = 0.0, worst = 0.0;
-    Vec3 split = hydrostatic_gradient(model->fluid.density, model->gravity, Vec3::Zero());
+    const Vec3 hydrostatic = hydrostatic_gradient(model->fluid.density, model->gravity, Vec3::Zero());
+    Vec3 split = hydrostatic;
     for (int axis = 0; axis < 3; ++axis)
       if (model->tank.periodic[static_cast<std::size_t>(axis)]) split[axis] = 0.0;
     const auto reduced = [&](std::size_t i) { return fluid.pressure[i] - split.dot(fluid.predicted_position[i]); };
@@ -142,7 +143,9 @@ struct Ledger {
             stabilisation_wall += term;
           }
         }
-        sum += gradient_term(pressure_of[j] - fluid.pressure[i], weight_over_squared, offset);
+        // A wall or dummy partner's pressure is the hydrostatic extrapolation from i (amendment 1).
+        const double partner = kind_of[j] == kFluidKind ? pressure_of[j] : fluid.pressure[i] + hydrostatic.dot(offset);
+        sum += gradient_term(partner - fluid.pressure[i], weight_over_squared, offset);
         moment.add(weight, weight_over_squared, offset);
       }
       if (walled) ++wall_neighbours;
@@ -171,7 +174,7 @@ struct Ledger {
       const double volume = model->fluid.spacing * model->fluid.spacing * model->fluid.spacing;
       long double sum[3] = {0.0L, 0.0L, 0.0L};
       for (std::size_t i = 0; i < fluid_count; ++i)
-        for (int a = 0; a < 3; ++a) sum[a] += static_cast<long double>(fluid.pressure_gradient[i][a]);
+        for (int a = 0; a < 3; ++a) sum[a] += static_cast<long double>(fluid.applied_pressure_gradient[i][a]);
       const Vec3 force(static_cast<double>(sum[0]), static_cast<double>(sum[1]), static_cast<double>(sum[2]));
       const Vec3 impulse = -world->last_step.dt * volume * force;
       pressure += impulse;
@@ -625,6 +628,10 @@ TEST_CASE("momentum budget: with the conservative gradient the water's pressure 
           << ledger.pressure.transpose() << ")");
   CHECK(ledger.stabilisation_fluid.norm() < tolerance);
   CHECK((correct - walls).norm() < tolerance);
+  // The stored applied gradient is what moved the water (with DS), and the grains' sampled one is GC's gradient of
+  // the same p^{k+1}, recomputed here from the lists, not the conservative form's.
+  CHECK((correct - ledger.pressure - ledger.stabilisation_wall).norm() < tolerance);
+  CHECK(ledger.worst_recomputed < 1e-12);
   CHECK((budget.drift - correct - substeps - ledger.by_system.at("fluid_predict")).norm() < tolerance);
 
   // With gravity G = rho g is not zero: the split q = p - G . r* and G's own share must leave the fluid pairs'
@@ -643,6 +650,7 @@ TEST_CASE("momentum budget: with the conservative gradient the water's pressure 
   CHECK(std::abs(heavy_correct.z() - 1000.0 * 512 * 1e-6 * 9.81 * 0.1) < 0.01 * 0.5023);
   CHECK(heavy.ledger.stabilisation_fluid.norm() < 1e-10 * heavy_correct.norm());
   CHECK((heavy_correct - heavy_walls).norm() < 1e-10 * heavy_correct.norm());
+  CHECK(heavy.ledger.worst_recomputed < 1e-12);
 }
 
 }  // namespace riffle
