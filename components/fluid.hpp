@@ -56,6 +56,10 @@ struct ParticlePrediction {
 
   std::vector<Vec3> predicted_position;  ///< [m] r* after the explicit prediction
   std::vector<double> density_rate;      ///< [1/s] ECS input: (Dn/Dt)^k of fluid particles at the step start
+  /// [m/s^2] fluid: nu <lap u> of the prediction (with the eddy viscosity and the lids' extrapolation; without gravity,
+  /// body force and drag reaction), the water's stress divergence over rho, sampled by the grains where
+  /// [coupling] viscous_stress (through FluidSample, the next step: so it is checkpointed, since format 7).
+  std::vector<Vec3> viscous_acceleration;
 
   std::size_t size() const { return predicted_position.size(); }
 
@@ -63,6 +67,7 @@ struct ParticlePrediction {
   static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"predicted_position", "m", false}, self.predicted_position);
     visit(FieldInfo{"density_rate", "1/s", false}, self.density_rate);
+    visit(FieldInfo{"viscous_acceleration", "m/s^2", true, 0.0, 7}, self.viscous_acceleration);
   }
 };
 
@@ -73,9 +78,9 @@ struct ParticlePressure {
 
   std::vector<double> pressure;           ///< [Pa] gauge pressure (0 at the free surface)
   std::vector<double> previous_pressure;  ///< [Pa] pressure of the step before (the PPE's warm start extrapolates)
-  std::vector<Vec3> pressure_gradient;    ///< [Pa/m] fluid: the GC gradient of p^{k+1} (without DS), sampled by grains
-  /// [Pa/m] fluid: the gradient fluid_correct moved the water with (without DS): pressure_gradient, or with [fluid.
-  /// schemes] conservative_gradient the conservative form (the grains still sample GC's: docs/FLUID.md). Output only.
+  std::vector<Vec3> pressure_gradient;    ///< [Pa/m] fluid: the gradient of p^{k+1} the grains sample (without DS)
+  /// [Pa/m] fluid: the gradient fluid_correct moved the water with (without DS): pressure_gradient, unless [fluid.
+  /// schemes] grain_gradient = "corrected" has the grains sample GC's instead (docs/FLUID.md). Output only.
   std::vector<Vec3> applied_pressure_gradient;
 
   std::size_t size() const { return pressure.size(); }
@@ -131,10 +136,10 @@ struct FluidParticles
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since at the end.
-  static constexpr std::array<const char*, 14> kFieldOrder = {
+  static constexpr std::array<const char*, 15> kFieldOrder = {
       "id",          "kind",          "position",          "velocity",          "rest_position",
       "predicted_position", "density_rate", "pressure", "previous_pressure", "pressure_gradient",
-      "drag_reaction", "number_density", "free_surface", "applied_pressure_gradient"};
+      "drag_reaction", "number_density", "free_surface", "applied_pressure_gradient", "viscous_acceleration"};
 
   EntityId next_id = 0;  ///< the id the next added particle gets
 
@@ -153,15 +158,27 @@ struct FluidParticles
     return slot;
   }
 
-  /// Fields not checkpointed (FieldInfo::checkpointed) are left out; a read gives them their default.
+  /// Fields not checkpointed (FieldInfo::checkpointed) are left out, and a field newer than the file read
+  /// (FieldInfo::since_format) is not in it: a read gives either its default for every particle.
   template <class Archive>
   void serialize(Archive& archive) {
     archive(next_id);
+    // `id` is the first field read, so an absent field takes its size; the others keep the sizes read, which the
+    // reader's check_field_sizes then compares (a damaged file is refused, not padded).
     for_each_field_in_order(*this, [&](const FieldInfo& info, auto& field) {
-      if (info.checkpointed) archive(field);
-      else if constexpr (Archive::is_loading::value) field.clear();
+      if constexpr (Archive::is_loading::value) {
+        bool absent = !info.checkpointed;
+        if constexpr (requires { archive.format_version(); }) absent = absent || archive.format_version() < info.since_format;
+        if (absent) {
+          using Value = typename std::decay_t<decltype(field)>::value_type;
+          field.assign(id.size(), field_default<Value>(info));
+          return;
+        }
+      } else {
+        if (!info.checkpointed) return;
+      }
+      archive(field);
     });
-    if constexpr (Archive::is_loading::value) resize_fields(*this, id.size());
   }
 };
 
@@ -256,6 +273,7 @@ struct FluidSample {
   std::vector<Vec3> position;           ///< [m]
   std::vector<Vec3> velocity;           ///< [m/s]
   std::vector<Vec3> pressure_gradient;  ///< [Pa/m] the GC gradient of the last solve (without DS)
+  std::vector<Vec3> viscous_acceleration;  ///< [m/s^2] nu <lap u> of the last prediction ([coupling] viscous_stress only)
 
   std::size_t size() const { return position.size(); }
 };

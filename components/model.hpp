@@ -180,6 +180,12 @@ struct FluidSchemes {
   /// "Where the total momentum goes"); for sealed boxes full of water (docs/FLUID.md, "A momentum-conserving
   /// gradient").
   bool conservative_gradient = false;
+  /// With conservative_gradient, what the grains sample (pressure_gradient): false ("applied", the default) the
+  /// gradient that moved the water, so that the grains take the share of every stress the water carries, the
+  /// sum form's own included, and a sheared bed takes the lid's drag; true ("corrected") GC's gradient of the same
+  /// pressure, first-order accurate at each grain but blind to the momentum the sum form carries through the water
+  /// (docs/FLUID.md, "What the grains sample").
+  bool grains_sample_corrected = false;
 };
 
 /// The incompressible free-surface fluid (MPS, seed 000 Sec. 3.1; numerics.md with the prototype's amendments).
@@ -264,6 +270,11 @@ struct CouplingModel {
   bool enabled = false;
   bool drag = true;                      ///< Ergun / Wen-Yu drag and its reaction on the fluid (Eqs. 20-26)
   bool pressure_gradient = true;         ///< -V <grad p> on each grain (Eq. 13): buoyancy and pressure forces
+  /// V rho <nu lap u> on each grain: the water's viscous (and eddy) stress divergence over the grain's volume, the
+  /// other half of Anderson & Jackson's generalised buoyancy -V grad p + V div tau (docs/COUPLING.md, "The viscous
+  /// stress on the grains"). With the mixture reading it closes the momentum the water gives a sheared bed: the water
+  /// takes the drag over eps, the grains the drag plus this share (1 - eps)/eps of it in steady shear.
+  bool viscous_stress = false;
   double voidage_radius = 0.0;           ///< [m] R_eps of the voidage kernel; 0 = max(3 l0, 2 d_max) (numerics 5.3)
   /// [m] R_eps across the bed (along z); 0 = voidage_radius. A thin bed needs a kernel narrower across it than along
   /// it (docs/COUPLING.md, "A thin bed's voidage").

@@ -33,8 +33,9 @@ struct FieldInfo {
   double fill = 0.0; ///< value of a new entity's field until set (a Vec3 gets it in every component)
   /// The checkpoint format that first stored this field: reading an older file leaves it at `fill`.
   unsigned since_format = 0;
-  /// false: a diagnostic that its system writes for every entity before anything reads it (so a resume continues bit
-  /// for bit without it): checkpoints leave it out and a read sets it to `fill`. Checked by a table's serialize.
+  /// false: a diagnostic that its system writes before anything reads it (so a resume continues bit for bit without
+  /// it): checkpoints leave it out and a read sets it to `fill`. Only FluidParticles::serialize honours it (a
+  /// component_model test refuses it on any other table).
   bool checkpointed = true;
 };
 

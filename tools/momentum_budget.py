@@ -7,8 +7,8 @@ over a bed in a box periodic along x and y), per unit plan area, from the run's 
                  field applied_pressure_gradient, the gradient the water moved with, or pressure_gradient in
                  frames older than that field, V = l0^3): zero for a pressure that is periodic along x, whatever the flow,
                  in the continuum (the integral of dp/dx over a period vanishes); printed per height band too;
-  grains         the grains' drag and pressure forces along x, sum / A (solids frames): the force on the bed, the
-                 bed shear stress tau_b of the bed_shear_stress probe;
+  grains         the grains' drag, pressure and viscous stress forces along x, sum / A (solids frames): the force on
+                 the bed, the bed shear stress tau_b of the bed_shear_stress probe;
   reaction       what the water loses to the grains: their drag's reaction, sum F_d / eps in the mixture reading
                  (the water takes the drag over eps, docs/COUPLING.md), sum F_d in the pore reading; the pressure
                  force on the grains has no reaction in the water (by design);
@@ -64,6 +64,8 @@ def frame_terms(fluid, solids, volume, density, area, band_edges, mixture=True):
     if solids is not None and len(solids["points"]):
         drag = solids["drag_force"][:, 0]
         grains = (drag.sum() + solids["pressure_force"][:, 0].sum()) / area
+        if "viscous_force" in solids:  # [coupling] viscous_stress (zero without it; absent in older frames)
+            grains += solids["viscous_force"][:, 0].sum() / area
         reaction = (drag / solids["voidage"]).sum() / area if mixture else drag.sum() / area
     return momentum, pressure_x.sum(), grains, reaction, per_band
 

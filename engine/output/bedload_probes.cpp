@@ -234,7 +234,7 @@ BedShear bed_shear_stress(const Solids* solids, const FluidParticles* fluid, con
   BedShear shear;
   if (solids)
     for (std::size_t i = 0; i < solids->size(); ++i)
-      shear.grains_fx += solids->drag_force[i].x() + solids->pressure_force[i].x() +
+      shear.grains_fx += solids->drag_force[i].x() + solids->pressure_force[i].x() + solids->viscous_force[i].x() +
                          solids->added_mass_force[i].x() + solids->history_force[i].x();
   if (fluid && settings.spacing > 0.0 && settings.number_density > 0.0 && settings.laplacian_lambda > 0.0) {
     // The boundary particles below the floor plane (rest positions: they move with the tank), binned on a plan

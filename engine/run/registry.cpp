@@ -62,7 +62,7 @@ Pipeline build_pipeline(const Model& model) {
       // of step k. The grains sample a copy of it, first in their own branch, so the fluid's systems and the
       // grains' sub-step loop share no component and the scheduler lets them run side by side; the voidage, which
       // the drag reaction needs, is read at the end of the step.
-      pipeline.step_start.push_back(std::make_unique<FluidSampleCopy>());
+      pipeline.step_start.push_back(std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress));
       pipeline.solid_step.push_back(std::make_unique<SolidFluidSampling>(model));
       // The history force of the step start, from the relative velocity just sampled; held over the sub-steps.
       if (model.coupling.history_force) pipeline.solid_step.push_back(std::make_unique<SolidHistoryForce>(model));
@@ -87,7 +87,7 @@ Pipeline build_pipeline(const Model& model) {
       // A new run's first sub-steps use the water as laid out (hydrostatic, engine/setup/initial_state.cpp): buoyancy
       // from the first sub-step on.
       if (coupled && phase == &pipeline.initial_forces) {
-        phase->push_back(std::make_unique<FluidSampleCopy>());
+        phase->push_back(std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress));
         phase->push_back(std::make_unique<SolidVoidage>(model));
         phase->push_back(std::make_unique<SolidFluidSampling>(model));
       }

@@ -747,6 +747,7 @@ void read_coupling(TableReader& coupling, Model& model) {
   CouplingModel& out = model.coupling;
   out.drag = coupling.boolean("drag", true);
   out.pressure_gradient = coupling.boolean("pressure_gradient", true);
+  out.viscous_stress = coupling.boolean("viscous_stress", false);
   out.voidage_radius = coupling.number("voidage_radius", 0.0, "m", Bounds::non_negative());
   out.voidage_vertical_radius = coupling.number("voidage_vertical_radius", 0.0, "m", Bounds::non_negative());
   out.voidage_over_tank = coupling.choice("voidage_volume", "fluid_particles", {"fluid_particles", "tank"}) == "tank";

@@ -9,11 +9,19 @@ namespace riffle {
 
 class FluidSampleCopy final : public System {
  public:
+  /// `viscous_stress`: also copy the last prediction's nu <lap u> ([coupling] viscous_stress; ParticlePrediction is
+  /// read only then, so the step graph without it is unchanged).
+  explicit FluidSampleCopy(bool viscous_stress = false) : viscous_stress_(viscous_stress) {}
   std::string_view name() const override { return "fluid_sample_copy"; }
   Access access() const override {
-    return {component_ids<ParticleState, ParticlePressure>(), component_ids<FluidSample>()};
+    Access access{component_ids<ParticleState, ParticlePressure>(), component_ids<FluidSample>()};
+    if (viscous_stress_) access.reads.push_back(ParticlePrediction::kId);
+    return access;
   }
   void run(SystemContext& context) override;
+
+ private:
+  bool viscous_stress_;
 };
 
 }  // namespace riffle

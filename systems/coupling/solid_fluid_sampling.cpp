@@ -19,6 +19,7 @@ namespace riffle {
 SolidFluidSampling::SolidFluidSampling(const Model& model)
     : constants_(MpsConstants::from(model.fluid)),
       pressure_gradient_(model.coupling.pressure_gradient),
+      viscous_stress_(model.coupling.viscous_stress),
       fluid_acceleration_(model.coupling.added_mass || model.coupling.history_force),
       density_(model.fluid.density),
       self_induced_velocity_(model.coupling.self_induced_velocity),
@@ -62,7 +63,7 @@ void SolidFluidSampling::run(SystemContext& context) {
     // Wendland polynomial and cut on R_h; its candidates lie inside the sphere of R_h the grid search covers.
     const double stretch = sampling_vertical_stretch(sampling_kernel.effective_radius, vertical_radius_);
     double weight_sum = 0.0;
-    Vec3 velocity = Vec3::Zero(), gradient = Vec3::Zero();
+    Vec3 velocity = Vec3::Zero(), gradient = Vec3::Zero(), viscous = Vec3::Zero();
     // The fluid particles within the sampling radius, in grid order, a batch at a time: each candidate is written
     // and kept by advancing the end (about half are kept, at random to a branch predictor), the distances and
     // weights of a batch are evaluated in one vectorised pass (the same operations as WendlandKernel::weight of the
@@ -76,6 +77,7 @@ void SolidFluidSampling::run(SystemContext& context) {
         weight_sum += weight;
         velocity += weight * fluid.velocity[batch.slot[k]];
         gradient += weight * fluid.pressure_gradient[batch.slot[k]];
+        if (viscous_stress_) viscous += weight * fluid.viscous_acceleration[batch.slot[k]];
       }
       batch.count = 0;
     };
@@ -103,12 +105,17 @@ void SolidFluidSampling::run(SystemContext& context) {
     if (weight_sum <= 0.0) {  // out of the water: no fluid forces
       sampled.fluid_velocity[grain] = Vec3::Zero();
       sampled.pressure_force[grain] = Vec3::Zero();
+      if (viscous_stress_) sampled.viscous_force[grain] = Vec3::Zero();
       if (fluid_acceleration_) sampled.fluid_acceleration[grain] = Vec3::Zero();
       return;
     }
     sampled.fluid_velocity[grain] = velocity / weight_sum;
     sampled.pressure_force[grain] =
         pressure_gradient_ ? Vec3(-grain_volume(properties.radius[grain]) * gradient / weight_sum) : Vec3::Zero();
+    // The water's viscous stress over the grain's volume, V div tau = V rho <nu lap u> (docs/COUPLING.md, "The viscous
+    // stress on the grains"): like the pressure force, it has no reaction in the water.
+    if (viscous_stress_)
+      sampled.viscous_force[grain] = (grain_volume(properties.radius[grain]) * density_ / weight_sum) * viscous;
     // Du/Dt of the water at the grain in the Maxey-Riley form (Maxey & Riley 1983): the inviscid momentum balance
     // -<grad p>/rho + g, from the same pressure gradient as the pressure force (docs/COUPLING.md, "Added mass and
     // history force"). Only when a force uses it: with both off the field stays as it was (bit-identical runs).

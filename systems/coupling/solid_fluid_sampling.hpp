@@ -34,6 +34,7 @@ class SolidFluidSampling final : public System {
  private:
   MpsConstants constants_;
   bool pressure_gradient_;  ///< the grains feel -V <grad p> (CouplingModel::pressure_gradient)
+  bool viscous_stress_;     ///< the grains feel V rho <nu lap u> (CouplingModel::viscous_stress)
   bool fluid_acceleration_; ///< the water's acceleration is sampled (added mass or history force on)
   double density_;          ///< [kg/m^3] the water's
   bool self_induced_velocity_;  ///< CouplingModel::self_induced_velocity

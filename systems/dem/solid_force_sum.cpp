@@ -16,6 +16,9 @@ void SolidForceSum::run(SystemContext& context) {
       total.torque[i] = contact.contact_torque[i];
     }
   });
+  // [coupling] viscous_stress: added only then, so that a run without it keeps its bits (+0 would turn a -0 force).
+  if (context.model.coupling.viscous_stress)
+    for (std::size_t i = 0; i < total.size(); ++i) total.force[i] += sampled.viscous_force[i];
   if (lubrication_) {
     const GrainLubrication& lubrication = context.read<GrainLubrication>();
     for (std::size_t i = 0; i < total.size(); ++i) total.force[i] += lubrication.lubrication_force[i];

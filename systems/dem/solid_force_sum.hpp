@@ -1,5 +1,6 @@
 #pragma once
-// solid_force_sum: each grain's force = contact + drag + pressure force (+ lubrication when the scene has it on),
+// solid_force_sum: each grain's force = contact + drag + pressure force (+ the viscous stress force and lubrication
+// when the scene has them on),
 // torque = contact torque. The one place the force sources meet, so that each source system writes only its own
 // field.
 #include "engine/core/system.hpp"

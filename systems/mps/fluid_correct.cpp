@@ -105,10 +105,13 @@ void FluidCorrect::run(SystemContext& context) {
       const Vec3 partner_position = kind_of[j] == kFluidKind ? predicted_of[j] : Vec3(position + offset);
       return reduced + (partner_pressure(j, offset) - split_gradient.dot(partner_position) - reduced_minimum);
     };
-    // With the conservative form the grains still sample GC's gradient of the same p^{k+1} (sampled_sum, through the
-    // moment): the form's error 2 q_i m_i is a force on the water that the pairs cancel in sum, but sampled by a
-    // grain it is a net push (along x under a shear flow: docs/FLUID.md).
-    const bool gc_moment = schemes.gradient_correction || conservative;
+    // What the grains sample ([fluid.schemes] grain_gradient): the gradient that moves the water, or with
+    // "corrected" GC's gradient of the same p^{k+1} (sampled_sum, through the moment). The sum form's error
+    // 2 q_i m_i carries shear stress through sheared water (a repulsion between disordered particles): the applied
+    // gradient gives the grains their share of it, as of every stress the water carries; GC's is blind to it, so a
+    // sheared bed then takes less than the lid's drag (docs/FLUID.md, "What the grains sample").
+    const bool sample_corrected = conservative && schemes.grains_sample_corrected;
+    const bool gc_moment = schemes.gradient_correction || sample_corrected;
     Vec3 gradient_sum = Vec3::Zero(), sampled_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
     GradientMoment moment;
     FluidPairBatch batch;
@@ -123,7 +126,7 @@ void FluidCorrect::run(SystemContext& context) {
           const double weight = pair.weight[k];
           const double weight_over_squared = weight * pair.inverse_squared[k];
           gradient_sum += gradient_term(pressure_difference(j, offset), weight_over_squared, offset);
-          if (conservative)
+          if (sample_corrected)
             sampled_sum += gradient_term(partner_pressure(j, offset) - pressure, weight_over_squared, offset);
           if (gc_moment) moment.add(weight, weight_over_squared, offset);
           if (schemes.dynamic_stabilisation && distance < stabilisation_distance) {
@@ -139,7 +142,7 @@ void FluidCorrect::run(SystemContext& context) {
     pressures.applied_pressure_gradient[i] = gradient;
     // Sampled by the grains (solid_fluid_sampling).
     pressures.pressure_gradient[i] =
-        conservative ? Vec3(gradient_correction_matrix(moment, n0) * ((3.0 / n0) * sampled_sum)) : gradient;
+        sample_corrected ? Vec3(gradient_correction_matrix(moment, n0) * ((3.0 / n0) * sampled_sum)) : gradient;
     const Vec3 change = -dt / rho * gradient + stabilisation / (n0 * dt);
     particles.velocity[i] += change;
     particles.position[i] = periodic ? box.wrap(position + dt * change) : position + dt * change;

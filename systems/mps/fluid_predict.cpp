@@ -67,6 +67,10 @@ void FluidPredict::run(SystemContext& context) {
   });
   const double dt = context.dt;
   const double inverse_density = 1.0 / fluid_.density;
+  // The stress divergence over rho, for the grains' viscous stress force ([coupling] viscous_stress), sampled the
+  // next step: the acceleration less the body acceleration (gravity and the body force), before the drag reaction.
+  if (context.model.coupling.viscous_stress)
+    for_each_particle(fluid_count, [&](std::size_t i) { prediction.viscous_acceleration[i] = acceleration_[i] - gravity; });
   for_each_particle(fluid_count, [&](std::size_t i) {
     // The grains' drag from the last step comes back as an impulse per volume (fluid_drag_reaction).
     particles.velocity[i] += dt * acceleration_[i] + inverse_density * reaction.drag_reaction[i];

@@ -69,8 +69,14 @@ def main():
         write_vtp(work / f"fluid_{int(t)}.vtp", points,
                   {"kind": (kind, "Int32"), "velocity": (velocity, "Float64"),
                    "pressure_gradient": (np.full((6, 3), 7.0), "Float64"), "applied_pressure_gradient": (applied, "Float64")})
+        # and grains with a viscous stress force ([coupling] viscous_stress): 2e-5 N more on the bed, 0.002 Pa.
+        write_vtp(work / f"solids_{int(t)}.vtp", grains,
+                  {"drag_force": (drag, "Float64"), "pressure_force": (pressure, "Float64"),
+                   "viscous_force": (np.array([[2e-5, 0.0, 0.0], [0.0, 0.0, 0.0]]), "Float64"),
+                   "voidage": (voidage, "Float64")})
     r = momentum_budget.budget(str(work), 0.0, 2.0, band=0.01, spacing=0.01, plan_area=0.01, reading="mixture")
     assert abs(r["pressure"] - (-0.01)) < 1e-12, r["pressure"]
+    assert abs(r["grains"] - 0.017) < 1e-12, r["grains"]
     assert np.allclose(r["pressure_bands"], [-0.01, 0.0], atol=1e-15), r["pressure_bands"]
     print("momentum_budget: all checks passed")
     return 0

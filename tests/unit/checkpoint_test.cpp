@@ -183,14 +183,25 @@ TEST_CASE("a checkpoint with a fluid round trips bit for bit and resumes into th
   CHECK(encode_checkpoint(resumed->checkpoint_data()) == bytes);
 }
 
-TEST_CASE("checkpoints of a format before 4 or after 6 are refused") {
-  CHECK(kCheckpointVersion == 6);
+TEST_CASE("a fluid checkpoint whose field lengths disagree is refused, not padded") {
+  // FluidParticles::serialize sizes only the fields the file does not hold (applied_pressure_gradient); a stored
+  // field shorter than the ids must reach the reader's size check.
+  auto simulation = Simulation::from_model(test::fluid_model());
+  simulation->step();
+  CheckpointData data = simulation->checkpoint_data();
+  data.world.fluid->pressure.pop_back();
+  const std::string bytes = encode_checkpoint(data);
+  CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "short.ckpt"), doctest::Contains("pressure holds"), CheckpointError);
+}
+
+TEST_CASE("checkpoints of a format before 4 or after 7 are refused") {
+  CHECK(kCheckpointVersion == 7);
   CHECK(kOldestCheckpointVersionRead == 4);
-  for (const std::uint32_t version : {3u, 7u}) {
+  for (const std::uint32_t version : {3u, 8u}) {
     std::string bytes = encode_checkpoint(sample_checkpoint());
     std::memcpy(bytes.data() + 8, &version, sizeof version);
     const std::string expected = "x.ckpt: checkpoint format version " + std::to_string(version) +
-                                 ", but this riffle reads version 6 (and 4)";
+                                 ", but this riffle reads version 7 (and 4)";
     CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "x.ckpt"), doctest::Contains(expected.c_str()), CheckpointError);
   }
 }
@@ -226,11 +237,22 @@ TEST_CASE("a format-4 checkpoint with a fluid loads without its last_dt, resumes
   std::memcpy(&version, v5.data() + 8, sizeof version);
   CHECK(version == kCheckpointVersion);
 
-  // Everything but the 8 bytes of last_dt is the same: the format-5 payload is the format-4 one without them.
-  REQUIRE(v5.size() + 8 == v4.size());
+  // Everything but the 8 bytes of last_dt is the same: the format-5 payload is the format-4 one without them, and
+  // the current one adds the fluid's viscous_acceleration (format 7: a cereal vector of zeros, count and values)
+  // at the end of the fluid's table, before the summary.
+  const std::size_t added = 8 + data.world.fluid->size() * sizeof(Vec3);
+  std::size_t block = 32;
+  while (block < v5.size() && v5[block] == v4[block]) ++block;
+  REQUIRE(block + added <= v5.size());
+  std::uint64_t count = 0;
+  std::memcpy(&count, v5.data() + block, sizeof count);
+  CHECK(count == data.world.fluid->size());
+  CHECK(v5.substr(block + 8, added - 8) == std::string(added - 8, '\0'));
+  const std::string v5_without = v5.substr(0, block) + v5.substr(block + added);
+  REQUIRE(v5_without.size() + 8 == v4.size());
   std::size_t slot = 32;
-  while (slot < v5.size() && v5[slot] == v4[slot]) ++slot;
-  CHECK(v4.substr(32, slot - 32) + v4.substr(slot + 8) == v5.substr(32));
+  while (slot < v5_without.size() && v5_without[slot] == v4[slot]) ++slot;
+  CHECK(v4.substr(32, slot - 32) + v4.substr(slot + 8) == v5_without.substr(32));
   double skipped = 0.0;  // the riffle that wrote the fixture still stored the step there: the scene's dt
   std::memcpy(&skipped, v4.data() + slot, sizeof skipped);
   REQUIRE(skipped == 1e-3);

@@ -172,6 +172,13 @@ ds = false
           .fluid.schemes;
   CHECK(conservative.conservative_gradient);
   CHECK_FALSE(conservative.gradient_correction);
+  CHECK_FALSE(conservative.grains_sample_corrected);  // the grains sample the applied gradient unless told
+  const FluidSchemes corrected =
+      parse_scene(replaced(replaced(test::fluid_scene_text(), "open_faces = [\"z_max\"]\n", ""), "spacing = 0.005\n",
+                           "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true\ngrain_gradient = \"corrected\"\n"),
+                  "corrected.toml")
+          .fluid.schemes;
+  CHECK(corrected.grains_sample_corrected);
 }
 
 TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
@@ -226,7 +233,9 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nhs = \"yes\"", "hs = ^\"yes\"", "fluid.schemes.hs",
        "expected true or false, got a string"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nxs = true", "^xs", "fluid.schemes.xs",
-       "unknown key (known keys here: conservative_gradient, ds, ecs, gc, hl, hs)"},
+       "unknown key (known keys here: conservative_gradient, ds, ecs, gc, grain_gradient, hl, hs)"},
+      {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\ngrain_gradient = \"corrected\"", "grain_gradient = ^\"corrected\"",
+       "fluid.schemes.grain_gradient", "\"corrected\" is for conservative_gradient = true"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true\ngc = true", "gc = ^true",
        "fluid.schemes.gc", "the conservative gradient replaces the gradient correction"},
       {"spacing = 0.005", "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true", "conservative_gradient = ^true",

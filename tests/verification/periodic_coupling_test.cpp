@@ -231,12 +231,19 @@ std::string coupled_bytes_after(const std::string& text, int threads, int steps)
 TEST_CASE("grains and water periodic: one and two threads, and a resumed run, give byte-identical checkpoints") {
   // The grain is thrown across the x and y seams (centre from (2, 78) mm at (-0.3, +0.2) m/s: it wraps within about
   // 0.01 s, before the checkpoint at step 27), so the resume carries wrapped positions and the halo of a grain that
-  // changed sides.
+  // changed sides. Once as the scene is, once with [coupling] viscous_stress (the grains sample the last step's
+  // nu <lap u>, which the checkpoint must carry: format 7).
+  for (const bool viscous : {false, true}) {
+  CAPTURE(viscous);
   std::string text = settling_scene(0.002, 0.078);
   const std::string sphere_material = "material = \"grain\"\n";
   REQUIRE(text.find(sphere_material) != std::string::npos);
   text.replace(text.find(sphere_material), sphere_material.size(),
                sphere_material + "velocity = [-0.3, 0.2, 0.0]\n");
+  if (viscous) {
+    REQUIRE(text.find("[coupling]") == std::string::npos);
+    text += "\n[coupling]\nviscous_stress = true\n";
+  }
   const std::string one = coupled_bytes_after(text, 1, 60);
   const std::string two = coupled_bytes_after(text, 2, 60);
   CHECK(one == two);
@@ -257,6 +264,13 @@ TEST_CASE("grains and water periodic: one and two threads, and a resumed run, gi
   CHECK(centre.y() >= 0.0);
   CHECK(centre.y() < 0.02);
   CHECK(encode_checkpoint(resumed->checkpoint_data()) == two);
+  if (viscous) {
+    // The force was on and sampled something (the water around a moving grain shears).
+    double largest = 0.0;
+    for (const Vec3& force : resumed->world().solids->viscous_force) largest = std::max(largest, force.norm());
+    CHECK(largest > 0.0);
+  }
+  }
 }
 
 }  // namespace riffle
