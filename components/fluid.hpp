@@ -272,7 +272,7 @@ struct FluidSample {
 
   std::vector<Vec3> position;           ///< [m]
   std::vector<Vec3> velocity;           ///< [m/s]
-  std::vector<Vec3> pressure_gradient;  ///< [Pa/m] the GC gradient of the last solve (without DS)
+  std::vector<Vec3> pressure_gradient;  ///< [Pa/m] ParticlePressure::pressure_gradient of the last solve (without DS)
   std::vector<Vec3> viscous_acceleration;  ///< [m/s^2] nu <lap u> of the last prediction ([coupling] viscous_stress only)
 
   std::size_t size() const { return position.size(); }

@@ -269,6 +269,17 @@ TEST_CASE("a grain at rest in water at rest under a body force: the imposed grad
     CHECK(std::abs(force.x() - expected) < 0.03 * imposed);
     CHECK(force.z() == doctest::Approx(1000.0 * 9.81 * volume).epsilon(0.02));  // buoyancy, untouched
   }
+  // [coupling] viscous_stress: water at rest has no viscous stress, so the grain's V rho <nu lap u> must vanish, to
+  // the same start-up tolerance: the stored nu <lap u> must leave out gravity (10 V rho f) and the body force
+  // (V rho f), which fluid_predict adds to the same acceleration.
+  auto viscous = Simulation::from_model(parse_scene(
+      grain_under_body_force("pressure_gradient") + "[coupling]\nviscous_stress = true\n", "grain_viscous.toml"));
+  for (int step = 0; step < 750; ++step) viscous->step();
+  REQUIRE(viscous->world().step_status.ok());
+  const Vec3 viscous_force = viscous->world().solids->viscous_force[0];
+  MESSAGE("viscous stress force on the grain in water at rest ", viscous_force.transpose(), " N");
+  CHECK(viscous_force.norm() < 0.03 * imposed);
+  CHECK(std::abs(viscous->world().solids->pressure_force[0].x()) < 0.03 * imposed);
 }
 
 }  // namespace riffle

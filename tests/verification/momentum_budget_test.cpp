@@ -659,6 +659,14 @@ TEST_CASE("momentum budget: with the conservative gradient the water's pressure 
   CHECK(heavy.ledger.stabilisation_fluid.norm() < 1e-10 * heavy_correct.norm());
   CHECK((heavy_correct - heavy_walls).norm() < 1e-10 * heavy_correct.norm());
   CHECK(heavy.ledger.worst_sampled_gap == 0.0);
+  // "corrected" under gravity: the grains' field is GC's gradient with the walls extrapolated hydrostatically (the
+  // split G is not GC's business), recomputed by the ledger; the water moves exactly as with the default.
+  const std::string schemes = "conservative_gradient = true\n";
+  text.replace(text.find(schemes), schemes.size(), schemes + "grain_gradient = \"corrected\"\n");
+  const Budget corrected = run_budget(text, 100, true);
+  CHECK(corrected.ledger.worst_recomputed < 1e-12);
+  CHECK(corrected.ledger.worst_sampled_gap > 0.0);
+  CHECK(corrected.ledger.by_system.at("fluid_correct").x() == heavy_correct.x());
 }
 
 }  // namespace riffle

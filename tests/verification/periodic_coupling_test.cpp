@@ -233,6 +233,7 @@ TEST_CASE("grains and water periodic: one and two threads, and a resumed run, gi
   // 0.01 s, before the checkpoint at step 27), so the resume carries wrapped positions and the halo of a grain that
   // changed sides. Once as the scene is, once with [coupling] viscous_stress (the grains sample the last step's
   // nu <lap u>, which the checkpoint must carry: format 7).
+  Vec3 centre_without = Vec3::Zero();
   for (const bool viscous : {false, true}) {
   CAPTURE(viscous);
   std::string text = settling_scene(0.002, 0.078);
@@ -265,10 +266,13 @@ TEST_CASE("grains and water periodic: one and two threads, and a resumed run, gi
   CHECK(centre.y() < 0.02);
   CHECK(encode_checkpoint(resumed->checkpoint_data()) == two);
   if (viscous) {
-    // The force was on and sampled something (the water around a moving grain shears).
+    // The force was on, sampled something (the water around a moving grain shears) and moved the grain.
     double largest = 0.0;
     for (const Vec3& force : resumed->world().solids->viscous_force) largest = std::max(largest, force.norm());
     CHECK(largest > 0.0);
+    CHECK((centre - centre_without).norm() > 1e-9);
+  } else {
+    centre_without = centre;
   }
   }
 }
