@@ -165,19 +165,18 @@ ds = false
   CHECK_FALSE(fluid.schemes.dynamic_stabilisation);
   CHECK_FALSE(fluid.schemes.conservative_gradient);
   // The conservative gradient turns GC off unless gc is given (and refused true: the bad-table case below).
-  const FluidSchemes conservative =
-      parse_scene(replaced(replaced(test::fluid_scene_text(), "open_faces = [\"z_max\"]\n", ""), "spacing = 0.005\n",
-                           "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true\n"),
-                  "conservative.toml")
-          .fluid.schemes;
+  // The sealed fluid scene (no open face) with these [fluid.schemes] keys.
+  const auto sealed_schemes = [](const std::string& keys) {
+    return parse_scene(replaced(replaced(test::fluid_scene_text(), "open_faces = [\"z_max\"]\n", ""),
+                                "spacing = 0.005\n", "spacing = 0.005\n[fluid.schemes]\n" + keys),
+                       "sealed.toml")
+        .fluid.schemes;
+  };
+  const FluidSchemes conservative = sealed_schemes("conservative_gradient = true\n");
   CHECK(conservative.conservative_gradient);
   CHECK_FALSE(conservative.gradient_correction);
   CHECK_FALSE(conservative.grains_sample_corrected);  // the grains sample the applied gradient unless told
-  const FluidSchemes corrected =
-      parse_scene(replaced(replaced(test::fluid_scene_text(), "open_faces = [\"z_max\"]\n", ""), "spacing = 0.005\n",
-                           "spacing = 0.005\n[fluid.schemes]\nconservative_gradient = true\ngrain_gradient = \"corrected\"\n"),
-                  "corrected.toml")
-          .fluid.schemes;
+  const FluidSchemes corrected = sealed_schemes("conservative_gradient = true\ngrain_gradient = \"corrected\"\n");
   CHECK(corrected.grains_sample_corrected);
 }
 
