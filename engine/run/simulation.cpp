@@ -23,6 +23,7 @@
 #include "engine/scene/scene.hpp"
 #include "engine/output/vtk_output.hpp"
 #include "systems/physics/domain.hpp"
+#include "systems/physics/time_step.hpp"
 
 namespace riffle {
 
@@ -132,6 +133,9 @@ class DiagnosticsWriter {
       // Escaped particles removed so far (fluid_escape): water + removed = the fluid laid out, exactly.
       std::snprintf(text, sizeof text, ",%zu,%.9g", fluid.removed_count(), removed_mass(fluid, model));
       line += text;
+      // How close the grains' drag brings the step to its limit (coupling.drag_number / rate; time_step.hpp).
+      std::snprintf(text, sizeof text, ",%.6g", lengths.drag_rate);
+      line += text;
       // A scene with a body force (docs/FLUID.md, "Driven flows"): the force applied in the step.
       if (driving_) {
         std::snprintf(text, sizeof text, ",%.9g", fluid.body_force);
@@ -154,7 +158,7 @@ class DiagnosticsWriter {
     if (fluid)
       text += ",fluid_particles,fluid_surface_particles,fluid_kinetic_energy_J,fluid_max_speed_m_s,fluid_courant,"
               "fluid_mean_density_ratio,fluid_volume_m3,ppe_iterations,ppe_relative_residual,ppe_unknowns,"
-              "fluid_removed_particles,fluid_removed_mass_kg";
+              "fluid_removed_particles,fluid_removed_mass_kg,drag_rate_1_s";
     if (fluid && driving) text += ",body_force_m_s2";
     for (const SystemTimer& timer : timers) text += ",wall_" + timer.name + "_s";
     return text;
@@ -265,7 +269,8 @@ std::string diagnosis(const World& world, const Model& model) {
   const DomainBox domain = domain_box(model);
   const std::string when = "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) + " s): ";
   if (status.problem == StepProblem::kTimeStepCollapse)
-    return when + "the fluid's Courant limit gave dt = " + std::to_string(world.last_step.dt) + " s, below fluid.min_dt = " +
+    return when + "the step's " + step_limit_name(world.last_step.limit) + " limit gave dt = " +
+           std::to_string(world.last_step.dt) + " s, below fluid.min_dt = " +
            std::to_string(model.fluid.min_dt) + " s: the flow blew up; fastest fluid particle id " +
            std::to_string(status.entity) + " at position " + format_vec(status.position) + " m with velocity " +
            format_vec(status.velocity) + " m/s";

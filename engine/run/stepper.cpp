@@ -65,7 +65,12 @@ void Stepper::step() {
   world_.step_status.clear();
   abandoned_ = false;
   const double start = world_.time;
-  world_.last_step = decide_step_lengths(model_, world_.fluid ? &*world_.fluid : nullptr);
+  // The water's relaxation under the grains' drag, from the grains as the last step left them (as the Courant
+  // limit reads the water's speeds as they are).
+  const double drag_rate = world_.fluid && world_.solids ? water_drag_rate(model_, *world_.solids, *world_.solids,
+                                                                            *world_.solids, *world_.solids)
+                                                         : 0.0;
+  world_.last_step = decide_step_lengths(model_, world_.fluid ? &*world_.fluid : nullptr, drag_rate);
   const double dt = world_.last_step.dt;
   if (world_.fluid && dt < model_.fluid.min_dt) {
     // Name the fastest fluid particle: that is where the flow blew up.

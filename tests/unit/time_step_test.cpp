@@ -105,3 +105,65 @@ TEST_CASE("the sub-step count is clamped to [1, solid_substeps]") {
     CHECK(lengths.substeps == 10);
   }
 }
+
+namespace {
+
+/// Two grains of 2 mm at voidage 0.4 in water of nu = 1e-4 m^2/s, both at rest in water at rest (slip 0: Ergun's
+/// viscous term alone); the second is dry (no fluid sampled), so it cannot set the rate whatever its voidage.
+Solids two_grains() {
+  Solids grains;
+  resize_fields(grains, 2);
+  grains.radius = {1.0e-3, 1.0e-4};
+  grains.voidage = {0.4, 0.3};
+  grains.fluid_weight = {1.0, 0.0};
+  return grains;
+}
+
+Model drag_model(bool mixture) {
+  Model model = step_model();
+  model.fluid.density = 1000.0;
+  model.fluid.kinematic_viscosity = 1.0e-4;
+  model.coupling.enabled = true;
+  model.coupling.mixture_velocity = mixture;
+  return model;
+}
+
+}  // namespace
+
+TEST_CASE("the grains' drag limits the step by the water's relaxation rate under it") {
+  // Ergun at slip 0: beta = 150 (1 - eps)^2 mu / (eps d^2), the drag per grain volume k = beta / (1 - eps). Per
+  // volume of water (1 - eps) / V grains each pull with dF/du = k V / s, and the water takes it over s_w: the rate is
+  // k (1 - eps) / (rho s s_w) = 150 (1 - eps)^2 nu / (eps d^2 s s_w), s = s_w = eps in the mixture reading, 1 in the pore.
+  const double eps = 0.4, d = 2.0e-3, nu = 1.0e-4;
+  const double pore_rate = 150.0 * (1.0 - eps) * (1.0 - eps) * nu / (eps * d * d);  // 3375 1/s
+  const Solids grains = two_grains();
+  SUBCASE("the pore reading") {
+    const Model model = drag_model(false);
+    CHECK(water_drag_rate(model, grains, grains, grains, grains) == doctest::Approx(pore_rate).epsilon(1e-12));
+  }
+  SUBCASE("the mixture reading: the slip and the water's share both over eps") {
+    Model model = drag_model(true);
+    const double rate = water_drag_rate(model, grains, grains, grains, grains);
+    CHECK(rate == doctest::Approx(pore_rate / (eps * eps)).epsilon(1e-12));  // 21,094 1/s
+    const FluidParticles slow = water(0.1);
+    const StepLengths lengths = decide_step_lengths(model, &slow, rate);
+    CHECK(lengths.dt == doctest::Approx(1.0 / rate).epsilon(1e-15));  // drag_number 1: 47 us, below run.dt's 1 ms
+    CHECK(lengths.limit == StepLimit::kDrag);
+    CHECK(std::string(step_limit_name(lengths.limit)) == "drag");
+    CHECK(lengths.substeps == 2);  // ceil(47 us / 25 us)
+    model.coupling.drag_number = 0.0;  // no limit
+    CHECK(decide_step_lengths(model, &slow, rate).limit == StepLimit::kRunDt);
+  }
+  SUBCASE("a slip adds Ergun's inertial term: the rate grows") {
+    Solids sliding = two_grains();
+    sliding.fluid_velocity[0] = Vec3(0.01, 0.0, 0.0);
+    const Model model = drag_model(true);
+    CHECK(water_drag_rate(model, sliding, sliding, sliding, sliding) >
+          water_drag_rate(model, grains, grains, grains, grains) * 1.001);
+  }
+  SUBCASE("without the drag, no limit") {
+    Model model = drag_model(true);
+    model.coupling.drag = false;
+    CHECK(water_drag_rate(model, grains, grains, grains, grains) == 0.0);
+  }
+}
