@@ -286,9 +286,9 @@ struct CouplingModel {
   double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
   /// [1] The step is at most drag_number / lambda, lambda the fastest rate at which the grains' drag relaxes the water
   /// around them (systems/physics/time_step.hpp, water_drag_rate; docs/COUPLING.md "The drag's step limit"). The
-  /// reaction is explicit in the water: lambda dt above 2 (tangent) makes the pore water oscillate and blow up.
-  /// 0 = no limit.
-  double drag_number = 1.0;
+  /// reaction is explicit and a step late in the water: u_{n+2} = u_{n+1} - a u_n with a = lambda_tangent dt grows for
+  /// a > 1; the tangent is at most twice the secant lambda, so 0.5 keeps a <= 1. 0 = no limit.
+  double drag_number = 0.5;
   /// true ("self_corrected", docs/COUPLING.md "The voidage at a grain"): smoothed grid, the grain's own volume taken
   /// out exactly and put back times 1 - S(0) (a lone grain reads 1); false ("cloud_in_cell"): main's trilinear grid
   /// reading with the grain's own volume included (a lone grain reads 0.93-0.96, rippling with its place in a cell).

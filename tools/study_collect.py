@@ -268,30 +268,44 @@ def mean_std(values):
     return float(np.mean(values)), float(np.std(values, ddof=1)) if len(values) > 1 else math.nan, len(values)
 
 
-def sensitivity(study, rows, series, out):
-    base_name = study.variants[0]["name"]
-    keys = [f"S_{stage}" for stage in STAGES] + [f"z2_{stage}_mm" for stage in STAGES] + \
-        [f"endwall_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + \
-        [f"middle_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + \
-        ["z2_rise_last10_mm_per_T", "small_share_bottom_end", "corner_large_max_move_mm", "corner_large_still"]
+SENSITIVITY_KEYS = [f"S_{stage}" for stage in STAGES] + [f"z2_{stage}_mm" for stage in STAGES] + \
+    [f"endwall_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + \
+    [f"middle_coarse_dz_{w}_mm_per_T" for w in DRIFT_WINDOWS] + \
+    ["z2_rise_last10_mm_per_T", "small_share_bottom_end", "corner_large_max_move_mm", "corner_large_still"]
+
+
+def sensitivity_table(variants, rows, base_name, reference_name=None):
+    """One entry per variant (in the order of `variants`: (name, set text) pairs) with runs in `rows`: the mean and
+    spread over its beds of each SENSITIVITY_KEYS measure, and whether its difference from the reference's mean (the
+    base's by default) counts: |mean_v - mean_ref| > 2 s sqrt(1/n_v + 1/n_ref), s the base's standard deviation over
+    its beds (the ensemble's noise)."""
+    reference_name = reference_name or base_name
     base_rows = [r for r in rows if r["variant"] == base_name]
+    reference_rows = [r for r in rows if r["variant"] == reference_name]
     table = []
-    for variant in study.variants:
-        mine = [r for r in rows if r["variant"] == variant["name"]]
+    for name, set_text in variants:
+        mine = [r for r in rows if r["variant"] == name]
         if not mine:
             continue
-        entry = {"variant": variant["name"], "set": " ".join(variant.get("set", [])) or "(base)", "beds": len(mine),
+        entry = {"variant": name, "set": set_text or "(base)", "beds": len(mine),
+                 "bed_list": " ".join(sorted(str(r.get("bed")) for r in mine)),
                  "wall_s_mean": mean_std([r.get("wall_s") for r in mine])[0],
-                 "threads": mine[0].get("threads")}
-        for key in keys:
+                 "threads": int(float(mine[0].get("threads") or 0))}
+        for key in SENSITIVITY_KEYS:
             m, sd, n = mean_std([r.get(key, math.nan) for r in mine])
-            bm, bsd, bn = mean_std([r.get(key, math.nan) for r in base_rows])
+            rm, _, rn = mean_std([r.get(key, math.nan) for r in reference_rows])
+            _, bsd, bn = mean_std([r.get(key, math.nan) for r in base_rows])
             entry[key] = m
             entry[f"{key}_spread"] = sd
-            if variant["name"] != base_name and n and bn > 1 and not math.isnan(bsd):
-                entry[f"{key}_delta"] = m - bm
-                entry[f"{key}_counts"] = "yes" if abs(m - bm) > 2.0 * bsd * math.sqrt(1.0 / n + 1.0 / bn) else "no"
+            if name != reference_name and n and rn and bn > 1 and not math.isnan(bsd):
+                entry[f"{key}_delta"] = m - rm
+                entry[f"{key}_counts"] = "yes" if abs(m - rm) > 2.0 * bsd * math.sqrt(1.0 / n + 1.0 / rn) else "no"
         table.append(entry)
+    return table
+
+
+def write_sensitivity(out, table, note=""):
+    """sensitivity.csv and sensitivity.md of a sensitivity_table."""
     write_csv(out / "sensitivity.csv", table)
     with open(out / "sensitivity.md", "w") as handle:
         handle.write(f"| variant | beds | S at 10 | S at 20 | S at 30 | large at 30 [mm] | end-wall coarse dz 20-30 "
@@ -310,13 +324,21 @@ def sensitivity(study, rows, series, out):
             return text
 
         for entry in table:
-            handle.write(f"| {entry['variant']} | {entry['beds']} | {cell(entry, 'S_10', 3)} | {cell(entry, 'S_20', 3)} | "
+            handle.write(f"| {entry['variant']} | {entry['bed_list']} | {cell(entry, 'S_10', 3)} | "
+                         f"{cell(entry, 'S_20', 3)} | "
                          f"{cell(entry, 'S_30', 3)} | {cell(entry, 'z2_30_mm', 1)} | "
                          f"{cell(entry, 'endwall_coarse_dz_20-30_mm_per_T', 3)} | "
                          f"{cell(entry, 'middle_coarse_dz_20-30_mm_per_T', 3)} | {entry['wall_s_mean']:.0f} "
                          f"({entry['threads']} thread) |\n")
-        handle.write("\n± is the standard deviation over the variant's beds; **bold**: the difference from the base "
-                     "exceeds twice its standard error from the base ensemble's spread (tools/study_collect.py).\n")
+        handle.write("\n± is the standard deviation over the variant's beds; **bold**: the difference from the "
+                     "reference exceeds twice its standard error from the base ensemble's spread "
+                     f"(tools/study_collect.py).{note}\n")
+
+
+def sensitivity(study, rows, series, out):
+    base_name = study.variants[0]["name"]
+    table = sensitivity_table([(v["name"], " ".join(v.get("set", []))) for v in study.variants], rows, base_name)
+    write_sensitivity(out, table)
     # S against t/T, one mean curve per variant, over the base's band.
     figure, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
     base_series = series[base_name]
@@ -360,9 +382,65 @@ def collect(study, refresh=False):
     return 0
 
 
+def read_runs(path):
+    """A runs.csv (collect's, or one kept under docs/results/) as rows with numbers as floats."""
+    rows = []
+    for raw in read_rows(path):
+        row = {}
+        for key, value in raw.items():
+            try:
+                row[key] = float(value) if key not in ("variant", "bed") and value != "" else value
+            except ValueError:
+                row[key] = value
+        rows.append(row)
+    return rows
+
+
+def merge(paths, base_name, reference_name, out, variant_names=None):
+    """The sensitivity table over the runs of several runs.csv files (the beds of one variant run by different
+    studies, or machines): each (variant, bed) once, the first file's row kept where two files hold it."""
+    rows, seen, order = [], set(), []
+    for path in paths:
+        for row in read_runs(path):
+            key = (row["variant"], str(row["bed"]))
+            if key in seen:
+                continue
+            seen.add(key)
+            rows.append(row)
+            if row["variant"] not in order:
+                order.append(row["variant"])
+    names = variant_names or order
+    missing = [n for n in [base_name, reference_name or base_name] + list(names) if n not in order]
+    if missing:
+        raise SystemExit(f"study_collect merge: no runs of {', '.join(missing)} in {', '.join(map(str, paths))}")
+    out.mkdir(parents=True, exist_ok=True)
+    table = sensitivity_table([(n, "") for n in names], rows, base_name, reference_name)
+    write_csv(out / "runs.csv", rows)
+    write_sensitivity(out, table, f" Reference: {reference_name or base_name}; spread: {base_name}'s beds.")
+    print((out / "sensitivity.md").read_text())
+    return 0
+
+
 def main(argv=None):
-    """`study_collect.py measure RUN_DIR ...`: the study's measures of any run directory (a 100-period run, say)."""
+    """`study_collect.py measure RUN_DIR ...`: the study's measures of any run directory (a 100-period run, say).
+    `study_collect.py merge RUNS.csv... --base NAME [--reference NAME] --out DIR`: the sensitivity table over the runs
+    of several studies (the beds of a variant run by different studies)."""
     import argparse
+    if argv is None:
+        argv = sys.argv[1:]
+    if argv and argv[0] == "merge":
+        parser = argparse.ArgumentParser(description="The sensitivity table over the runs of several runs.csv files.")
+        parser.add_argument("command", choices=["merge"])
+        parser.add_argument("runs", type=pathlib.Path, nargs="+", help="runs.csv files (first wins on a repeat)")
+        parser.add_argument("--base", required=True, help="the variant whose beds give the noise s (the ensemble)")
+        parser.add_argument("--reference", help="the variant the others are compared with (default: the base)")
+        parser.add_argument("--variants", nargs="*", help="the variants in the table, in order (default: all)")
+        parser.add_argument("--out", type=pathlib.Path, required=True)
+        args = parser.parse_args(argv)
+        for path in args.runs:
+            if not path.exists():
+                parser.error(f"{path}: no such file")
+        return merge(args.runs, args.base, args.reference, args.out, args.variants)
     parser = argparse.ArgumentParser(description="The study's measures of one riffle run directory (S and the class "
                                      "centroids at stages, the centroids' rise over windows, the seed's picture, "
                                      "the end-wall circulation), as name,value lines.")

@@ -768,7 +768,7 @@ void read_coupling(TableReader& coupling, Model& model) {
                                                     std::to_string(tank_height / 2000.0) + " m) and its height (" +
                                                     std::to_string(tank_height) + " m)");
   out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
-  out.drag_number = coupling.number("drag_number", 1.0, "1", Bounds::non_negative());
+  out.drag_number = coupling.number("drag_number", 0.5, "1", Bounds::non_negative());
   out.self_corrected_voidage =
       coupling.choice("voidage_estimate", "self_corrected", {"self_corrected", "cloud_in_cell"}) == "self_corrected";
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));

@@ -36,8 +36,11 @@ struct StepLengths {
 /// reaction as fluid_drag_reaction spreads it (over eps in the mixture reading): with (1 - eps) / V grains per volume,
 ///     lambda = k(eps, d, |slip|) (1 - eps) / (rho_f s_w s),   s_w = eps (mixture) or 1 (pore),
 /// k the drag per volume and slip of drag_law.hpp at the grain's sampled voidage and slip (the secant coefficient:
-/// the tangent of the quadratic Ergun term is at most twice it). The reaction is explicit in the water's prediction:
-/// a step longer than 2 / lambda_tangent makes the pore water overshoot the grains' velocity and grow without bound.
+/// the tangent of the quadratic Ergun term is at most twice it). The reaction is explicit and a step late: the drag
+/// of step n uses the water sampled at its start and reaches the water in step n + 1's prediction, so the water's
+/// slip obeys u_{n+2} = u_{n+1} - a u_n, a = lambda_tangent dt, which oscillates for a > 1/4 and grows for a > 1.
+/// Not covered: the self-induced correction's dilute grains (eps > 0.8) draw a drag up to 1/(1 - gain) times k V / s
+/// from the sampled velocity, but their (1 - eps) < 0.2 keeps their rate small.
 double water_drag_rate(const Model& model, const GrainState& grains, const GrainProperties& properties,
                        const GrainSampledFluid& sampled, const GrainVoidage& voidages);
 

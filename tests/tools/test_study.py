@@ -6,7 +6,8 @@ Checks: each bed is settled once, with its own seed (different grain positions);
 (the variant's restitution is in its checkpoint's scene); the interrupted run resumes from its checkpoint (two
 segments, the second a `riffle resume`) and ends with the same class centroids as an uninterrupted run of the same
 job; a finished study is not rerun; collect writes the ensemble and sensitivity tables with the base variant's S
-equal to the segregation index computed here from class_centroids.csv.
+equal to the segregation index computed here from class_centroids.csv; merge joins two studies' runs.csv into one
+sensitivity table (each variant's beds from both, the counts rule from the base's spread).
 
 Usage: /usr/bin/python3 tests/tools/test_study.py RIFFLE_BINARY [WORK_DIR]   (exit 0 = pass)
 """
@@ -269,6 +270,30 @@ def main():
     check(period_two and abs(float(values.get("S_2", "nan")) - sum(period_two) / len(period_two)) < 1e-5,
           f"measure's S at t/T = 2 ({values.get('S_2')}) is the mean over the second period of the segregation "
           f"index computed here ({sum(period_two) / max(1, len(period_two)):.6f})")
+
+    # 9. merge: the sensitivity table over the runs.csv of two studies (a variant's beds run by each), the first
+    # file's row kept on a repeat, the counts rule |m_v - m_ref| > 2 s sqrt(1/n_v + 1/n_ref) with s from the base.
+    first, second = work / "first_runs.csv", work / "second_runs.csv"
+    first.write_text("variant,bed,threads,wall_s,S_10\nbase,1,1,10,0.30\nbase,2,1,10,0.32\nbase,3,1,10,0.34\n"
+                     "moved,1,1,10,0.40\nsame,1,1,10,0.33\n")
+    second.write_text("variant,bed,threads,wall_s,S_10\nmoved,2,1,10,0.42\nmoved,1,1,10,9.99\nsame,2,1,10,0.31\n")
+    merged = subprocess.run([sys.executable, str(ROOT / "tools" / "study_collect.py"), "merge", str(first),
+                             str(second), "--base", "base", "--out", str(work / "merged")],
+                            capture_output=True, text=True, cwd=ROOT, timeout=120)
+    check(merged.returncode == 0, f"merge exits 0 ({merged.stderr[-300:]})")
+    table = {r["variant"]: r for r in rows(work / "merged" / "sensitivity.csv")} if merged.returncode == 0 else {}
+    # base: mean 0.32, s = 0.02 over 3 beds; moved: 0.41 over beds 1-2 (bed 1 from the first file), 0.09 > 0.0365.
+    check(abs(float(table.get("moved", {}).get("S_10", "nan")) - 0.41) < 1e-9 and
+          table["moved"]["beds"] == "2" and table["moved"]["S_10_counts"] == "yes",
+          f"merge: moved's S at 10 is the mean of its two beds, the first file's bed 1 kept, and counts "
+          f"({table.get('moved', {}).get('S_10')}, {table.get('moved', {}).get('S_10_counts')})")
+    check(abs(float(table.get("same", {}).get("S_10", "nan")) - 0.32) < 1e-9 and table["same"]["S_10_counts"] == "no",
+          f"merge: same's S at 10 (0.32) does not count ({table.get('same', {}).get('S_10')}, "
+          f"{table.get('same', {}).get('S_10_counts')})")
+    unknown = subprocess.run([sys.executable, str(ROOT / "tools" / "study_collect.py"), "merge", str(first),
+                              "--base", "nobody", "--out", str(work / "merged")],
+                             capture_output=True, text=True, cwd=ROOT, timeout=120)
+    check(unknown.returncode != 0 and "nobody" in unknown.stderr, "merge names a base it has no runs of")
     print(f"{len(failures)} failure(s)")
     return 1 if failures else 0
 

@@ -147,10 +147,10 @@ TEST_CASE("the grains' drag limits the step by the water's relaxation rate under
     CHECK(rate == doctest::Approx(pore_rate / (eps * eps)).epsilon(1e-12));  // 21,094 1/s
     const FluidParticles slow = water(0.1);
     const StepLengths lengths = decide_step_lengths(model, &slow, rate);
-    CHECK(lengths.dt == doctest::Approx(1.0 / rate).epsilon(1e-15));  // drag_number 1: 47 us, below run.dt's 1 ms
+    CHECK(lengths.dt == doctest::Approx(0.5 / rate).epsilon(1e-15));  // drag_number 0.5: 24 us, below run.dt's 1 ms
     CHECK(lengths.limit == StepLimit::kDrag);
     CHECK(std::string(step_limit_name(lengths.limit)) == "drag");
-    CHECK(lengths.substeps == 2);  // ceil(47 us / 25 us)
+    CHECK(lengths.substeps == 1);  // 24 us < 25 us
     model.coupling.drag_number = 0.0;  // no limit
     CHECK(decide_step_lengths(model, &slow, rate).limit == StepLimit::kRunDt);
   }
