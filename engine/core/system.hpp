@@ -61,6 +61,10 @@ class SystemContext {
   /// World clock (step count) for systems that act every N steps.
   std::uint64_t step() const { return world_.step; }
 
+  /// [s] Length of the engine (fluid) step this run belongs to, as decide_step_lengths chose it (run.dt shortened by
+  /// the Courant, diffusion or drag limit); `fallback` before the first step (the initial forces).
+  double fluid_step(double fallback) const { return world_.last_step.dt > 0.0 ? world_.last_step.dt : fallback; }
+
   /// Entities processed by this run, for the particles-per-second column of the timing table.
   void count_items(std::size_t items) { items_ += items; }
   std::size_t items() const { return items_; }

@@ -24,6 +24,9 @@ void SolidDrag::run(SystemContext& context) {
   const double density = fluid_.density;
   const double viscosity = fluid_.kinematic_viscosity * density;
   const double dt = context.dt;
+  // The exchange's delay is two fluid steps of the length this step has (a Courant- or drag-limited step is shorter
+  // than run.dt).
+  const double fluid_step = context.fluid_step(fluid_step_);
   const double kPi = 3.14159265358979323846;
   for_each_particle(grains.size(), [&](std::size_t grain) {
     if (sampled.fluid_weight[grain] <= 0.0) {
@@ -38,7 +41,7 @@ void SolidDrag::run(SystemContext& context) {
     // passes the grain at (u - u_s) / eps; the seed's reading takes u as the pore velocity itself.
     const double flux_share = model_.mixture_velocity ? voidage : 1.0;
     if (model_.self_induced_velocity && voidage > kSelfInducedMinVoidage) {
-      drag_without_own_disturbance(grain, grains, properties, sampled, voidage, flux_share, dt, drag);
+      drag_without_own_disturbance(grain, grains, properties, sampled, voidage, flux_share, dt, fluid_step, drag);
     } else {
       const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
       const Vec3 slip = relative / flux_share;
@@ -72,7 +75,8 @@ void SolidDrag::clear_disturbance(GrainDrag& drag, std::size_t grain) {
 // diffusive time capped by the time R / |u_sampled - v| the water takes to pass the kernel.
 void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState& grains,
                                              const GrainProperties& properties, const GrainSampledFluid& sampled,
-                                             double voidage, double flux_share, double dt, GrainDrag& drag) {
+                                             double voidage, double flux_share, double dt, double fluid_step,
+                                             GrainDrag& drag) {
   const double kPi = 3.14159265358979323846;
   const double density = fluid_.density;
   const double nu = fluid_.kinematic_viscosity;
@@ -89,7 +93,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // The water shows a sub-step's drag about two fluid steps later (spread at the step's end, applied in the next
   // step's prediction, sampled at the start of the one after, used over it): each lag also waits that long (a
   // delay d ahead of a lag tau is a lag tau + d to first order).
-  const double exchange_delay = 2.0 * fluid_step_;
+  const double exchange_delay = 2.0 * fluid_step;
   std::array<Vec3*, SelfInducedModes::kCount> modes = {&drag.self_induced_fast[grain], &drag.self_induced_middle[grain],
                                                        &drag.self_induced_slow[grain]};
   std::array<double, SelfInducedModes::kCount> keep{};

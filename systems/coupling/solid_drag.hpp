@@ -29,11 +29,11 @@ class SolidDrag final : public System {
   void clear_disturbance(GrainDrag& drag, std::size_t grain);
   void drag_without_own_disturbance(std::size_t grain, const GrainState& grains, const GrainProperties& properties,
                                     const GrainSampledFluid& sampled, double voidage, double flux_share, double dt,
-                                    GrainDrag& drag);
+                                    double fluid_step, GrainDrag& drag);
 
   CouplingModel model_;
   FluidModel fluid_;
-  double fluid_step_;        ///< [s] run.dt: the exchange's delay is about two of them (solid_drag.cpp)
+  double fluid_step_;        ///< [s] run.dt, the fluid step before the first (SystemContext::fluid_step)
   double inverse_distance_;  ///< R <1/r> of the spreading and sampling kernels (self_induced.hpp)
 };
 
