@@ -507,7 +507,8 @@ sed -e 's/^high = \[0.1, 0.02, 0.2\]/high = [0.1, 0.02, 0.2]\nvelocity = [20.0, 
     -e 's/^spacing = 0.005 .*/spacing = 0.005\nmin_dt = 1.0e-4/' "$SRC/scenes/dam_break.toml" > fast_fluid.toml
 riffle_as fast_fluid run fast_fluid.toml --out F --threads 2
 expect_rc "a fluid whose Courant step falls below min_dt stops with exit 3" fast_fluid 3
-check "the diagnosis names the time-step collapse" contains fast_fluid.err "below fluid.min_dt"
+check "the diagnosis names the time-step collapse and the limit that set it" \
+  contains fast_fluid.err "below fluid.min_dt" "courant limit"
 # A splash out of a low open tank (issue 22): escaped droplets are removed and counted, and the run finishes.
 riffle_as splash run "$SRC/tests/data/splash_escape.toml" --out SPL --threads 2
 expect_rc "a splash that throws water out of an open tank finishes" splash 0

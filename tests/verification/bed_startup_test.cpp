@@ -157,11 +157,12 @@ struct SlowLidBalance {
   double closure() const { return tau_b - (tau_lid - unsteady); }
 };
 
-/// The slow-lid case's wet run on the settled bed `bed` (top at `bed_top`): water of spacing `spacing` and
-/// nu = 1e-4 m^2/s in the 2 cm periodic box under a no-slip lid at 0.02 m/s, the grains held until 0.05 s, run to
-/// 0.3 s, with or without [coupling] viscous_stress.
-SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spacing, bool viscous) {
-  const double speed = 0.02, nu = 1.0e-4, lid_z = 0.02, held = 0.05, end = 0.3;
+/// The slow-lid case's wet scene on the settled bed `bed` (top at `bed_top`): water of spacing `spacing` and
+/// nu = 1e-4 m^2/s in the 2 cm periodic box under a no-slip lid at 0.02 m/s, the grains held until 0.05 s, to 0.3 s,
+/// with or without [coupling] viscous_stress; `fluid_keys`: more [fluid] keys.
+std::string slow_lid_scene(const std::string& bed, double bed_top, double spacing, bool viscous,
+                           const std::string& fluid_keys = "") {
+  const double lid_z = 0.02, speed = 0.02;
   char keys[512];
   std::snprintf(keys, sizeof keys,
                 "[fluid.initial_velocity]\nkind = \"linear\"\nbottom = %.6f\ntop = %.6f\nvelocity = %.6f\n"
@@ -177,7 +178,7 @@ SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spaci
   char wet_size[64];
   std::snprintf(wet_size, sizeof wet_size, "size = [0.02, 0.02, %.12g]", lid_z + 3.0 * spacing);
   common.replace(common.find(tank_size), tank_size.size(), wet_size);
-  const std::string wet = R"(
+  return R"(
   [run]
   end_time = 0.3
   dt = 5.0e-4
@@ -185,7 +186,7 @@ SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spaci
   [solids]
   initial_state = ")" + bed + R"("
   hold_until = 0.05
-  )" + fluid + R"(
+  )" + fluid + fluid_keys + R"(
   [[fluid.boxes]]
   low = [0.0, 0.0, 0.0]
   high = [0.02, 0.02, 0.02]
@@ -193,6 +194,12 @@ SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spaci
   [coupling]
   fluid_velocity = "mixture"
   viscous_stress = )" + std::string(viscous ? "true" : "false") + "\n";
+}
+
+/// The slow-lid case run (slow_lid_scene) and its momentum balance measured.
+SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spacing, bool viscous) {
+  const double speed = 0.02, nu = 1.0e-4, lid_z = 0.02, held = 0.05, end = 0.3;
+  const std::string wet = slow_lid_scene(bed, bed_top, spacing, viscous);
   const Model model = parse_scene(wet, "wet.toml");
   auto run = Simulation::from_model(model);
   const World& world = run->world();
@@ -321,4 +328,20 @@ TEST_CASE("a settled bed under a lid too slow to move it, periodic in x and y: n
       CHECK(balance.closure() < -0.1 * balance.tau_lid);  // the loss the viscous stress force closes: not noise
     }
   }
+
+  // A drag limit below fluid.min_dt stops the run with a diagnosis that names it: at l0 = 1.25 mm the limit is about
+  // 5e-5 s (the rate near 1e4 1/s), so with min_dt = 2e-4 s the first step stops.
+  const Model stiff = parse_scene(slow_lid_scene(bed, bed_top, 0.00125, true, "min_dt = 2.0e-4\n"), "stiff.toml");
+  auto collapse = Simulation::from_model(stiff);
+  collapse->step();
+  const World& world = collapse->world();
+  REQUIRE_FALSE(world.step_status.ok());
+  CHECK(world.step_status.problem == StepProblem::kTimeStepCollapse);
+  CHECK(world.last_step.limit == StepLimit::kDrag);
+  CHECK(world.last_step.drag_rate * 2.0e-4 > stiff.coupling.drag_number);
+  const std::string text = diagnosis(world, stiff);
+  CHECK(text.find("drag limit") != std::string::npos);
+  CHECK(text.find("below fluid.min_dt") != std::string::npos);
+  CHECK(text.find(" 1/s") != std::string::npos);
+  CHECK(world.time == 0.0);  // the step did not run
 }
