@@ -268,19 +268,21 @@ std::string diagnosis(const World& world, const Model& model) {
   const StepStatus& status = world.step_status;
   const DomainBox domain = domain_box(model);
   const std::string when = "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) + " s): ";
-  if (status.problem == StepProblem::kTimeStepCollapse && world.last_step.limit == StepLimit::kDrag)
-    return when + "the step's drag limit gave dt = " + std::to_string(world.last_step.dt) +
-           " s, below fluid.min_dt = " + std::to_string(model.fluid.min_dt) +
-           " s: the grains' drag relaxes the water around them at " + std::to_string(world.last_step.drag_rate) +
-           " 1/s (coupling.drag_number / rate; docs/COUPLING.md, \"The drag's step limit\"): a bed packed "
-           "beyond its voidage floor, or grains far faster than the water; fastest fluid particle id " +
-           std::to_string(status.entity) + " at " + format_vec(status.position) + " m";
-  if (status.problem == StepProblem::kTimeStepCollapse)
-    return when + "the step's " + step_limit_name(world.last_step.limit) + " limit gave dt = " +
-           std::to_string(world.last_step.dt) + " s, below fluid.min_dt = " +
-           std::to_string(model.fluid.min_dt) + " s: the flow blew up; fastest fluid particle id " +
-           std::to_string(status.entity) + " at position " + format_vec(status.position) + " m with velocity " +
-           format_vec(status.velocity) + " m/s";
+  if (status.problem == StepProblem::kTimeStepCollapse) {
+    // The limit that set the step names the cause: the grains' drag, or the flow itself.
+    const std::string collapse = when + "the step's " + step_limit_name(world.last_step.limit) + " limit gave dt = " +
+                                 std::to_string(world.last_step.dt) + " s, below fluid.min_dt = " +
+                                 std::to_string(model.fluid.min_dt) + " s: ";
+    if (world.last_step.limit == StepLimit::kDrag)
+      return collapse + "the grains' drag relaxes the water around them at " +
+             std::to_string(world.last_step.drag_rate) +
+             " 1/s (coupling.drag_number / rate; docs/COUPLING.md, \"The drag's step limit\"): a bed packed "
+             "beyond its voidage floor, or grains far faster than the water; fastest fluid particle id " +
+             std::to_string(status.entity) + " at " + format_vec(status.position) + " m";
+    return collapse + "the flow blew up; fastest fluid particle id " + std::to_string(status.entity) +
+           " at position " + format_vec(status.position) + " m with velocity " + format_vec(status.velocity) +
+           " m/s";
+  }
   if (status.problem == StepProblem::kTooManyEscaped) {
     const FluidSummary& fluid = *world.fluid_summary;
     char text[256];

@@ -157,21 +157,25 @@ struct SlowLidBalance {
   double closure() const { return tau_b - (tau_lid - unsteady); }
 };
 
+/// The slow-lid case: a no-slip lid at kLidHeight moving at kLidSpeed over water of kSlowLidViscosity.
+constexpr double kLidHeight = 0.02, kLidSpeed = 0.02, kSlowLidViscosity = 1.0e-4;
+
 /// The slow-lid case's wet scene on the settled bed `bed` (top at `bed_top`): water of spacing `spacing` and
 /// nu = 1e-4 m^2/s in the 2 cm periodic box under a no-slip lid at 0.02 m/s, the grains held until 0.05 s, to 0.3 s,
 /// with or without [coupling] viscous_stress; `fluid_keys`: more [fluid] keys.
 std::string slow_lid_scene(const std::string& bed, double bed_top, double spacing, bool viscous,
                            const std::string& fluid_keys = "") {
-  const double lid_z = 0.02, speed = 0.02;
+  const double lid_z = kLidHeight;
   char keys[512];
   std::snprintf(keys, sizeof keys,
                 "[fluid.initial_velocity]\nkind = \"linear\"\nbottom = %.6f\ntop = %.6f\nvelocity = %.6f\n"
-                "[[fluid.wall_boxes]]\nlow = [0.0, 0.0, 0.02]\nhigh = [0.02, 0.02, %.12g]\nlid = \"no_slip\"\n"
-                "velocity = 0.02\n",
-                bed_top, lid_z, speed, lid_z + 3.0 * spacing);  // the lid three layers thick at any spacing
+                "[[fluid.wall_boxes]]\nlow = [0.0, 0.0, %.12g]\nhigh = [0.02, 0.02, %.12g]\nlid = \"no_slip\"\n"
+                "velocity = %.12g\n",
+                bed_top, lid_z, kLidSpeed, lid_z, lid_z + 3.0 * spacing,  // the lid three layers thick at any spacing
+                kLidSpeed);
   char fluid[256];
-  std::snprintf(fluid, sizeof fluid, "[fluid]\nspacing = %.12g\nkinematic_viscosity = 1.0e-4\n"
-                "clamp_negative_pressure = false\n", spacing);
+  std::snprintf(fluid, sizeof fluid, "[fluid]\nspacing = %.12g\nkinematic_viscosity = %.12g\n"
+                "clamp_negative_pressure = false\n", spacing, kSlowLidViscosity);
   // The tank as tall as the lid's top (its walls need a height in whole spacings; 0.0275 m at 2.5 mm).
   std::string common = kCommon;
   const std::string tank_size = "size = [0.02, 0.02, 0.0275]";
@@ -198,7 +202,7 @@ std::string slow_lid_scene(const std::string& bed, double bed_top, double spacin
 
 /// The slow-lid case run (slow_lid_scene) and its momentum balance measured.
 SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spacing, bool viscous) {
-  const double speed = 0.02, nu = 1.0e-4, lid_z = 0.02, held = 0.05, end = 0.3;
+  const double held = 0.05, end = 0.3;
   const std::string wet = slow_lid_scene(bed, bed_top, spacing, viscous);
   const Model model = parse_scene(wet, "wet.toml");
   auto run = Simulation::from_model(model);
@@ -258,7 +262,7 @@ SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spaci
   for (double c : batch_closures) batch_mean += c / static_cast<double>(kBatches);
   for (double c : batch_closures) scatter += (c - batch_mean) * (c - batch_mean);
   result.standard_error = std::sqrt(scatter / static_cast<double>(kBatches - 1) / static_cast<double>(kBatches));
-  result.couette = model.fluid.density * nu * speed / (lid_z - bed_top);
+  result.couette = model.fluid.density * kSlowLidViscosity * kLidSpeed / (kLidHeight - bed_top);
   MESSAGE("spacing ", spacing, " m, viscous stress ", viscous, ": moving fraction after the release at most ",
           result.worst_moving, "; largest grain speed ", result.released_speed, " m/s; tau_b ", result.tau_b,
           " Pa, tau_lid ", result.tau_lid, " Pa (Couette rho nu U / H = ", result.couette, " Pa); unsteady residual ",
