@@ -356,6 +356,7 @@ struct SphereSpec {
   double radius = 0.0;                   ///< [m]
   std::int32_t material = 0;
   std::int32_t size_class = 0;
+  bool fixed = false;  ///< held with the tank for the whole run (GrainProperties::fixed)
 };
 
 struct SolidsModel {
@@ -373,6 +374,9 @@ struct SolidsModel {
   /// The run's time is a sum of steps, so a hold_until on a step boundary arrives rounded (2 s after 4000 steps of
   /// 5e-4 s is 1.99999999999984): a sub-step starting within hold_release_slack of hold_until counts as released.
   bool held(double time) const { return fixed_to_tank || time < hold_until - hold_release_slack; }
+  /// [m] the grains whose centre lies below this height (z in the tank at rest) when a run starts are fixed for the
+  /// whole run (GrainProperties::fixed): a rough floor of grains under a bed that moves. NaN: none.
+  double fixed_below = std::numeric_limits<double>::quiet_NaN();
   /// [s] above the summed time's rounding (of order 1e-16 relative per step: 1.6e-13 s after 4000 steps to 2 s) and a
   /// thousandth of a 1 microsecond sub-step, so it never moves the release by a whole sub-step.
   static constexpr double hold_release_slack = 1e-9;

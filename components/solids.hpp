@@ -47,6 +47,9 @@ struct GrainProperties {
   std::vector<double> moment_of_inertia;  ///< [kg m^2] about the centre (solid sphere: 2/5 m r^2)
   std::vector<std::int32_t> material;     ///< [1] index into the scene's material table
   std::vector<std::int32_t> size_class;   ///< [1] index into the scene's size classes (for per-class output)
+  /// [1] 1: the grain is held with the tank for the whole run, a rough floor of grains ([solids] fixed_below, a
+  /// sphere's `fixed`); 0: free. Set when the run starts and kept in checkpoints (format 8 on).
+  std::vector<std::int32_t> fixed;
 
   std::size_t size() const { return radius.size(); }
 
@@ -57,6 +60,7 @@ struct GrainProperties {
     visit(FieldInfo{"moment_of_inertia", "kg m^2", false}, self.moment_of_inertia);
     visit(FieldInfo{"material", "1", true}, self.material);
     visit(FieldInfo{"size_class", "1", true}, self.size_class);
+    visit(FieldInfo{"fixed", "1", true, 0.0, 8}, self.fixed);
   }
 };
 
@@ -216,7 +220,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
-  static constexpr std::array<const char*, 37> kFieldOrder = {
+  static constexpr std::array<const char*, 38> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
@@ -224,7 +228,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
       "undisturbed_velocity", "fluid_acceleration", "added_mass_force", "history_force", "lubrication_force",
       "history_relative_velocity", "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
       "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7",
-      "self_induced_fast", "self_induced_middle", "self_induced_slow", "viscous_force"};
+      "self_induced_fast", "self_induced_middle", "self_induced_slow", "viscous_force", "fixed"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 

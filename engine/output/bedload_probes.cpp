@@ -74,6 +74,7 @@ std::vector<double> moving_fractions(const Solids& solids, const GrainClasses& c
   const std::size_t n = classes.classes.size();
   std::vector<std::size_t> moving(n + 1, 0), total(n + 1, 0);
   for (std::size_t i = 0; i < solids.size(); ++i) {
+    if (solids.fixed[i]) continue;  // a rough floor's grains are not the bed's: they never move
     // A class the probe did not know at its start counts in the total only (none come or go in a run).
     const std::size_t k = classes.index_of(solids.size_class[i]);
     const bool moves = (solids.velocity[i] - frame.velocity).norm() > threshold;

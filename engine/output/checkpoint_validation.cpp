@@ -166,6 +166,7 @@ void check_grains_match_scene(const Refusal& refusal, const Solids& grains, cons
     same("radius", grains.radius[i], scene.radius[k]);
     same("material", grains.material[i], scene.material[k]);
     same("size_class", grains.size_class[i], scene.size_class[k]);
+    same("fixed", grains.fixed[i], scene.fixed[k]);
     same("mass", grains.mass[i], scene.mass[k]);
     same("moment_of_inertia", grains.moment_of_inertia[i], scene.moment_of_inertia[k]);
   }
@@ -400,6 +401,8 @@ void validate_grains(const Solids& grains, std::size_t material_count, const std
     if (grains.size_class[i] < 0 || grains.size_class[i] > kMaxSizeClass)
       refusal.fail(refusal.item("solids.size_class", i, grains.size_class[i]),
                    "must be in 0.." + std::to_string(kMaxSizeClass));
+    if (grains.fixed[i] != 0 && grains.fixed[i] != 1)
+      refusal.fail(refusal.item("solids.fixed", i, grains.fixed[i]), "must be 0 or 1");
     // The drag law divides by the voidage and raises it to powers: it is a volume fraction, clipped above zero.
     if (!(grains.voidage[i] > 0.0 && grains.voidage[i] <= 1.0))
       refusal.fail(refusal.item("solids.voidage", i, grains.voidage[i]), "must be in (0, 1]");

@@ -6,6 +6,7 @@
 #include <tbb/info.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -474,6 +475,13 @@ RunOutcome Simulation::run(const RunOptions& options) {
   spdlog::info("{} '{}' from {}: t = {} s to {} s, dt = {} s, {} solid sub-steps, {} grains, {} threads",
                fresh_run ? "starting" : "resuming", model_->name, model_->scene_file, world_.time, end_time,
                model_->dt, model_->solid_substeps, world_.solids ? world_.solids->size() : 0, threads);
+  if (world_.solids) {
+    const auto fixed = std::count(world_.solids->fixed.begin(), world_.solids->fixed.end(), 1);
+    if (fixed > 0) spdlog::info("{} of the grains are fixed for the whole run (a rough floor)", fixed);
+    else if (!std::isnan(model_->solids.fixed_below))
+      spdlog::warn("[solids] fixed_below = {} m fixes no grain: no centre lies below it at the start",
+                   model_->solids.fixed_below);
+  }
 
   double min_radius = 0.0;
   if (world_.solids && world_.solids->size())

@@ -268,6 +268,12 @@ void read_solids(TableReader& solids, Model& model) {
     if (model.solids.fixed_to_tank)
       solids.problem("hold_until", "fixed_to_tank already holds the grains for the whole run; give one or the other");
   }
+  if (solids.has("fixed_below")) {
+    // A height in the tank: bounded by the largest tank a scene may describe, as positions are.
+    model.solids.fixed_below = solids.number("fixed_below", std::nullopt, "m", Bounds::closed(-1e4, 1e4));
+    if (model.solids.fixed_to_tank)
+      solids.problem("fixed_below", "fixed_to_tank already holds every grain for the whole run; give one or the other");
+  }
   if (solids.has("initial_state")) {
     // Relative to the scene file, so a scene and the run it continues can move together.
     std::filesystem::path path = solids.text("initial_state", "");
@@ -289,6 +295,9 @@ void read_solids(TableReader& solids, Model& model) {
     spec.radius = sphere.number("radius", std::nullopt, "m", Bounds::positive());
     spec.material = read_material(model, sphere, "material");
     spec.size_class = static_cast<std::int32_t>(sphere.integer("size_class", 0, 0, 1000));
+    spec.fixed = sphere.boolean("fixed", false);
+    if (spec.fixed && model.solids.fixed_to_tank)
+      sphere.problem("fixed", "fixed_to_tank already holds every grain for the whole run; give one or the other");
     if (tank_known && position_known && spec.radius > 0.0 && !inside_tank(model, spec.position, spec.radius))
       sphere.problem("position", "the sphere does not fit inside the tank at rest (tank spans origin to "
                                  "origin + size)");

@@ -174,7 +174,13 @@ World initial_world(const Model& model) {
                                                  model.materials[static_cast<std::size_t>(sphere.material)].density,
                                                  sphere.material, sphere.size_class);
       world.solids->angular_velocity[slot] = sphere.angular_velocity;
+      world.solids->fixed[slot] = sphere.fixed ? 1 : 0;
     }
+    // A rough floor: the grains below fixed_below at the start (in the tank at rest), those of initial_state too.
+    // A grain fixed in initial_state's checkpoint stays fixed.
+    if (!std::isnan(model.solids.fixed_below))
+      for (std::size_t i = 0; i < world.solids->size(); ++i)
+        if (world.solids->position[i].z() - shift.z() < model.solids.fixed_below) world.solids->fixed[i] = 1;
   }
   if (model.fluid.enabled) {
     world.fluid = initial_fluid(model, *world.tank_motion);

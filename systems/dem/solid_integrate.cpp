@@ -30,6 +30,7 @@ Access kick_access(const KickSettings& settings) {
 
 void half_kick(GrainState& grains, const GrainProperties& properties, const GrainTotalForce& total, const Vec3& gravity, double half_dt, std::size_t begin, std::size_t end) {
   for (std::size_t i = begin; i < end; ++i) {
+    if (properties.fixed[i]) continue;  // carried with the tank by the drift (fixed_drift)
     grains.velocity[i] += half_dt * (total.force[i] / properties.mass[i] + gravity);
     grains.angular_velocity[i] += (half_dt / properties.moment_of_inertia[i]) * total.torque[i];
   }
@@ -54,6 +55,13 @@ void half_kick_inertial(GrainState& grains, const GrainProperties& properties, c
   for (std::size_t i = begin; i < end; ++i) {
     const bool wet = fluid.sampled.fluid_weight[i] > 0.0;
     const Vec3 history = fluid.settings.history && wet ? fluid.added.history_force[i] : Vec3::Zero();
+    if (properties.fixed[i]) {
+      // As a held bed: no added mass (the fluid's forces do not accelerate it); the water takes back the history
+      // force, as it takes the drag.
+      fluid.added.added_mass_force[i] = Vec3::Zero();
+      fluid.drag.drag_impulse[i] += half_dt * history;
+      continue;
+    }
     const double r = properties.radius[i];
     const double coefficient =
         fluid.settings.added_mass && wet
@@ -69,6 +77,33 @@ void half_kick_inertial(GrainState& grains, const GrainProperties& properties, c
   }
 }
 
+/// The tank's motion over one sub-step, which carries the fixed grains.
+struct TankStep {
+  Vec3 displacement = Vec3::Zero();  ///< [m] over the sub-step
+  Vec3 end_velocity = Vec3::Zero();  ///< [m/s] at its end
+};
+
+TankStep tank_motion_over_step(const SystemContext& context) {
+  const TankMotion start = tank_kinematics(context.model.tank.motion, context.time);
+  const TankMotion end = tank_kinematics(context.model.tank.motion, context.time + context.dt);
+  return {end.displacement - start.displacement, end.velocity};
+}
+
+/// x += dt v for a free grain; a fixed one moves with the tank, exactly, at its velocity and without spin (the
+/// second half kick leaves it so).
+void drift_range(GrainState& grains, const GrainProperties& properties, const TankStep& tank, double dt,
+                 std::size_t begin, std::size_t end) {
+  for (std::size_t i = begin; i < end; ++i) {
+    if (properties.fixed[i]) {
+      grains.position[i] += tank.displacement;
+      grains.velocity[i] = tank.end_velocity;
+      grains.angular_velocity[i] = Vec3::Zero();
+    } else {
+      grains.position[i] += dt * grains.velocity[i];
+    }
+  }
+}
+
 /// Both kinds of half kick over a range of grains.
 void kick_range(SystemContext& context, const KickSettings& settings, double half_dt, bool drift) {
   GrainState& grains = context.write<GrainState>();
@@ -76,13 +111,12 @@ void kick_range(SystemContext& context, const KickSettings& settings, double hal
   const GrainTotalForce& total = context.read<GrainTotalForce>();
   const Vec3 gravity = context.model.gravity;
   const double dt = context.dt;
+  const TankStep tank_step = drift ? tank_motion_over_step(context) : TankStep{};
   if (!settings.any()) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         half_kick(grains, properties, total, gravity, half_dt, range.begin(), range.end());
-                        if (drift)
-                          for (std::size_t i = range.begin(); i < range.end(); ++i)
-                            grains.position[i] += dt * grains.velocity[i];
+                        if (drift) drift_range(grains, properties, tank_step, dt, range.begin(), range.end());
                       });
     return;
   }
@@ -92,9 +126,7 @@ void kick_range(SystemContext& context, const KickSettings& settings, double hal
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       half_kick_inertial(grains, properties, total, fluid, gravity, half_dt, range.begin(),
                                          range.end());
-                      if (drift)
-                        for (std::size_t i = range.begin(); i < range.end(); ++i)
-                          grains.position[i] += dt * grains.velocity[i];
+                      if (drift) drift_range(grains, properties, tank_step, dt, range.begin(), range.end());
                     });
 }
 }  // namespace
@@ -107,11 +139,10 @@ void SolidKickDrift::run(SystemContext& context) {
   // A fixed bed ([solids] fixed_to_tank, or held until hold_until): the tank's displacement over the sub-step, exactly.
   if (context.model.solids.held(context.time)) {
     GrainState& grains = context.write<GrainState>();
-    const TankMotion start = tank_kinematics(context.model.tank.motion, context.time);
-    const TankMotion end = tank_kinematics(context.model.tank.motion, context.time + dt);
+    const TankStep tank = tank_motion_over_step(context);
     for (std::size_t i = 0; i < grains.size(); ++i) {
-      grains.position[i] += end.displacement - start.displacement;
-      grains.velocity[i] = end.velocity;
+      grains.position[i] += tank.displacement;
+      grains.velocity[i] = tank.end_velocity;
       grains.angular_velocity[i] = Vec3::Zero();
     }
     // The held grains still feel the history force (no added mass: they do not accelerate by the fluid's

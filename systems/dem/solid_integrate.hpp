@@ -4,7 +4,8 @@
 //   solid_kick_drift: v += dt/2 (F/m + g); w += dt/2 T/I; x += dt v
 //   (force systems: F, T at the new positions)
 //   solid_kick:       v += dt/2 (F/m + g); w += dt/2 T/I
-// For a constant force the scheme is exact, which the free-fall verification test relies on.
+// For a constant force the scheme is exact, which the free-fall verification test relies on. A fixed grain
+// (GrainProperties::fixed, a rough floor) skips the kicks and drifts with the tank, as the whole bed does while held.
 //
 // With [coupling] added_mass, a wet grain's half kicks are implicit in its added mass m_a = C_a(eps) rho V
 // (docs/COUPLING.md, "Added mass and history force"): (m + m_a) dv/dt = F + m g + m_a a_f, a_f the water's

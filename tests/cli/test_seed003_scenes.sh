@@ -5,7 +5,7 @@
 # (Only the first steps: the whole runs are studies, docs/RESULTS.md.)
 # The sheared beds start from a bed settled dry by scenes/sheared_bed_*_settle.toml ([solids] initial_state): each
 # settle scene must be valid and run; its 1 ms checkpoint stands in for the settled bed, the sheared scene's
-# initial_state pointed at it.
+# initial_state pointed at it. A scene with a rough floor ([solids] fixed_below) must fix some of those grains.
 # Usage: test_seed003_scenes.sh RIFFLE SOURCE_DIR WORK_DIR
 set -u
 riffle=$1
@@ -13,7 +13,7 @@ source_dir=$2
 work=$3
 mkdir -p "$work"
 status=0
-for scene in sheared_bed_small sheared_bed_large sheared_bed_bidisperse oscillatory_sheet_flow; do
+for scene in sheared_bed_small sheared_bed_large sheared_bed_large_deep sheared_bed_bidisperse oscillatory_sheet_flow; do
   file="$source_dir/scenes/$scene.toml"
   grep -q '^periodic = \["x", "y"\]$' "$file" || { echo "FAIL $scene: no 'periodic = [\"x\", \"y\"]' line"; status=1; }
   if [ -f "$source_dir/scenes/${scene}_settle.toml" ]; then
@@ -37,6 +37,10 @@ for scene in sheared_bed_small sheared_bed_large sheared_bed_bidisperse oscillat
   elif ! ran=$("$riffle" run "$file" --until 0.001 --threads 1 --out "$work/${scene}_run" 2>&1) ||
        [ ! -s "$work/${scene}_run/probe_bedload_flux.csv" ]; then
     echo "FAIL $scene: does not run its first steps periodic (or writes no bed-load probe):"
+    echo "$ran" | tail -5
+    status=1
+  elif grep -q '^fixed_below = ' "$file" && ! grep -q 'of the grains are fixed for the whole run' <<<"$ran"; then
+    echo "FAIL $scene: it sets fixed_below, but its run fixed no grain:"
     echo "$ran" | tail -5
     status=1
   else

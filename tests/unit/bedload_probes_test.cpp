@@ -94,6 +94,14 @@ TEST_CASE("the moving fraction per class counts grains faster than the threshold
   // A threshold above the speed: nothing moves; in the lab frame (tank at rest) every grain would.
   CHECK(moving_fractions(solids, classes, frame, 0.025)[2] == 0.0);
   CHECK(moving_fractions(solids, classes, box_frame(Vec3(0.1, 0.1, 0.1)), 0.01)[2] == 1.0);
+  // Fixed grains (a rough floor) count in neither the moving nor the total: one moving, one resting small grain
+  // and every large one fixed leave 3 of 6 small grains moving and no large grain counted.
+  solids.fixed[1] = solids.fixed[2] = 1;
+  for (int k = 8; k < 11; ++k) solids.fixed[static_cast<std::size_t>(k)] = 1;
+  const std::vector<double> floor_left_out = moving_fractions(solids, classes, frame, 0.01);
+  CHECK(floor_left_out[0] == 0.5);
+  CHECK(std::isnan(floor_left_out[1]));
+  CHECK(floor_left_out[2] == 0.5);
 }
 
 TEST_CASE("the planar packing density of a top layer of touching spheres on a square lattice is pi/4") {

@@ -281,6 +281,14 @@ TEST_CASE("material, size class, wall and id indices outside the scene are refus
     refused(resume(data, [](CheckpointData& d) { d.world.solids->size_class[2] = -4; }),
             "solids.size_class[2] = -4: must be in 0..1000");
   }
+  SUBCASE("a fixed flag other than 0 or 1") {
+    refused(resume(data, [](CheckpointData& d) { d.world.solids->fixed[1] = 2; }),
+            "solids.fixed[1] = 2: must be 0 or 1");
+  }
+  SUBCASE("a grain fixed that its scene left free") {
+    refused(resume(data, [](CheckpointData& d) { d.world.solids->fixed[0] = 1; }),
+            "solids.fixed[0] = 1: differs from the scene's grain id");
+  }
   SUBCASE("every wall removed") {
     refused(resume(data, [](CheckpointData& d) { d.world.walls = Walls{}; }), "walls: holds 0 entries, expected 6");
   }

@@ -218,6 +218,13 @@ TEST_CASE("bad scenes are rejected with file, line, column, key and a useful mes
        "expected a number in [0, 86400] [s], got -1", 1},
       {"sort_every = 10", "sort_every = 10\nfixed_to_tank = true\nhold_until = 2.0", "hold_until = ^2.0",
        "solids.hold_until", "fixed_to_tank already holds the grains for the whole run", 1},
+      // [solids] fixed_below and a sphere's fixed: not with fixed_to_tank.
+      {"sort_every = 10", "sort_every = 10\nfixed_to_tank = true\nfixed_below = 0.01", "fixed_below = ^0.01",
+       "solids.fixed_below", "fixed_to_tank already holds every grain", 1},
+      {"sort_every = 10", "sort_every = 10\nfixed_below = \"low\"", "fixed_below = ^\"low\"", "solids.fixed_below",
+       "got a string", 1},
+      {"size_class = 1", "size_class = 1\nfixed = 1", "fixed = ^1", "solids.spheres[0].fixed", "expected true or false, got an integer",
+       1},
       {"size_class = 1", "size_class = 1001", "size_class = ^1001", "solids.spheres[0].size_class", "got 1001", 1},
       // Unknown keys: top level, misspelt table, nested, in an array of tables.
       {"[run]", "colour = \"red\"\n[run]", "^colour", "colour",

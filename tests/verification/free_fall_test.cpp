@@ -10,6 +10,7 @@
 
 #include "engine/output/checkpoint.hpp"
 #include "engine/run/simulation.hpp"
+#include "systems/physics/tank_kinematics.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;
@@ -168,4 +169,107 @@ TEST_CASE("grains held until hold_until stay in place, then fall freely from res
     CHECK(unheld->world().solids->angular_velocity[i] == zero->world().solids->angular_velocity[i]);
   }
   CHECK(unheld->world().solids->velocity[0].z() > 0.1);  // the initial 0.5 m/s upward, less 30 ms of gravity
+}
+
+namespace {
+/// A rough floor in a 5 cm tank: a grain 0.1 mm above the floor fixed by `[solids] fixed_below` (centre 2.6 mm < 4 mm), a
+/// free grain of the same size starting 0.1 mm above it on the same vertical, and a grain fixed by its own `fixed`
+/// key in mid-air. Hertz-Mindlin grains of E = 1e7 Pa, nu = 0.3, 2650 kg/m^3, radius 2.5 mm; `motion` is appended
+/// to [tank].
+std::string rough_floor_scene(const std::string& motion) {
+  return R"(
+[run]
+end_time = 1.0
+dt = 1.0e-3
+[materials.grain]
+density = 2650.0
+young_modulus = 1.0e7
+poisson_ratio = 0.3
+[tank]
+size = [0.05, 0.05, 0.05]
+wall_material = "grain"
+)" + motion + R"(
+[contact]
+law = "hertz_mindlin"
+restitution = 0.5
+friction = 0.4
+[solids]
+fixed_below = 0.004
+[[solids.spheres]]
+position = [0.025, 0.025, 0.0026]
+radius = 0.0025
+material = "grain"
+[[solids.spheres]]
+position = [0.025, 0.025, 0.0077]
+radius = 0.0025
+material = "grain"
+[[solids.spheres]]
+position = [0.01, 0.01, 0.03]
+velocity = [0.0, 0.0, 0.5]
+radius = 0.0025
+material = "grain"
+fixed = true
+)";
+}
+}  // namespace
+
+// [solids] fixed_below (a rough floor): a fixed grain does not respond to any force; it carries the weight of a grain
+// resting on it. In a still tank the free grain comes to rest on the floor grain at Hertz's static overlap,
+// delta = (3 m g / (4 E* sqrt(R*)))^(2/3) with E* = E / (2 (1 - nu^2)), R* = R/2, and the contact force on the fixed
+// grain is that weight (Newton's third law); in a shaken tank the fixed grains ride with it exactly (to rounding),
+// and a resume continues bit for bit.
+TEST_CASE("fixed grains (a rough floor) hold still, carry a resting grain's weight, ride with the tank, and resume") {
+  auto still = Simulation::from_model(parse_scene(rough_floor_scene(""), "floor.toml"));
+  const Solids& grains = *still->world().solids;
+  REQUIRE(grains.size() == 3);
+  CHECK(grains.fixed == std::vector<std::int32_t>{1, 0, 1});
+  const std::vector<Vec3> start(grains.position.begin(), grains.position.end());
+  for (int step = 0; step < 600; ++step) still->step();  // 0.6 s: the bounce damps out (restitution 0.5)
+  REQUIRE(still->world().step_status.ok());
+  for (std::size_t i : {0u, 2u}) {
+    CHECK(grains.position[i] == start[i]);
+    CHECK(grains.velocity[i] == Vec3::Zero());
+    CHECK(grains.angular_velocity[i] == Vec3::Zero());
+  }
+  const double radius = 0.0025, mass = 2650.0 * 4.0 / 3.0 * 3.14159265358979323846 * radius * radius * radius;
+  const double weight = mass * 9.81;
+  const double effective_young = 1.0e7 / (2.0 * (1.0 - 0.3 * 0.3)), effective_radius = 0.5 * radius;
+  const double overlap = std::pow(3.0 * weight / (4.0 * effective_young * std::sqrt(effective_radius)), 2.0 / 3.0);
+  CHECK(grains.velocity[1].norm() < 1e-4);
+  CHECK(grains.position[1].x() == start[1].x());  // on the vertical: no sideways force
+  CHECK(2.0 * radius - (grains.position[1].z() - grains.position[0].z()) == doctest::Approx(overlap).epsilon(0.01));
+  CHECK(-grains.contact_force[0].z() == doctest::Approx(weight).epsilon(1e-3));  // the floor grain carries it
+  CHECK(grains.contact_force[2] == Vec3::Zero());  // the one in mid-air touches nothing
+
+  // Shaken (the seed's motion, ramped over 0.2 s): the fixed grains keep their place in the tank exactly.
+  const std::string shaken_text = rough_floor_scene(R"([tank.motion]
+kind = "sinusoidal"
+amplitude = 0.01
+frequency = 1.7
+ramp_time = 0.2
+)");
+  const Model shaken_model = parse_scene(shaken_text, "shaken_floor.toml");
+  auto shaken = Simulation::from_model(shaken_model);
+  const Solids& riding = *shaken->world().solids;
+  for (int step = 0; step < 400; ++step) shaken->step();
+  REQUIRE(shaken->world().step_status.ok());
+  const TankMotion tank = tank_kinematics(shaken_model.tank.motion, shaken->world().time);
+  const TankMotion tank_start = tank_kinematics(shaken_model.tank.motion, 0.0);
+  REQUIRE(std::abs(tank.displacement.x() - tank_start.displacement.x()) > 1e-3);  // it did move
+  // A sum of the tank's displacement over every sub-step: rounding of order (sub-steps) x eps x |x|, as above.
+  const double rounding_bound = 4.0 * 400 * static_cast<double>(shaken_model.solid_substeps) * 2.2e-16 * 0.05;
+  for (std::size_t i : {0u, 2u}) {
+    CHECK((riding.position[i] - (start[i] + tank.displacement - tank_start.displacement)).norm() < rounding_bound);
+    CHECK((riding.velocity[i] - tank.velocity).norm() < 1e-15);
+    CHECK(riding.angular_velocity[i] == Vec3::Zero());
+  }
+  // Checkpointed and resumed: the flags travel, and the run continues bit for bit.
+  const auto directory = test::scratch_dir("rough_floor_resume");
+  const std::string path = (directory / "floor.ckpt").string();
+  write_checkpoint(path, shaken->checkpoint_data());
+  for (int step = 0; step < 100; ++step) shaken->step();
+  auto resumed = Simulation::from_checkpoint(path);
+  CHECK(resumed->world().solids->fixed == std::vector<std::int32_t>{1, 0, 1});
+  for (int step = 0; step < 100; ++step) resumed->step();
+  CHECK(encode_checkpoint(resumed->checkpoint_data()) == encode_checkpoint(shaken->checkpoint_data()));
 }
