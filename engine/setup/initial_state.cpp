@@ -181,6 +181,13 @@ World initial_world(const Model& model) {
     if (!std::isnan(model.solids.fixed_below))
       for (std::size_t i = 0; i < world.solids->size(); ++i)
         if (world.solids->position[i].z() - shift.z() < model.solids.fixed_below) world.solids->fixed[i] = 1;
+    // A fixed grain moves with the tank from the start: the first forces, the t = 0 output and the history force's
+    // first slip see it as it will be (a velocity given in the scene or left in a checkpoint is dropped).
+    for (std::size_t i = 0; i < world.solids->size(); ++i)
+      if (world.solids->fixed[i]) {
+        world.solids->velocity[i] = world.tank_motion->velocity;
+        world.solids->angular_velocity[i] = Vec3::Zero();
+      }
   }
   if (model.fluid.enabled) {
     world.fluid = initial_fluid(model, *world.tank_motion);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "systems/physics/contact_law.hpp"
 #include "systems/physics/lubrication.hpp"
 
 namespace riffle {
@@ -23,22 +24,26 @@ struct RealGrains {
   const double* radius_;
   const double* mass_;
   const double* weight_;
+  const std::int32_t* fixed_;
   const Vec3& position(std::uint32_t j) const { return position_[j]; }
   const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
   double radius(std::uint32_t j) const { return radius_[j]; }
   double mass(std::uint32_t j) const { return mass_[j]; }
   double weight(std::uint32_t j) const { return weight_[j]; }
+  bool fixed(std::uint32_t j) const { return fixed_[j] != 0; }
 };
 struct GhostedGrains {
   Ghosted<Vec3> position_, velocity_;
   Ghosted<double> radius_, mass_;
   const double* weight_;
+  const std::int32_t* fixed_;
   const Halo* halo_;
   const Vec3& position(std::uint32_t j) const { return position_[j]; }
   const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
   double radius(std::uint32_t j) const { return radius_[j]; }
   double mass(std::uint32_t j) const { return mass_[j]; }
   double weight(std::uint32_t j) const { return weight_[halo_->owner_of(j)]; }
+  bool fixed(std::uint32_t j) const { return fixed_[halo_->owner_of(j)] != 0; }
 };
 
 /// Pass 1 (below): each grain-grain candidate once, from its first grain (always real), the second read through
@@ -82,8 +87,8 @@ void lubrication_first(const GrainState& grains, const GrainProperties& properti
           const double roughness = settings.roughness_gap(a);
           const double at_gap = pair_lubrication_coefficient(radius, radius_j, gap, mu, roughness, cutoff);
           const double swept = swept_coefficient(at_gap, 6.0 * kPi * mu * a * a, gap, approach, dt, roughness, cutoff);
-          const double mass_i = properties.mass[i], mass_j = neighbours.mass(j);
-          const double reduced_mass = mass_i * mass_j / (mass_i + mass_j);
+          const double reduced_mass =
+              pair_reduced_mass(properties.mass[i], neighbours.mass(j), properties.fixed[i] != 0, neighbours.fixed(j));
           const Vec3 on_first = -implicit_coefficient(swept, dt, reduced_mass) * approach * normal;
           pair_force[k] = on_first;
           force += on_first;
@@ -142,12 +147,12 @@ void SolidLubrication::run(SystemContext& context) {
                                    ghosted(grains.velocity, contacts.ghosts.velocity, contacts.halo),
                                    ghosted(properties.radius, contacts.ghosts.radius, contacts.halo),
                                    ghosted(properties.mass, contacts.ghosts.mass, contacts.halo), weights,
-                                   &contacts.halo};
+                                   properties.fixed.data(), &contacts.halo};
     lubrication_first(grains, properties, weights, neighbours, contacts, walls, settings, mu, dt, pair_force,
                       lubrication);
   } else {
     const RealGrains neighbours{grains.position.data(), grains.velocity.data(), properties.radius.data(),
-                                properties.mass.data(), weights};
+                                properties.mass.data(), weights, properties.fixed.data()};
     lubrication_first(grains, properties, weights, neighbours, contacts, walls, settings, mu, dt, pair_force,
                       lubrication);
   }

@@ -29,37 +29,45 @@ struct RealNeighbours {
   const double* radius_;
   const double* mass_;
   const std::int32_t* material_;
+  const std::int32_t* fixed_;
   RealNeighbours(const GrainState& grains, const GrainProperties& properties)
       : position_(grains.position.data()),
         velocity_(grains.velocity.data()),
         angular_velocity_(grains.angular_velocity.data()),
         radius_(properties.radius.data()),
         mass_(properties.mass.data()),
-        material_(properties.material.data()) {}
+        material_(properties.material.data()),
+        fixed_(properties.fixed.data()) {}
   const Vec3& position(std::uint32_t j) const { return position_[j]; }
   const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
   const Vec3& angular_velocity(std::uint32_t j) const { return angular_velocity_[j]; }
   double radius(std::uint32_t j) const { return radius_[j]; }
   double mass(std::uint32_t j) const { return mass_[j]; }
   std::int32_t material(std::uint32_t j) const { return material_[j]; }
+  bool fixed(std::uint32_t j) const { return fixed_[j] != 0; }
 };
 struct GhostedNeighbours {
   Ghosted<Vec3> position_, velocity_, angular_velocity_;
   Ghosted<double> radius_, mass_;
   Ghosted<std::int32_t> material_;
+  const std::int32_t* fixed_;  // by owner: a ghost is fixed where its owner is (no ghost copy needed)
+  const Halo* halo_;
   GhostedNeighbours(const GrainState& grains, const GrainProperties& properties, const Contacts& contacts)
       : position_(ghosted(grains.position, contacts.ghosts.position, contacts.halo)),
         velocity_(ghosted(grains.velocity, contacts.ghosts.velocity, contacts.halo)),
         angular_velocity_(ghosted(grains.angular_velocity, contacts.ghosts.angular_velocity, contacts.halo)),
         radius_(ghosted(properties.radius, contacts.ghosts.radius, contacts.halo)),
         mass_(ghosted(properties.mass, contacts.ghosts.mass, contacts.halo)),
-        material_(ghosted(properties.material, contacts.ghosts.material, contacts.halo)) {}
+        material_(ghosted(properties.material, contacts.ghosts.material, contacts.halo)),
+        fixed_(properties.fixed.data()),
+        halo_(&contacts.halo) {}
   const Vec3& position(std::uint32_t j) const { return position_[j]; }
   const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
   const Vec3& angular_velocity(std::uint32_t j) const { return angular_velocity_[j]; }
   double radius(std::uint32_t j) const { return radius_[j]; }
   double mass(std::uint32_t j) const { return mass_[j]; }
   std::int32_t material(std::uint32_t j) const { return material_[j]; }
+  bool fixed(std::uint32_t j) const { return fixed_[halo_->owner_of(j)] != 0; }
 };
 
 /// A pair that has just separated carries no overlap, spring, force or torque (the next touch starts afresh).
@@ -97,8 +105,8 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     b.sx[p] = spring.x();
     b.sy[p] = spring.y();
     b.sz[p] = spring.z();
-    b.mi[p] = properties.mass[i];
-    b.mj[p] = neighbours.mass(j);
+    b.effective_mass[p] =
+        pair_reduced_mass(properties.mass[i], neighbours.mass(j), properties.fixed[i] != 0, neighbours.fixed(j));
     const ContactPairParameters& pair = model.pair(properties.material[i], neighbours.material(j));
     b.stiffness_a[p] = pair.normal_stiffness_coefficient;
     b.stiffness_b[p] = pair.tangential_stiffness_coefficient;

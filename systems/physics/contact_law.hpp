@@ -203,6 +203,15 @@ inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParamet
   return response;
 }
 
+/// [kg] The reduced mass m_i m_j / (m_i + m_j) of a grain pair in the contact (and lubrication) laws; against a fixed
+/// grain (GrainProperties::fixed, which does not respond, as a wall does not) the free grain's own mass, so that the
+/// damping, and with it the restitution, is the one calibrated for a grain on a wall.
+inline double pair_reduced_mass(double mass_i, double mass_j, bool fixed_i, bool fixed_j) {
+  if (fixed_j && !fixed_i) return mass_i;
+  if (fixed_i && !fixed_j) return mass_j;
+  return mass_i * mass_j / (mass_i + mass_j);
+}
+
 /// Touching sphere pairs in structure-of-arrays form, evaluated together by evaluate_sphere_pair_batch.
 constexpr std::size_t kContactBatch = 64;
 struct SpherePairBatch {
@@ -213,7 +222,8 @@ struct SpherePairBatch {
   alignas(64) double wix[kContactBatch], wiy[kContactBatch], wiz[kContactBatch];  // angular velocity of the first
   alignas(64) double wjx[kContactBatch], wjy[kContactBatch], wjz[kContactBatch];  // angular velocity of the second
   alignas(64) double sx[kContactBatch], sy[kContactBatch], sz[kContactBatch];     // tangential spring (in old, out new)
-  alignas(64) double ri[kContactBatch], rj[kContactBatch], mi[kContactBatch], mj[kContactBatch];
+  alignas(64) double ri[kContactBatch], rj[kContactBatch];
+  alignas(64) double effective_mass[kContactBatch];  // pair_reduced_mass
   // Pair coefficients, as in ContactLaneInput.
   alignas(64) double stiffness_a[kContactBatch], stiffness_b[kContactBatch];
   alignas(64) double damping[kContactBatch], damping_ratio[kContactBatch];

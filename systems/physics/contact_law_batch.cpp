@@ -38,7 +38,7 @@ template <ContactLaw kLaw, bool kRolling>
     in.rwy = wiy - wjy;
     in.rwz = wiz - wjz;
     in.effective_radius = radius_i * radius_j / touching_distance;
-    in.effective_mass = b.mi[p] * b.mj[p] / (b.mi[p] + b.mj[p]);
+    in.effective_mass = b.effective_mass[p];
     in.stiffness_a = b.stiffness_a[p];
     in.stiffness_b = b.stiffness_b[p];
     in.damping = b.damping[p];

@@ -413,7 +413,8 @@ void put(SpherePairBatch& batch, std::size_t p, const SpherePair& pair, const Co
   batch.wix[p] = pair.spin_i.x(), batch.wiy[p] = pair.spin_i.y(), batch.wiz[p] = pair.spin_i.z();
   batch.wjx[p] = pair.spin_j.x(), batch.wjy[p] = pair.spin_j.y(), batch.wjz[p] = pair.spin_j.z();
   batch.sx[p] = pair.spring.x(), batch.sy[p] = pair.spring.y(), batch.sz[p] = pair.spring.z();
-  batch.ri[p] = pair.radius_i, batch.rj[p] = pair.radius_j, batch.mi[p] = pair.mass_i, batch.mj[p] = pair.mass_j;
+  batch.ri[p] = pair.radius_i, batch.rj[p] = pair.radius_j;
+  batch.effective_mass[p] = pair_reduced_mass(pair.mass_i, pair.mass_j, false, false);
   batch.stiffness_a[p] = coefficients.normal_stiffness_coefficient;
   batch.stiffness_b[p] = coefficients.tangential_stiffness_coefficient;
   batch.damping[p] = lane_damping(law, coefficients);

@@ -64,6 +64,7 @@ struct Body {
   Vec3 position;
   Vec3 velocity = Vec3::Zero();
   Vec3 angular_velocity = Vec3::Zero();
+  bool fixed = false;  ///< [solids.spheres] fixed: held for the whole run (a rough floor's grain)
 };
 
 struct SceneSpec {
@@ -103,7 +104,7 @@ std::string scene_text(const SceneSpec& spec) {
   for (const Body& body : spec.bodies)
     out << "[[solids.spheres]]\nposition = " << format(body.position) << "\nvelocity = " << format(body.velocity)
         << "\nangular_velocity = " << format(body.angular_velocity) << "\nradius = " << kRadius
-        << "\nmaterial = \"grain\"\n";
+        << "\nmaterial = \"grain\"\n" << (body.fixed ? "fixed = true\n" : "");
   return out.str();
 }
 
@@ -119,8 +120,16 @@ double largest_overlap(const Contacts& contacts) {
   return largest;
 }
 
-enum class Target { kFloor, kSphere };
-std::string name_of(Target target) { return target == Target::kFloor ? "sphere on the floor" : "two spheres"; }
+/// What a sphere hits: the floor, a sphere coming at it, or a fixed sphere (a rough floor's grain: it does not
+/// respond, so the pair's reduced mass is the moving sphere's own, as on a wall).
+enum class Target { kFloor, kSphere, kFixedSphere };
+std::string name_of(Target target) {
+  return target == Target::kFloor ? "sphere on the floor" : target == Target::kSphere ? "two spheres" : "sphere on a fixed sphere";
+}
+/// R* and m* of the collision: a wall is a plane that does not move, R* = R, m* = m; two equal spheres R* = R/2,
+/// m* = m/2; a sphere on a fixed one R* = R/2, m* = m.
+double effective_radius_of(Target target) { return target == Target::kFloor ? kRadius : 0.5 * kRadius; }
+double effective_mass_of(Target target) { return target == Target::kSphere ? 0.5 * kMass : kMass; }
 
 /// The slot of grain `id` (neighbour-list rebuilds may reorder the slots).
 std::size_t slot_of(const Solids& solids, EntityId id) {
@@ -184,9 +193,12 @@ std::pair<Impact, double> normal_impact(const std::string& law, Target target, d
   const Vec3 centre = 0.5 * spec.tank;
   if (target == Target::kFloor) {
     spec.bodies.push_back({Vec3(centre[0], centre[1], kRadius + gap), Vec3(0.0, 0.0, -speed)});
-  } else {
+  } else if (target == Target::kSphere) {
     spec.bodies.push_back({centre - Vec3(kRadius + 0.5 * gap, 0.0, 0.0), Vec3(0.5 * speed, 0.0, 0.0)});
     spec.bodies.push_back({centre + Vec3(kRadius + 0.5 * gap, 0.0, 0.0), Vec3(-0.5 * speed, 0.0, 0.0)});
+  } else {
+    spec.bodies.push_back({centre - Vec3(2.0 * kRadius + gap, 0.0, 0.0), Vec3(speed, 0.0, 0.0)});
+    spec.bodies.push_back({centre, Vec3::Zero(), Vec3::Zero(), true});
   }
   Impact impact = run_collision(spec, target);
   double restitution_achieved = 0.0;
@@ -246,10 +258,8 @@ TEST_CASE("elastic normal impacts last the Hertz (or the linear law's) contact t
   // samples. (omega_max dt)^2 / 2 covers each sum; (omega_max dt)^2 / 8 bounds the rebound speed's error.
   const double N = 100.0, collision_time = 2.0e-4;  // SceneSpec's default for the linear law
   for (const std::string law : {"hertz_mindlin", "linear_spring_dashpot"})
-    for (Target target : {Target::kFloor, Target::kSphere}) {
-      // A wall is a plane that does not move: R* = R, m* = m. Two equal spheres: R* = R/2, m* = m/2.
-      const double effective_radius = target == Target::kFloor ? kRadius : 0.5 * kRadius;
-      const double effective_mass = target == Target::kFloor ? kMass : 0.5 * kMass;
+    for (Target target : {Target::kFloor, Target::kSphere, Target::kFixedSphere}) {
+      const double effective_radius = effective_radius_of(target), effective_mass = effective_mass_of(target);
       int run = 0;
       for (double speed : {0.05, 0.2, 1.0}) {
         const CollisionScales scales =
@@ -272,9 +282,8 @@ TEST_CASE("damped normal impacts rebound at the requested restitution, whatever 
   // the top of the file (0.6 % for the linear law, 0.7 % for Hertz whose bound takes gamma at d_max).
   const double N = 200.0, restitution = 0.5, collision_time = 2.0e-4;
   for (const std::string law : {"hertz_mindlin", "linear_spring_dashpot"})
-    for (Target target : {Target::kFloor, Target::kSphere}) {
-      const double effective_radius = target == Target::kFloor ? kRadius : 0.5 * kRadius;
-      const double effective_mass = target == Target::kFloor ? kMass : 0.5 * kMass;
+    for (Target target : {Target::kFloor, Target::kSphere, Target::kFixedSphere}) {
+      const double effective_radius = effective_radius_of(target), effective_mass = effective_mass_of(target);
       int run = 0;
       for (double speed : {0.05, 0.2, 1.0}) {
         const CollisionScales scales =
