@@ -176,18 +176,18 @@ World initial_world(const Model& model) {
       world.solids->angular_velocity[slot] = sphere.angular_velocity;
       world.solids->fixed[slot] = sphere.fixed ? 1 : 0;
     }
-    // A rough floor: the grains below fixed_below at the start (in the tank at rest), those of initial_state too.
-    // A grain fixed in initial_state's checkpoint stays fixed.
-    if (!std::isnan(model.solids.fixed_below))
-      for (std::size_t i = 0; i < world.solids->size(); ++i)
-        if (world.solids->position[i].z() - shift.z() < model.solids.fixed_below) world.solids->fixed[i] = 1;
-    // A fixed grain moves with the tank from the start: the first forces, the t = 0 output and the history force's
-    // first slip see it as it will be (a velocity given in the scene or left in a checkpoint is dropped).
-    for (std::size_t i = 0; i < world.solids->size(); ++i)
+    // A rough floor: the grains below fixed_below at the start (in the tank at rest), those of initial_state too;
+    // a grain fixed in initial_state's checkpoint stays fixed. A fixed grain moves with the tank from the start:
+    // the first forces, the t = 0 output and the history force's first slip see it as it will be (a velocity given
+    // in the scene or left in a checkpoint is dropped).
+    const double fixed_below = model.solids.fixed_below;  // NaN (none): every comparison below is false
+    for (std::size_t i = 0; i < world.solids->size(); ++i) {
+      if (world.solids->position[i].z() - shift.z() < fixed_below) world.solids->fixed[i] = 1;
       if (world.solids->fixed[i]) {
         world.solids->velocity[i] = world.tank_motion->velocity;
         world.solids->angular_velocity[i] = Vec3::Zero();
       }
+    }
   }
   if (model.fluid.enabled) {
     world.fluid = initial_fluid(model, *world.tank_motion);

@@ -30,7 +30,7 @@ Access kick_access(const KickSettings& settings) {
 
 void half_kick(GrainState& grains, const GrainProperties& properties, const GrainTotalForce& total, const Vec3& gravity, double half_dt, std::size_t begin, std::size_t end) {
   for (std::size_t i = begin; i < end; ++i) {
-    if (properties.fixed[i]) continue;  // carried with the tank by the drift (fixed_drift)
+    if (properties.fixed[i]) continue;  // carried with the tank by the drift (drift_range)
     grains.velocity[i] += half_dt * (total.force[i] / properties.mass[i] + gravity);
     grains.angular_velocity[i] += (half_dt / properties.moment_of_inertia[i]) * total.torque[i];
   }
