@@ -40,7 +40,9 @@ def main():
     velocity[at == 0.0115, 0] = 0.1
     read[at == 0.0115, 0] = 0.2
     entries = []
-    for index, (t, scale) in enumerate(((0.0, 1000.0), (1.0, 1.0), (2.0, 1.0))):
+    # Frame times as a run writes them (the steps' times, a little off the nominal 0, 1, 2 s): --from 0.6 takes the
+    # last two (0.6 lies more than half the 1 s interval after 0); --from 1.0 must take the frame stamped 0.99995 s too (within half the frames' interval).
+    for index, (t, scale) in enumerate(((0.0, 1000.0), (0.99995, 1.0), (2.0, 1.0))):
         name = f"solids_{index}.vtp"
         write_vtp(work / name, points,
                   {"drag_force": (scale * drag, "Float64"), "pressure_force": (scale * pressure, "Float64"),
@@ -49,19 +51,37 @@ def main():
         entries.append(f'<DataSet timestep="{t}" file="{name}"/>')
     write_pvd(work / "solids.pvd", entries)
 
-    result = bed_force_profile.profile(str(work), 0.002, start=0.5, band=0.001, area=0.01)
+    result = bed_force_profile.profile(str(work), 0.002, start=0.6, band=0.001, area=0.01)
     assert result["frames"] == 2, result["frames"]
     assert abs(result["total"] - 0.154) < 1e-12, result["total"]
     assert 0.0095 < result["top"] < 0.0115, result["top"]
     expected = np.array([4e-5, 1e-3, 5e-4, 0.0, 0.0]) / 1.54e-3
     assert np.allclose(result["shares"], expected, atol=1e-12), result["shares"]
     assert abs(result["floor"] - 1.0) < 1e-12 and abs(result["floor_Pa"] - 0.154) < 1e-12, result["floor"]
+    assert result["frames"] == 2 and bed_force_profile.profile(str(work), 0.002, start=1.0, area=0.01)["frames"] == 2
+    # The moving grains: the two above, at 0.1 m/s, reading 0.2 m/s, 11.5 mm less the top above it.
+    assert result["moving"] == 2 and abs(result["moving_u"] - 0.1) < 1e-12, result["moving"]
+    assert abs(result["moving_read"] - 0.2) < 1e-12, result["moving_read"]
+    assert abs(result["moving_height"] - (0.0115 - result["top"])) < 1e-12, result["moving_height"]
+    assert result["above"] == 2 and abs(result["above_u"] - 0.1) < 1e-12 and abs(result["above_read"] - 0.2) < 1e-12
     rows = {round(row["z_low"] * 1e3): row for row in result["rows"]}
     assert rows[1]["fixed"] == 3 and rows[1]["grains"] == 0, rows[1]
     assert rows[9]["grains"] == 100 and abs(rows[9]["fluid"] - 0.1) < 1e-12, rows[9]
     assert abs(rows[9]["from_top"] - 0.104) < 1e-12 and abs(rows[9]["contact"] + 0.1) < 1e-12, rows[9]
     assert abs(rows[11]["u_grain"] - 0.1) < 1e-12 and abs(rows[11]["u_read"] - 0.2) < 1e-12, rows[11]
     assert abs(rows[3]["from_top"] - 0.154) < 1e-12, rows[3]
+
+    # The bed top on randomly packed beds with a known top: centres uniform in height up to 10 mm (their count,
+    # averaged over a box centred on each height, falls to half exactly at 10 mm), within d / 16; the same with a stray grain 10 mm below
+    # the floor, and with a thin bed (a 6 mm bed: 3 d, the seed's large bed). Movers above at 1/8 of the packed count
+    # raise it to where the averaging box (9/8 d tall) holds half the packed count, the bed's and theirs together:
+    # (1000 (11.125 - z) + 125 (z - 8.875)) / 2.25 = 500 per 0.25 mm at z = 10.161 mm.
+    d = 0.002
+    packed = rng.uniform(0.0, 0.010, 40000)
+    for heights, top in ((packed, 0.010), (np.append(packed, -0.010), 0.010), (rng.uniform(0.0, 0.006, 24000), 0.006),
+                         (np.concatenate([packed, rng.uniform(0.010, 0.014, 2000)]), 0.010161)):
+        found = bed_force_profile.bed_top(heights, d)
+        assert abs(found - top) <= d / 16, (found, top)
     print("bed_force_profile: all checks passed")
 
 
