@@ -15,11 +15,11 @@ run per bed and lid speed (docs/SCENES.md, "Seed 003's sheared beds"):
                             Theta, beside Meyer-Peter & Mueller (1948) and Wong & Parker (2006);
 and seed003_summary.csv with one row per run and class (the numbers behind Figs. 5 and the flux plot).
 
-Usage: /usr/bin/python3 tools/seed003_plots.py [--small U=DIR ...] [--large U=DIR ...] [--bidisperse U=DIR ...]
+Usage: /usr/bin/python3 tools/seed003_plots.py [--small U=DIR[@T] ...] [--large U=DIR[@T] ...] [--bidisperse U=DIR ...]
            [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01] [--mixture-counts 2492 852]
            [--fluid-density 1000] [--viscosity 1e-6] [--gravity 9.81]
 
-U is the lid speed [m/s] of the run in DIR (its output directory, holding probe_moving_fraction.csv,
+U is the lid speed [m/s] of the run in DIR (DIR@T: the run's own start of the time means; its output directory, holding probe_moving_fraction.csv,
 probe_bedload_flux.csv, probe_bed_shear_stress.csv and, for the mixture, probe_packing_density.csv). Time means are
 taken over t >= --from (default: the second half of each run). --stress picks the bed shear stress: the momentum
 balance tau_b (default) or the lid's. A run "keeps moving" when its mean moving fraction over the window exceeds
@@ -73,12 +73,19 @@ def shields_curve_in_friction_reynolds(particle_reynolds, law):
     return np.sqrt(theta) * particle_reynolds, theta
 
 
-def parse_runs(items, bed):
+def parse_runs(items, bed, starts=None):
+    """[(U, DIR)] sorted by U from U=DIR or U=DIR@T items; a run's own window start T goes to starts[DIR]."""
     runs = []
     for item in items or []:
         speed, sep, directory = item.partition("=")
         if not sep:
-            raise SystemExit(f"--{bed} {item}: expected U=DIR")
+            raise SystemExit(f"--{bed} {item}: expected U=DIR or U=DIR@T")
+        directory, at, start = directory.rpartition("@") if "@" in directory else (directory, "", "")
+        if at and starts is not None:
+            try:
+                starts[directory] = float(start)
+            except ValueError:
+                raise SystemExit(f"--{bed} {item}: the start after @ is not a number")
         runs.append((float(speed), directory))
     return sorted(runs)
 
@@ -106,14 +113,16 @@ def time_mean(columns, name, rows):
     return float(np.mean(values[finite])) if finite.any() else float("nan")
 
 
-def summarise(bed, speed, directory, args):
-    """One summary dict per size class of the run: diameter, Theta, Re_f, moving fraction, q*, MPM, Wong-Parker."""
+def summarise(bed, speed, directory, args, start=None):
+    """One summary dict per size class of the run: diameter, Theta, Re_f, moving fraction, q*, MPM, Wong-Parker; the
+    means from `start` (default --from)."""
+    start = args.start if start is None else start
     shear = probe(directory, "bed_shear_stress")
     moving = probe(directory, "moving_fraction")
     flux = probe(directory, "bedload_flux")
     if shear is None:
         raise SystemExit(f"{directory}: no probe_bed_shear_stress.csv")
-    rows = window(shear, args.start)
+    rows = window(shear, start)
     stress = "tau_lid_Pa" if args.stress == "lid" else "tau_b_Pa"
     if stress not in shear:
         raise SystemExit(f"{directory}: probe_bed_shear_stress.csv has no {stress} (no moving lid?)")
@@ -130,11 +139,11 @@ def summarise(bed, speed, directory, args):
                      tau_Pa=tau, shields=shields, friction_reynolds=friction_velocity * diameter / args.viscosity,
                      relative_density=relative_density)
         if moving is not None:
-            moving_rows = window(moving, args.start)
+            moving_rows = window(moving, start)
             entry["moving_fraction"] = time_mean(moving, f"class_{size_class}_moving_fraction", moving_rows)
             entry["all_moving_fraction"] = time_mean(moving, "all_moving_fraction", moving_rows)
         if flux is not None:
-            flux_rows = window(flux, args.start)
+            flux_rows = window(flux, start)
             q = time_mean(flux, f"class_{size_class}_q_m2_s", flux_rows)
             scale = math.sqrt((relative_density - 1.0) * args.gravity * diameter ** 3) if relative_density > 1 else 0
             entry["q_m2_s"] = q
@@ -291,7 +300,7 @@ SUMMARY_COLUMNS = ("bed", "lid_speed_m_s", "size_class", "diameter_m", "tau_Pa",
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     for bed in BEDS:
-        parser.add_argument(f"--{bed}", action="append", metavar="U=DIR", help=f"a run of the {bed} bed")
+        parser.add_argument(f"--{bed}", action="append", metavar="U=DIR[@T]", help=f"a run of the {bed} bed")
     parser.add_argument("--out", default="seed003_figures")
     parser.add_argument("--from", dest="start", type=float, default=None, help="start of the time means [s]")
     parser.add_argument("--stress", choices=("b", "lid"), default="b")
@@ -303,12 +312,13 @@ def main(argv):
     parser.add_argument("--viscosity", type=float, default=1.0e-6)
     parser.add_argument("--gravity", type=float, default=9.81)
     args = parser.parse_args(argv)
-    runs = {bed: parse_runs(getattr(args, bed), bed) for bed in BEDS}
+    starts = {}
+    runs = {bed: parse_runs(getattr(args, bed), bed, starts) for bed in BEDS}
     if not any(runs.values()):
         parser.error("no runs given (--small, --large, --bidisperse)")
     os.makedirs(args.out, exist_ok=True)
     summary = [entry for bed in BEDS for speed, directory in runs[bed]
-               for entry in summarise(bed, speed, directory, args)]
+               for entry in summarise(bed, speed, directory, args, starts.get(directory))]
     figure_moving(runs, os.path.join(args.out, "fig4_moving_fraction.png"))
     figure_shields(summary, args, os.path.join(args.out, "fig5_shields.png"))
     if runs["bidisperse"]:

@@ -113,6 +113,15 @@ def check_synthetic(work):
     # D_m of the seed's mixture counts (623 x 1 mm + 213 x 2 mm, its Eq. 31): 1.2548 mm, Theta = 1.5 / (1650 g D_m).
     close(float(rows[4]["diameter_m"]), 0.001 * (623 + 2 * 213) / (623 + 213), 1e-12)
     close(float(rows[4]["shields"]), 1.5 / ((S - 1) * RHO * G * 0.001 * (623 + 2 * 213) / (623 + 213)), 1e-12)
+    # A run's own window start (DIR@T) overrides --from for that run only: the mixture from 0.25 s holds 25 rows
+    # (0.25-0.49 s) before its large class's onset and 151 after; the small bed keeps --from's window (constant).
+    out_at = work / "figures_at"
+    subprocess.run([sys.executable, str(ROOT / "tools" / "seed003_plots.py"), "--small", f"0.6={small}",
+                    "--bidisperse", f"1.0={mixture}@0.25", "--from", "1.5", "--out", str(out_at),
+                    "--mixture-counts", "623", "213"], capture_output=True, text=True, check=True)
+    rows_at = list(csv.DictReader(open(out_at / "seed003_summary.csv")))
+    close(float(rows_at[2]["moving_fraction"]), 0.02 * 151 / 176, 1e-12)
+    close(float(rows_at[0]["moving_fraction"]), 0.05, 1e-12)
 
 
 TINY_SCENE = """
