@@ -15,7 +15,7 @@ run per bed and lid speed (docs/SCENES.md, "Seed 003's sheared beds"):
                             Theta, beside Meyer-Peter & Mueller (1948) and Wong & Parker (2006);
 and seed003_summary.csv with one row per run and class (the numbers behind Figs. 5 and the flux plot).
 
-Usage: /usr/bin/python3 tools/seed003_plots.py [--small U=DIR[@T] ...] [--large U=DIR[@T] ...] [--bidisperse U=DIR ...]
+Usage: /usr/bin/python3 tools/seed003_plots.py [--small U=DIR[@T] ...] [--large U=DIR[@T] ...] [--bidisperse U=DIR[@T] ...]
            [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01] [--mixture-counts 2492 852]
            [--fluid-density 1000] [--viscosity 1e-6] [--gravity 9.81]
 
@@ -73,21 +73,24 @@ def shields_curve_in_friction_reynolds(particle_reynolds, law):
     return np.sqrt(theta) * particle_reynolds, theta
 
 
-def parse_runs(items, bed, starts=None):
-    """[(U, DIR)] sorted by U from U=DIR or U=DIR@T items; a run's own window start T goes to starts[DIR]."""
+def parse_runs(items, bed):
+    """[(U, DIR, T)] sorted by U from U=DIR or U=DIR@T items: T the run's own start of the time means (None: --from).
+    Only a number after the last '@' is a start, so a directory whose name holds '@' is read whole."""
     runs = []
     for item in items or []:
         speed, sep, directory = item.partition("=")
         if not sep:
             raise SystemExit(f"--{bed} {item}: expected U=DIR or U=DIR@T")
-        directory, at, start = directory.rpartition("@") if "@" in directory else (directory, "", "")
-        if at and starts is not None:
+        start = None
+        head, at, tail = directory.rpartition("@")
+        if at:
             try:
-                starts[directory] = float(start)
+                start = float(tail)
+                directory = head
             except ValueError:
-                raise SystemExit(f"--{bed} {item}: the start after @ is not a number")
-        runs.append((float(speed), directory))
-    return sorted(runs)
+                pass
+        runs.append((float(speed), directory, start))
+    return sorted(runs, key=lambda run: run[:2])
 
 
 def probe(directory, kind):
@@ -135,7 +138,8 @@ def summarise(bed, speed, directory, args, start=None):
         # (rho_p - rho_f) g d = tau / Theta, hence s; a run at rest (tau = 0) leaves s unknown.
         relative_density = (1.0 + tau / (shields * args.fluid_density * args.gravity * diameter)
                             if shields > 0 else float("nan"))
-        entry = dict(bed=bed, lid_speed_m_s=speed, run=directory, size_class=size_class, diameter_m=diameter,
+        entry = dict(bed=bed, lid_speed_m_s=speed, run=directory, from_s=float(shear["time_s"][rows][0]),
+                     size_class=size_class, diameter_m=diameter,
                      tau_Pa=tau, shields=shields, friction_reynolds=friction_velocity * diameter / args.viscosity,
                      relative_density=relative_density)
         if moving is not None:
@@ -294,7 +298,7 @@ def figure_flux(summary, path):
 
 SUMMARY_COLUMNS = ("bed", "lid_speed_m_s", "size_class", "diameter_m", "tau_Pa", "shields", "friction_reynolds",
                    "relative_density", "moving_fraction", "all_moving_fraction", "q_m2_s", "q_star", "q_star_mpm",
-                   "q_star_wong_parker", "run")
+                   "q_star_wong_parker", "from_s", "run")
 
 
 def main(argv):
@@ -312,13 +316,13 @@ def main(argv):
     parser.add_argument("--viscosity", type=float, default=1.0e-6)
     parser.add_argument("--gravity", type=float, default=9.81)
     args = parser.parse_args(argv)
-    starts = {}
-    runs = {bed: parse_runs(getattr(args, bed), bed, starts) for bed in BEDS}
+    windowed = {bed: parse_runs(getattr(args, bed), bed) for bed in BEDS}
+    runs = {bed: [(speed, directory) for speed, directory, _ in windowed[bed]] for bed in BEDS}
     if not any(runs.values()):
         parser.error("no runs given (--small, --large, --bidisperse)")
     os.makedirs(args.out, exist_ok=True)
-    summary = [entry for bed in BEDS for speed, directory in runs[bed]
-               for entry in summarise(bed, speed, directory, args, starts.get(directory))]
+    summary = [entry for bed in BEDS for speed, directory, start in windowed[bed]
+               for entry in summarise(bed, speed, directory, args, start)]
     figure_moving(runs, os.path.join(args.out, "fig4_moving_fraction.png"))
     figure_shields(summary, args, os.path.join(args.out, "fig5_shields.png"))
     if runs["bidisperse"]:

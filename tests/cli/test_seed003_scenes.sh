@@ -3,9 +3,9 @@
 # are periodic along x and y with grains and water: since the coupling looks across the seam (issue 24) `riffle check`
 # must accept each of them, and each must run its first millisecond periodic and write its bed-load probe.
 # (Only the first steps: the whole runs are studies, docs/RESULTS.md.)
-# The sheared beds start from a bed settled dry by scenes/sheared_bed_*_settle.toml ([solids] initial_state): each
-# settle scene must be valid and run; its 1 ms checkpoint stands in for the settled bed, the sheared scene's
-# initial_state pointed at it. A scene with a rough floor ([solids] fixed_below) must fix some of those grains.
+# The sheared beds and the oscillatory sheet flow start from a bed settled dry by their scenes/*_settle.toml ([solids]
+# initial_state): each settle scene must be valid and run; its 1 ms checkpoint stands in for the settled bed, the
+# scene's initial_state pointed at it. A scene with a rough floor ([solids] fixed_below) must fix some of those grains.
 # Usage: test_seed003_scenes.sh RIFFLE SOURCE_DIR WORK_DIR
 set -u
 riffle=$1

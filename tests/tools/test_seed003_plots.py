@@ -122,6 +122,14 @@ def check_synthetic(work):
     rows_at = list(csv.DictReader(open(out_at / "seed003_summary.csv")))
     close(float(rows_at[2]["moving_fraction"]), 0.02 * 151 / 176, 1e-12)
     close(float(rows_at[0]["moving_fraction"]), 0.05, 1e-12)
+    close(float(rows_at[0]["from_s"]), 1.5, 1e-9)
+    close(float(rows_at[2]["from_s"]), 0.25, 1e-9)
+    # A directory whose name holds '@' without a number after it is read whole; the same directory twice, with and
+    # without its own start, keeps each run's window.
+    odd = work / "runs@host" / "small"
+    synthetic_run(odd, [0.001], tau=1.2, moving=[0.05], q_star=[0.02])
+    parsed = seed003_plots.parse_runs([f"0.6={odd}", f"0.8={mixture}@0.25", f"1.0={mixture}"], "small")
+    assert parsed == [(0.6, str(odd), None), (0.8, str(mixture), 0.25), (1.0, str(mixture), None)], parsed
 
 
 TINY_SCENE = """
