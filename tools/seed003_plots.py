@@ -16,14 +16,15 @@ run per bed and lid speed (docs/SCENES.md, "Seed 003's sheared beds"):
 and seed003_summary.csv with one row per run and class (the numbers behind Figs. 5 and the flux plot).
 
 Usage: /usr/bin/python3 tools/seed003_plots.py [--small U=DIR[@T] ...] [--large U=DIR[@T] ...]
-           [--bidisperse U=DIR[@T] ...] [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01] [--mixture-counts 2492 852]
-           [--fluid-density 1000] [--viscosity 1e-6] [--gravity 9.81]
+           [--bidisperse U=DIR[@T] ...] [--out DIR] [--from T] [--stress b|lid] [--moving 0.01] [--onset 0.01]
+           [--mixture-counts 2492 852] [--fluid-density 1000] [--viscosity 1e-6] [--gravity 9.81]
 
 U is the lid speed [m/s] of the run in DIR (its output directory, holding probe_moving_fraction.csv,
 probe_bedload_flux.csv, probe_bed_shear_stress.csv and, for the mixture, probe_packing_density.csv). Time means are
-taken over t >= --from (default: the second half of each run), or t >= T for a run given as DIR@T. --stress picks the bed shear stress: the momentum
-balance tau_b (default) or the lid's. A run "keeps moving" when its mean moving fraction over the window exceeds
---moving; the onset of the large grains' motion is the first row where their moving fraction exceeds --onset.
+taken over t >= --from (default: the second half of each run), or t >= T for a run given as DIR@T. --stress picks
+the bed shear stress: the momentum balance tau_b (default) or the lid's. A run "keeps moving" when its mean moving
+fraction over the window exceeds --moving; the onset of the large grains' motion is the first row where their moving
+fraction exceeds --onset.
 Prints one line per figure and a table of the summary. Needs numpy and matplotlib.
 """
 import argparse
