@@ -17,12 +17,12 @@ from test_seed_figures import write_pvd, write_vtp  # noqa: E402
 def main():
     work = pathlib.Path(sys.argv[1])
     work.mkdir(parents=True, exist_ok=True)
-    # A 0.1 x 0.1 m plan, d = 2 mm: 3 fixed grains at z = 1.5 mm, four layers of 100 free grains at 3.5 ... 9.5 mm, two
-    # free grains at 11.5 mm. The bed top lies between 9.5 and 11.5 mm (the layers' count, averaged over d, is even up
-    # to the last layer and zero 1 mm above it). Forces along x: 1e-5 N on each grain at 9.5 mm, 5e-6 N at 7.5 mm (drag and
-    # pressure halves), 2e-5 N (viscous) on each of the two above: in all 1.54e-3 N, 0.154 Pa over the plan. The
-    # fixed grains' contact forces add to the same, so the floor carries 1.0 of it. The two above move at 0.1 m/s and
-    # read 0.2 m/s. A frame at t = 0 with forces 1000 times larger lies before --from and must not count.
+    # A 0.1 x 0.1 m plan, d = 2 mm: 3 fixed grains at z = 1.5 mm, four layers of 100 free grains at 3.5 ... 9.5 mm,
+    # two free grains at 11.5 mm. The bed top lies between 9.5 and 11.5 mm (the layers' count, averaged over d, is even
+    # up to the last layer and zero 1 mm above it). Forces along x: 1e-5 N on each grain at 9.5 mm, 5e-6 N at 7.5 mm
+    # (drag and pressure halves), 2e-5 N (viscous) on each of the two above: in all 1.54e-3 N, 0.154 Pa over the plan.
+    # The fixed grains' contact forces add to the same, so the floor carries 1.0 of it. The two above move at 0.1 m/s
+    # and read 0.2 m/s. A frame at t = 0 with forces 1000 times larger lies before --from and must not count.
     rng = np.random.default_rng(3)
     heights = [0.0015] * 3 + [z for z in (0.0035, 0.0055, 0.0075, 0.0095) for _ in range(100)] + [0.0115] * 2
     count = len(heights)
@@ -75,8 +75,8 @@ def main():
     # The bed top on randomly packed beds with a known top: centres uniform in height up to 10 mm (their count,
     # averaged over a box centred on each height, falls to half exactly at 10 mm), within d / 16; the same with a
     # stray grain 10 mm below the floor, and with a thin bed (a 6 mm bed: 3 d, the seed's large bed). Movers above at
-    # 1/8 of the packed count raise it to where the averaging box (9/8 d tall) holds half the packed count, the bed's and theirs together:
-    # (1000 (11.125 - z) + 125 (z - 8.875)) / 2.25 = 500 per 0.25 mm at z = 10.161 mm.
+    # 1/8 of the packed count raise it to where the averaging box (9/8 d tall) holds half the packed count, the bed's
+    # and theirs together: (1000 (11.125 - z) + 125 (z - 8.875)) / 2.25 = 500 per 0.25 mm at z = 10.161 mm.
     d = 0.002
     packed = rng.uniform(0.0, 0.010, 40000)
     for heights, top in ((packed, 0.010), (np.append(packed, -0.010), 0.010), (rng.uniform(0.0, 0.006, 24000), 0.006),
