@@ -49,7 +49,7 @@ struct Contacts {
   // Periodic boxes ([tank] periodic): the ghosts of the grains within the list's reach of a seam. A pair's second
   // slot may be a ghost (>= grains, see components/halo.hpp); its force goes to the owner (the reverse index above
   // is by owner slot). Not checkpointed, hence not in for_each_member: the halo is a pure function of
-  // build_position (systems/physics/periodic_box.hpp build_halo), rebuilt from it on resume; the ghost copies are
+  // build_position (systems/physics/geometry/periodic_box.hpp build_halo), rebuilt from it on resume; the ghost copies are
   // exchanged every sub-step by solid_neighbours.
   Halo halo;
   GrainGhosts ghosts;

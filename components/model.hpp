@@ -38,7 +38,7 @@ struct ContactPairParameters {
   /// achieved restitution (with the no-tension cut-off) equals `restitution` exactly; see contact_law.hpp.
   double damping = 0.0;
 
-  // Derived by prepare_contact_pair (systems/physics/contact_law.hpp), so the pair loop does no logarithms and fewer roots:
+  // Derived by prepare_contact_pair (systems/physics/dem/contact_law.hpp), so the pair loop does no logarithms and fewer roots:
   //   Hertz:  k_n = A sqrt(R* d), gamma_n = c sqrt(k_n m*), k_t = B sqrt(R* d), gamma_t = T gamma_n
   //   linear: k_n = A m*,         gamma_n = D m*,           k_t = B k_n,         gamma_t = T gamma_n
   double normal_stiffness_coefficient = 0.0;      ///< A: Hertz 4/3 E* [Pa]; linear (pi^2 + ln^2 e)/t_c^2 [1/s^2]
@@ -73,7 +73,7 @@ struct ContactModel {
 };
 
 /// A tank motion read from a CSV file ([tank.motion] kind = "table"): displacement per axis at tabulated times,
-/// interpolated by a not-a-knot cubic spline per axis (systems/physics/cubic_spline.hpp), whose second derivatives
+/// interpolated by a not-a-knot cubic spline per axis (systems/physics/math/cubic_spline.hpp), whose second derivatives
 /// the scene reader computes once. Axes the file does not list stay at zero (empty vectors).
 struct MotionTable {
   std::string file;                                ///< the CSV as resolved (relative to the scene file), for messages
@@ -138,7 +138,7 @@ struct ParticleBoxModel {
 
 /// A body force along x on the water (docs/FLUID.md, "Driven flows"): the stand-in for a mean pressure gradient
 /// -dp/dx = rho f. Constant f, a sinusoid F sin(2 pi t / T + phase), or the output of a PI controller that holds the
-/// bulk velocity of the water at a target (systems/physics/driven_flow.hpp).
+/// bulk velocity of the water at a target (systems/physics/mps/driven_flow.hpp).
 struct BodyForceModel {
   enum class Kind { kNone, kConstant, kSinusoidal, kBulkVelocity };
   Kind kind = Kind::kNone;
@@ -156,7 +156,7 @@ struct BodyForceModel {
 };
 
 /// [fluid.initial_velocity]: an initial velocity profile along x added to the fluid boxes' velocities
-/// (systems/physics/initial_profile.hpp); kind none = absent.
+/// (systems/physics/mps/initial_profile.hpp); kind none = absent.
 struct InitialVelocityModel {
   enum class Kind { kNone, kLinear, kPower };
   Kind kind = Kind::kNone;
@@ -285,7 +285,7 @@ struct CouplingModel {
   bool voidage_over_tank = false;
   double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
   /// [1] The step is at most drag_number / lambda, lambda the fastest rate at which the grains' drag relaxes the water
-  /// around them (systems/physics/time_step.hpp, water_drag_rate; docs/COUPLING.md "The drag's step limit"). The
+  /// around them (systems/physics/time/time_step.hpp, water_drag_rate; docs/COUPLING.md "The drag's step limit"). The
   /// reaction is explicit and a step late in the water: u_{n+2} = u_{n+1} - a u_n with a = lambda_tangent dt grows for
   /// a > 1; the tangent is at most twice the secant lambda, so 0.5 keeps a <= 1. 0 = no limit.
   double drag_number = 0.5;
@@ -460,7 +460,7 @@ struct Model {
   CouplingModel coupling;
   OutputModel output;
 
-  /// [bytes] a scene whose estimated memory (engine/scene/budget.hpp) exceeds this is refused before anything is
+  /// [bytes] a scene whose estimated memory (engine/setup/budget.hpp) exceeds this is refused before anything is
   /// allocated: --memory-limit, else run.memory_limit, else default_memory_limit()
   double memory_limit = 0.0;
   std::string memory_limit_source;  ///< where memory_limit came from, for messages

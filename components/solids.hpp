@@ -109,7 +109,7 @@ struct GrainDrag {
   /// [m/s] the fluid velocity the drag used: the sampled one less the grain's own disturbance (docs/COUPLING.md)
   std::vector<Vec3> undisturbed_velocity;
   /// [m/s] the grain's own disturbance of the sampled velocity, one first-order lag per mode of its build-up (fast,
-  /// middle, slow: systems/physics/self_induced.hpp); their sum is fluid_velocity - undisturbed_velocity. Grain
+  /// middle, slow: systems/physics/coupling/self_induced.hpp); their sum is fluid_velocity - undisturbed_velocity. Grain
   /// fields, so a resumed run continues each build-up where it was.
   std::vector<Vec3> self_induced_fast, self_induced_middle, self_induced_slow;
 

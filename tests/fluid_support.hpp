@@ -11,7 +11,7 @@
 #include "engine/setup/initial_state.hpp"
 #include "components/model.hpp"
 #include "engine/run/stepper.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 #include "engine/run/registry.hpp"
 
 namespace riffle::test {

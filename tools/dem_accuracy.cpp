@@ -11,7 +11,7 @@
 
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/contact_law.hpp"
+#include "systems/physics/dem/contact_law.hpp"
 
 int main(int argc, char** argv) {
   using namespace riffle;

@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 #include "engine/core/timers.hpp"
 
 namespace riffle {

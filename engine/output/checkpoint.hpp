@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-#include "engine/core/world.hpp"
+#include "components/world.hpp"
 
 namespace riffle {
 

@@ -7,11 +7,11 @@
 #include <utility>
 #include <vector>
 
-#include "systems/physics/mps_common.hpp"
-#include "systems/physics/domain.hpp"
-#include "systems/physics/periodic_box.hpp"
-#include "systems/physics/tank_kinematics.hpp"
-#include "systems/dem/solid_neighbours.hpp"
+#include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/dem/neighbour_range.hpp"
 
 namespace riffle {
 

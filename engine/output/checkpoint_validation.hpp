@@ -9,7 +9,7 @@
 
 #include "engine/output/checkpoint.hpp"
 #include "components/model.hpp"
-#include "engine/core/world.hpp"
+#include "components/world.hpp"
 
 namespace riffle {
 

@@ -9,11 +9,12 @@
 #include <unordered_map>
 #include <utility>
 
-#include "engine/output/bed_statistics.hpp"
-#include "systems/physics/bedload.hpp"
-#include "systems/physics/hydrostatic.hpp"
-#include "systems/physics/mps_kernel.hpp"
-#include "systems/physics/pressure_sensor.hpp"
+#include "systems/physics/measures/bed_statistics.hpp"
+#include "systems/physics/measures/bedload.hpp"
+#include "systems/physics/mps/hydrostatic.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
+#include "systems/physics/measures/pressure_sensor.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

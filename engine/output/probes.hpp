@@ -12,7 +12,7 @@
 //   kind = "pressure_transducer"  the pressure averaged over discs on the tank's walls (0 in air), optionally
 //                         averaged over a time window ending at each row (the only probe that reads between rows);
 //   kind = "moving_fraction", "packing_density", "bedload_flux", "velocity_profile", "bed_shear_stress"  the
-//                         bed-load measures of engine/output/bedload_probes.hpp (velocity_profile in long format:
+//                         bed-load measures of systems/physics/measures/bedload_probes.hpp (velocity_profile in long format:
 //                         one line per time and layer).
 //
 // Each file starts with "time_s,step", then the probe's columns; one row on the first output of a fresh run
@@ -30,9 +30,9 @@
 #include <vector>
 
 #include "components/model.hpp"
-#include "engine/output/bedload_probes.hpp"
+#include "systems/physics/measures/bedload_probes.hpp"
 #include "engine/output/output_series.hpp"
-#include "engine/core/world.hpp"
+#include "components/world.hpp"
 
 namespace riffle {
 
@@ -86,7 +86,7 @@ FluidProbeSettings fluid_probe_settings(const Model& model);
 /// over the fluid particles j within r_e of the sensor's lab position x_s = point + displacement of
 /// p_j + rho (g - a_tank) . (x_s - x_j), i.e. each p_j carried hydrostatically to the sensor (numerics.md amendment
 /// 1), so a sensor on a wall, l0/2 beyond the last fluid layer, reads the wall pressure. NaN if no fluid particle is
-/// within r_e (a dry sensor). In air it reads 0 (sensor_pressure, systems/physics/pressure_sensor.hpp): where the
+/// within r_e (a dry sensor). In air it reads 0 (sensor_pressure, systems/physics/measures/pressure_sensor.hpp): where the
 /// wetted fraction of its support is below a quarter (spray only), and where the extrapolation is negative (the
 /// sensor lies above the water it extrapolates from) unless the fluid may hold tension.
 double fluid_pressure_at(const FluidParticles& particles, const FluidProbeSettings& settings, const TankMotion& tank,

@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <new>
 
-#include "engine/scene/budget.hpp"
+#include "engine/setup/budget.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 
@@ -98,7 +98,7 @@ int run_command(int argc, char** argv) {
         ->capture_default_str();
   };
   add_log_level(&app);
-  // [GiB] raises (or lowers) the memory limit scenes are checked against (engine/scene/budget.hpp); beats run.memory_limit.
+  // [GiB] raises (or lowers) the memory limit scenes are checked against (engine/setup/budget.hpp); beats run.memory_limit.
   double memory_limit_gib = 0.0;
   auto add_memory_limit = [&memory_limit_gib](CLI::App* command) {
     command->add_option("--memory-limit", memory_limit_gib,

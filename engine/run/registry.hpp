@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "components/model.hpp"
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

@@ -14,7 +14,7 @@
 #include <new>
 #include <sstream>
 
-#include "engine/output/bed_statistics.hpp"
+#include "engine/output/bed_profile_writer.hpp"
 #include "engine/output/checkpoint_validation.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "engine/output/output_lock.hpp"
@@ -23,8 +23,8 @@
 #include "engine/output/replace_file.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/output/vtk_output.hpp"
-#include "systems/physics/domain.hpp"
-#include "systems/physics/time_step.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/time/time_step.hpp"
 
 namespace riffle {
 

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene/budget.hpp"
+#include "engine/setup/budget.hpp"
 #include "engine/output/checkpoint.hpp"
 #include "components/model.hpp"
 #include "engine/run/stepper.hpp"
-#include "engine/core/world.hpp"
+#include "components/world.hpp"
 
 namespace riffle {
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "systems/physics/time_step.hpp"
+#include "systems/physics/time/time_step.hpp"
 
 namespace riffle {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/scene/budget.hpp"
+#include "engine/setup/budget.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/setup/bed_generation.hpp"
 

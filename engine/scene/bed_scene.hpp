@@ -2,7 +2,7 @@
 // [[solids.layered_beds]] and [[solids.fills]]: read, checked, and generated into the model's sphere list
 // (engine/setup/bed_generation.hpp generates).
 #include "components/model.hpp"
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 namespace riffle {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "engine/setup/fluid_layout.hpp"
-#include "systems/physics/driven_flow.hpp"
+#include "systems/physics/mps/driven_flow.hpp"
 
 namespace riffle {
 
@@ -223,7 +223,7 @@ void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionM
       reader.problem("kind", "bulk_velocity needs a tank that does not move along x (the controller holds the water's "
                              "mean velocity in the lab frame); use a constant or sinusoidal body force, or a still tank");
     out.target_velocity = reader.number("target_velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
-    // Gains from the channel's time scales (pi_gains, systems/physics/driven_flow.hpp), or given.
+    // Gains from the channel's time scales (pi_gains, systems/physics/mps/driven_flow.hpp), or given.
     const bool given = reader.has("proportional_gain") || reader.has("integral_gain");
     if (given) {
       out.proportional_gain = reader.number("proportional_gain", std::nullopt, "1/s", Bounds::non_negative());

@@ -3,7 +3,7 @@
 // boxes [[fluid.boxes]] and the solid wall boxes [[fluid.wall_boxes]], validated against the tank so that the
 // initial lattice (engine/setup/fluid_layout.hpp) can always be laid out.
 #include "components/model.hpp"
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 namespace riffle {
 

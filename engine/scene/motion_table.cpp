@@ -11,8 +11,8 @@
 #include <sstream>
 #include <vector>
 
-#include "engine/scene/scene_reader.hpp"
-#include "systems/physics/cubic_spline.hpp"
+#include "engine/toml/scene_reader.hpp"
+#include "systems/physics/math/cubic_spline.hpp"
 
 namespace riffle {
 

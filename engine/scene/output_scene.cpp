@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <unordered_map>
 #include <utility>
 
-#include "engine/output/bed_statistics.hpp"
-#include "engine/output/bedload_probes.hpp"
+#include "systems/physics/measures/bed_statistics.hpp"
+#include "systems/physics/measures/bedload_probes.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/setup/initial_state.hpp"
 
@@ -139,7 +140,7 @@ bool needs_grains(ProbeModel::Kind kind) {
 /// Most layers a velocity profile may have: each row holds one line per layer.
 constexpr double kMaxProfileLayers = 100000.0;
 
-/// The keys of the bed-load probes (engine/output/bedload_probes.hpp).
+/// The keys of the bed-load probes (systems/physics/measures/bedload_probes.hpp).
 void read_bedload_probe(TableReader& table, const Model& model, ProbeModel& probe) {
   const bool grains = !model.solids.spheres.empty() || !model.solids.initial_state.empty();
   if (needs_grains(probe.kind) && !grains)

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "components/model.hpp"
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 namespace riffle {
 

@@ -14,14 +14,14 @@
 
 #include "engine/scene/bed_scene.hpp"
 #include "engine/scene/output_scene.hpp"
-#include "engine/scene/budget.hpp"
+#include "engine/setup/budget.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "engine/scene/fluid_scene.hpp"
 #include "engine/scene/motion_table.hpp"
-#include "systems/physics/cubic_spline.hpp"
-#include "systems/physics/contact_law.hpp"
-#include "systems/physics/periodic_box.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/math/cubic_spline.hpp"
+#include "systems/physics/dem/contact_law.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -594,7 +594,7 @@ std::optional<TableReader> table_at(TableReader& scene, std::initializer_list<co
 
 /// A periodic box ([tank] periodic) as a whole: grains cross its seams through the contact list's halo, the MPS
 /// fluid through the neighbour lists' halo; each needs every period longer than twice its list's reach (so that a
-/// particle meets one image of another, never its own: systems/physics/periodic_box.hpp). Grains and water together
+/// particle meets one image of another, never its own: systems/physics/geometry/periodic_box.hpp). Grains and water together
 /// are coupled across the seam through the grains' images (systems/coupling/, docs/COUPLING.md): the period must
 /// also exceed twice the largest sampling radius r + r_e.
 void check_periodic(TableReader& scene, const Model& model) {
@@ -663,7 +663,7 @@ void check_periodic(TableReader& scene, const Model& model) {
   }
 }
 
-/// Scene-wide limits, judged from the budget before any particle is laid out (engine/scene/budget.hpp): the totals over
+/// Scene-wide limits, judged from the budget before any particle is laid out (engine/setup/budget.hpp): the totals over
 /// the per-block caps, the memory estimate against the limit, and a contact skin that would make every grain list
 /// every other one.
 void check_budget(TableReader& scene, const Model& model) {

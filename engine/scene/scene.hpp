@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene/budget.hpp"
+#include "engine/setup/budget.hpp"
 #include "components/model.hpp"
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 namespace riffle {
 
@@ -33,7 +33,7 @@ std::int32_t read_material(const Model& model, TableReader& reader, const std::s
 double default_checkpoint_interval(double end_time, double dt);
 
 /// Validates scene text; `file_name` is used in messages only.
-/// Refuses (SceneError) a scene whose estimated budget (engine/scene/budget.hpp) exceeds the memory limit, before any
+/// Refuses (SceneError) a scene whose estimated budget (engine/setup/budget.hpp) exceeds the memory limit, before any
 /// particle is generated or laid out.
 /// With `overrides`, model.scene_text is the changed scene written back as TOML (scene_text_with_overrides).
 Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits = {},

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 namespace riffle {
 

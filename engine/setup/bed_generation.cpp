@@ -1,8 +1,6 @@
 #include "engine/setup/bed_generation.hpp"
 
-#include "engine/scene/budget.hpp"
-
-#include "engine/scene/scene.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 #include <algorithm>
 #include <cmath>

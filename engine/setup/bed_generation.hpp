@@ -16,7 +16,7 @@
 
 #include "components/vec.hpp"
 #include "components/model.hpp"
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 namespace riffle {
 

@@ -9,9 +9,9 @@
 #include "engine/output/checkpoint.hpp"
 #include "engine/output/checkpoint_validation.hpp"
 #include "engine/setup/fluid_layout.hpp"
-#include "engine/scene/scene_reader.hpp"
-#include "systems/physics/initial_profile.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "engine/toml/scene_reader.hpp"
+#include "systems/physics/mps/initial_profile.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Builds the World at t = 0 from a validated Model: tank walls, grains, MPS particles, tank kinematics.
 #include "components/model.hpp"
-#include "engine/core/world.hpp"
+#include "components/world.hpp"
 
 namespace riffle {
 

@@ -4,11 +4,11 @@
 #include <array>
 #include <cmath>
 
-#include "systems/physics/domain.hpp"
-#include "systems/physics/fluid_pair_batch.hpp"
-#include "systems/physics/mps_kernel.hpp"
-#include "systems/physics/periodic_box.hpp"
-#include "systems/physics/sampling_kernel.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/mps/fluid_pair_batch.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/coupling/sampling_kernel.hpp"
 #include "systems/coupling/solid_drag.hpp"
 
 namespace riffle {

@@ -2,7 +2,7 @@
 // The grains' drag given back to the fluid (seed 000 Eq. 26; numerics.md 5.5): after the sub-steps, each grain's
 // drag impulse over the fluid step is spread over the fluid around it as an impulse per volume that the next
 // prediction applies. Two forms ([coupling] drag_reaction, docs/COUPLING.md "Where the drag reaction lands"):
-//  - "grid" (the default): a cloud-in-cell grid (systems/physics/voidage_grid.hpp) with cells sized so one cell
+//  - "grid" (the default): a cloud-in-cell grid (systems/physics/coupling/voidage_grid.hpp) with cells sized so one cell
 //    holds the volume of Eq. 26's influence domain: grain -> nodes -> fluid particles, with weights that sum to one
 //    at each step, at a cost linear in the particle counts. Grains deposit in slot order and each fluid particle
 //    gathers from its own nodes;
@@ -13,11 +13,11 @@
 //    sampling's ellipsoidal kernel (the same stretched offsets), so the footprint stays the sampled one.
 // Either way the fluid receives exactly minus what the grains received (momentum conserved to rounding), and
 // nothing depends on the thread count.
-#include "engine/core/system.hpp"
-#include "systems/physics/voidage_grid.hpp"
-#include "systems/physics/cell_grid.hpp"
-#include "systems/physics/mps_common.hpp"
-#include "systems/physics/mps_kernel.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/coupling/voidage_grid.hpp"
+#include "systems/physics/geometry/cell_grid.hpp"
+#include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
 
 namespace riffle {
 

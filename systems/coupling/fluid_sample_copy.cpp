@@ -1,6 +1,6 @@
 #include "systems/coupling/fluid_sample_copy.hpp"
 
-#include "systems/physics/mps_common.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

@@ -3,7 +3,7 @@
 // FluidSample before the step's two branches start (docs/COUPLING.md): the grains' branch then samples the water
 // at the step start while the fluid's branch advances it beside them. About 1 MB at l0 = 5 mm, a tenth of a
 // millisecond, against the sampling itself, which this takes off the end of the step.
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

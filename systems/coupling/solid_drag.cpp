@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "systems/physics/drag_law.hpp"
-#include "systems/physics/mps_common.hpp"
-#include "systems/physics/self_induced.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/coupling/self_induced.hpp"
 
 namespace riffle {
 

@@ -3,11 +3,11 @@
 // and voidage sampled at the last fluid step (solid_fluid_sampling) and the grain's current velocity. The drag is
 // also integrated over the sub-steps (drag_impulse), so the fluid can take back exactly what the grains received
 // (fluid_drag_reaction). With coupling.self_induced_velocity, the drag uses the undisturbed velocity: the sampled
-// one less the grain's own disturbance (systems/physics/self_induced.hpp), solved together with the drag.
+// one less the grain's own disturbance (systems/physics/coupling/self_induced.hpp), solved together with the drag.
 #include <array>
 #include <vector>
 
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

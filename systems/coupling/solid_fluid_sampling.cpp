@@ -1,12 +1,12 @@
 #include "systems/coupling/solid_fluid_sampling.hpp"
 
-#include "systems/physics/drag_law.hpp"
-#include "systems/physics/driven_flow.hpp"
-#include "systems/physics/fluid_pair_batch.hpp"
-#include "systems/physics/domain.hpp"
-#include "systems/physics/periodic_box.hpp"
-#include "systems/physics/sampling_kernel.hpp"
-#include "systems/physics/self_induced.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/mps/driven_flow.hpp"
+#include "systems/physics/mps/fluid_pair_batch.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/coupling/sampling_kernel.hpp"
+#include "systems/physics/coupling/self_induced.hpp"
 #include "systems/coupling/solid_drag.hpp"
 
 #include <algorithm>

@@ -6,10 +6,10 @@
 // graph; the sub-steps then hold these fixed (solid_drag). The voidage is solid_voidage's. With added mass or the
 // history force on, also the water's acceleration -<grad p>/rho + g (Maxey & Riley 1983). With
 // [coupling] sampling_vertical_radius the kernel is an ellipsoid, R_v across the bed (docs/COUPLING.md, "A thin bed's
-// sampling"; systems/physics/sampling_kernel.hpp).
-#include "engine/core/system.hpp"
-#include "systems/physics/cell_grid.hpp"
-#include "systems/physics/mps_common.hpp"
+// sampling"; systems/physics/coupling/sampling_kernel.hpp).
+#include "systems/system.hpp"
+#include "systems/physics/geometry/cell_grid.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

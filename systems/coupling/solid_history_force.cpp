@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "systems/physics/mps_common.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

@@ -2,12 +2,12 @@
 // The history (Basset) force on every grain, once per fluid step, right after the sampling (phase solid_step;
 // docs/COUPLING.md, "Added mass and history force"):
 //   F_H = 3/2 d^2 sqrt(pi rho mu) int K(t - tau) dw/dtau dtau,  w = u - v (the drag's slip),
-// with the windowed kernel K of BassetModes (systems/physics/added_mass.hpp): each mode's state advances exactly for
+// with the windowed kernel K of BassetModes (systems/physics/coupling/added_mass.hpp): each mode's state advances exactly for
 // a w that changed linearly since the last update. The states are grain fields (GrainAddedMass), so they follow the
 // grains through reorderings and checkpoints. The force is held over the step's sub-steps; the kicks add it to the
 // grain's force and to its drag impulse, which the water takes back.
-#include "engine/core/system.hpp"
-#include "systems/physics/added_mass.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/coupling/added_mass.hpp"
 
 namespace riffle {
 

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "systems/physics/contact_law.hpp"
-#include "systems/physics/lubrication.hpp"
+#include "systems/physics/dem/contact_law.hpp"
+#include "systems/physics/coupling/lubrication.hpp"
 
 namespace riffle {
 

@@ -1,6 +1,6 @@
 #pragma once
 // solid_lubrication: the normal lubrication force of the water squeezed between two grains, or between a grain and
-// a wall, every DEM sub-step (systems/physics/lubrication.hpp: Cox & Brenner 1967, Brenner 1961, Jeffrey 1982;
+// a wall, every DEM sub-step (systems/physics/coupling/lubrication.hpp: Cox & Brenner 1967, Brenner 1961, Jeffrey 1982;
 // docs/COUPLING.md "Lubrication"). Only wet grains feel it (GrainSampledFluid::fluid_weight > 0; a pair when both
 // are wet). The candidates are the contacts' neighbour list, which reaches the cut-off when lubrication is on
 // (solid_neighbours adds it to each pair's and wall's reach). Equal and opposite between grains; the walls take the
@@ -9,7 +9,7 @@
 // across the seam (components/halo.hpp), read through the halo as solid_contacts does; its reaction goes to the owner.
 #include <vector>
 
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

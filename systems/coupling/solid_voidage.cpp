@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "systems/physics/drag_law.hpp"
-#include "systems/physics/mps_common.hpp"
-#include "systems/physics/domain.hpp"
-#include "systems/physics/periodic_box.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 
@@ -35,9 +35,9 @@ void SolidVoidage::run(SystemContext& context) {
   if (voidage_radius_ <= 0.0) voidage_radius_ = std::max(3.0 * spacing_, 4.0 * largest_radius);
   const Model& model = context.model;
   const DomainBox domain = domain_box(model);
-  // The cells: kSmoothCell R_eps for the self-corrected estimate, kCloudInCellCell R_eps for main's (docs/COUPLING.md,
-  // "The voidage at a grain"); along z R_eps across the bed when it is set ("A thin bed's voidage").
-  const double cell_ratio = self_corrected_ ? kSmoothCell : kCloudInCellCell;
+  // The cells: voidage_cell_ratio R_eps (docs/COUPLING.md, "The voidage at a grain"); along z R_eps across the bed
+  // when it is set ("A thin bed's voidage").
+  const double cell_ratio = voidage_cell_ratio(self_corrected_);
   const double across = vertical_radius_ > 0.0 ? vertical_radius_ : voidage_radius_;
   const Vec3 cell(cell_ratio * voidage_radius_, cell_ratio * voidage_radius_, cell_ratio * across);
   if (over_tank_) {

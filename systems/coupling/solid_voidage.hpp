@@ -1,7 +1,7 @@
 #pragma once
 // The voidage at every grain at the end of each fluid step (numerics.md 5.3 in grid form; docs/COUPLING.md, "The
 // voidage at a grain"): solid volume over the space the fluid particles fill, both deposited on a grid of cells
-// 0.668 R_eps wide (systems/physics/voidage_grid.hpp; the fluid particles are the space quadrature, so walls and the
+// 0.668 R_eps wide (systems/physics/coupling/voidage_grid.hpp; the fluid particles are the space quadrature, so walls and the
 // free surface truncate both alike), smoothed by one binomial pass, read back at the grain's centre without the
 // grain's own deposit, which comes back times 1 - S(0) (a lone grain reads 1 wherever it is), and clipped to
 // [min_voidage, 1]; 1 where no node around the grain holds water. `voidage_estimate = "cloud_in_cell"`: main's
@@ -9,15 +9,13 @@
 // divides the drag by it; the grains' next sub-steps use the same value (solid_drag).
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/voidage_grid.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/coupling/voidage_grid.hpp"
 
 namespace riffle {
 
 class SolidVoidage final : public System {
  public:
-  /// Cell width over R_eps: the self-corrected estimate (smoothed), and main's trilinear one ((2 pi / 21)^(1/3)).
-  static constexpr double kSmoothCell = 0.668, kCloudInCellCell = 0.668;
   explicit SolidVoidage(const Model& model);
   std::string_view name() const override { return "solid_voidage"; }
   Access access() const override {

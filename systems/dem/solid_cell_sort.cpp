@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "systems/physics/domain.hpp"
+#include "systems/physics/geometry/domain.hpp"
 
 namespace riffle {
 

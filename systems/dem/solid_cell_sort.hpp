@@ -5,8 +5,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/cell_order.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/geometry/cell_order.hpp"
 
 namespace riffle {
 

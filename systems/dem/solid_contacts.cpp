@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "systems/physics/contact_law.hpp"
+#include "systems/physics/dem/contact_law.hpp"
 
 namespace riffle {
 

@@ -7,7 +7,7 @@
 // Splitting evaluation from gathering keeps every write private to one task and the sums in a fixed order, so the
 // result is bit-identical for any thread count. Torque lever arm: R_i n for each grain (numerics.md Sec. 4.1: the
 // seed's (1/2) xi_ij holds only for equal sizes).
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

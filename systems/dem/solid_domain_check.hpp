@@ -1,7 +1,7 @@
 #pragma once
 // solid_domain_check: flags the first grain (lowest slot) whose state is not finite or whose centre left the domain
-// (systems/physics/domain.hpp), so that the run stops with a diagnosis naming it.
-#include "engine/core/system.hpp"
+// (systems/physics/geometry/domain.hpp), so that the run stops with a diagnosis naming it.
+#include "systems/system.hpp"
 
 namespace riffle {
 

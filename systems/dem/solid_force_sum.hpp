@@ -3,7 +3,7 @@
 // when the scene has them on),
 // torque = contact torque. The one place the force sources meet, so that each source system writes only its own
 // field.
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

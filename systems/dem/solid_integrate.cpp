@@ -3,8 +3,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "systems/physics/added_mass.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/coupling/added_mass.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 

@@ -12,7 +12,7 @@
 // acceleration sampled at the step start. With history_force, the history force of the step start (written by
 // solid_history_force) is added to F. Either way the kicks add what these two forces gave the grain to its drag
 // impulse, which the water takes back (fluid_drag_reaction), so momentum stays closed.
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <limits>
 
-#include "systems/physics/cell_index.hpp"
+#include "systems/physics/geometry/cell_index.hpp"
 #include "systems/dem/solid_cell_sort.hpp"
-#include "systems/physics/domain.hpp"
-#include "systems/physics/periodic_box.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 namespace riffle {
 
@@ -21,7 +21,7 @@ namespace {
 constexpr std::size_t kGrain = 256;
 
 /// Uniform grid over the grains' box (solid_grid_shape) with the grains of each cell listed in slot order.
-struct CellGrid {
+struct GrainBinGrid {
   Vec3 origin;
   double cell_size = 0.0;
   std::array<std::int64_t, 3> cells{};
@@ -43,9 +43,9 @@ struct CellGrid {
   }
 };
 
-CellGrid build_grid(const std::vector<Vec3>& positions, const DomainBox& domain, double cell_size) {
+GrainBinGrid build_grid(const std::vector<Vec3>& positions, const DomainBox& domain, double cell_size) {
   const SolidGridShape shape = solid_grid_shape(positions, domain, cell_size);
-  CellGrid grid;
+  GrainBinGrid grid;
   grid.origin = shape.origin;
   grid.cell_size = shape.cell_size;
   grid.cells = shape.cells;
@@ -64,13 +64,6 @@ CellGrid build_grid(const std::vector<Vec3>& positions, const DomainBox& domain,
   return grid;
 }
 
-/// The gap below which a pair (or a grain and a wall: radius_2 = infinity) feels lubrication; 0 when it is off.
-/// The list reaches skin beyond it, so a pair that comes within it before the next rebuild is in the list.
-double lubrication_reach(const CouplingModel& coupling, double radius_1, double radius_2) {
-  if (!coupling.lubrication) return 0.0;
-  return coupling.lubrication_cutoff_gap(std::isinf(radius_2) ? radius_1 : radius_1 * radius_2 / (radius_1 + radius_2));
-}
-
 /// The grains as the search sees them: reals [0, N) and, in a periodic box, their ghosts [N, N + G) after them
 /// (components/halo.hpp); `owner_of` maps a slot to its real grain.
 struct SearchGrains {
@@ -84,7 +77,7 @@ struct SearchGrains {
 /// cut-off when on), in a fixed order. A pair across the seam is met from both sides (i with j's ghost, j with i's
 /// ghost); only the side whose first grain has the lower slot keeps it, so each contact is listed once.
 template <class Visit>
-void for_each_candidate(const SearchGrains& solids, const CellGrid& grid, double largest_radius, double skin,
+void for_each_candidate(const SearchGrains& solids, const GrainBinGrid& grid, double largest_radius, double skin,
                         const CouplingModel& coupling, std::size_t i, Visit&& visit) {
   const Vec3& position = solids.position[i];
   // a* < r_i: the reach of r_i bounds every pair of grain i.
@@ -122,47 +115,6 @@ const SavedSpring* find_spring(const std::vector<SavedSpring>& saved, EntityId l
 
 }  // namespace
 
-double solid_grid_cell_limit(std::size_t grains) { return std::max(8.0 * static_cast<double>(grains), 65536.0); }
-
-SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const DomainBox& domain, double cell_size) {
-  // The grains' box, clipped to the domain (a grain outside it stops the run at the domain check; until then it
-  // sits in an edge cell). Non-finite positions are left out here for the same reason.
-  Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
-  Vec3 high = -low;
-  for (const Vec3& p : positions)
-    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) {
-      low = low.cwiseMin(p);
-      high = high.cwiseMax(p);
-    }
-  low = low.cwiseMax(domain.low);
-  high = high.cwiseMin(domain.high);
-  if (!((low.array() <= high.array()).all())) low = high = domain.low;
-  SolidGridShape shape;
-  shape.origin = low;
-  shape.cell_size = cell_size > 0.0 && std::isfinite(cell_size) ? cell_size : 1.0;
-  const Vec3 extent = high - low;
-  const double limit = solid_grid_cell_limit(positions.size());
-  auto axis_cells = [&](int axis) {
-    // Clamped before the cast: 1e300 m of extent over a 1 um cell is no int64.
-    return std::clamp(std::ceil(extent[axis] / shape.cell_size), 1.0, 1e15);
-  };
-  for (;;) {
-    const double total = axis_cells(0) * axis_cells(1) * axis_cells(2);
-    if (total <= limit) break;
-    // Straight to about the limit, then by 1/8 steps: the per-axis ceilings can keep the first guess a bit high.
-    shape.cell_size *= std::max(1.125, 0.999 * std::cbrt(total / limit));
-  }
-  for (int axis = 0; axis < 3; ++axis)
-    shape.cells[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(axis_cells(axis));
-  return shape;
-}
-
-double halo_width(const Solids& solids, const Model& model, double skin) {
-  if (solids.size() == 0) return 0.0;
-  const double largest = *std::max_element(solids.radius.begin(), solids.radius.end());
-  return 2.0 * largest + skin + lubrication_reach(model.coupling, largest, std::numeric_limits<double>::infinity());
-}
-
 void exchange_grain_halo(const Solids& solids, Contacts& contacts) {
   const Halo& halo = contacts.halo;
   GrainGhosts& ghosts = contacts.ghosts;
@@ -183,11 +135,6 @@ bool outside_periodic_box(const Solids& solids, const PeriodicBox& box) {
         return outside;
       },
       [](bool a, bool b) { return a || b; });
-}
-
-double default_skin(const Solids& solids) {
-  if (solids.size() == 0) return 0.0;
-  return 0.5 * *std::min_element(solids.radius.begin(), solids.radius.end());
 }
 
 bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank) {
@@ -265,7 +212,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   }
   const SearchGrains search{box.any() ? search_position : solids.position, box.any() ? search_radius : solids.radius,
                             box.any() ? &contacts.halo : nullptr};
-  const CellGrid grid = build_grid(search.position, domain, 2.0 * smallest_radius + skin);
+  const GrainBinGrid grid = build_grid(search.position, domain, 2.0 * smallest_radius + skin);
   contacts.pair_offsets.assign(count + 1, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {

@@ -10,35 +10,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/domain.hpp"
-#include "systems/physics/periodic_box.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/dem/neighbour_range.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 namespace riffle {
-
-/// The box and cells of the grain grid. It spans the grains' bounding box (clipped to the domain), not the whole
-/// domain: a wide domain_margin or a large tank amplitude is empty space. Its cells are `cell_size` wide (the
-/// smallest pair's reach) unless that would give more than solid_grid_cell_limit(grains) cells (one tiny grain among
-/// large ones, grains spread over a big box): then wider. The lists are sorted per grain, so the shape changes no
-/// pair, only the cost of the search.
-struct SolidGridShape {
-  Vec3 origin = Vec3::Zero();          ///< [m] min corner of cell (0, 0, 0)
-  double cell_size = 1.0;              ///< [m]
-  std::array<std::int64_t, 3> cells{1, 1, 1};
-  double cell_count() const {
-    return static_cast<double>(cells[0]) * static_cast<double>(cells[1]) * static_cast<double>(cells[2]);
-  }
-};
-/// max(8 grains, 65536): a few cells per grain, and a floor below which the grid's memory does not matter.
-double solid_grid_cell_limit(std::size_t grains);
-SolidGridShape solid_grid_shape(const std::vector<Vec3>& positions, const DomainBox& domain, double cell_size);
-
-/// The skin used when the scene leaves contact.skin at 0: half the smallest grain radius.
-double default_skin(const Solids& solids);
-
-/// [m] How far from a periodic face a grain needs ghosts: the longest candidate distance of the list (the largest
-/// pair's r_i + r_j + skin, plus the lubrication cut-off when on).
-double halo_width(const Solids& solids, const Model& model, double skin);
 
 /// The exchange of the grains' halo: copies each ghost's owner's position (+ shift), velocity, angular velocity,
 /// radius, mass and material into `contacts.ghosts`.

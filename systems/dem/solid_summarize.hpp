@@ -1,7 +1,7 @@
 #pragma once
 // solid_summary: the grains' kinetic and potential energy and largest speed after each step, with a reduction whose
 // result does not depend on the thread count (diagnostics.csv).
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 
 namespace riffle {
 

@@ -1,6 +1,6 @@
 #include "systems/dem/wall_motion.hpp"
 
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 
 namespace riffle {

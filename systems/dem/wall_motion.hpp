@@ -1,7 +1,7 @@
 #pragma once
 // Wall motion: the single owner of the tank's state in the world. Moves every wall that follows the tank to the end
-// of the (sub)step and gives it the exact velocity (systems/physics/tank_kinematics.hpp).
-#include "engine/core/system.hpp"
+// of the (sub)step and gives it the exact velocity (systems/physics/geometry/tank_kinematics.hpp).
+#include "systems/system.hpp"
 
 namespace riffle {
 

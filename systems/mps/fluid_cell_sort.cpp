@@ -6,9 +6,9 @@
 #include <algorithm>
 
 #include "components/soa.hpp"
-#include "systems/physics/cell_order.hpp"
+#include "systems/physics/geometry/cell_order.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 

@@ -16,8 +16,8 @@
 // Fluid particles stay in slots [0, F), walls and dummies after them; ids and every per-particle field travel
 // together (the field table). The order is a pure function of the positions, so it is the same for any thread count;
 // the neighbour lists, which hold slots, are marked reordered (the built positions travel with the particles).
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

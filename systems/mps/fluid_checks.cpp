@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "systems/physics/domain.hpp"
+#include "systems/physics/geometry/domain.hpp"
 
 namespace riffle {
 

@@ -6,12 +6,12 @@
 #include <stdexcept>
 #include <string>
 
-#include "systems/physics/driven_flow.hpp"
-#include "systems/physics/fluid_pair_batch.hpp"
-#include "systems/physics/hydrostatic.hpp"
-#include "systems/physics/mps_operators.hpp"
-#include "systems/physics/periodic_box.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/mps/driven_flow.hpp"
+#include "systems/physics/mps/fluid_pair_batch.hpp"
+#include "systems/physics/mps/hydrostatic.hpp"
+#include "systems/physics/mps/mps_operators.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 

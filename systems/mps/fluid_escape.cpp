@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "components/soa.hpp"
-#include "systems/physics/domain.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 

@@ -15,8 +15,8 @@
 // neighbour lists are marked stale (the next search rebuilds them), and the removed particles are listed in
 // FluidSummary::escaped for the run's log. Which particles go is a pure function of each particle's state, found
 // in slot order, so the result is the same for any thread count and in resumed runs.
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

@@ -1,6 +1,6 @@
 #include "systems/mps/fluid_free_surface.hpp"
 
-#include "systems/physics/fluid_pair_batch.hpp"
+#include "systems/physics/mps/fluid_pair_batch.hpp"
 
 namespace riffle {
 

@@ -5,8 +5,8 @@
 // visit only those.
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

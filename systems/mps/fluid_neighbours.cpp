@@ -1,7 +1,7 @@
 #include "systems/mps/fluid_neighbours.hpp"
 
-#include "systems/physics/cell_index.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/cell_index.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -53,7 +53,7 @@ bool finite(const Vec3& position) { return std::isfinite(position[0]) && std::is
 
 /// Uniform grid on the lattice of `anchor` with the particles of each cell listed in slot order, and their
 /// positions copied in the same order, so that a query streams through a row of cells as one contiguous run.
-struct CellGrid {
+struct FluidBinGrid {
   Vec3 origin = Vec3::Zero();
   double cell_size = 1.0;
   double inverse_cell_size = 1.0;  ///< the queries multiply: a division per row bound costs more than the test
@@ -73,7 +73,7 @@ struct CellGrid {
   }
 };
 
-CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size_t query_count, const Vec3& anchor,
+FluidBinGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size_t query_count, const Vec3& anchor,
                     double cell_radius) {
   const std::size_t count = positions.size();
   // The grid covers the queries' box widened by the radius: particles beyond it (walls far from the water) cannot be
@@ -98,7 +98,7 @@ CellGrid build_grid(const std::vector<Vec3>& positions, double radius, std::size
   const auto inside = [&](const Vec3& p) {
     return finite(p) && (p.array() >= box.low.array()).all() && (p.array() <= box.high.array()).all();
   };
-  CellGrid grid;
+  FluidBinGrid grid;
   grid.cell_size = fluid_search_cell_size(std::max(radius, cell_radius));
   if (box.low[0] <= box.high[0]) {
     // Cells at least half a radius wide; wider if a stray particle would make the grid much larger than the
@@ -156,7 +156,7 @@ struct CandidateRuns {
   std::size_t candidates = 0;
 };
 
-CandidateRuns candidate_runs(const Vec3& position, const CellGrid& grid, double radius) {
+CandidateRuns candidate_runs(const Vec3& position, const FluidBinGrid& grid, double radius) {
   CandidateRuns result;
   if (!finite(position)) return result;
   const double squared_radius = radius * radius;
@@ -217,7 +217,7 @@ CandidateRuns candidate_runs(const Vec3& position, const CellGrid& grid, double 
 /// AVX-512 ones keep exactly the pairs the portable one keeps.
 constexpr std::size_t kGatherSlack = 8;
 
-std::pair<std::size_t, std::size_t> gather_neighbours_portable(const CandidateRuns& runs, const CellGrid& grid,
+std::pair<std::size_t, std::size_t> gather_neighbours_portable(const CandidateRuns& runs, const FluidBinGrid& grid,
                                                                double radius, std::size_t i, const Vec3& position,
                                                                std::size_t query_count, std::uint32_t* queries,
                                                                std::uint32_t* others) {
@@ -246,7 +246,7 @@ std::pair<std::size_t, std::size_t> gather_neighbours_portable(const CandidateRu
 /// The same test, 8 candidates at a time: masked loads cover a run's tail (runs hold 5-15 candidates), and the kept
 /// slots are compressed into place, 8 written and the end advanced by the count kept.
 __attribute__((target("avx512f,avx512vl,avx512bw,popcnt"))) std::pair<std::size_t, std::size_t>
-gather_neighbours_avx512(const CandidateRuns& runs, const CellGrid& grid, double radius, std::size_t i,
+gather_neighbours_avx512(const CandidateRuns& runs, const FluidBinGrid& grid, double radius, std::size_t i,
                          const Vec3& position, std::size_t query_count, std::uint32_t* queries,
                          std::uint32_t* others) {
   const __m512d squared_radius = _mm512_set1_pd(radius * radius);
@@ -299,7 +299,7 @@ struct CompressTable {
 constexpr CompressTable kCompress4;
 
 __attribute__((target("avx2,popcnt"))) std::pair<std::size_t, std::size_t> gather_neighbours_avx2(
-    const CandidateRuns& runs, const CellGrid& grid, double radius, std::size_t i, const Vec3& position,
+    const CandidateRuns& runs, const FluidBinGrid& grid, double radius, std::size_t i, const Vec3& position,
     std::size_t query_count, std::uint32_t* queries, std::uint32_t* others) {
   const __m256d squared_radius = _mm256_set1_pd(radius * radius);
   const __m256d px = _mm256_set1_pd(position[0]), py = _mm256_set1_pd(position[1]), pz = _mm256_set1_pd(position[2]);
@@ -342,7 +342,7 @@ __attribute__((target("avx2,popcnt"))) std::pair<std::size_t, std::size_t> gathe
 }
 #endif
 
-using GatherNeighbours = std::pair<std::size_t, std::size_t> (*)(const CandidateRuns&, const CellGrid&, double,
+using GatherNeighbours = std::pair<std::size_t, std::size_t> (*)(const CandidateRuns&, const FluidBinGrid&, double,
                                                                  std::size_t, const Vec3&, std::size_t,
                                                                  std::uint32_t*, std::uint32_t*);
 
@@ -379,7 +379,7 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
   if (positions.size() >= std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("build_fluid_neighbours: too many particles for 32-bit slots");
   const std::size_t count = std::min(query_count, positions.size());
-  const CellGrid grid = build_grid(positions, radius, count, grid_anchor, cell_radius);
+  const FluidBinGrid grid = build_grid(positions, radius, count, grid_anchor, cell_radius);
 
   // One scan per query into per-chunk buffers (each list sorted there), then a prefix sum and a copy: each task
   // writes only its own chunk, and the sorted lists do not depend on the chunking or the thread count. Queries

@@ -12,9 +12,9 @@
 #include <algorithm>
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
-#include "systems/physics/periodic_box.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 namespace riffle {
 

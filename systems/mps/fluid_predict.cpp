@@ -4,11 +4,11 @@
 #include <array>
 #include <cmath>
 
-#include "systems/physics/deterministic_sum.hpp"
-#include "systems/physics/driven_flow.hpp"
-#include "systems/physics/fluid_pair_batch.hpp"
-#include "systems/physics/mps_operators.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/math/deterministic_sum.hpp"
+#include "systems/physics/mps/driven_flow.hpp"
+#include "systems/physics/mps/fluid_pair_batch.hpp"
+#include "systems/physics/mps/mps_operators.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 

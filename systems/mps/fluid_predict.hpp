@@ -12,8 +12,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

@@ -4,7 +4,7 @@
 #include <array>
 #include <cmath>
 
-#include "systems/physics/mps_operators.hpp"
+#include "systems/physics/mps/mps_operators.hpp"
 
 namespace riffle {
 

@@ -1,13 +1,13 @@
 #pragma once
 // The pressure Poisson equation (seed 000 Eqs. 4-7; numerics 2.2-2.5, 3.5 and amendments 1-2), assembled over the
 // fluid particles only (Neumann walls) and solved by CG warm-started from p^k, preconditioned by Jacobi or (default) Jacobi plus
-// an aggregation coarse solve (systems/physics/pressure_preconditioner.hpp).
+// an aggregation coarse solve (systems/physics/mps/pressure_preconditioner.hpp).
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
-#include "systems/physics/periodic_box.hpp"
-#include "systems/physics/pressure_preconditioner.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/mps/pressure_preconditioner.hpp"
 
 namespace riffle {
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "systems/physics/mps_operators.hpp"
-#include "systems/physics/particle_shifting.hpp"
-#include "systems/physics/periodic_box.hpp"
+#include "systems/physics/mps/mps_operators.hpp"
+#include "systems/physics/mps/particle_shifting.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 namespace riffle {
 

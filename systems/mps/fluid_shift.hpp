@@ -1,6 +1,6 @@
 #pragma once
 // Fickian particle shifting after the pressure correction (docs/FLUID.md, "Particle shifting";
-// systems/physics/particle_shifting.hpp): each fluid particle moves by delta r = -D grad C, C = n / n0 summed over
+// systems/physics/mps/particle_shifting.hpp): each fluid particle moves by delta r = -D grad C, C = n / n0 summed over
 // fluid, wall and dummy neighbours at r^{k+1} (walls and dummies never move: they only push the water off them), the
 // shift capped at fluid.shifting_max l0, without its normal component at free-surface particles and their fluid
 // neighbours (Khayyer, Gotoh & Shimizu 2017), and optionally the velocity carried to the new position to first
@@ -8,8 +8,8 @@
 // periodic tank's period as fluid_correct wraps them. Registered only when the scene sets [fluid] shifting.
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "systems/physics/driven_flow.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/mps/driven_flow.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 

@@ -1,10 +1,10 @@
 #pragma once
 // Wall and dummy MPS particles follow the tank to t^{k+1}, set analytically from tank_kinematics (the one owner of
-// the prescribed motion, systems/physics/tank_kinematics.hpp) so no drift builds up (numerics 3.3).
+// the prescribed motion, systems/physics/geometry/tank_kinematics.hpp) so no drift builds up (numerics 3.3).
 #include <vector>
 
-#include "engine/core/system.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/system.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 namespace riffle {
 

@@ -21,7 +21,7 @@
 #include <string>
 
 #include "engine/output/checkpoint.hpp"
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 #include "engine/run/simulation.hpp"
 
 using namespace riffle;

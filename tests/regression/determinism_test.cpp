@@ -7,7 +7,7 @@
 
 #include "engine/output/checkpoint.hpp"
 #include "engine/setup/initial_state.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 #include "systems/dem/solid_neighbours.hpp"
 #include "engine/run/simulation.hpp"
 #include "tests/test_support.hpp"

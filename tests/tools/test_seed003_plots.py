@@ -35,7 +35,7 @@ def check_formulas():
     close(float(friction_reynolds[0]), 23.735, 1e-4)
 
 
-# Columns of the probes as engine/output/bedload_probes.cpp writes them (checked against a real run below).
+# Columns of the probes as systems/physics/measures/bedload_probes.cpp writes them (checked against a real run below).
 HEADERS = {
     "moving_fraction": lambda k: ["time_s", "step"] + [f"class_{c}_moving_fraction" for c in range(k)]
     + ["all_moving_fraction"],

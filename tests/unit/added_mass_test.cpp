@@ -1,13 +1,13 @@
-// The added-mass and history forces (systems/physics/added_mass.hpp) and the grains' implicit kick with added mass
+// The added-mass and history forces (systems/physics/coupling/added_mass.hpp) and the grains' implicit kick with added mass
 // (systems/dem/solid_integrate.cpp), against closed forms.
 #include <doctest/doctest.h>
 
 #include <cmath>
 
-#include "engine/core/world.hpp"
+#include "components/world.hpp"
 #include "systems/dem/solid_integrate.hpp"
-#include "systems/physics/added_mass.hpp"
-#include "systems/physics/drag_law.hpp"
+#include "systems/physics/coupling/added_mass.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

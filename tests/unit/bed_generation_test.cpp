@@ -18,7 +18,7 @@
 
 #include "engine/scene/bed_scene.hpp"
 #include "engine/setup/bed_generation.hpp"
-#include "engine/scene/scene_reader.hpp"
+#include "engine/toml/scene_reader.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/output/bed_statistics.hpp"
+#include "systems/physics/measures/bed_statistics.hpp"
 #include "engine/scene/scene.hpp"
 #include "tests/test_support.hpp"
 

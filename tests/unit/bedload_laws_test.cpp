@@ -1,10 +1,10 @@
-// The threshold and transport laws of systems/physics/bedload.hpp against values worked by hand from the papers'
+// The threshold and transport laws of systems/physics/measures/bedload.hpp against values worked by hand from the papers'
 // constants (seed 003's grains: d = 1 and 2 mm quartz, s = 2.65, in water, nu = 1e-6 m^2/s, g = 9.81 m/s^2).
 #include <doctest/doctest.h>
 
 #include <cmath>
 
-#include "systems/physics/bedload.hpp"
+#include "systems/physics/measures/bedload.hpp"
 
 using namespace riffle;
 

@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "engine/output/bedload_probes.hpp"
+#include "systems/physics/measures/bedload_probes.hpp"
 #include "engine/output/probes.hpp"
 #include "engine/scene/scene.hpp"
-#include "systems/physics/bedload.hpp"
-#include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/measures/bedload.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/scene/budget.hpp"
+#include "engine/setup/budget.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/setup/initial_state.hpp"

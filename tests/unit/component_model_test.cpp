@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 #include "engine/output/checkpoint.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "systems/coupling/solid_drag.hpp"

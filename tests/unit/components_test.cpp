@@ -7,7 +7,7 @@
 #include <tuple>
 
 #include "engine/setup/initial_state.hpp"
-#include "systems/physics/cell_order.hpp"
+#include "systems/physics/geometry/cell_order.hpp"
 #include "systems/dem/solid_cell_sort.hpp"
 #include "tests/test_support.hpp"
 

@@ -1,4 +1,4 @@
-// The contact-law functions of systems/physics/contact_law.hpp against closed forms and hand-computed numbers: the
+// The contact-law functions of systems/physics/dem/contact_law.hpp against closed forms and hand-computed numbers: the
 // restitution calibration, Hertz's contact time and overlap, the Rayleigh time, and the properties of
 // evaluate_contact (symmetry, no tension, Coulomb limit, spring rotation, rolling friction).
 #include <doctest/doctest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "systems/physics/contact_law.hpp"
+#include "systems/physics/dem/contact_law.hpp"
 
 using namespace riffle;
 

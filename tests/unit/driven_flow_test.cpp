@@ -1,4 +1,4 @@
-// Driven flows and the SPS closure (systems/physics/driven_flow.hpp; docs/FLUID.md, "Driven flows", "Turbulence"):
+// Driven flows and the SPS closure (systems/physics/mps/driven_flow.hpp; docs/FLUID.md, "Driven flows", "Turbulence"):
 // the body force's laws, the PI controller against a first-order plant with a closed-form answer, the lid's wrap,
 // the Smagorinsky viscosity of a linear shear (exact) from the formula and from the engine's MPS gradient on a
 // lattice, and the scene keys with their validation.
@@ -12,7 +12,7 @@
 #include "engine/scene/scene.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
-#include "systems/physics/driven_flow.hpp"
+#include "systems/physics/mps/driven_flow.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -1,4 +1,4 @@
-// What counts as an escaped fluid particle (systems/physics/domain.hpp) and how the MPS table is compacted when
+// What counts as an escaped fluid particle (systems/physics/geometry/domain.hpp) and how the MPS table is compacted when
 // one is removed (components/soa.hpp keep_fields), on hand-made cases with known answers.
 #include <doctest/doctest.h>
 
@@ -8,7 +8,7 @@
 
 #include "components/fluid.hpp"
 #include "components/soa.hpp"
-#include "systems/physics/domain.hpp"
+#include "systems/physics/geometry/domain.hpp"
 
 using namespace riffle;
 

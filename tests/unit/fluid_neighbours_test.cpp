@@ -11,8 +11,8 @@
 #include "components/halo.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
-#include "systems/physics/mps_kernel.hpp"
-#include "systems/physics/periodic_box.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 using namespace riffle;
 

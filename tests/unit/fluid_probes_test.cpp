@@ -13,11 +13,12 @@
 #include <vector>
 
 #include "engine/setup/fluid_layout.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 #include "engine/output/probes.hpp"
 #include "engine/scene/output_scene.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -13,7 +13,7 @@
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "engine/scene/scene.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -1,9 +1,9 @@
-// The hydrostatic extrapolation of systems/physics/hydrostatic.hpp, which fluid_correct (wall and dummy pressure)
+// The hydrostatic extrapolation of systems/physics/mps/hydrostatic.hpp, which fluid_correct (wall and dummy pressure)
 // and the pressure probes (sensor reading) both call: exact for a hydrostatic field, in a tank at rest and in an
 // accelerating one.
 #include <doctest/doctest.h>
 
-#include "systems/physics/hydrostatic.hpp"
+#include "systems/physics/mps/hydrostatic.hpp"
 
 using namespace riffle;
 

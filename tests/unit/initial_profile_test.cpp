@@ -1,7 +1,7 @@
-// The initial velocity profile's law (systems/physics/initial_profile.hpp) against hand-worked values.
+// The initial velocity profile's law (systems/physics/mps/initial_profile.hpp) against hand-worked values.
 #include <doctest/doctest.h>
 
-#include "systems/physics/initial_profile.hpp"
+#include "systems/physics/mps/initial_profile.hpp"
 
 using namespace riffle;
 

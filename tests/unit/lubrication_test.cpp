@@ -1,11 +1,11 @@
-// The lubrication laws of systems/physics/lubrication.hpp against the published exact results: Brenner's (1961)
+// The lubrication laws of systems/physics/coupling/lubrication.hpp against the published exact results: Brenner's (1961)
 // series for a sphere moving towards a plane (his Table 1), its free-surface twin for two equal spheres, and the
 // limits each approximation must reach.
 #include <doctest/doctest.h>
 
 #include <cmath>
 
-#include "systems/physics/lubrication.hpp"
+#include "systems/physics/coupling/lubrication.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

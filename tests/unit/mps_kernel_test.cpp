@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "systems/physics/fluid_pair_batch.hpp"
-#include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/mps/fluid_pair_batch.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
 
 using namespace riffle;
 

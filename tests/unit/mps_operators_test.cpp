@@ -1,6 +1,6 @@
 // MPS operators on a cubic lattice patch and on a perturbed one, against closed forms (numerics.md Sec. 2). The
-// per-pair terms and closures are the functions the fluid systems call (systems/physics/mps_operators.hpp), summed
-// here over the pair geometry of systems/physics/fluid_pair_batch.hpp as the systems' pair loops sum them.
+// per-pair terms and closures are the functions the fluid systems call (systems/physics/mps/mps_operators.hpp), summed
+// here over the pair geometry of systems/physics/mps/fluid_pair_batch.hpp as the systems' pair loops sum them.
 #include <doctest/doctest.h>
 
 #include <Eigen/Eigenvalues>
@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "systems/physics/fluid_pair_batch.hpp"
-#include "systems/physics/mps_operators.hpp"
+#include "systems/physics/mps/fluid_pair_batch.hpp"
+#include "systems/physics/mps/mps_operators.hpp"
 
 using namespace riffle;
 

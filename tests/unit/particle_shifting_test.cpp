@@ -1,4 +1,4 @@
-// Particle shifting's pure pieces (systems/physics/particle_shifting.hpp) and its scene keys. What the theory says:
+// Particle shifting's pure pieces (systems/physics/mps/particle_shifting.hpp) and its scene keys. What the theory says:
 //  - on the perfect cubic lattice grad C = (1/n0) sum_j -(w'_ij / r_ij) r_ij vanishes by symmetry (no shift in
 //    undisturbed water), and a particle displaced from its site sees grad C pointing along its displacement (toward
 //    the neighbours it approached), so -D grad C moves it back: the shift is a diffusion of the concentration;
@@ -15,8 +15,8 @@
 
 #include "engine/run/registry.hpp"
 #include "engine/scene/scene.hpp"
-#include "systems/physics/mps_kernel.hpp"
-#include "systems/physics/particle_shifting.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
+#include "systems/physics/mps/particle_shifting.hpp"
 #include "tests/test_support.hpp"
 
 namespace riffle {

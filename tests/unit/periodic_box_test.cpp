@@ -1,4 +1,4 @@
-// The periodic box and its halo (systems/physics/periodic_box.hpp, components/halo.hpp): wrapping, the images near
+// The periodic box and its halo (systems/physics/geometry/periodic_box.hpp, components/halo.hpp): wrapping, the images near
 // the seam, the halo's ghosts; the scene keys of [tank] periodic and their refusals; beds generated in a periodic
 // box do not overlap across the seam.
 #include <doctest/doctest.h>
@@ -10,7 +10,7 @@
 
 #include "engine/scene/scene.hpp"
 #include "systems/mps/fluid_pressure.hpp"
-#include "systems/physics/periodic_box.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "systems/physics/pressure_preconditioner.hpp"
+#include "systems/physics/mps/pressure_preconditioner.hpp"
 
 using namespace riffle;
 

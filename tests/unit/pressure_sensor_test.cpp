@@ -1,4 +1,4 @@
-// The pieces of the pressure probes in systems/physics/pressure_sensor.hpp: the full-support density against a
+// The pieces of the pressure probes in systems/physics/measures/pressure_sensor.hpp: the full-support density against a
 // direct integral and the MPS lattice, the wetted fraction at a free surface, a wall and a drop, the reading rule,
 // and the disc quadrature against the analytic averages of a linear field and of a half-submerged disc.
 #include <doctest/doctest.h>
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "components/vec.hpp"
-#include "systems/physics/mps_kernel.hpp"
-#include "systems/physics/pressure_sensor.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
+#include "systems/physics/measures/pressure_sensor.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/output/bed_statistics.hpp"
+#include "systems/physics/measures/bed_statistics.hpp"
 #include "engine/output/probes.hpp"
 #include "engine/scene/output_scene.hpp"
 #include "engine/scene/scene.hpp"

@@ -12,12 +12,12 @@
 #include <fstream>
 #include <string>
 
-#include "engine/scene/budget.hpp"
+#include "engine/setup/budget.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/domain.hpp"
+#include "systems/physics/geometry/domain.hpp"
 #include "systems/dem/solid_neighbours.hpp"
-#include "systems/physics/voidage_grid.hpp"
+#include "systems/physics/coupling/voidage_grid.hpp"
 
 namespace {
 

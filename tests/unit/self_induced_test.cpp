@@ -1,4 +1,4 @@
-// The grain's self-induced disturbance (systems/physics/self_induced.hpp) against independent evaluations: <1/r>
+// The grain's self-induced disturbance (systems/physics/coupling/self_induced.hpp) against independent evaluations: <1/r>
 // and <rho_s rho_w> of two Wendland kernels by direct quadrature in real space, the Oseen factor's limits (Stokes
 // at Re_R -> 0, Oseen's far wake 1/Re_R decay), the mode fit of the build-up, and the drag/disturbance solve.
 #include <doctest/doctest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "systems/physics/self_induced.hpp"
+#include "systems/physics/coupling/self_induced.hpp"
 
 using namespace riffle;
 

@@ -1,4 +1,4 @@
-// Tank motion beyond the seed's sinusoid: the cubic spline (systems/physics/cubic_spline.hpp) against its theory, the
+// Tank motion beyond the seed's sinusoid: the cubic spline (systems/physics/math/cubic_spline.hpp) against its theory, the
 // sinusoid's phase and start time against the closed form, the CSV motion table and every new [tank.motion] key's
 // validation (file, line and key in each message), and a resumed run that detects a changed table.
 #include <doctest/doctest.h>
@@ -14,8 +14,8 @@
 #include "engine/scene/motion_table.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/setup/initial_state.hpp"
-#include "systems/physics/cubic_spline.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/math/cubic_spline.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -1,10 +1,10 @@
-// decide_step_lengths: the one place that decides the step and its sub-steps (systems/physics/time_step.hpp).
+// decide_step_lengths: the one place that decides the step and its sub-steps (systems/physics/time/time_step.hpp).
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <limits>
 
-#include "systems/physics/time_step.hpp"
+#include "systems/physics/time/time_step.hpp"
 
 using namespace riffle;
 

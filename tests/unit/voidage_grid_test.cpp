@@ -1,4 +1,4 @@
-// The smoothed voidage grid (systems/physics/voidage_grid.hpp; docs/COUPLING.md, "The voidage at a grain"): the
+// The smoothed voidage grid (systems/physics/coupling/voidage_grid.hpp; docs/COUPLING.md, "The voidage at a grain"): the
 // binomial pass keeps both deposits' totals, a grain's own share read back is its whole reading when it is alone
 // (whatever its place in a cell), and points outside the bounds or not finite stay safe.
 #include <doctest/doctest.h>
@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "systems/physics/voidage_grid.hpp"
+#include "systems/physics/coupling/voidage_grid.hpp"
 
 namespace {
 double total_fluid(const riffle::VoidageGrid& grid) {

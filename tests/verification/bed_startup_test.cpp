@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/output/bedload_probes.hpp"
+#include "systems/physics/measures/bedload_probes.hpp"
 #include "engine/output/checkpoint.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/mps_common.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -9,10 +9,10 @@
 
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/drag_law.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
 #include "systems/coupling/fluid_drag_reaction.hpp"
 #include "systems/coupling/solid_drag.hpp"
-#include "systems/physics/voidage_grid.hpp"
+#include "systems/physics/coupling/voidage_grid.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

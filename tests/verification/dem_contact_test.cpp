@@ -33,7 +33,7 @@
 #include <vector>
 
 #include "engine/run/simulation.hpp"
-#include "systems/physics/contact_law.hpp"
+#include "systems/physics/dem/contact_law.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

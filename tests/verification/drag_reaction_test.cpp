@@ -28,7 +28,7 @@
 #include "systems/coupling/fluid_sample_copy.hpp"
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
-#include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/test_support.hpp"
 
 namespace riffle {

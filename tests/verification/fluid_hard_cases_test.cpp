@@ -14,7 +14,7 @@
 
 #include "components/soa.hpp"
 #include "engine/scene/scene.hpp"
-#include "systems/physics/domain.hpp"
+#include "systems/physics/geometry/domain.hpp"
 #include "tests/fluid_support.hpp"
 
 namespace riffle {

@@ -15,7 +15,7 @@
 #include <cmath>
 #include <vector>
 
-#include "systems/physics/mps_kernel.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/fluid_support.hpp"
 
 namespace riffle {

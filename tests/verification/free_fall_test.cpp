@@ -10,7 +10,7 @@
 
 #include "engine/output/checkpoint.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/world.hpp"
+#include "components/world.hpp"
 #include "engine/scene/scene.hpp"
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/coupling/solid_lubrication.hpp"
@@ -23,8 +23,8 @@
 #include "systems/dem/solid_force_sum.hpp"
 #include "systems/dem/solid_integrate.hpp"
 #include "systems/dem/solid_neighbours.hpp"
-#include "systems/physics/drag_law.hpp"
-#include "systems/physics/lubrication.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/coupling/lubrication.hpp"
 
 using namespace riffle;
 

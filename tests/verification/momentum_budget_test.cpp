@@ -39,9 +39,9 @@
 #include "engine/run/stepper.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/setup/initial_state.hpp"
-#include "systems/physics/hydrostatic.hpp"
-#include "systems/physics/mps_common.hpp"
-#include "systems/physics/mps_operators.hpp"
+#include "systems/physics/mps/hydrostatic.hpp"
+#include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/mps/mps_operators.hpp"
 
 namespace riffle {
 namespace {

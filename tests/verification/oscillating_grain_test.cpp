@@ -10,9 +10,9 @@
 
 #include "engine/run/simulation.hpp"
 #include "engine/scene/scene.hpp"
-#include "systems/physics/added_mass.hpp"
-#include "systems/physics/drag_law.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/coupling/added_mass.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 using namespace riffle;
 

@@ -17,8 +17,8 @@
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/coupling/fluid_sample_copy.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
-#include "systems/physics/mps_kernel.hpp"
-#include "systems/physics/sampling_kernel.hpp"
+#include "systems/physics/mps/mps_kernel.hpp"
+#include "systems/physics/coupling/sampling_kernel.hpp"
 #include "tests/test_support.hpp"
 
 namespace riffle {

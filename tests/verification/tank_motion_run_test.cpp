@@ -12,7 +12,7 @@
 #include "engine/run/simulation.hpp"
 #include "engine/scene/motion_table.hpp"
 #include "engine/setup/initial_state.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 #include "tests/fluid_support.hpp"
 #include "tests/test_support.hpp"
 

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/core/system.hpp"
+#include "systems/system.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/coupling/solid_voidage.hpp"
-#include "systems/physics/voidage_grid.hpp"
+#include "systems/physics/coupling/voidage_grid.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -5,7 +5,7 @@
 
 #include "engine/setup/initial_state.hpp"
 #include "engine/run/simulation.hpp"
-#include "systems/physics/tank_kinematics.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 #include "tests/test_support.hpp"
 
 using namespace riffle;

@@ -1,0 +1,85 @@
+#include "systems/physics/time/time_step.hpp"
+
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "systems/physics/coupling/drag_law.hpp"
+
+namespace riffle {
+
+namespace {
+
+/// Largest squared speed of the fluid particles (slots [0, F)); max is exact, so the reduction order does not matter.
+double max_squared_speed(const ParticleState& particles) {
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, fluid_count, 4096), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& range, double found) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i)
+          found = std::max(found, particles.velocity[i].squaredNorm());
+        return found;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+/// Takes `candidate` when it is shorter (std::min's rule: ties keep the current step), naming the limit.
+void shorten(StepLengths& lengths, double candidate, StepLimit limit) {
+  if (candidate < lengths.dt) {
+    lengths.dt = candidate;
+    lengths.limit = limit;
+  }
+}
+
+}  // namespace
+
+double water_drag_rate(const Model& model, const GrainState& grains, const GrainProperties& properties,
+                       const GrainSampledFluid& sampled, const GrainVoidage& voidages) {
+  const CouplingModel& coupling = model.coupling;
+  if (!coupling.enabled || !coupling.drag) return 0.0;
+  const double density = model.fluid.density;
+  const double viscosity = model.fluid.kinematic_viscosity * density;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, grains.size(), 1024), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& range, double found) {
+        for (std::size_t grain = range.begin(); grain < range.end(); ++grain) {
+          if (!(sampled.fluid_weight[grain] > 0.0)) continue;  // dry: no drag
+          const double voidage = voidages.voidage[grain];
+          const double share = coupling.mixture_velocity ? voidage : 1.0;  // s and s_w (both eps in the mixture)
+          const double slip = (sampled.fluid_velocity[grain] - grains.velocity[grain]).norm() / share;
+          const double k = drag_per_volume(voidage, 2.0 * properties.radius[grain], slip, density, viscosity, coupling);
+          found = std::max(found, k * (1.0 - voidage) / (density * share * share));
+        }
+        return found;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid, double drag_rate) {
+  StepLengths lengths;
+  lengths.dt = model.dt;
+  lengths.drag_rate = drag_rate;
+  if (fluid) {
+    const FluidModel& water = model.fluid;
+    const double max_speed_squared = max_squared_speed(*fluid);
+    if (max_speed_squared > 0.0)
+      shorten(lengths, water.courant * water.spacing / std::sqrt(max_speed_squared), StepLimit::kCourant);
+    if (water.kinematic_viscosity > 0.0)
+      shorten(lengths, water.diffusion_number * water.spacing * water.spacing / water.kinematic_viscosity,
+              StepLimit::kDiffusion);
+    if (drag_rate > 0.0 && model.coupling.drag_number > 0.0)
+      shorten(lengths, model.coupling.drag_number / drag_rate, StepLimit::kDrag);
+  }
+  // Sub-steps no longer than the scene's solid_dt(); exactly solid_substeps of them at the full step.
+  // (dt < run.dt otherwise, so the count stays within [1, solid_substeps]; clamped in floating point before the cast.)
+  lengths.substeps =
+      lengths.dt == model.dt
+          ? model.solid_substeps
+          : static_cast<std::int64_t>(std::clamp(std::ceil(lengths.dt / model.solid_dt() - 1e-9), 1.0,
+                                                  static_cast<double>(model.solid_substeps)));
+  lengths.substep = lengths.dt / static_cast<double>(lengths.substeps);
+  return lengths;
+}
+
+}  // namespace riffle
