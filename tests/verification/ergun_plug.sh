@@ -14,7 +14,7 @@ run() {  # scene, output directory
   "$RIFFLE" run "$1" --out "$2" --threads 2 >"$2.log" 2>&1 || { echo "not ok - $1 did not run"; tail -5 "$2.log"; exit 1; }
 }
 run "$SOURCE/scenes/ergun_plug.toml" "$WORK/mixture"
-if /usr/bin/python3 "$SOURCE/tools/ergun_plug.py" "$WORK/mixture" --scene "$SOURCE/scenes/ergun_plug.toml" --check 0.2; then
+if /usr/bin/python3 "$SOURCE/tools/riffle-tools" ergun-plug "$WORK/mixture" --scene "$SOURCE/scenes/ergun_plug.toml" --check 0.2; then
   echo "ok - the mixture reading gives Ergun's pressure drop within 20 %"
 else
   echo "not ok - the mixture reading gives Ergun's pressure drop within 20 %"; failed=1
@@ -22,7 +22,7 @@ fi
 sed 's/^fluid_velocity = "mixture"/fluid_velocity = "pore"/' "$SOURCE/scenes/ergun_plug.toml" >"$WORK/ergun_pore.toml"
 grep -q '^fluid_velocity = "pore"' "$WORK/ergun_pore.toml" || { echo "not ok - could not switch the scene to the pore reading"; exit 1; }
 run "$WORK/ergun_pore.toml" "$WORK/pore"
-if /usr/bin/python3 "$SOURCE/tools/ergun_plug.py" "$WORK/pore" --scene "$WORK/ergun_pore.toml" --check 0.2; then
+if /usr/bin/python3 "$SOURCE/tools/riffle-tools" ergun-plug "$WORK/pore" --scene "$WORK/ergun_pore.toml" --check 0.2; then
   echo "not ok - the pore reading fails the check (it should be about 6x too permeable)"; failed=1
 else
   echo "ok - the pore reading fails the check (6x too permeable)"
