@@ -35,8 +35,8 @@ for spacing in $spacings; do
   start=$(date +%s.%N)
   "$binary" run "$scene" --until "$until_time" --threads "$threads" --out "$run" --log-level warn > "$run/stdout.txt"
   awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f\n", b - a }' > "$run/wall_s.txt"
-  /usr/bin/python3 tools/seed_figures.py "$run" --figures fig06 fig17_19 fig19 --stages "$((periods - 2))-$periods" \
+  tools/riffle-tools seed-figures "$run" --figures fig06 fig17_19 fig19 --stages "$((periods - 2))-$periods" \
       > "$run/figures.log" 2>&1 || echo "figures failed for $run (see $run/figures.log)"
 done
-/usr/bin/python3 "$root/tools/resolution_summary.py" "$out_root" > "$out_root/summary.txt"
+/usr/bin/python3 "$root/tools/riffle-tools" resolution-summary "$out_root" > "$out_root/summary.txt"
 cat "$out_root/summary.txt"
