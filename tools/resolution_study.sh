@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The seed experiment's resolution study (issue 21): the quick seed scene at water spacings of 20, 10 and 5 mm for
-# 10 periods, with optional [coupling] lines added, then the centroid (Fig. 6) and force (Figs. 17-19) tables.
+# The seed experiment's resolution study in the water spacing: the quick seed scene at water spacings of 20, 10 and 5 mm
+# for 10 periods, with optional [coupling] lines added, then the centroid (Fig. 6) and force (Figs. 17-19) tables.
 #
 # Usage, from the repository root (needs out/dry_bed_settle, made by `build/riffle run scenes/dry_bed_settle.toml`):
 #   tools/resolution_study.sh BINARY OUT_ROOT [COUPLING_LINE ...]

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/riffle-tools bed-force-profile on a synthetic run directory whose answers are known by construction.
+"""Self-test of tools/riffle-tools bed-force-profile on a synthetic run directory whose answers are known by
+construction.
 
 Usage: /usr/bin/python3 tests/tools/test_bed_force_profile.py WORK_DIR   (exit 0 = pass)
 """

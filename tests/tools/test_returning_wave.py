@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/riffle-tools returning-wave: the scenes it writes pass `riffle check`, and its timing of the returning
-bore is right on a synthetic run whose crossings are known.
+"""Self-test of tools/riffle-tools returning-wave: the scenes it writes pass `riffle check`, and its timing of the
+returning bore is right on a synthetic run whose crossings are known.
 
 Usage: /usr/bin/python3 tests/tools/test_returning_wave.py RIFFLE_BINARY [WORK_DIR]   (exit 0 = pass)
 """

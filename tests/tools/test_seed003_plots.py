@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Self-test of tools/riffle-tools seed003-plots: its formulas against the hand-worked values of tests/unit/bedload_laws_test.cpp,
-its summary on synthetic probe files with known answers, and (given a riffle binary) that the probe files of a tiny
-real closed-box run have the columns the synthetic ones assume and go through the tool.
+"""Self-test of tools/riffle-tools seed003-plots: its formulas against the hand-worked values of
+tests/unit/bedload_laws_test.cpp, its summary on synthetic probe files with known answers, and (given a riffle binary)
+that the probe files of a tiny real closed-box run have the columns the synthetic ones assume and go through the tool.
 
 Usage: /usr/bin/python3 tests/tools/test_seed003_plots.py WORK_DIR [RIFFLE]   (exit 0 = pass)
 """

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/riffle-tools seed-checklist on synthetic figure tables with known answers (the column names are the ones
-tools/riffle-tools seed-figures writes; test_seed_figures.py checks those tables against a synthetic run).
+"""Self-test of tools/riffle-tools seed-checklist on synthetic figure tables with known answers (the column names
+are the ones tools/riffle-tools seed-figures writes; test_seed_figures.py checks those tables against a synthetic run).
 
 Checks: fig15's largest fluid velocity below the bed height and the mean above it; fig17's r.m.s. force ratios; fig20's
 peaks a period (a signal with two a period); fig11's most filled class per sub-layer; a missing table is reported.

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/riffle_tools/vtp.py and tools/riffle-tools seed-figures on a small synthetic run directory whose answers are known.
+"""Self-test of riffle_tools.vtp and tools/riffle-tools seed-figures on a small synthetic run directory whose
+answers are known.
 
 Usage: /usr/bin/python3 tests/tools/test_seed_figures.py [WORK_DIR]   (exit 0 = pass)
 """

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Self-test of tools/riffle-tools study and tools/riffle-tools study-collect on a tiny study that really runs riffle: two variants on
+"""Self-test of tools/riffle-tools study and study-collect on a tiny study that really runs riffle: two variants on
 two beds settled with different generator seeds, one run interrupted by SIGTERM and resumed by the next `run`.
 
 Checks: each bed is settled once, with its own seed (different grain positions); a run's overrides reach riffle
@@ -207,7 +207,7 @@ def main():
     check(again.returncode == 0 and len(job_again["segments"]) == 2, "a finished study is not rerun")
 
     # 6. An edited variant: its old run is set aside and run again. Then the state a runner killed outright leaves
-    #    (SIGKILL with its riffle, as at the end of a session: checkpoints on disk, the segment never recorded) is
+    #    (SIGKILL with its riffle, as when the machine goes away: checkpoints on disk, the segment never recorded) is
     #    made from that run, and the next `run` must resume the job from its newest checkpoint, not from t = 0.
     (work / "study.toml").write_text((work / "study.toml").read_text().replace("contact.restitution=0.9",
                                                                                 "contact.restitution=0.8"))

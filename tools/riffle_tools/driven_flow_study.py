@@ -1,4 +1,4 @@
-"""Driven-flow verification sweeps (issue 24; docs/FLUID.md, "Driven flows"): each case is a scene written here, run
+"""Driven-flow verification sweeps (docs/FLUID.md, "Driven flows"): each case is a scene written here, run
 with riffle at several spacings, and its velocity profile (from the fluid's VTK frames) compared with the analytic
 one in a stated norm, with the order of convergence in l0.
 

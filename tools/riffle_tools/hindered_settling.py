@@ -1,5 +1,4 @@
-"""Hindered settling in a closed column against Richardson & Zaki (1954) (issue 21; docs/COUPLING.md, "Hindered
-settling").
+"""Hindered settling in a closed column against Richardson & Zaki (1954) (docs/COUPLING.md, "Hindered settling").
 
 A suspension of equal 3 mm beads (1100 kg/m^3) in a liquid of 1000 kg/m^3 and 0.2 Pa s fills z = 10-130 mm of a
 60 x 60 mm column (water to 160 mm, l0 = 5 mm) by random sequential addition, at rest. The bulk speed is the

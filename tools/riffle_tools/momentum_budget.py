@@ -15,7 +15,7 @@ over a bed in a box periodic along x and y), per unit plan area, from the run's 
   residual       tau_lid + pressure - reaction - dP/dt: what the budget misses (the floor's traction, the wall
                  particles' collision/stabilisation forces, the frames' sampling).
 In steady flow tau_lid = tau_b, the bed shear stress, exactly when the pressure term is zero; a nonzero pressure term
-is momentum the water's pressure solve makes or destroys (docs/RESULTS.md, issue 24).
+is momentum the water's pressure solve makes or destroys (docs/RESULTS.md, the sheared beds).
 
 Usage: tools/riffle-tools momentum-budget RUN_DIR [--from T] [--to T] [--band 0.0025] [--spacing L0]
            [--density 1000] [--area A] [--reading mixture|pore]

@@ -1,4 +1,4 @@
-"""The returning wave of a dam break (issue 22): riffle against Lobovsky et al. (2014), H = 300 mm.
+"""The returning wave of a dam break: riffle against Lobovsky et al. (2014), H = 300 mm.
 
 Runs scenes/dam_break_lobovsky_gauges.toml (or analyses runs already made) at chosen spacings and settings, and
 prints when the bore that comes back from the far wall passes the gauges H4 (x = 1.3625 m) and H3 (x = 1.114 m),

@@ -2,8 +2,8 @@
 
 The seed (Tazaki, Harada & Gotoh) gives almost no numbers for its results; what a run can be held to are the trends
 its text states for each figure (line numbers of ../shared/seeds/000_*.txt in docs/RESULTS.md). This tool reads the
-figure tables that tools/riffle-tools seed-figures writes into RUN_DIR/figures/ (run it first, with the stages 10 and 85 and
-the concentration times 85 and 100 inside the run) and prints, per figure, the numbers that decide each claim:
+figure tables that tools/riffle-tools seed-figures writes into RUN_DIR/figures/ (run it first, with the stages 10 and
+85 and the concentration times 85 and 100 inside the run) and prints, per figure, the numbers that decide each claim:
 
   fig11  the volume concentration per class per 15 mm sub-layer at t/T = 85 and 100 (layered, top sub-layer empty)
   fig12  the coordination number mid-bed (15-30 mm) and above 30 mm, and the mean overlap at the top and the bottom

@@ -746,7 +746,8 @@ def fig20(run, out, args):
 
 FORCES = ["pressure_force", "drag_force", "contact_force", "added_mass_force", "history_force", "gravity", "total"]
 # Applied by the grains' kicks, not part of `force` (solid_force_sum): docs/COUPLING.md, "Added mass and history
-# force". Frames written before issue 21 lack them (zero then), as do runs with both switched off (zero fields).
+# force". Frames written before these forces existed lack them (zero then), as do runs with both switched off (zero
+# fields).
 KICK_FORCES = ("added_mass_force", "history_force")
 
 
@@ -991,7 +992,7 @@ def drift(run, out, args):
 
 
 # ----------------------------------------------------------------------------------------------------------------
-# Figures 4, 7-8, 9, 10, 13, 16: views of the bed (tools/riffle_tools/seed_views.py makes the images) and the fluid's strain
+# Figures 4, 7-8, 9, 10, 13, 16: views of the bed (seed_views.py makes the images) and the fluid's strain
 
 PIXEL = 0.0005          # [m] image pixel of the views: a small grain is 10 pixels across
 SUBLAYER = 0.015        # [m] the seed's sub-layers of Figs. 7-9 and 11: one large diameter

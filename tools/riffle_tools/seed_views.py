@@ -1,4 +1,4 @@
-"""Numerical pieces of the seed figures 4, 7-10, 13 and 16 (tools/riffle-tools seed-figures draws them). numpy only.
+"""Numerical pieces of the seed figures 4, 7-10, 13 and 16 (riffle_tools.seed_figures draws them). numpy only.
 
 - raster(): what a camera sees of a set of spheres, orthographic, from above or through the front wall: per pixel
   the index of the nearest sphere (a depth buffer), optionally cut by a plane (the seed's cross-sections).

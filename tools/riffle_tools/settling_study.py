@@ -1,5 +1,5 @@
-"""A lone sphere settling from rest in a closed box of still liquid (issue 21, docs/COUPLING.md "The undisturbed
-fluid velocity"): terminal speed against the Schiller-Naumann law, the approach against the point-particle equation.
+"""A lone sphere settling from rest in a closed box of still liquid (docs/COUPLING.md "The undisturbed fluid
+velocity"): terminal speed against the Schiller-Naumann law, the approach against the point-particle equation.
 
 For each case (Re, d/l0) the tool writes a scene, runs riffle, reads the grain's probe and reports:
   - the terminal speed (mean over the window before the floor's influence) against Schiller-Naumann at eps = 1,
@@ -26,7 +26,7 @@ import sys
 
 GRAVITY = 9.81
 RHO = 1000.0
-RHO_S = 1120.0          # the issue's 1120 kg/m^3 sphere; the liquid at 1000
+RHO_S = 1120.0          # a 1120 kg/m^3 sphere; the liquid at 1000
 RATIO_RE = 2.4          # r_e / l0, riffle's default
 KERNEL_BOX = 5.0        # the box's side over the sampling kernel's radius, at least
 

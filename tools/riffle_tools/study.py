@@ -1,6 +1,6 @@
 """Queue a study of the seed experiment: runs of a base scene with scene-key overrides (riffle's --set), each on
 one or more independently generated beds, run in the background with checkpoints, resumed after an interruption,
-and collected into a table and plots at the end, so a study survives the end of a session.
+and collected into a table and plots at the end, so a study outlives the shell that started it.
 
 A study is a small TOML file (tools/studies/seed_calibration.toml is the example):
 
@@ -28,12 +28,12 @@ later change of a scene's defaults, such as a calibration, must not reach the ru
 job.json: its command, segments, wall times and exit codes), out/<name>/study.log, out/<name>/collect/ (tables and
 plots).
 
-Commands (from the repository root, under /usr/bin/python3):
-    tools/riffle-tools study run STUDY.toml [--detach]     # run what is not done yet; --detach: in the background
-    tools/riffle-tools study status STUDY.toml             # what is done, running, waiting
-    tools/riffle-tools study collect STUDY.toml            # tables and plots of what is done (tools/riffle-tools study-collect)
+Commands (from the repository root):
+    tools/riffle-tools study run STUDY.toml [--detach]   # run what is not done yet; --detach: in the background
+    tools/riffle-tools study status STUDY.toml           # what is done, running, waiting
+    tools/riffle-tools study collect STUDY.toml          # tables and plots of what is done (study_collect.py)
 
-A run that was interrupted (session end, SIGTERM, a crash of the machine) is resumed from its newest checkpoint by
+A run that was interrupted (a logout, SIGTERM, a crash of the machine) is resumed from its newest checkpoint by
 the next `run`; a run that ended with a diagnosis (exit 3) or bad input (exit 2) is not retried. Only one runner
 works on a study at a time (out/<name>/.study.lock).
 """

@@ -1,11 +1,12 @@
-"""Tables and plots of a study run by tools/riffle-tools study (`tools/riffle-tools study collect STUDY.toml` calls collect()).
+"""Tables and plots of a study run by tools/riffle-tools study (`tools/riffle-tools study collect STUDY.toml` calls
+collect()).
 
 Per run (out/<study>/runs/<variant>/bed_<N>/):
-- the class centroids and the segregation index S of tools/riffle-tools seed-figures (0 at the start, 1 sorted in layers; class
-  volumes from the first grain frame) at t/T = 10, 20, 30, each the mean over the period that ends there
+- the class centroids and the segregation index S of tools/riffle-tools seed-figures (0 at the start, 1 sorted in
+  layers; class volumes from the first grain frame) at t/T = 10, 20, 30, each the mean over the period that ends there
   (class_centroids.csv, ten samples a period);
-- the end-wall circulation: from the drift figure of tools/riffle-tools seed-figures over t/T = 10-20 and 20-30, the mean
-  vertical displacement per period of the coarse grains (medium and large) that start in the two end-wall bands
+- the end-wall circulation: from the drift figure of tools/riffle-tools seed-figures over t/T = 10-20 and 20-30, the
+  mean vertical displacement per period of the coarse grains (medium and large) that start in the two end-wall bands
   (the outer tenths of the tank's length, 24 mm), beside the same in the middle six tenths. Convection rolls that
   carry coarse grains down the end walls make the first negative while the sorting lifts the second;
 - the wall time (all of the run's segments) and the threads it ran on;
@@ -413,9 +414,9 @@ def merge(paths, base_name, reference_name, out, variant_names=None):
 
 
 def main(argv=None):
-    """`study_collect.py measure RUN_DIR ...`: the study's measures of any run directory (a 100-period run, say).
-    `study_collect.py merge RUNS.csv... --base NAME [--reference NAME] --out DIR`: the sensitivity table over the runs
-    of several studies (the beds of a variant run by different studies)."""
+    """`tools/riffle-tools study-collect measure RUN_DIR ...`: the study's measures of any run directory (a 100-period
+    run, say). `tools/riffle-tools study-collect merge RUNS.csv... --base NAME [--reference NAME] --out DIR`: the
+    sensitivity table over the runs of several studies (the beds of a variant run by different studies)."""
     import argparse
     if argv is None:
         argv = sys.argv[1:]
