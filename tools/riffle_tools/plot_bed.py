@@ -87,9 +87,7 @@ def main(argv=None):
     for ax in axes[1:]:
         ax.legend(fontsize="small")
 
-    output = args.output or args.out_dir / "bed.png"
-    figure.savefig(output, dpi=110)
-    print(f"plot_bed: wrote {output}")
+    plotting.write(figure, args.output or args.out_dir / "bed.png", "plot_bed")
 
 
 if __name__ == "__main__":

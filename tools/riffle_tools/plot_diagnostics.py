@@ -60,9 +60,7 @@ def main(argv=None):
     ax.set(xlabel="t [s]", ylabel="wall time per step [ms]", title="time per system", yscale="log")
     ax.legend(fontsize="small")
 
-    output = args.output or args.out_dir / "diagnostics.png"
-    figure.savefig(output, dpi=110)
-    print(f"plot_diagnostics: wrote {output}")
+    plotting.write(figure, args.output or args.out_dir / "diagnostics.png", "plot_diagnostics")
 
 
 if __name__ == "__main__":

@@ -17,3 +17,9 @@ def pyplot(tool):
         sys.exit(f"{tool}: {error.name} is missing; install python3-numpy and python3-matplotlib (tools/setup.sh "
                  "does) and run it with /usr/bin/python3")
     return plt
+
+
+def write(figure, path, tool, dpi=110):
+    """Saves `figure` to `path` and says so as `<tool>: wrote <path>`."""
+    figure.savefig(path, dpi=dpi)
+    print(f"{tool}: wrote {path}")
