@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Interleaved A/B speed comparison of two riffle builds on one machine (issue 20's acceptance: same or better speed
-# on the seed scene and the dry DEM benchmark). On the 2-vCPU machines, 2-thread timings of one binary vary between
-# runs by up to 1.8x, so one run proves nothing: every benchmark runs A, B, A, B, ... and the report gives per build
-# the median, min, max and spread ((max - min) / median) of the repetitions, and the ratio of the medians B / A.
+# Interleaved A/B speed comparison of two riffle builds on one machine (a code reorganisation's acceptance: same or
+# better speed on the seed scene and the dry DEM benchmark). On the 2-vCPU machines, 2-thread timings of one binary vary
+# between runs by up to 1.8x, so one run proves nothing: every benchmark runs A, B, A, B, ... and the report gives per
+# build the median, min, max and spread ((max - min) / median) of the repetitions, and the ratio of the medians B / A.
 #
 #   tools/ab.sh <build-dir-A> <build-dir-B> [reps]          reps defaults to 5
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# DEM benchmark of the issue: the settled seed bed (8,162 grains) shaken dry, E = 1e8 Pa, nu = 0.3, e = 0.5,
+# The DEM benchmark: the settled seed bed (8,162 grains) shaken dry, E = 1e8 Pa, nu = 0.3, e = 0.5,
 # mu = 0.4, sub-step 1e-5 s, for a fixed number of sub-steps, at 1 and 2 threads. Prints riffle's timing table
 # (particle-steps per second per system) for each. Results go to docs/BENCHMARKS.md with this command.
 #   tools/bench_dem.sh [build-dir] [engine-steps]

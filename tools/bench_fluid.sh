@@ -49,7 +49,7 @@ if [ "${SKIP_SLOSHING:-0}" != 1 ]; then
 fi
 if [ -f "$out/fluid_accuracy.csv" ]; then
   if /usr/bin/python3 -c 'import numpy, matplotlib' 2>/dev/null; then
-    /usr/bin/python3 tools/plot_fluid_accuracy.py "$out/fluid_accuracy.csv" docs/fluid_speed_vs_error.png
+    tools/riffle-tools plot-fluid-accuracy "$out/fluid_accuracy.csv" docs/fluid_speed_vs_error.png
   else
     echo "bench_fluid: no plot: /usr/bin/python3 lacks numpy or matplotlib (apt-get install python3-numpy python3-matplotlib)" >&2
   fi

@@ -4,9 +4,9 @@
 # hold the bed for the first 2 s). Results go to docs/BENCHMARKS.md by hand, with this command beside them.
 #   tools/bench_seed003.sh CHECKPOINT UNTIL [REPS] [build-dir]
 # CHECKPOINT: a checkpoint of a scenes/sheared_bed_*.toml run after t = 2 s (e.g. DIR/checkpoints/step_0000008006.ckpt
-# of a 5 s run, t = 4.0 s; docs/RESULTS.md, issue 24); UNTIL: the end time [s]. Prints one line per run: threads,
-# engine steps, stepping wall time, wall s per simulated s, grain sub-steps per s (grains x sub-steps x steps / wall)
-# and fluid particle-steps per s (fluid particles x steps / wall), from the run's log and diagnostics.
+# of a 5 s run, t = 4.0 s; docs/RESULTS.md, the sheared beds); UNTIL: the end time [s]. Prints one line per run:
+# threads, engine steps, stepping wall time, wall s per simulated s, grain sub-steps per s (grains x sub-steps x steps /
+# wall) and fluid particle-steps per s (fluid particles x steps / wall), from the run's log and diagnostics.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 checkpoint=$1

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The bit-identity acceptance check (issue 20): run the quick seed scene for its 5 periods and the dam break to its
+# The bit-identity check of a code reorganisation: run the quick seed scene for its 5 periods and the dam break to its
 # end, and print the sha256 of the outputs that must not change when the code is reorganised. Run it with the binary
 # before and after a change and compare the two listings (`diff`): any differing line is a physics change.
 #
@@ -15,9 +15,9 @@
 # they differ between any two runs. The other CSVs carry no timing. timings.csv and riffle.log are not hashed.
 # GOLDEN_DROP="name ..." leaves out further diagnostics and fluid-totals columns by name (for a documented change of
 # one column, e.g. solid_dt_s once it prints the sub-step actually used): state it beside the hashes. Against a build
-# before issue 22 (no escaped-particle columns): GOLDEN_DROP="fluid_removed_particles fluid_removed_mass_kg
-# removed_particles removed_mass_kg removed_volume_m3". Against a build before the drag's step limit (issue 24,
-# session 36: the drag_rate_1_s column): GOLDEN_DROP="drag_rate_1_s".
+# that kept escaped particles (no escaped-particle columns): GOLDEN_DROP="fluid_removed_particles fluid_removed_mass_kg
+# removed_particles removed_mass_kg removed_volume_m3". Against a build before the drag's step limit
+# (the drag_rate_1_s column): GOLDEN_DROP="drag_rate_1_s".
 # final.ckpt holds no timestamp (scene file name and text, world, output schedule), so it is hashed whole; the file
 # name stored in it is the relative one given on the command line, which is why every run starts in <work-dir> with
 # the scenes copied there. A change of the checkpoint format changes its hash without any physics change: compare
@@ -108,7 +108,7 @@ start=$(date +%s)
 run quick scenes/oscillating_tank_quick.toml --out quick
 echo "golden: quick seed scene took $(($(date +%s) - start)) s" >&2
 for f in class_centroids.csv bed_profile.csv; do print_hash "quick/$f" "quick/$f"; done
-# Through the column filter, so that GOLDEN_DROP can leave out columns a change appended (issue 22's removed_*).
+# Through the column filter, so that GOLDEN_DROP can leave out columns a change appended (escaped particles' removed_*).
 echo "$(hash_csv_without_timing quick/probe_fluid_totals.csv)  quick/probe_fluid_totals.csv (filtered)"
 echo "$(hash_csv_without_timing quick/diagnostics.csv)  quick/diagnostics.csv (without wall-clock columns)"
 print_hash quick/checkpoints/final.ckpt quick/checkpoints/final.ckpt

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The seed experiment's resolution study (issue 21): the quick seed scene at water spacings of 20, 10 and 5 mm for
-# 10 periods, with optional [coupling] lines added, then the centroid (Fig. 6) and force (Figs. 17-19) tables.
+# The seed experiment's resolution study in the water spacing: the quick seed scene at water spacings of 20, 10 and 5 mm
+# for 10 periods, with optional [coupling] lines added, then the centroid (Fig. 6) and force (Figs. 17-19) tables.
 #
 # Usage, from the repository root (needs out/dry_bed_settle, made by `build/riffle run scenes/dry_bed_settle.toml`):
 #   tools/resolution_study.sh BINARY OUT_ROOT [COUPLING_LINE ...]
@@ -35,8 +35,8 @@ for spacing in $spacings; do
   start=$(date +%s.%N)
   "$binary" run "$scene" --until "$until_time" --threads "$threads" --out "$run" --log-level warn > "$run/stdout.txt"
   awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f\n", b - a }' > "$run/wall_s.txt"
-  /usr/bin/python3 tools/seed_figures.py "$run" --figures fig06 fig17_19 fig19 --stages "$((periods - 2))-$periods" \
+  tools/riffle-tools seed-figures "$run" --figures fig06 fig17_19 fig19 --stages "$((periods - 2))-$periods" \
       > "$run/figures.log" 2>&1 || echo "figures failed for $run (see $run/figures.log)"
 done
-/usr/bin/python3 "$root/tools/resolution_summary.py" "$out_root" > "$out_root/summary.txt"
+/usr/bin/python3 "$root/tools/riffle-tools" resolution-summary "$out_root" > "$out_root/summary.txt"
 cat "$out_root/summary.txt"

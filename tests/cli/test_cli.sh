@@ -509,7 +509,7 @@ riffle_as fast_fluid run fast_fluid.toml --out F --threads 2
 expect_rc "a fluid whose Courant step falls below min_dt stops with exit 3" fast_fluid 3
 check "the diagnosis names the time-step collapse and the limit that set it" \
   contains fast_fluid.err "below fluid.min_dt" "courant limit"
-# A splash out of a low open tank (issue 22): escaped droplets are removed and counted, and the run finishes.
+# A splash out of a low open tank: escaped droplets are removed and counted, and the run finishes.
 riffle_as splash run "$SRC/tests/data/splash_escape.toml" --out SPL --threads 2
 expect_rc "a splash that throws water out of an open tank finishes" splash 0
 check "diagnostics.csv has the removed-particle columns" \

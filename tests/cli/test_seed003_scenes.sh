@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Seed 003's sheared beds and the oscillatory sheet flow (scenes/sheared_bed_*.toml, scenes/oscillatory_sheet_flow.toml)
-# are periodic along x and y with grains and water: since the coupling looks across the seam (issue 24) `riffle check`
+# are periodic along x and y with grains and water: since the coupling looks across the seam, `riffle check`
 # must accept each of them, and each must run its first millisecond periodic and write its bed-load probe.
 # (Only the first steps: the whole runs are studies, docs/RESULTS.md.)
 # The sheared beds and the oscillatory sheet flow start from a bed settled dry by their scenes/*_settle.toml ([solids]

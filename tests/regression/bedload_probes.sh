@@ -2,8 +2,8 @@
 # The bed-load probes on the seed bed: scenes/oscillating_tank_quick.toml with the five bed-load probes added runs
 # 0.05 s, and each probe file has its header (the columns of the bed's three size classes) and one row per 0.01 s
 # (the velocity profile one line per layer: 20 layers of 1 cm over the 20 cm tank); the values are sane (fractions
-# and lambda in [0, 1], the solid fraction of the lowest layers that of a packed bed). Then tools/bedload_plots.py
-# draws its figures from them.
+# and lambda in [0, 1], the solid fraction of the lowest layers that of a packed bed). Then tools/riffle-tools
+# bedload-plots draws its figures from them.
 #
 #   bash tests/regression/bedload_probes.sh <riffle-binary> <source-dir> <work-dir> [<seed-quick-work-dir>]
 #
@@ -88,9 +88,10 @@ awk -F, 'NR > 1 && $3 == 1 { if ($9 < 0.45 || $9 > 0.7) bad = 1 } NR > 1 && $3 =
 awk -F, 'NR > 1 { for (k = 3; k <= NF; ++k) if ($k == "") bad = 1 } END { exit bad }' run/probe_bed_shear_stress.csv \
   && pass "bed shear stress rows complete" || fail "bed shear stress rows complete"
 if [ -x /usr/bin/python3 ]; then
-  /usr/bin/python3 "$SRC/tools/bedload_plots.py" run >plots.log 2>&1 && [ "$(grep -c '^wrote' plots.log)" -eq 5 ] \
-    && pass "tools/bedload_plots.py draws its five figures" \
-    || { fail "tools/bedload_plots.py draws its five figures"; cat plots.log; }
+  /usr/bin/python3 "$SRC/tools/riffle-tools" bedload-plots run >plots.log 2>&1 \
+    && [ "$(grep -c '^wrote' plots.log)" -eq 5 ] \
+    && pass "tools/riffle-tools bedload-plots draws its five figures" \
+    || { fail "tools/riffle-tools bedload-plots draws its five figures"; cat plots.log; }
 fi
 echo "$((failed == 0 ? 1 : 0)) passed all, $failed failed"
 [ "$failed" -eq 0 ]

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/bed_force_profile.py on a synthetic run directory whose answers are known by construction.
+"""Self-test of tools/riffle-tools bed-force-profile on a synthetic run directory whose answers are known by
+construction.
 
 Usage: /usr/bin/python3 tests/tools/test_bed_force_profile.py WORK_DIR   (exit 0 = pass)
 """
@@ -10,7 +11,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "tests" / "tools"))
 import numpy as np  # noqa: E402
-import bed_force_profile  # noqa: E402
+from riffle_tools import bed_force_profile  # noqa: E402
 from test_seed_figures import write_pvd, write_vtp  # noqa: E402
 
 

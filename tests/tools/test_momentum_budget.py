@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Self-test of tools/momentum_budget.py on a synthetic run directory whose budget is known by construction.
+"""Self-test of tools/riffle-tools momentum-budget on a synthetic run directory whose budget is known by construction.
 
 Usage: /usr/bin/python3 tests/tools/test_momentum_budget.py WORK_DIR   (exit 0 = pass)
 """
@@ -10,7 +10,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "tests" / "tools"))
 import numpy as np  # noqa: E402
-import momentum_budget  # noqa: E402
+from riffle_tools import momentum_budget  # noqa: E402
 from test_seed_figures import write_pvd, write_vtp  # noqa: E402
 
 

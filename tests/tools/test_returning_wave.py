@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/returning_wave.py: the scenes it writes pass `riffle check`, and its timing of the returning
-bore is right on a synthetic run whose crossings are known.
+"""Self-test of tools/riffle-tools returning-wave: the scenes it writes pass `riffle check`, and its timing of the
+returning bore is right on a synthetic run whose crossings are known.
 
 Usage: /usr/bin/python3 tests/tools/test_returning_wave.py RIFFLE_BINARY [WORK_DIR]   (exit 0 = pass)
 """
@@ -12,7 +12,7 @@ import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
-import returning_wave as rw  # noqa: E402
+from riffle_tools import returning_wave as rw  # noqa: E402
 
 failures = []
 

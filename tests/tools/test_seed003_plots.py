@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""Self-test of tools/seed003_plots.py: its formulas against the hand-worked values of tests/unit/bedload_laws_test.cpp,
-its summary on synthetic probe files with known answers, and (given a riffle binary) that the probe files of a tiny
-real closed-box run have the columns the synthetic ones assume and go through the tool.
+"""Self-test of tools/riffle-tools seed003-plots: its formulas against the hand-worked values of
+tests/unit/bedload_laws_test.cpp, its summary on synthetic probe files with known answers, and (given a riffle binary)
+that the probe files of a tiny real closed-box run have the columns the synthetic ones assume and go through the tool.
 
 Usage: /usr/bin/python3 tests/tools/test_seed003_plots.py WORK_DIR [RIFFLE]   (exit 0 = pass)
 """
@@ -12,9 +12,10 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+RIFFLE_TOOLS = [sys.executable, str(ROOT / "tools" / "riffle-tools")]  # the tools' launcher
 sys.path.insert(0, str(ROOT / "tools"))
 import numpy as np  # noqa: E402
-import seed003_plots  # noqa: E402
+from riffle_tools import seed003_plots  # noqa: E402
 
 G, S, RHO, NU = 9.81, 2.65, 1000.0, 1.0e-6
 
@@ -86,7 +87,7 @@ def check_synthetic(work):
     synthetic_run(large, [0.002], tau=1.5, moving=[0.0], q_star=[0.0])
     synthetic_run(mixture, [0.001, 0.002], tau=1.5, moving=[0.03, 0.02], q_star=[0.01, 0.002], onset=0.5)
     out = work / "figures"
-    result = subprocess.run([sys.executable, str(ROOT / "tools" / "seed003_plots.py"), "--small", f"0.6={small}",
+    result = subprocess.run([*RIFFLE_TOOLS, "seed003-plots", "--small", f"0.6={small}",
                              "--large", f"1.0={large}", "--bidisperse", f"1.0={mixture}", "--out", str(out),
                              "--mixture-counts", "623", "213"],
                             capture_output=True, text=True, check=True)
@@ -116,7 +117,7 @@ def check_synthetic(work):
     # A run's own window start (DIR@T) overrides --from for that run only: the mixture from 0.25 s holds 25 rows
     # (0.25-0.49 s) before its large class's onset and 151 after; the small bed keeps --from's window (constant).
     out_at = work / "figures_at"
-    subprocess.run([sys.executable, str(ROOT / "tools" / "seed003_plots.py"), "--small", f"0.6={small}",
+    subprocess.run([*RIFFLE_TOOLS, "seed003-plots", "--small", f"0.6={small}",
                     "--bidisperse", f"1.0={mixture}@0.25", "--from", "1.5", "--out", str(out_at),
                     "--mixture-counts", "623", "213"], capture_output=True, text=True, check=True)
     rows_at = list(csv.DictReader(open(out_at / "seed003_summary.csv")))
@@ -203,7 +204,7 @@ def check_real_run(work, riffle):
         with open(out / f"probe_{kind}.csv", newline="") as handle:
             found = next(csv.reader(handle))
         assert found == header(2), (kind, found, header(2))
-    result = subprocess.run([sys.executable, str(ROOT / "tools" / "seed003_plots.py"), "--bidisperse", f"0.0={out}",
+    result = subprocess.run([*RIFFLE_TOOLS, "seed003-plots", "--bidisperse", f"0.0={out}",
                              "--out", str(work / "tiny_figures")], capture_output=True, text=True, check=True)
     assert (work / "tiny_figures" / "fig7_packing.png").exists(), result.stdout
 

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/seed_checklist.py on synthetic figure tables with known answers (the column names are the ones
-tools/seed_figures.py writes; test_seed_figures.py checks those tables against a synthetic run).
+"""Self-test of tools/riffle-tools seed-checklist on synthetic figure tables with known answers (the column names
+are the ones tools/riffle-tools seed-figures writes; test_seed_figures.py checks those tables against a synthetic run).
 
 Checks: fig15's largest fluid velocity below the bed height and the mean above it; fig17's r.m.s. force ratios; fig20's
 peaks a period (a signal with two a period); fig11's most filled class per sub-layer; a missing table is reported.
@@ -15,6 +15,7 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+RIFFLE_TOOLS = [sys.executable, str(ROOT / "tools" / "riffle-tools")]  # the tools' launcher
 failures = []
 
 
@@ -67,7 +68,7 @@ def main():
             for k, c in enumerate(values)]
     write(figures / "fig11_concentration.csv", header, rows)
 
-    result = subprocess.run([sys.executable, str(ROOT / "tools" / "seed_checklist.py"), str(work)],
+    result = subprocess.run([*RIFFLE_TOOLS, "seed-checklist", str(work)],
                             capture_output=True, text=True, timeout=60)
     out = result.stdout
     print(out)
@@ -79,7 +80,7 @@ def main():
     check("0 mm: 0.50 / 0.10 / 0.05 (most: class 0); 15 mm: 0.10 / 0.10 / 0.30 (most: class 2)" in out,
           "fig11: the most filled class per sub-layer")
     check("fig12_coordination_overlap.csv: not drawn" in out, "a table not drawn is named")
-    missing = subprocess.run([sys.executable, str(ROOT / "tools" / "seed_checklist.py"), str(work / "nothing")],
+    missing = subprocess.run([*RIFFLE_TOOLS, "seed-checklist", str(work / "nothing")],
                              capture_output=True, text=True, timeout=60)
     check(missing.returncode != 0 and "no figure tables" in missing.stderr, "a run without figures: a clear error")
     print(f"{len(failures)} failure(s)")

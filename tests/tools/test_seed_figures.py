@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Self-test of tools/vtp.py and tools/seed_figures.py on a small synthetic run directory whose answers are known.
+"""Self-test of riffle_tools.vtp and tools/riffle-tools seed-figures on a small synthetic run directory whose
+answers are known.
 
 Usage: /usr/bin/python3 tests/tools/test_seed_figures.py [WORK_DIR]   (exit 0 = pass)
 """
@@ -14,9 +15,9 @@ import tempfile
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 import numpy as np  # noqa: E402
-import seed_figures  # noqa: E402
-import seed_views  # noqa: E402
-import vtp  # noqa: E402
+from riffle_tools import seed_figures  # noqa: E402
+from riffle_tools import seed_views  # noqa: E402
+from riffle_tools import vtp  # noqa: E402
 
 
 def array(name, values, kind, components=1):

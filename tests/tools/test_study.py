@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Self-test of tools/study.py and tools/study_collect.py on a tiny study that really runs riffle: two variants on
+"""Self-test of tools/riffle-tools study and study-collect on a tiny study that really runs riffle: two variants on
 two beds settled with different generator seeds, one run interrupted by SIGTERM and resumed by the next `run`.
 
 Checks: each bed is settled once, with its own seed (different grain positions); a run's overrides reach riffle
@@ -22,7 +22,7 @@ import sys
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-STUDY = ROOT / "tools" / "study.py"
+RIFFLE_TOOLS = [sys.executable, str(ROOT / "tools" / "riffle-tools")]  # the tools' launcher
 
 # The tank, grain and contact both scenes share: the bed is settled in the tank it is shaken in.
 TANK = """
@@ -131,7 +131,7 @@ def rows(path):
 def check_job_order(work):
     """order = "beds" runs every variant's first bed before any second one; the default keeps the file's order."""
     sys.path.insert(0, str(ROOT / "tools"))
-    import study
+    from riffle_tools import study
     head = '[study]\nname = "order"\nscene = "a.toml"\nbed_scene = "b.toml"\nperiods = 1\nfrequency = 1.0\n'
     body = ('[[variants]]\nname = "p"\nbeds = [1, 2]\n[[variants]]\nname = "q"\nbeds = [3]\n'
             '[[variants]]\nname = "r"\nbeds = [1, 2]\n')
@@ -152,7 +152,7 @@ def main():
     # The study file names scenes relative to the repository root; absolute paths work as well.
     (work / "study.toml").write_text(STUDY_FILE.format(run=work / "run.toml", bed=work / "bed.toml", binary=binary))
     out = work / "out"
-    command = [sys.executable, str(STUDY), "run", str(work / "study.toml"), "--out", str(out)]
+    command = [*RIFFLE_TOOLS, "study", "run", str(work / "study.toml"), "--out", str(out)]
 
     # 1. Start the runner and stop it (SIGTERM) once the first run has written a checkpoint past its start.
     runner = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=ROOT)
@@ -207,7 +207,7 @@ def main():
     check(again.returncode == 0 and len(job_again["segments"]) == 2, "a finished study is not rerun")
 
     # 6. An edited variant: its old run is set aside and run again. Then the state a runner killed outright leaves
-    #    (SIGKILL with its riffle, as at the end of a session: checkpoints on disk, the segment never recorded) is
+    #    (SIGKILL with its riffle, as when the machine goes away: checkpoints on disk, the segment never recorded) is
     #    made from that run, and the next `run` must resume the job from its newest checkpoint, not from t = 0.
     (work / "study.toml").write_text((work / "study.toml").read_text().replace("contact.restitution=0.9",
                                                                                 "contact.restitution=0.8"))
@@ -229,8 +229,8 @@ def main():
           job["segments"][0]["command"][2] == str(checkpoints[len(checkpoints) // 2 - 1]),
           "a job whose runner was killed outright resumes from its newest checkpoint (not from t = 0)")
 
-    # 7. collect: the tables, and S as defined in tools/seed_figures.py.
-    collected = subprocess.run([sys.executable, str(STUDY), "collect", str(work / "study.toml"), "--out", str(out)],
+    # 7. collect: the tables, and S as defined in tools/riffle-tools seed-figures.
+    collected = subprocess.run([*RIFFLE_TOOLS, "study", "collect", str(work / "study.toml"), "--out", str(out)],
                                capture_output=True, text=True, cwd=ROOT, timeout=120)
     check(collected.returncode == 0, f"collect exits 0 ({collected.stdout[-300:]} {collected.stderr[-300:]})")
     for name in ("runs.csv", "ensemble.csv", "ensemble.png", "sensitivity.csv", "sensitivity.md"):
@@ -261,7 +261,7 @@ def main():
         return ((z[1] - z[0]) - (z0[1] - z0[0])) / (full_gap - (z0[1] - z0[0]))
 
     period_two = [s_by_hand(centroids[0], r) for r in centroids[0] if 1.0 < float(r["t_over_T"]) <= 2.0 + 1e-6]
-    measured = subprocess.run([sys.executable, str(ROOT / "tools" / "study_collect.py"), "measure",
+    measured = subprocess.run([*RIFFLE_TOOLS, "study-collect", "measure",
                                str(out / "runs" / "base" / "bed_1"), "--stages", "2", "--drift-windows", "0-2",
                                "--rise-windows", "1-2"], capture_output=True, text=True, cwd=ROOT, timeout=120)
     values = dict(line.split(",", 1) for line in measured.stdout.split())
@@ -277,7 +277,7 @@ def main():
     first.write_text("variant,bed,threads,wall_s,S_10\nbase,1,1,10,0.30\nbase,2,1,10,0.32\nbase,3,1,10,0.34\n"
                      "moved,1,1,10,0.40\nsame,1,1,10,0.33\n")
     second.write_text("variant,bed,threads,wall_s,S_10\nmoved,2,1,10,0.42\nmoved,1,1,10,9.99\nsame,2,1,10,0.31\n")
-    merged = subprocess.run([sys.executable, str(ROOT / "tools" / "study_collect.py"), "merge", str(first),
+    merged = subprocess.run([*RIFFLE_TOOLS, "study-collect", "merge", str(first),
                              str(second), "--base", "base", "--out", str(work / "merged")],
                             capture_output=True, text=True, cwd=ROOT, timeout=120)
     check(merged.returncode == 0, f"merge exits 0 ({merged.stderr[-300:]})")
@@ -290,7 +290,7 @@ def main():
     check(abs(float(table.get("same", {}).get("S_10", "nan")) - 0.32) < 1e-9 and table["same"]["S_10_counts"] == "no",
           f"merge: same's S at 10 (0.32) does not count ({table.get('same', {}).get('S_10')}, "
           f"{table.get('same', {}).get('S_10_counts')})")
-    unknown = subprocess.run([sys.executable, str(ROOT / "tools" / "study_collect.py"), "merge", str(first),
+    unknown = subprocess.run([*RIFFLE_TOOLS, "study-collect", "merge", str(first),
                               "--base", "nobody", "--out", str(work / "merged")],
                              capture_output=True, text=True, cwd=ROOT, timeout=120)
     check(unknown.returncode != 0 and "nobody" in unknown.stderr, "merge names a base it has no runs of")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Verification of the drag coupling against Ergun's equation (issue 5): water driven by a falling head through a
+# Verification of the drag coupling against Ergun's equation (a fixed bed): water driven by a falling head through a
 # fixed plug of 5 mm grains (scenes/ergun_plug.toml) must lose Ergun's pressure drop at the flux it carries, within
 # 20 % (docs/COUPLING.md derives the tolerance: the voidage reading's tested 2 % is up to 10 % of the resistance,
 # the voidage smoothing at the plug's faces takes off 8 %). The seed's pore reading of the water in the bed must
@@ -14,7 +14,8 @@ run() {  # scene, output directory
   "$RIFFLE" run "$1" --out "$2" --threads 2 >"$2.log" 2>&1 || { echo "not ok - $1 did not run"; tail -5 "$2.log"; exit 1; }
 }
 run "$SOURCE/scenes/ergun_plug.toml" "$WORK/mixture"
-if /usr/bin/python3 "$SOURCE/tools/ergun_plug.py" "$WORK/mixture" --scene "$SOURCE/scenes/ergun_plug.toml" --check 0.2; then
+if /usr/bin/python3 "$SOURCE/tools/riffle-tools" ergun-plug "$WORK/mixture" --scene "$SOURCE/scenes/ergun_plug.toml" \
+    --check 0.2; then
   echo "ok - the mixture reading gives Ergun's pressure drop within 20 %"
 else
   echo "not ok - the mixture reading gives Ergun's pressure drop within 20 %"; failed=1
@@ -22,7 +23,8 @@ fi
 sed 's/^fluid_velocity = "mixture"/fluid_velocity = "pore"/' "$SOURCE/scenes/ergun_plug.toml" >"$WORK/ergun_pore.toml"
 grep -q '^fluid_velocity = "pore"' "$WORK/ergun_pore.toml" || { echo "not ok - could not switch the scene to the pore reading"; exit 1; }
 run "$WORK/ergun_pore.toml" "$WORK/pore"
-if /usr/bin/python3 "$SOURCE/tools/ergun_plug.py" "$WORK/pore" --scene "$WORK/ergun_pore.toml" --check 0.2; then
+if /usr/bin/python3 "$SOURCE/tools/riffle-tools" ergun-plug "$WORK/pore" --scene "$WORK/ergun_pore.toml" \
+    --check 0.2; then
   echo "not ok - the pore reading fails the check (it should be about 6x too permeable)"; failed=1
 else
   echo "ok - the pore reading fails the check (6x too permeable)"

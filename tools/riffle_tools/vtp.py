@@ -1,0 +1,130 @@
+"""Read riffle's ParaView output (engine/output/vtk_output.cpp) into numpy arrays. numpy only.
+
+riffle writes PolyData (.vtp) with every DataArray inline, format="binary", header_type="UInt32", little endian:
+the text of an array is base64 of one block, a UInt32 byte count followed by the raw values (no compression,
+one base64 run per array). Types used: Float64 (scalars and 3-vectors), Int32, Int64, UInt64. Points are the
+particle centres; point data are the component's output fields. A .pvd collection lists (time, file) pairs.
+
+    from riffle_tools import vtp
+    frames = vtp.read_pvd("out/run/solids.pvd")    # [(time_s, Path), ...] sorted by time
+    frame = vtp.read_vtp(frames[0][1])              # {"points": (N, 3), "velocity": (N, 3), "radius": (N,), ...}
+    scene, named = vtp.run_scene("out/run")         # the scene file riffle.log names (None if not found)
+"""
+import base64
+import pathlib
+import re
+import xml.etree.ElementTree as ElementTree
+
+import numpy as np
+
+from . import ROOT
+
+_TYPES = {
+    "Float64": "<f8", "Float32": "<f4",
+    "Int8": "<i1", "Int16": "<i2", "Int32": "<i4", "Int64": "<i8",
+    "UInt8": "<u1", "UInt16": "<u2", "UInt32": "<u4", "UInt64": "<u8",
+}
+
+
+class VtpError(RuntimeError):
+    """A file that is not riffle's VTP/PVD format (the message says what is wrong and where)."""
+
+
+def decode_array(element, path="?"):
+    """One <DataArray format="binary"> as a numpy array, shape (n,) or (n, components)."""
+    name = element.get("Name", "?")
+    kind = element.get("type")
+    if kind not in _TYPES:
+        raise VtpError(f"{path}: array {name}: type {kind!r} is not supported")
+    if element.get("format") != "binary":
+        raise VtpError(f"{path}: array {name}: format {element.get('format')!r}, expected 'binary'")
+    raw = base64.b64decode("".join((element.text or "").split()))
+    if len(raw) < 4:
+        raise VtpError(f"{path}: array {name}: no UInt32 size header")
+    count = int(np.frombuffer(raw[:4], dtype="<u4")[0])
+    if count != len(raw) - 4:
+        raise VtpError(f"{path}: array {name}: header says {count} bytes, the block holds {len(raw) - 4}")
+    values = np.frombuffer(raw[4:], dtype=_TYPES[kind]).copy()
+    components = int(element.get("NumberOfComponents", "1"))
+    if components > 1:
+        if values.size % components:
+            raise VtpError(f"{path}: array {name}: {values.size} values are not a multiple of {components}")
+        values = values.reshape(-1, components)
+    return values
+
+
+def read_vtp(path, fields=None):
+    """The points and point data of one riffle .vtp file as {"points": (N, 3), field: array, ...}.
+
+    fields: optional iterable of point-data names to decode (others are skipped, which is faster); None = all.
+    Cell data (walls.vtp) is returned under "cell:<name>"."""
+    path = pathlib.Path(path)
+    try:
+        root = ElementTree.parse(path).getroot()
+    except (ElementTree.ParseError, OSError) as error:
+        raise VtpError(f"{path}: {error}") from error
+    if root.get("type") != "PolyData":
+        raise VtpError(f"{path}: VTKFile type {root.get('type')!r}, expected 'PolyData'")
+    if root.get("byte_order", "LittleEndian") != "LittleEndian" or root.get("header_type", "UInt32") != "UInt32":
+        raise VtpError(f"{path}: only little-endian files with UInt32 headers are supported")
+    piece = root.find("PolyData/Piece")
+    if piece is None:
+        raise VtpError(f"{path}: no PolyData/Piece")
+    wanted = None if fields is None else set(fields)
+    out = {}
+    points = piece.find("Points/DataArray")
+    if points is None:
+        raise VtpError(f"{path}: no Points")
+    out["points"] = decode_array(points, path).reshape(-1, 3)
+    for element in piece.findall("PointData/DataArray"):
+        name = element.get("Name")
+        if wanted is None or name in wanted:
+            out[name] = decode_array(element, path)
+    for element in piece.findall("CellData/DataArray"):
+        name = element.get("Name")
+        if wanted is None or name in wanted:
+            out["cell:" + name] = decode_array(element, path)
+    count = int(piece.get("NumberOfPoints", len(out["points"])))
+    if len(out["points"]) != count:
+        raise VtpError(f"{path}: {len(out['points'])} points, the piece says {count}")
+    if wanted:
+        missing = wanted - set(out)
+        if missing:
+            raise VtpError(f"{path}: missing point data {sorted(missing)}")
+    return out
+
+
+def read_pvd(path):
+    """The (time_s, absolute path) pairs of a .pvd collection, sorted by time; a later entry of the same time wins
+    (a resumed run may rewrite a frame)."""
+    path = pathlib.Path(path)
+    try:
+        root = ElementTree.parse(path).getroot()
+    except (ElementTree.ParseError, OSError) as error:
+        raise VtpError(f"{path}: {error}") from error
+    frames = {}
+    for element in root.iter("DataSet"):
+        frames[float(element.get("timestep"))] = path.parent / element.get("file")
+    return sorted(frames.items())
+
+
+def run_scene(out_dir):
+    """The scene a run used, from the last 'starting' or 'resuming' line of OUT_DIR/riffle.log: (path, named),
+    path the first existing of the name as written, relative to the run's grandparent (out/<run> lies in the
+    repository) and relative to the repository holding this file; path None when none exists, named None when the
+    log names no scene."""
+    out_dir = pathlib.Path(out_dir)
+    log = out_dir / "riffle.log"
+    named = None
+    if log.exists():
+        for line in open(log, errors="replace"):
+            found = re.search(r"(?:starting|resuming) '[^']*' from (.+?\.toml):", line)
+            if found:
+                named = found.group(1)
+    if named is None:
+        return None, None
+    for candidate in (pathlib.Path(named), out_dir.resolve().parent.parent / named,
+                      ROOT / named):
+        if candidate.exists():
+            return candidate, named
+    return None, named
