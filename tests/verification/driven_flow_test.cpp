@@ -4,7 +4,7 @@
 //  - a lid sliding at U over a layer of depth h in a long closed box: away from the ends the steady flow is the
 //    plane Couette flow with the return flow that a closed box forces (zero net flux through a cross-section):
 //    u = U (3 s^2 - 2 s), s = z / h (the lid at s = 1), and the lid's traction on the water is 4 mu U / h.
-// The Poiseuille / Couette / Stokes-second-problem sweeps run in a periodic channel: tools/driven_flow_study.py, and
+// The Poiseuille / Couette / Stokes-second-problem sweeps run in a periodic channel: tools/riffle-tools driven-flow-study, and
 // their coarsest cases in tests/verification/periodic_fluid_test.cpp.
 #include <doctest/doctest.h>
 
@@ -111,7 +111,7 @@ TEST_CASE("a body force along x on water at rest in a closed box gives the hydro
 // particles d_i = l0/2 .. r_e away, which reads the slope at about d_i / 2 below the plane; with the profile's
 // curvature u'' = 6 U / h^2 that is low by u'' d_i / 2 over u' = 4 U / h, i.e. 0.75 d_i / h: 5 % at d_i = l0/2,
 // 22 % at r_e, 9 % at the kernel-weighted mean d_i of about l0 (h = 8 l0). First order in l0: halving l0 halves it
-// (tools/driven_flow_study.py closed_lid, docs/FLUID.md).
+// (tools/riffle-tools driven-flow-study closed_lid, docs/FLUID.md).
 TEST_CASE("a lid over a layer in a long closed box: the Couette flow with return flow, and traction 4 mu U / h") {
   const std::string text = R"(
 [run]

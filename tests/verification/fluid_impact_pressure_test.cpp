@@ -6,7 +6,7 @@
 // 2.5-97.5 % scatter of 100 runs (not met: docs/RESULTS.md, "Issue 22: impact pressure").
 //
 // Sizes (CTest time): l0 = 11.5 mm (H / 26; 1.61 m = 140 l0), a slab 4 l0 thick, up to 15 ms after the front reaches the
-// wall (t ~ 0.45 s). The full study (l0 = 10 and 5 mm, post-impact noise) is tools/impact_study.py (docs/RESULTS.md).
+// wall (t ~ 0.45 s). The full study (l0 = 10 and 5 mm, post-impact noise) is tools/riffle-tools impact-study (docs/RESULTS.md).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -103,7 +103,7 @@ TEST_CASE("dam break impact on a wall sensor against Lobovsky et al. 2014") {
                                                << "; measured peak median " << measured.median << ", 2.5-97.5 % ["
                                                << measured.low << ", " << measured.high << "]");
   // Arrival: the record's T = 2.443 counts from the gate's first motion (it lifts over T ~ 0.4); ours opens at once
-  // and its front reaches the wall at T ~ 2.5 (every l0 and C_r of tools/impact_study.py): within 0.3.
+  // and its front reaches the wall at T ~ 2.5 (every l0 and C_r of tools/riffle-tools impact-study): within 0.3.
   CHECK(std::abs(coarse.arrival_time - 2.443) < 0.3);
   // The impulse of the first 15 ms: the record's mean P 2.24, with the relative 2.5-97.5 % scatter of the measured
   // peaks (-18 %, +43 %) as its band. The incompressible projection gets the impulse right, at any C_r.

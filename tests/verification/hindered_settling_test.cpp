@@ -2,7 +2,7 @@
 // 3 mm beads settles through a viscous liquid; its bulk speed (the grains' mean velocity in a central band, after
 // the transient and long before the top of the suspension reaches the band) is the speed relative to the column
 // that Richardson & Zaki (1954) give: u = u_t eps^n, n = 4.65 at Re_t < 0.2, u_t the terminal speed of a lone bead
-// under the Schiller-Naumann law the drag uses. The cases here are the two cheap ones of tools/hindered_settling.py
+// under the Schiller-Naumann law the drag uses. The cases here are the two cheap ones of tools/riffle-tools hindered-settling
 // (which sweeps phi = 0.05-0.3 and both velocity readings).
 #include <doctest/doctest.h>
 
@@ -149,7 +149,7 @@ TEST_CASE("hindered settling at phi = 0.1: the bulk speed is Richardson-Zaki's w
 
 TEST_CASE("hindered settling at phi = 0.3 with Wen & Yu's drag at every voidage: Richardson-Zaki's speed within 3 %") {
   // With the default Gidaspow switch (Ergun below eps = 0.8) the suspension at eps = 0.7 settles 28 % slower than
-  // Richardson-Zaki (tools/hindered_settling.py; Ergun's law is a packed bed's). Wen & Yu's eps^-4.7 (their fit to
+  // Richardson-Zaki (tools/riffle-tools hindered-settling; Ergun's law is a packed bed's). Wen & Yu's eps^-4.7 (their fit to
   // fluidised beds and suspensions) gives n = 4.65 in the mixture reading at low Re.
   const double u_t = terminal_speed();
   const Bulk mixture = bulk_settling(0.3, "mixture", "dense_drag = \"wen_yu\"\n");

@@ -286,7 +286,7 @@ TEST_CASE("wet restitution against Stokes number follows Legendre et al. (2006):
   // et al. 2002, Phys. Fluids 14; Legendre et al. 2006 Fig. 3) scatter about it by about +-0.1 to 0.15 in e/e_dry
   // between St = 20 and 500 (different materials, roughnesses and fluids at one St): the tolerance, 0.15. At
   // St = 8 both data and fit are below 0.02: the check there is e/e_dry < 0.1. The full sweep and the table:
-  // tools/wet_restitution.py, docs/COUPLING.md.
+  // tools/riffle-tools wet-restitution, docs/COUPLING.md.
   const double speed = 0.5, d = 0.005;
   LubeScene spec;
   spec.restitution = 0.9;

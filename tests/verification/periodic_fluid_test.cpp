@@ -369,7 +369,7 @@ TEST_CASE("periodic water: one and two threads, and a resumed run, give byte-ide
 
 namespace riffle {
 
-// The channel the three laminar cases share (tools/driven_flow_study.py's coarsest): 8 x 6 x 10 l0 of water
+// The channel the three laminar cases share (tools/riffle-tools driven-flow-study's coarsest): 8 x 6 x 10 l0 of water
 // (l0 = 4 mm, nu = 1e-3 m^2/s, no gravity) between a no-slip lid at rest below and a lid above, each 3 l0 thick,
 // periodic along x and y; `body_force` is a [fluid.body_force] table or empty, `top_lid` the top lid's keys.
 std::string periodic_channel(const std::string& name, double end_time, const std::string& body_force,
@@ -416,7 +416,7 @@ double profile_error(const test::FluidRun& run, double z0, Profile exact_at) {
   return std::sqrt(squared_error / squared_exact);
 }
 
-// Plane Poiseuille flow (tools/driven_flow_study.py poiseuille, its coarsest case): a channel of height H = 0.04 m
+// Plane Poiseuille flow (tools/riffle-tools driven-flow-study poiseuille, its coarsest case): a channel of height H = 0.04 m
 // periodic along x and y (8 x 6 l0), no-slip lids 3 l0 thick at rest below and above (their planes at the lid
 // boxes' faces, z = 0 and H), a constant body force f = 12 nu U / H^2 along x (bulk velocity U = 1 cm/s),
 // nu = 1e-3 m^2/s, no gravity; run to t = 2 H^2 / nu, where the slowest transient, exp(-pi^2 nu t / H^2), is 3e-9.
@@ -454,7 +454,7 @@ grains = "none"
 
 namespace riffle {
 
-// Plane Couette flow in the same channel (tools/driven_flow_study.py couette, its coarsest case): no force, the top
+// Plane Couette flow in the same channel (tools/riffle-tools driven-flow-study couette, its coarsest case): no force, the top
 // lid sliding at U = 1 cm/s along x, so its particles cross the seam all the time (they wrap within the lid box,
 // which spans the period) and the water next to the seam sees the lid's ghosts. Steady: u(z) = U z / H, reached at
 // t = 2 H^2 / nu as above. A linear profile has no Laplacian, so the scheme keeps it up to what the start-up leaves:
@@ -539,7 +539,7 @@ TEST_CASE("plane Couette and Poiseuille flows with the conservative gradient mat
 
 namespace riffle {
 
-// Stokes' second problem in the same channel (tools/driven_flow_study.py stokes2, its coarsest case):
+// Stokes' second problem in the same channel (tools/riffle-tools driven-flow-study stokes2, its coarsest case):
 // f = F sin(omega t) along x, period 1 s, F / omega = 1 cm/s, the no-slip floor at rest and a free-slip lid at H
 // (H / delta = 2.2, delta = sqrt(2 nu / omega) = 17.8 mm), six periods. Exact (finite depth, du/dz = 0 at the lid):
 // u = Re[(F^/(i omega)) (1 - cosh(k (H - z)) / cosh(k H)) e^(i omega t)], k = (1 + i) / delta, F^ = -i F. Each l0
