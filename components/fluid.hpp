@@ -243,7 +243,7 @@ struct FluidSummary {
   }
 
   /// Checkpoint format 4 also stored `last_dt` [s], the length of the last step, right after solver_converged. The
-  /// step length is decided once and kept in World::last_step now (issue 20), so nothing wrote last_dt any more and
+  /// step length is decided once and kept in World::last_step, so nothing wrote last_dt any more and
   /// format 5 dropped it. Format-4 files must still load (settled beds read as [solids] initial_state, runs to
   /// resume): the checkpoint reader's archive says which format it reads (format_version(),
   /// engine/output/checkpoint_archive.hpp), and for format 4 the slot is read, checked and let go. Writing always

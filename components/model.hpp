@@ -225,7 +225,7 @@ struct FluidModel {
   std::int64_t sort_every_fast = 5;
   /// What happens to a fluid particle that escapes (systems/mps/fluid_escape.hpp): kRemove takes it out of the
   /// water (counted, logged, reported; the run stops only when more than escape_fraction_limit of the fluid has
-  /// gone), kStop stops the run with the left-domain diagnosis at the first one (riffle before issue 22).
+  /// gone), kStop stops the run with the left-domain diagnosis at the first one.
   enum class EscapePolicy { kRemove, kStop };
   EscapePolicy escape = EscapePolicy::kRemove;
   /// [m] with kRemove, a lone fluid particle (no other MPS particle within r_e) farther than this outside the tank's
@@ -306,7 +306,7 @@ struct CouplingModel {
   /// fluid filling all space (div u = 0, wall velocity at the walls) can carry exactly. The pore water moves
   /// relative to a grain at (u - u_s) / eps (the drag's slip), and the water receives the drag per volume over eps,
   /// so steady Darcy-Forchheimer flow and the seepage force are right; the pore water's relative inertia is eps
-  /// too small. The default is the mixture reading since issue 21: it passes hindered settling (docs/COUPLING.md,
+  /// too small. The default is the mixture reading: it passes hindered settling (docs/COUPLING.md,
   /// "Hindered settling"), where the pore reading's water does not flow back up and the suspension falls 1/eps too
   /// fast.
   bool mixture_velocity = true;

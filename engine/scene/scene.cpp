@@ -378,7 +378,7 @@ void read_solids(TableReader& solids, Model& model) {
 double default_checkpoint_interval(double end_time, double dt) {
   // A long run that dies (a blow-up, an escaped-water limit, a killed machine) must be resumable without the scene
   // having asked for it; a short one gains nothing from checkpoints and pays their writes (and its outputs stay
-  // those of riffle before issue 22: every shipped scene is either short or sets the key).
+  // those of a run without checkpoints: every shipped scene is either short or sets the key).
   constexpr double kLongRunSteps = 1000.0;
   constexpr double kCheckpointsPerRun = 10.0;
   if (!(dt > 0.0) || !(end_time > 0.0) || end_time < kLongRunSteps * dt) return 0.0;

@@ -54,7 +54,7 @@ void SolidVoidage::run(SystemContext& context) {
                 cell, domain.low, domain.high, periodic_box(model));
   }
   if (!self_corrected_) {
-    // main before issue 21: cells of (2 pi / 21)^(1/3) R_eps (one cell holds the volume of the Wendland kernel on
+    // The trilinear estimate: cells of (2 pi / 21)^(1/3) R_eps (one cell holds the volume of the Wendland kernel on
     // R_eps, numerics 1.2), trilinear deposit and read back, the grain's own volume included.
     for_each_particle(grains.size(), [&](std::size_t grain) {
       voidages.voidage[grain] = std::clamp(1.0 - grid_.solid_fraction(grains.position[grain]), min_voidage_, 1.0);

@@ -34,7 +34,7 @@ class FluidPredict final : public System {
  private:
   /// The body force along x for this step [m/s^2] (the controller's output for kind bulk_velocity).
   double body_force(SystemContext& context, const ParticleState& particles, std::size_t fluid_count);
-  /// Viscous term with the SPS eddy viscosity, free-slip lids and the lids' traction (issue 24); the plain loop
+  /// Viscous term with the SPS eddy viscosity, free-slip lids and the lids' traction; the plain loop
   /// in run() is left as it was so that scenes without these give main's bits.
   void driven_viscous_loop(SystemContext& context, const Vec3& body_acceleration);
 

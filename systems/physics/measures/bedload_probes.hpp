@@ -1,5 +1,5 @@
 #pragma once
-// The bed-load measures of issue 24 (seed 003's sheared beds), written by the probes of engine/output/probes.hpp:
+// The bed-load measures of a sheared bed (seed 003), written by the probes of engine/output/probes.hpp:
 //
 //   kind = "moving_fraction"   the fraction of moving grains, all and per size class (seed 003 Eqs. 29-30);
 //   kind = "packing_density"   the planar packing density lambda of the bed's top layer (seed 003 Sec. 5.2);
