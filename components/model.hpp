@@ -5,12 +5,15 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "components/vec.hpp"
 
 namespace riffle {
+
+struct Solids;
 
 struct Material {
   std::string name;
@@ -362,6 +365,10 @@ struct SphereSpec {
 struct SolidsModel {
   bool enabled = false;
   std::string initial_state;           ///< checkpoint whose grains start this run (resolved path), or empty
+  /// The grains of initial_state, read and validated once when the scene is read, material indices mapped to this
+  /// scene's materials and masses to its densities (engine/setup/initial_state.hpp read_initial_grains); null
+  /// without initial_state or when it could not be read (a scene problem then).
+  std::shared_ptr<const Solids> initial_grains;
   std::vector<SphereSpec> spheres;     ///< initial spheres, explicit and generated from blocks, in scene order
   std::int64_t sort_every = 0;         ///< [steps] reorder grains by grid cell this often; 0 = never
   /// Grains carried rigidly with the tank (a fixed bed: forces are still computed and written, the grains do not

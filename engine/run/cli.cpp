@@ -12,7 +12,10 @@
 
 #include "engine/setup/budget.hpp"
 #include "engine/scene/scene.hpp"
+#include "engine/run/registry.hpp"
 #include "engine/run/simulation.hpp"
+#include "engine/run/stepper.hpp"
+#include "engine/setup/initial_state.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
@@ -170,8 +173,18 @@ int run_command(int argc, char** argv) {
   SceneLimits limits;
   limits.memory_limit = memory_limit_gib * 1024.0 * 1024.0 * 1024.0;
   std::unique_ptr<Simulation> simulation;
+  // check and graph answer from the model alone: the systems and the step graph are built from it, as a run builds
+  // them, but nothing is laid out (no grain, particle or grid array), so they answer in about the time it takes to
+  // read the scene whatever its size. The budget (engine/setup/budget.hpp) gives the counts a run would lay out.
+  std::unique_ptr<const Model> model_only;
+  std::unique_ptr<World> unlaid;
+  std::unique_ptr<Stepper> graph_only;
   try {
-    if (*resume) {
+    if (*check || *graph) {
+      model_only = std::make_unique<const Model>(load_scene_file(scene_path, limits, overrides));
+      unlaid = std::make_unique<World>(unlaid_world(*model_only));
+      graph_only = std::make_unique<Stepper>(build_pipeline(*model_only), *unlaid, *model_only);
+    } else if (*resume) {
       simulation = Simulation::from_checkpoint(checkpoint_path, limits);
       if (out_dir.empty()) {
         // The run directory is the one holding checkpoints/, also when the path is a bare name inside checkpoints/.
@@ -201,11 +214,12 @@ int run_command(int argc, char** argv) {
   }
 
   if (*check) {
-    const Model& model = simulation->model();
+    const Model& model = *model_only;
+    const std::size_t grains = model.solids.spheres.size() +
+                               (model.solids.initial_grains ? model.solids.initial_grains->size() : 0);
     std::printf("%s: valid scene '%s': %zu grains, %zu walls, t_end = %g s, dt = %g s, %lld solid sub-steps\n",
-                scene_path.c_str(), model.name.c_str(),
-                simulation->world().solids ? simulation->world().solids->size() : 0,
-                simulation->world().walls ? simulation->world().walls->size() : 0, model.end_time, model.dt,
+                scene_path.c_str(), model.name.c_str(), model.solids.enabled ? grains : 0,
+                tank_walls(model.tank).size(), model.end_time, model.dt,
                 static_cast<long long>(model.solid_substeps));
     if (model.contact.enabled && model.contact.stable_solid_dt > 0.0)
       std::printf("  DEM sub-step %.4g s (%lld per step); stable estimate %.4g s, set by %s\n"
@@ -225,17 +239,18 @@ int run_command(int argc, char** argv) {
       std::printf("  tank motion: sinusoidal, A = %g m, f = %g Hz, ramp %g s, phase %g deg, start %g s\n",
                   motion.amplitude, motion.frequency, motion.ramp_time, motion.phase * 180.0 / 3.14159265358979323846,
                   motion.start_time);
-    if (const FluidParticles* fluid = simulation->world().fluid ? &*simulation->world().fluid : nullptr)
-      std::printf("  fluid: %zu MPS particles, %zu of them fluid, spacing %g m, r_e = %g spacing\n", fluid->size(),
-                  simulation->world().fluid_summary->fluid_count, model.fluid.spacing,
-                  model.fluid.effective_radius_ratio);
-    std::printf("%s", describe_budget(estimate_budget(model), model).c_str());
+    const SceneBudget budget = estimate_budget(model);
+    if (model.fluid.enabled)
+      std::printf("  fluid: %.0f MPS particles, %.0f of them fluid, spacing %g m, r_e = %g spacing\n",
+                  budget.fluid_particles + budget.wall_particles + budget.dummy_particles, budget.fluid_particles,
+                  model.fluid.spacing, model.fluid.effective_radius_ratio);
+    std::printf("%s", describe_budget(budget, model).c_str());
     return kExitOk;
   }
 
   if (*graph) {
     // Edges labelled with the components that order them; tests/data/seed_step_graph.dot pins the seed scene's.
-    std::printf("%s", simulation->stepper().dot().c_str());
+    std::printf("%s", graph_only->dot().c_str());
     return kExitOk;
   }
 

@@ -40,11 +40,8 @@ bool plain_name(const std::string& name) {
 std::optional<std::uint64_t> grain_id_limit(const Model& model) {
   std::uint64_t limit = model.solids.spheres.size();
   if (!model.solids.initial_state.empty()) {
-    try {
-      limit += initial_grains(model).next_id;
-    } catch (const std::exception&) {
-      return std::nullopt;
-    }
+    if (!model.solids.initial_grains) return std::nullopt;
+    limit += model.solids.initial_grains->next_id;
   }
   return limit;
 }

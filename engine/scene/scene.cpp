@@ -16,6 +16,7 @@
 #include "engine/scene/output_scene.hpp"
 #include "engine/setup/budget.hpp"
 #include "engine/setup/initial_state.hpp"
+#include "systems/physics/time/solid_step.hpp"
 #include "engine/scene/fluid_scene.hpp"
 #include "engine/scene/motion_table.hpp"
 #include "systems/physics/math/cubic_spline.hpp"
@@ -280,7 +281,7 @@ void read_solids(TableReader& solids, Model& model) {
     if (path.is_relative()) path = std::filesystem::path(model.scene_file).parent_path() / path;
     model.solids.initial_state = path.lexically_normal().string();
     try {
-      initial_grains(model);
+      model.solids.initial_grains = std::make_shared<const Solids>(read_initial_grains(model));
     } catch (const std::exception& error) {
       solids.problem("initial_state", error.what());
     }
@@ -477,114 +478,6 @@ void read_contact(TableReader& contact, Model& model) {
     }
 }
 
-/// The largest stable DEM sub-step: a fraction of the Rayleigh time of the smallest grain of each material, and the
-/// contact time (Hertz at max_impact_speed, or the linear law's collision time) divided by steps_per_collision, for
-/// the smallest grains of every pair of materials in use and for each of them against the walls; then shortened
-/// until each of those impacts, integrated as the DEM integrates it, rebounds within restitution_tolerance of the
-/// requested restitution (a damping term beyond its explicit stability limit creates energy instead of removing it).
-struct StableStep {
-  double solid_dt = 0.0;
-  std::string reason;
-};
-
-/// One head-on impact the sub-step must resolve: the smallest grains of two materials, or of one against a wall.
-struct DesignImpact {
-  const ContactPairParameters* pair;
-  double effective_radius, effective_mass, contact_time;
-  std::string name;
-};
-
-/// Worst |achieved - requested| restitution of `impact` at sub-step dt; 0 when the contact lasts over 1000
-/// sub-steps (resolved far beyond the tolerance, and too long to integrate cheaply).
-double restitution_error(ContactLaw law, const DesignImpact& impact, double speed, double dt) {
-  const double steps_per_contact = impact.contact_time / dt;
-  if (!(steps_per_contact < 1000.0)) return 0.0;
-  return worst_restitution_error(law, *impact.pair, impact.effective_radius, impact.effective_mass, speed, dt);
-}
-
-StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impacts) {
-  const ContactModel& contact = model.contact;
-  std::map<std::int32_t, double> smallest_radius;
-  auto note_grain = [&](std::int32_t material, double radius) {
-    auto [it, inserted] = smallest_radius.emplace(material, radius);
-    if (!inserted) it->second = std::min(it->second, radius);
-  };
-  for (const SphereSpec& sphere : model.solids.spheres) note_grain(sphere.material, sphere.radius);
-  if (!model.solids.initial_state.empty()) {
-    const Solids grains = initial_grains(model);  // validated when [solids] was read
-    for (std::size_t i = 0; i < grains.size(); ++i) note_grain(grains.material[i], grains.radius[i]);
-  }
-  StableStep best{std::numeric_limits<double>::infinity(), ""};
-  auto consider = [&](double candidate, const std::string& reason) {
-    if (candidate < best.solid_dt) best = {candidate, reason};
-  };
-  const double kPi = 3.14159265358979323846;
-  auto mass_of = [&](std::int32_t material, double radius) {
-    return model.materials[static_cast<std::size_t>(material)].density * 4.0 / 3.0 * kPi * radius * radius * radius;
-  };
-  char text[256];
-  for (const auto& [material, radius] : smallest_radius) {
-    const Material& props = model.materials[static_cast<std::size_t>(material)];
-    const double rayleigh = rayleigh_time(radius, props.density, props.young_modulus, props.poisson_ratio);
-    std::snprintf(text, sizeof text, "%g x the Rayleigh time %.3g s of a %g m grain of %s", contact.rayleigh_fraction,
-                  rayleigh, radius, props.name.c_str());
-    consider(contact.rayleigh_fraction * rayleigh, text);
-    for (const auto& [other, other_radius] : smallest_radius) {
-      const ContactPairParameters& pair = contact.pair(material, other);
-      const double effective_radius = radius * other_radius / (radius + other_radius);
-      const double first_mass = mass_of(material, radius), second_mass = mass_of(other, other_radius);
-      const double effective_mass = first_mass * second_mass / (first_mass + second_mass);
-      const double collision = contact.law == ContactLaw::kHertzMindlin
-                                   ? hertz_contact_time(pair.effective_young, effective_radius, effective_mass,
-                                                        contact.max_impact_speed)
-                                   : contact.collision_time;
-      std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%s grains of %g and %g m)",
-                    collision, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
-      consider(collision / contact.steps_per_collision, text);
-      if (material <= other) {
-        std::snprintf(text, sizeof text, "a %g m grain of %s on a %g m grain of %s", radius, props.name.c_str(), other_radius,
-                      model.materials[static_cast<std::size_t>(other)].name.c_str());
-        impacts.push_back({&pair, effective_radius, effective_mass, collision, text});
-      }
-    }
-    const ContactPairParameters& wall = contact.pair(material, model.tank.wall_material);
-    const double wall_collision = contact.law == ContactLaw::kHertzMindlin
-                                      ? hertz_contact_time(wall.effective_young, radius, mass_of(material, radius),
-                                                           contact.max_impact_speed)
-                                      : contact.collision_time;
-    std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%g m grain of %s on a wall)",
-                  wall_collision, contact.steps_per_collision, radius, props.name.c_str());
-    consider(wall_collision / contact.steps_per_collision, text);
-    std::snprintf(text, sizeof text, "a %g m grain of %s on a wall", radius, props.name.c_str());
-    impacts.push_back({&wall, radius, mass_of(material, radius), wall_collision, text});
-  }
-  // The restitution at that sub-step: shorten it by 20 % at a time until every design impact is within tolerance.
-  if (std::isfinite(best.solid_dt) && best.solid_dt > 0.0) {
-    const double estimate = best.solid_dt;
-    for (const DesignImpact& impact : impacts) {
-      const double error_at_estimate = restitution_error(contact.law, impact, contact.max_impact_speed, estimate);
-      if (error_at_estimate <= contact.restitution_tolerance) continue;
-      // From the sub-step the impacts before this one left (best only shortens), at most 60 shortenings.
-      double dt = best.solid_dt;
-      double error = dt == estimate ? error_at_estimate
-                                    : restitution_error(contact.law, impact, contact.max_impact_speed, dt);
-      for (int shortening = 0; shortening < 60 && error > contact.restitution_tolerance; ++shortening) {
-        dt *= 0.8;
-        error = restitution_error(contact.law, impact, contact.max_impact_speed, dt);
-      }
-      if (dt < best.solid_dt) {
-        std::snprintf(text, sizeof text,
-                      "restitution %g within %g: %s at %g m/s rebounds at %.3g off it at the contact-time estimate "
-                      "%.3g s",
-                      impact.pair->restitution, contact.restitution_tolerance, impact.name.c_str(),
-                      contact.max_impact_speed, error_at_estimate, estimate);
-        best = {dt, text};
-      }
-    }
-  }
-  return best;
-}
-
 /// The reader of a sub-table for reporting a problem in it (the table was read and finished already).
 std::optional<TableReader> table_at(TableReader& scene, std::initializer_list<const char*> path) {
   std::optional<TableReader> reader = scene.table(*path.begin(), false);
@@ -625,16 +518,11 @@ void check_periodic(TableReader& scene, const Model& model) {
     smallest = std::min(smallest, sphere.radius);
     largest = std::max(largest, sphere.radius);
   }
-  if (!model.solids.initial_state.empty()) {
-    try {  // a settled bed read from a checkpoint ([solids] initial_state): its radii count too
-      for (double radius : initial_grains(model).radius) {
-        smallest = std::min(smallest, radius);
-        largest = std::max(largest, radius);
-      }
-    } catch (const std::exception&) {
-      // read_solids reported it already
+  if (const Solids* grains = model.solids.initial_grains.get())  // a settled bed ([solids] initial_state) counts too
+    for (double radius : grains->radius) {
+      smallest = std::min(smallest, radius);
+      largest = std::max(largest, radius);
     }
-  }
   if (!(largest > 0.0)) return;
   const double skin = model.contact.skin > 0.0 ? model.contact.skin : 0.5 * smallest;  // default_skin
   const double reach = 2.0 * largest + skin;
@@ -881,14 +769,9 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
       model.solid_substeps = std::max<std::int64_t>(1, static_cast<std::int64_t>(needed));
     }
     // What the run will achieve, for `riffle check` and the log.
-    for (const DesignImpact& impact : impacts) {
-      const double error = restitution_error(model.contact.law, impact, model.contact.max_impact_speed,
-                                             model.solid_dt());
-      if (error >= model.contact.restitution_error) {
-        model.contact.restitution_error = error;
-        model.contact.restitution_error_pair = impact.name;
-      }
-    }
+    const RestitutionError achieved = worst_design_impact_error(model.contact, impacts, model.solid_dt());
+    model.contact.restitution_error = achieved.error;
+    model.contact.restitution_error_pair = achieved.impact;
   }
   return model;
 }

@@ -60,14 +60,16 @@ bool face_open(const TankModel& tank, const std::string& face) {
   return std::find(tank.open_faces.begin(), tank.open_faces.end(), face) != tank.open_faces.end();
 }
 
-/// Particles of the tank's shell `layers` deep (fluid_layout.hpp: prod_a (n_a + L_a^- + L_a^+) - prod_a n_a).
+/// Particles of the tank's shell `layers` deep beyond its closed, non-periodic faces (fluid_layout.hpp: prod_a (n_a + L_a^- + L_a^+) - prod_a n_a).
 double tank_shell(const TankModel& tank, double spacing, double layers) {
   static const char* kFaces[3][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}, {"z_min", "z_max"}};
   double outer = 1.0, inner = 1.0;
   for (int axis = 0; axis < 3; ++axis) {
     const double cells = std::max(1.0, std::round(tank.size[axis] / spacing));
-    const double below = face_open(tank, kFaces[axis][0]) ? 0.0 : layers;
-    const double above = face_open(tank, kFaces[axis][1]) ? 0.0 : layers;
+    // A periodic axis has no wall on either side, as an open face has none (tank_wall_layout).
+    const bool periodic = tank.periodic[static_cast<std::size_t>(axis)];
+    const double below = periodic || face_open(tank, kFaces[axis][0]) ? 0.0 : layers;
+    const double above = periodic || face_open(tank, kFaces[axis][1]) ? 0.0 : layers;
     outer *= cells + below + above;
     inner *= cells;
   }
@@ -99,14 +101,8 @@ GrainSizes grain_sizes(const Model& model) {
     sizes.count += 1.0;
   };
   for (const SphereSpec& sphere : model.solids.spheres) note(sphere.radius);
-  if (!model.solids.initial_state.empty()) {
-    try {
-      const Solids grains = initial_grains(model);  // validated when [solids] was read
-      for (double r : grains.radius) note(r);
-    } catch (const std::exception&) {
-      // Reported by the scene reader.
-    }
-  }
+  if (const Solids* grains = model.solids.initial_grains.get())  // validated when [solids] was read
+    for (double r : grains->radius) note(r);
   if (sizes.count > 0.0) {
     sizes.smallest = smallest;
     sizes.largest = largest;

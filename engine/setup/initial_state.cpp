@@ -38,7 +38,7 @@ Walls tank_walls(const TankModel& tank) {
   return walls;
 }
 
-Solids initial_grains(const Model& model) {
+Solids read_initial_grains(const Model& model) {
   const std::string& path = model.solids.initial_state;
   CheckpointData data = read_checkpoint(path);
   if (!data.world.solids) throw std::runtime_error(path + ": the checkpoint holds no grains");
@@ -153,18 +153,30 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
   return particles;
 }
 
-World initial_world(const Model& model) {
+World unlaid_world(const Model& model) {
   World world;
   world.tank_motion = tank_kinematics(model.tank.motion, 0.0);
   world.walls = tank_walls(model.tank);
-  apply_tank_motion(*world.tank_motion, *world.walls);
   if (model.solids.enabled) {
-    if (model.solids.initial_state.empty())
-      world.solids.emplace();
-    else
-      world.solids = initial_grains(model);
+    world.solids.emplace();
     world.solid_summary.emplace();
     if (model.contact.enabled) world.contacts.emplace();
+  }
+  if (model.fluid.enabled) {
+    world.fluid.emplace();
+    world.fluid_neighbours.emplace();  // built by the first fluid step
+    world.fluid_summary.emplace();
+    if (model.coupling.enabled) world.fluid_sample.emplace();  // copied from `fluid` before every step
+  }
+  return world;
+}
+
+World initial_world(const Model& model) {
+  World world = unlaid_world(model);
+  apply_tank_motion(*world.tank_motion, *world.walls);
+  if (model.solids.enabled) {
+    if (!model.solids.initial_state.empty())
+      world.solids = model.solids.initial_grains ? *model.solids.initial_grains : read_initial_grains(model);
     // Grains of a checkpoint (a settled bed) and of the scene are placed in the tank at rest: shift them with it
     // when it starts displaced (zero for the seed's motion, which starts at x = 0).
     const Vec3 shift = world.tank_motion->displacement;
@@ -191,9 +203,6 @@ World initial_world(const Model& model) {
   }
   if (model.fluid.enabled) {
     world.fluid = initial_fluid(model, *world.tank_motion);
-    world.fluid_neighbours.emplace();  // built by the first fluid step
-    world.fluid_summary.emplace();
-    if (model.coupling.enabled) world.fluid_sample.emplace();  // copied from `fluid` before every step
     world.fluid_summary->fluid_count = static_cast<std::size_t>(
         std::count(world.fluid->kind.begin(), world.fluid->kind.end(), static_cast<std::int32_t>(FluidKind::kFluid)));
     world.fluid_summary->initial_fluid_count = world.fluid_summary->fluid_count;

@@ -7,9 +7,15 @@ namespace riffle {
 
 World initial_world(const Model& model);
 
-/// The grains of the checkpoint named by model.solids.initial_state, with their material indices mapped by name to
-/// this model's materials. Throws std::runtime_error (CheckpointError included) naming what is wrong.
-Solids initial_grains(const Model& model);
+/// The World's shape without its contents: every component the scene's systems use, empty (no grain, particle or
+/// contact), the tank at t = 0. `riffle check` and `riffle graph` build the step graph on it, so they answer from
+/// the model alone; initial_world fills it.
+World unlaid_world(const Model& model);
+
+/// Reads the grains of the checkpoint named by model.solids.initial_state, with their material indices mapped by
+/// name to this model's materials. Throws std::runtime_error (CheckpointError included) naming what is wrong. The
+/// scene reader calls it once and keeps the grains in model.solids.initial_grains.
+Solids read_initial_grains(const Model& model);
 
 /// The tank's walls (one plane per closed face), placed at rest.
 Walls tank_walls(const TankModel& tank);

@@ -1,0 +1,120 @@
+#include "systems/physics/time/solid_step.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+
+#include "components/solids.hpp"
+#include "systems/physics/dem/contact_law.hpp"
+
+namespace riffle {
+
+namespace {
+
+/// Worst |achieved - requested| restitution of `impact` at sub-step dt; 0 when the contact lasts over 1000
+/// sub-steps (resolved far beyond the tolerance, and too long to integrate cheaply).
+double restitution_error(ContactLaw law, const DesignImpact& impact, double speed, double dt) {
+  const double steps_per_contact = impact.contact_time / dt;
+  if (!(steps_per_contact < 1000.0)) return 0.0;
+  return worst_restitution_error(law, *impact.pair, impact.effective_radius, impact.effective_mass, speed, dt);
+}
+
+}  // namespace
+
+StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impacts) {
+  const ContactModel& contact = model.contact;
+  std::map<std::int32_t, double> smallest_radius;
+  auto note_grain = [&](std::int32_t material, double radius) {
+    auto [it, inserted] = smallest_radius.emplace(material, radius);
+    if (!inserted) it->second = std::min(it->second, radius);
+  };
+  for (const SphereSpec& sphere : model.solids.spheres) note_grain(sphere.material, sphere.radius);
+  if (const Solids* grains = model.solids.initial_grains.get())
+    for (std::size_t i = 0; i < grains->size(); ++i) note_grain(grains->material[i], grains->radius[i]);
+  StableStep best{std::numeric_limits<double>::infinity(), ""};
+  auto consider = [&](double candidate, const std::string& reason) {
+    if (candidate < best.solid_dt) best = {candidate, reason};
+  };
+  const double kPi = 3.14159265358979323846;
+  auto mass_of = [&](std::int32_t material, double radius) {
+    return model.materials[static_cast<std::size_t>(material)].density * 4.0 / 3.0 * kPi * radius * radius * radius;
+  };
+  char text[256];
+  for (const auto& [material, radius] : smallest_radius) {
+    const Material& props = model.materials[static_cast<std::size_t>(material)];
+    const double rayleigh = rayleigh_time(radius, props.density, props.young_modulus, props.poisson_ratio);
+    std::snprintf(text, sizeof text, "%g x the Rayleigh time %.3g s of a %g m grain of %s", contact.rayleigh_fraction,
+                  rayleigh, radius, props.name.c_str());
+    consider(contact.rayleigh_fraction * rayleigh, text);
+    for (const auto& [other, other_radius] : smallest_radius) {
+      const ContactPairParameters& pair = contact.pair(material, other);
+      const double effective_radius = radius * other_radius / (radius + other_radius);
+      const double first_mass = mass_of(material, radius), second_mass = mass_of(other, other_radius);
+      const double effective_mass = first_mass * second_mass / (first_mass + second_mass);
+      const double collision = contact.law == ContactLaw::kHertzMindlin
+                                   ? hertz_contact_time(pair.effective_young, effective_radius, effective_mass,
+                                                        contact.max_impact_speed)
+                                   : contact.collision_time;
+      std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%s grains of %g and %g m)",
+                    collision, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
+      consider(collision / contact.steps_per_collision, text);
+      if (material <= other) {
+        std::snprintf(text, sizeof text, "a %g m grain of %s on a %g m grain of %s", radius, props.name.c_str(), other_radius,
+                      model.materials[static_cast<std::size_t>(other)].name.c_str());
+        impacts.push_back({&pair, effective_radius, effective_mass, collision, text});
+      }
+    }
+    const ContactPairParameters& wall = contact.pair(material, model.tank.wall_material);
+    const double wall_collision = contact.law == ContactLaw::kHertzMindlin
+                                      ? hertz_contact_time(wall.effective_young, radius, mass_of(material, radius),
+                                                           contact.max_impact_speed)
+                                      : contact.collision_time;
+    std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%g m grain of %s on a wall)",
+                  wall_collision, contact.steps_per_collision, radius, props.name.c_str());
+    consider(wall_collision / contact.steps_per_collision, text);
+    std::snprintf(text, sizeof text, "a %g m grain of %s on a wall", radius, props.name.c_str());
+    impacts.push_back({&wall, radius, mass_of(material, radius), wall_collision, text});
+  }
+  // The restitution at that sub-step: shorten it by 20 % at a time until every design impact is within tolerance.
+  if (std::isfinite(best.solid_dt) && best.solid_dt > 0.0) {
+    const double estimate = best.solid_dt;
+    for (const DesignImpact& impact : impacts) {
+      const double error_at_estimate = restitution_error(contact.law, impact, contact.max_impact_speed, estimate);
+      if (error_at_estimate <= contact.restitution_tolerance) continue;
+      // From the sub-step the impacts before this one left (best only shortens), at most 60 shortenings.
+      double dt = best.solid_dt;
+      double error = dt == estimate ? error_at_estimate
+                                    : restitution_error(contact.law, impact, contact.max_impact_speed, dt);
+      for (int shortening = 0; shortening < 60 && error > contact.restitution_tolerance; ++shortening) {
+        dt *= 0.8;
+        error = restitution_error(contact.law, impact, contact.max_impact_speed, dt);
+      }
+      if (dt < best.solid_dt) {
+        std::snprintf(text, sizeof text,
+                      "restitution %g within %g: %s at %g m/s rebounds at %.3g off it at the contact-time estimate "
+                      "%.3g s",
+                      impact.pair->restitution, contact.restitution_tolerance, impact.name.c_str(),
+                      contact.max_impact_speed, error_at_estimate, estimate);
+        best = {dt, text};
+      }
+    }
+  }
+  return best;
+}
+
+RestitutionError worst_design_impact_error(const ContactModel& contact, const std::vector<DesignImpact>& impacts,
+                                           double dt) {
+  RestitutionError worst;
+  for (const DesignImpact& impact : impacts) {
+    const double error = restitution_error(contact.law, impact, contact.max_impact_speed, dt);
+    if (error >= worst.error) {
+      worst.error = error;
+      worst.impact = impact.name;
+    }
+  }
+  return worst;
+}
+
+}  // namespace riffle
