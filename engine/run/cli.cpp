@@ -45,6 +45,31 @@ int report_run(const RunOutcome& outcome) {
   return outcome.exit_code;
 }
 
+/// `riffle keys`: the union of the keys every scene's reading asks for (engine/toml/scene_reader.hpp, SceneKey),
+/// one tab-separated line each: key, kind, range, unit, its defaults (" | " between several), whether a scene sets
+/// it. Exits 2 after printing the keys if a scene is invalid (its problems on stderr).
+int print_scene_keys(const std::vector<std::string>& scenes, const SceneLimits& limits,
+                     const std::vector<std::string>& overrides) {
+  SceneKeyCatalogue catalogue;
+  int exit_code = kExitOk;
+  for (const std::string& scene : scenes) {
+    try {
+      load_scene_file(scene, limits, overrides, &catalogue);
+    } catch (const SceneError& error) {
+      for (const std::string& problem : error.problems()) std::fprintf(stderr, "error: %s\n", problem.c_str());
+      exit_code = kExitInvalidInput;
+    }
+  }
+  std::printf("key\tkind\trange\tunit\tdefault\tgiven\n");
+  for (const auto& [name, key] : catalogue.keys()) {
+    std::string defaults;
+    for (const std::string& fallback : key.defaults) defaults += (defaults.empty() ? "" : " | ") + fallback;
+    std::printf("%s\t%s\t%s\t%s\t%s\t%s\n", name.c_str(), key.kind.c_str(), key.range.c_str(), key.unit.c_str(),
+                defaults.c_str(), key.given ? "yes" : "no");
+  }
+  return exit_code;
+}
+
 /// Why `until` cannot end a run that starts at `start` with steps of at most `dt`, or "" if it can: the same
 /// checks as run.end_time (finite, positive, at most 1e12 steps), and at least one step after the start.
 std::string until_problem(double until, double start, double dt) {
@@ -148,6 +173,16 @@ int run_command(int argc, char** argv) {
   add_overrides(graph);
   graph->footer(kExitCodes);
 
+  std::vector<std::string> key_scenes;
+  CLI::App* keys = app.add_subcommand(
+      "keys", "Print every key the scenes' reading asks for, with its kind, range, unit and default, and whether a "
+              "scene sets it (tab-separated, one key a line)");
+  keys->add_option("scenes", key_scenes, "Scene files (TOML)")->required();
+  add_log_level(keys);
+  add_memory_limit(keys);
+  add_overrides(keys);
+  keys->footer(kExitCodes);
+
   CLI::App* resume = app.add_subcommand("resume", "Continue a run from a checkpoint");
   resume->add_option("checkpoint", checkpoint_path, "Checkpoint file (.ckpt)")->required();
   resume->add_option("--out", out_dir, "Output directory (default: the checkpoint's run directory)");
@@ -172,6 +207,7 @@ int run_command(int argc, char** argv) {
 
   SceneLimits limits;
   limits.memory_limit = memory_limit_gib * 1024.0 * 1024.0 * 1024.0;
+  if (*keys) return print_scene_keys(key_scenes, limits, overrides);
   std::unique_ptr<Simulation> simulation;
   // check and graph answer from the model alone: the systems and the step graph are built from it, as a run builds
   // them, but nothing is laid out (no grain, particle or grid array), so they answer in about the time it takes to

@@ -696,8 +696,8 @@ void read_coupling(TableReader& coupling, Model& model) {
 }
 
 Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits,
-                  const std::vector<std::string>& overrides) {
-  SceneProblems problems{file_name, {}};
+                  const std::vector<std::string>& overrides, SceneKeyCatalogue* catalogue) {
+  SceneProblems problems{file_name, {}, catalogue};
   std::optional<toml::table> root = parse_toml(text, problems);
   if (!root) throw SceneError(problems.lines);
   if (!overrides.empty()) {
@@ -805,8 +805,9 @@ std::string read_scene_text(const std::string& path) {
   return text;
 }
 
-Model load_scene_file(const std::string& path, const SceneLimits& limits, const std::vector<std::string>& overrides) {
-  return parse_scene(read_scene_text(path), path, limits, overrides);
+Model load_scene_file(const std::string& path, const SceneLimits& limits, const std::vector<std::string>& overrides,
+                      SceneKeyCatalogue* catalogue) {
+  return parse_scene(read_scene_text(path), path, limits, overrides, catalogue);
 }
 
 }  // namespace riffle

@@ -22,7 +22,7 @@ std::string read_scene_text(const std::string& path);
 /// Reads and validates a scene file, with `overrides` (--set KEY=VALUE, engine/scene/scene_overrides.hpp) applied
 /// first. Throws SceneError (also for an unreadable file).
 Model load_scene_file(const std::string& path, const SceneLimits& limits = {},
-                      const std::vector<std::string>& overrides = {});
+                      const std::vector<std::string>& overrides = {}, SceneKeyCatalogue* catalogue = nullptr);
 
 /// Reads the material name at `key` and returns its index in model.materials (materials must be read already);
 /// a missing, non-string or unknown name is reported through the reader and gives 0.
@@ -36,7 +36,8 @@ double default_checkpoint_interval(double end_time, double dt);
 /// Refuses (SceneError) a scene whose estimated budget (engine/setup/budget.hpp) exceeds the memory limit, before any
 /// particle is generated or laid out.
 /// With `overrides`, model.scene_text is the changed scene written back as TOML (scene_text_with_overrides).
+/// With `catalogue`, every key the reading asks for is recorded there (engine/toml/scene_reader.hpp, SceneKey).
 Model parse_scene(const std::string& text, const std::string& file_name, const SceneLimits& limits = {},
-                  const std::vector<std::string>& overrides = {});
+                  const std::vector<std::string>& overrides = {}, SceneKeyCatalogue* catalogue = nullptr);
 
 }  // namespace riffle

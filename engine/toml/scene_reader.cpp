@@ -89,8 +89,38 @@ std::optional<toml::table> parse_toml(const std::string& text, SceneProblems& pr
   }
 }
 
+void SceneKeyCatalogue::note(const std::string& key, const std::string& kind, const std::string& range,
+                             const std::string& unit, const std::string& fallback, bool given) {
+  SceneKey& entry = keys_[key];
+  if (entry.key.empty()) {
+    entry.key = key;
+    entry.kind = kind;
+    entry.range = range;
+    entry.unit = unit;
+  }
+  entry.defaults.insert(fallback);
+  entry.given = entry.given || given;
+}
+
+std::string scene_spelling(double value) { return format_number(value); }
+std::string scene_spelling(const Vec3& value) {
+  return "[" + format_number(value.x()) + ", " + format_number(value.y()) + ", " + format_number(value.z()) + "]";
+}
+
 TableReader::TableReader(const toml::table& table, std::string key_prefix, SceneProblems& problems)
-    : table_(&table), prefix_(std::move(key_prefix)), problems_(&problems) {}
+    : TableReader(table, key_prefix, key_prefix, problems) {}
+
+TableReader::TableReader(const toml::table& table, std::string key_prefix, std::string catalogue_prefix,
+                         SceneProblems& problems)
+    : table_(&table), prefix_(std::move(key_prefix)), catalogue_prefix_(std::move(catalogue_prefix)),
+      problems_(&problems) {}
+
+void TableReader::note(const std::string& key, const char* kind, const std::string& range, const std::string& unit,
+                       const std::string& fallback) {
+  if (!problems_->catalogue) return;
+  problems_->catalogue->note(catalogue_prefix_.empty() ? key : catalogue_prefix_ + "." + key, kind, range, unit,
+                             fallback, table_->contains(key));
+}
 
 std::string TableReader::full_key(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
 
@@ -108,6 +138,7 @@ double TableReader::number(const std::string& key, std::optional<double> fallbac
                            Bounds bounds) {
   const toml::node* node = lookup(key);
   const std::string expected = bounds.describe() + " [" + unit + "]";
+  note(key, "number", bounds.describe(), unit, fallback ? scene_spelling(*fallback) : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected " + expected);
     return fallback.value_or(0.0);
@@ -128,6 +159,8 @@ std::int64_t TableReader::integer(const std::string& key, std::optional<std::int
                                   std::int64_t max) {
   const toml::node* node = lookup(key);
   const std::string expected = "an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+  note(key, "integer", "[" + std::to_string(min) + ", " + std::to_string(max) + "]", "",
+       fallback ? std::to_string(*fallback) : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected " + expected);
     return fallback.value_or(min);
@@ -146,6 +179,7 @@ std::int64_t TableReader::integer(const std::string& key, std::optional<std::int
 
 bool TableReader::boolean(const std::string& key, std::optional<bool> fallback) {
   const toml::node* node = lookup(key);
+  note(key, "boolean", "", "", fallback ? (*fallback ? "true" : "false") : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected true or false");
     return fallback.value_or(false);
@@ -159,6 +193,7 @@ bool TableReader::boolean(const std::string& key, std::optional<bool> fallback) 
 
 std::string TableReader::text(const std::string& key, std::optional<std::string> fallback) {
   const toml::node* node = lookup(key);
+  note(key, "string", "", "", fallback ? "\"" + *fallback + "\"" : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected a string");
     return fallback.value_or("");
@@ -174,6 +209,8 @@ std::string TableReader::choice(const std::string& key, std::optional<std::strin
                                 const std::vector<std::string>& allowed) {
   const toml::node* node = table_->get(key);
   const bool present = node != nullptr;
+  // Noted before text() notes it as a plain string: the first note of a key sets its kind.
+  note(key, "one of", "\"" + join(allowed, "\", \"") + "\"", "", fallback ? "\"" + *fallback + "\"" : "required");
   const std::string value = text(key, fallback);
   if (present && node->is_string() && std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
     problem(key, "expected one of \"" + join(allowed, "\", \"") + "\", got \"" + value + "\"");
@@ -185,6 +222,7 @@ std::string TableReader::choice(const std::string& key, std::optional<std::strin
 std::vector<std::string> TableReader::choices(const std::string& key, const std::vector<std::string>& allowed) {
   std::vector<std::string> values;
   const toml::node* node = lookup(key);
+  note(key, "list of", "\"" + join(allowed, "\", \"") + "\"", "", "[]");
   if (!node) return values;
   const toml::array* array = node->as_array();
   const std::string expected = "an array of strings from \"" + join(allowed, "\", \"") + "\"";
@@ -213,6 +251,7 @@ Vec3 TableReader::vec3(const std::string& key, std::optional<Vec3> fallback, con
   const toml::node* node = lookup(key);
   const std::string expected =
       std::string("an array of 3 numbers [") + unit + "], each " + component_bounds.describe();
+  note(key, "3 numbers", component_bounds.describe(), unit, fallback ? scene_spelling(*fallback) : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected " + expected);
     return fallback.value_or(Vec3::Zero());
@@ -244,6 +283,7 @@ std::vector<std::int64_t> TableReader::integers(const std::string& key, bool req
   const toml::node* node = lookup(key);
   const std::string expected =
       "an array of integers, each in [" + std::to_string(min) + ", " + std::to_string(max) + "]";
+  note(key, "integers", "[" + std::to_string(min) + ", " + std::to_string(max) + "]", "", required ? "required" : "[]");
   if (!node) {
     if (required) problem(key, "missing required key; expected " + expected);
     return values;
@@ -274,6 +314,7 @@ std::vector<Vec3> TableReader::points(const std::string& key, bool required, std
   std::vector<Vec3> values;
   const toml::node* node = lookup(key);
   const std::string point = "an array of " + std::to_string(width) + " numbers [" + unit + "]";
+  note(key, "points", std::to_string(width) + " numbers each", unit, required ? "required" : "[]");
   const std::string expected = "an array of points, each " + point;
   if (!node) {
     if (required) problem(key, "missing required key; expected " + expected);
@@ -328,6 +369,7 @@ void TableReader::item_problem(const std::string& key, std::size_t index, const 
 
 std::optional<TableReader> TableReader::table(const std::string& key, bool required) {
   const toml::node* node = lookup(key);
+  note(key, "table", "", "", required ? "required" : "absent");
   if (!node) {
     if (required) problem(key, "missing required table [" + full_key(key) + "]");
     return std::nullopt;
@@ -336,12 +378,14 @@ std::optional<TableReader> TableReader::table(const std::string& key, bool requi
     problem(key, "expected a table, got " + toml_type_name(*node));
     return std::nullopt;
   }
-  return TableReader(*node->as_table(), full_key(key), *problems_);
+  return TableReader(*node->as_table(), full_key(key),
+                     catalogue_prefix_.empty() ? key : catalogue_prefix_ + "." + key, *problems_);
 }
 
 std::vector<TableReader> TableReader::tables(const std::string& key) {
   std::vector<TableReader> readers;
   const toml::node* node = lookup(key);
+  note(key, "tables", "", "", "[]");
   if (!node) return readers;
   const toml::array* array = node->as_array();
   // An empty array is an empty list of tables ("spheres = []"), not a type error.
@@ -350,7 +394,9 @@ std::vector<TableReader> TableReader::tables(const std::string& key) {
     return readers;
   }
   for (std::size_t k = 0; k < array->size(); ++k)
-    readers.emplace_back(*array->get(k)->as_table(), full_key(key) + "[" + std::to_string(k) + "]", *problems_);
+    readers.push_back(TableReader(*array->get(k)->as_table(), full_key(key) + "[" + std::to_string(k) + "]",
+                                  (catalogue_prefix_.empty() ? key : catalogue_prefix_ + "." + key) + "[]",
+                                  *problems_));
   return readers;
 }
 
@@ -363,7 +409,9 @@ std::vector<std::pair<std::string, TableReader>> TableReader::named_tables() {
       problems_->add(node.source(), full_key(name), "expected a table, got " + toml_type_name(node));
       continue;
     }
-    readers.emplace_back(name, TableReader(*node.as_table(), full_key(name), *problems_));
+    readers.emplace_back(name, TableReader(*node.as_table(), full_key(name),
+                                           catalogue_prefix_.empty() ? "NAME" : catalogue_prefix_ + ".NAME",
+                                           *problems_));
   }
   return readers;
 }

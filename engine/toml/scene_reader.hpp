@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -39,10 +41,37 @@ struct Bounds {
   std::string describe() const;
 };
 
-/// The problems found so far while reading one scene file.
+/// One key as the scene reader asks for it: what it holds, its range, unit and default, as the code that reads the
+/// scene applies them. The reader records every key it asks for (SceneKeyCatalogue), so the scene's table of keys is
+/// the reading itself and cannot drift from it; `riffle keys` prints it and docs/SCENES.md is checked against it.
+struct SceneKey {
+  std::string key;    ///< dotted; an item of an array of tables as [] ("fluid.boxes[].low"), a named table as NAME
+  std::string kind;   ///< "number", "integer", "boolean", "string", "one of", "list of", "3 numbers", "integers",
+                      ///< "points", "table", "tables", "named tables"
+  std::string range;  ///< bounds, or the allowed strings; empty if any value of the kind will do
+  std::string unit;   ///< SI unit, "1" for a pure number; empty where none applies
+  /// Every default it was asked with, spelled as a scene would write it; "required" when asked without one. More
+  /// than one when the default follows another key (gc = true unless conservative_gradient).
+  std::set<std::string> defaults;
+  bool given = false;  ///< the scene sets it (in some table where it was asked)
+};
+
+/// The keys one or more scenes' reading asked for, by key.
+class SceneKeyCatalogue {
+ public:
+  void note(const std::string& key, const std::string& kind, const std::string& range, const std::string& unit,
+            const std::string& fallback, bool given);
+  const std::map<std::string, SceneKey>& keys() const { return keys_; }
+
+ private:
+  std::map<std::string, SceneKey> keys_;
+};
+
+/// The problems found so far while reading one scene file (and, when `catalogue` is set, the keys asked for).
 struct SceneProblems {
   std::string file;
   std::vector<std::string> lines;
+  SceneKeyCatalogue* catalogue = nullptr;
   void add(const toml::source_region& where, const std::string& key, const std::string& message);
 };
 
@@ -91,13 +120,23 @@ class TableReader {
   void finish();
 
  private:
+  TableReader(const toml::table& table, std::string key_prefix, std::string catalogue_prefix,
+              SceneProblems& problems);
   const toml::node* lookup(const std::string& key);
+  /// Records `key` in problems_->catalogue, if one is kept.
+  void note(const std::string& key, const char* kind, const std::string& range, const std::string& unit,
+            const std::string& fallback);
 
   const toml::table* table_;
   std::string prefix_;
+  std::string catalogue_prefix_;  ///< prefix_ with array items as [] and named tables as NAME
   SceneProblems* problems_;
   std::vector<std::string> known_;
 };
+
+/// A default as a scene would spell it.
+std::string scene_spelling(double value);
+std::string scene_spelling(const Vec3& value);
 
 /// A number as messages show it: the shortest form with 6 significant digits (0.005, 1e-07).
 std::string format_number(double value);
