@@ -56,6 +56,9 @@ COMMANDS = [
                                                    "(riffle_fluid_accuracy's table)"),
     ("ppe-preconditioner-study", "ppe_preconditioner_study", "PCG iterations of one dumped pressure system under "
                                                              "other preconditioners"),
+    # the docs against the code
+    ("scene-keys", "scene_keys", "docs/SCENES.md's keys and defaults against what riffle's scene reading asks "
+                                 "(runs riffle keys)"),
 ]
 
 # Modules that are libraries of the others, not commands.
