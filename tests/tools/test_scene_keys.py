@@ -168,7 +168,8 @@ def check_stale():
 
 def check_defaults():
     cases = [
-        ("| `tolerance` | number | 1e-8 |", "| `tolerance` | number | 1e-7 |", "run.tolerance: the doc's default is 1e-7"),
+        ("| `tolerance` | number | 1e-8 |", "| `tolerance` | number | 1e-7 |",
+         "run.tolerance: the doc's default is 1e-7"),
         ("| `gravity` | 3 numbers [m/s²] | `[0, 0, -9.81]` |", "| `gravity` | 3 numbers [m/s²] | `[0, 0, -9.8]` |",
          "run.gravity"),
         ('| `name` | string | `"riffle"` |', '| `name` | string | `"run"` |', "run.name"),
