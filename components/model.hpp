@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "components/vec.hpp"
@@ -14,6 +15,11 @@
 namespace riffle {
 
 struct Solids;
+
+/// A scene choice's spellings beside the enum values they stand for, in the order messages list them: the scene's
+/// word and the code's value are named once, here (the scene reader reads them with enum_choice).
+template <typename Enum, std::size_t N>
+using SceneNames = std::array<std::pair<const char*, Enum>, N>;
 
 struct Material {
   std::string name;
@@ -183,12 +189,15 @@ struct FluidSchemes {
   /// "Where the total momentum goes"); for sealed boxes full of water (docs/FLUID.md, "A momentum-conserving
   /// gradient").
   bool conservative_gradient = false;
-  /// With conservative_gradient, what the grains sample (pressure_gradient): false ("applied", the default) the
-  /// gradient that moved the water, so that the grains take the share of every stress the water carries, the
-  /// sum form's own included, and a sheared bed takes the lid's drag; true ("corrected") GC's gradient of the same
+  /// fluid.schemes.grain_gradient: with conservative_gradient, what the grains sample (pressure_gradient): kApplied
+  /// ("applied", the default) the gradient that moved the water, so that the grains take the share of every stress the water carries, the
+  /// sum form's own included, and a sheared bed takes the lid's drag; kCorrected ("corrected") GC's gradient of the same
   /// pressure, first-order accurate at each grain but blind to the momentum the sum form carries through the water
   /// (docs/FLUID.md, "What the grains sample").
-  bool grains_sample_corrected = false;
+  enum class GrainGradient { kApplied, kCorrected };
+  static constexpr SceneNames<GrainGradient, 2> kGrainGradientNames{
+      {{"applied", GrainGradient::kApplied}, {"corrected", GrainGradient::kCorrected}}};
+  GrainGradient grain_gradient = GrainGradient::kApplied;
 };
 
 /// The incompressible free-surface fluid (MPS, seed 000 Sec. 3.1; numerics.md with the prototype's amendments).
@@ -282,37 +291,53 @@ struct CouplingModel {
   /// [m] R_eps across the bed (along z); 0 = voidage_radius. A thin bed needs a kernel narrower across it than along
   /// it (docs/COUPLING.md, "A thin bed's voidage").
   double voidage_vertical_radius = 0.0;
-  /// What the grains' volume is divided by: false ("fluid_particles"): the volume the fluid particles fill, deposited on
-  /// the same grid (walls and the free surface truncate both alike); true ("tank"): the volume of the tank box each
-  /// node covers, exact and free of the lattice's aliasing, for water that fills the tank around the grains.
-  bool voidage_over_tank = false;
+  /// coupling.voidage_volume, what the grains' volume is divided by: kFluidParticles ("fluid_particles") the volume
+  /// the fluid particles fill, deposited on the same grid (walls and the free surface truncate both alike); kTank
+  /// ("tank") the volume of the tank box each node covers, exact and free of the lattice's aliasing, for water that
+  /// fills the tank around the grains.
+  enum class VoidageVolume { kFluidParticles, kTank };
+  static constexpr SceneNames<VoidageVolume, 2> kVoidageVolumeNames{
+      {{"fluid_particles", VoidageVolume::kFluidParticles}, {"tank", VoidageVolume::kTank}}};
+  VoidageVolume voidage_volume = VoidageVolume::kFluidParticles;
   double min_voidage = 0.26;             ///< [1] epsilon is clipped to [min_voidage, 1]
   /// [1] The step is at most drag_number / lambda, lambda the fastest rate at which the grains' drag relaxes the water
   /// around them (systems/physics/time/time_step.hpp, water_drag_rate; docs/COUPLING.md "The drag's step limit"). The
   /// reaction is explicit and a step late in the water: u_{n+2} = u_{n+1} - a u_n with a = lambda_tangent dt grows for
   /// a > 1; the tangent is at most twice the secant lambda, so 0.5 keeps a <= 1. 0 = no limit.
   double drag_number = 0.5;
-  /// true ("self_corrected", docs/COUPLING.md "The voidage at a grain"): smoothed grid, the grain's own volume taken
-  /// out exactly and put back times 1 - S(0) (a lone grain reads 1); false ("cloud_in_cell"): main's trilinear grid
-  /// reading with the grain's own volume included (a lone grain reads 0.93-0.96, rippling with its place in a cell).
-  bool self_corrected_voidage = true;
+  /// coupling.voidage_estimate: kSelfCorrected ("self_corrected", docs/COUPLING.md "The voidage at a grain") a
+  /// smoothed grid, the grain's own volume taken out exactly and put back times 1 - S(0) (a lone grain reads 1);
+  /// kCloudInCell ("cloud_in_cell") the trilinear grid reading with the grain's own volume included (a lone grain
+  /// reads 0.93-0.96, rippling with its place in a cell).
+  enum class VoidageEstimate { kSelfCorrected, kCloudInCell };
+  static constexpr SceneNames<VoidageEstimate, 2> kVoidageEstimateNames{
+      {{"self_corrected", VoidageEstimate::kSelfCorrected}, {"cloud_in_cell", VoidageEstimate::kCloudInCell}}};
+  VoidageEstimate voidage_estimate = VoidageEstimate::kSelfCorrected;
   double ergun_inertial_exponent = 1.5;  ///< [1] n in F_ch = 1.75 / (sqrt(150) eps^n): 1.5 = Ergun/Gidaspow; the seed prints 3 (numerics 5.1)
   double newton_drag_coefficient = 0.44; ///< [1] C_D above Re_p = 1000 (the seed prints 0.4)
-  /// false ("ergun", the seed's Gidaspow switch): Ergun at eps <= 0.8, Wen & Yu above. true ("wen_yu"): Wen & Yu at
-  /// every voidage (their eps^-4.7 was fitted to fluidised beds and suspensions over 0.4 < eps < 1; Ergun's packed-bed
-  /// law makes a suspension at eps = 0.7 settle 28 % slower than Richardson & Zaki; docs/COUPLING.md).
-  bool wen_yu_dense = false;
-  /// What the MPS velocity u stands for inside the bed (docs/COUPLING.md, "The water inside the bed").
-  /// false ("pore", the seed's reading): the pore water's velocity; the water filling all space then passes 1/eps^2
+  /// coupling.dense_drag: kErgun ("ergun", the seed's Gidaspow switch) Ergun at eps <= 0.8, Wen & Yu above; kWenYu
+  /// ("wen_yu") Wen & Yu at every voidage (their eps^-4.7 was fitted to fluidised beds and suspensions over
+  /// 0.4 < eps < 1; Ergun's packed-bed law makes a suspension at eps = 0.7 settle 28 % slower than Richardson & Zaki;
+  /// docs/COUPLING.md).
+  enum class DenseDrag { kErgun, kWenYu };
+  static constexpr SceneNames<DenseDrag, 2> kDenseDragNames{{{"ergun", DenseDrag::kErgun},
+                                                             {"wen_yu", DenseDrag::kWenYu}}};
+  DenseDrag dense_drag = DenseDrag::kErgun;
+  /// coupling.fluid_velocity, what the MPS velocity u stands for inside the bed (docs/COUPLING.md, "The water inside
+  /// the bed"); systems/physics/coupling/drag_law.hpp flux_share says what it changes.
+  /// kPore ("pore", the seed's reading): the pore water's velocity; the water filling all space then passes 1/eps^2
   /// too much Darcy flux for a pressure gradient and loads the grains with (2 - eps) times the seepage force.
-  /// true ("mixture"): the volume flux of the mixture, eps u_pore + (1 - eps) u_s, which is what an incompressible
+  /// kMixture ("mixture"): the volume flux of the mixture, eps u_pore + (1 - eps) u_s, which is what an incompressible
   /// fluid filling all space (div u = 0, wall velocity at the walls) can carry exactly. The pore water moves
   /// relative to a grain at (u - u_s) / eps (the drag's slip), and the water receives the drag per volume over eps,
   /// so steady Darcy-Forchheimer flow and the seepage force are right; the pore water's relative inertia is eps
   /// too small. The default is the mixture reading: it passes hindered settling (docs/COUPLING.md,
   /// "Hindered settling"), where the pore reading's water does not flow back up and the suspension falls 1/eps too
   /// fast.
-  bool mixture_velocity = true;
+  enum class FluidVelocity { kPore, kMixture };
+  static constexpr SceneNames<FluidVelocity, 2> kFluidVelocityNames{{{"pore", FluidVelocity::kPore},
+                                                                     {"mixture", FluidVelocity::kMixture}}};
+  FluidVelocity fluid_velocity = FluidVelocity::kMixture;
   /// Normal lubrication of the water squeezed between grains and between a grain and a wall (docs/COUPLING.md,
   /// "Lubrication"): the excess over the drag law's Stokes drag, for gaps below the cut-off, the gap held at the
   /// roughness below it. Both lengths are in reduced radii a* = a_1 a_2 / (a_1 + a_2) (a grain's radius for a wall),

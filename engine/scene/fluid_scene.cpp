@@ -37,9 +37,8 @@ void read_schemes(TableReader& schemes, FluidSchemes& out, bool open_tank) {
     schemes.problem("conservative_gradient",
                     "is for water without a free surface (a sealed box full of water; docs/FLUID.md, \"A "
                     "momentum-conserving gradient\"), but [tank] has open faces");
-  out.grains_sample_corrected =
-      schemes.choice("grain_gradient", "applied", {"applied", "corrected"}) == "corrected";
-  if (out.grains_sample_corrected && !out.conservative_gradient)
+  out.grain_gradient = enum_choice(schemes, "grain_gradient", out.grain_gradient, FluidSchemes::kGrainGradientNames);
+  if (out.grain_gradient == FluidSchemes::GrainGradient::kCorrected && !out.conservative_gradient)
     schemes.problem("grain_gradient", "\"corrected\" is for conservative_gradient = true (otherwise the grains already "
                                       "sample the gradient the water moves with, GC's or the classic one)");
   out.dynamic_stabilisation = schemes.boolean("ds", true);

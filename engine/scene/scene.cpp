@@ -647,10 +647,11 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.viscous_stress = coupling.boolean("viscous_stress", false);
   out.voidage_radius = coupling.number("voidage_radius", 0.0, "m", Bounds::non_negative());
   out.voidage_vertical_radius = coupling.number("voidage_vertical_radius", 0.0, "m", Bounds::non_negative());
-  out.voidage_over_tank = coupling.choice("voidage_volume", "fluid_particles", {"fluid_particles", "tank"}) == "tank";
+  out.voidage_volume = enum_choice(coupling, "voidage_volume", out.voidage_volume, CouplingModel::kVoidageVolumeNames);
+  const bool over_tank = out.voidage_volume == CouplingModel::VoidageVolume::kTank;
   // Cells narrower than about 3 l0 see the water's layers one by one: the fluid deposit then ripples with the lattice
   // (numerics 5.3), which the tank's volume does not.
-  if (!out.voidage_over_tank && model.fluid.enabled && out.voidage_vertical_radius > 0.0 &&
+  if (!over_tank && model.fluid.enabled && out.voidage_vertical_radius > 0.0 &&
       out.voidage_vertical_radius < 3.0 * model.fluid.spacing)
     coupling.problem("voidage_vertical_radius", "below 3 l0 (" + std::to_string(3.0 * model.fluid.spacing) +
                                                     " m) the fluid particles' layers alias on the voidage grid; set "
@@ -659,15 +660,15 @@ void read_coupling(TableReader& coupling, Model& model) {
   // than the grid may hold (4096 nodes an axis: grains beyond pile onto its last node), and one thicker than the tank
   // covers no node fully: both are typing errors, not beds.
   const double tank_height = model.tank.size.z();
-  if (out.voidage_over_tank && out.voidage_vertical_radius > 0.0 &&
+  if (over_tank && out.voidage_vertical_radius > 0.0 &&
       (out.voidage_vertical_radius < tank_height / 2000.0 || out.voidage_vertical_radius > tank_height))
     coupling.problem("voidage_vertical_radius", "must lie between the tank's height / 2000 (" +
                                                     std::to_string(tank_height / 2000.0) + " m) and its height (" +
                                                     std::to_string(tank_height) + " m)");
   out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
   out.drag_number = coupling.number("drag_number", 0.5, "1", Bounds::non_negative());
-  out.self_corrected_voidage =
-      coupling.choice("voidage_estimate", "self_corrected", {"self_corrected", "cloud_in_cell"}) == "self_corrected";
+  out.voidage_estimate =
+      enum_choice(coupling, "voidage_estimate", out.voidage_estimate, CouplingModel::kVoidageEstimateNames);
   out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
   out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
   read_lubrication(coupling, model);
@@ -677,8 +678,8 @@ void read_coupling(TableReader& coupling, Model& model) {
   // The modes resolve the kernel from the fluid step up: a window of a few steps would be no history at all.
   if (out.history_force && out.history_window < 10.0 * model.dt)
     coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
-  out.wen_yu_dense = coupling.choice("dense_drag", "ergun", {"ergun", "wen_yu"}) == "wen_yu";
-  out.mixture_velocity = coupling.choice("fluid_velocity", "mixture", {"pore", "mixture"}) == "mixture";
+  out.dense_drag = enum_choice(coupling, "dense_drag", out.dense_drag, CouplingModel::kDenseDragNames);
+  out.fluid_velocity = enum_choice(coupling, "fluid_velocity", out.fluid_velocity, CouplingModel::kFluidVelocityNames);
   out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
   out.sampling_kernel_reaction =
       coupling.choice("drag_reaction", "grid", {"grid", "sampling_kernel"}) == "sampling_kernel";

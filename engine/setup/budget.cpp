@@ -178,7 +178,8 @@ SceneBudget estimate_budget(const Model& model) {
                                       ? model.coupling.voidage_radius
                                       : std::max(3.0 * fluid.spacing, 4.0 * grains.largest);
     const double node_limit = voidage_node_limit(static_cast<std::size_t>(grains.count + budget.fluid_particles));
-    const double voidage_cell = voidage_cell_ratio(model.coupling.self_corrected_voidage);
+    const double voidage_cell = voidage_cell_ratio(model.coupling.voidage_estimate ==
+                                                 CouplingModel::VoidageEstimate::kSelfCorrected);
     const double across = model.coupling.voidage_vertical_radius > 0.0 ? model.coupling.voidage_vertical_radius
                                                                          : voidage_radius;
     const Vec3 voidage_cells(voidage_cell * voidage_radius, voidage_cell * voidage_radius, voidage_cell * across);

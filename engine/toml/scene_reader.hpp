@@ -3,6 +3,7 @@
 // was expected, what was found"; unknown keys are problems too, so typos cannot pass silently.
 #include <toml++/toml.h>
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -10,6 +11,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "components/vec.hpp"
@@ -133,6 +135,24 @@ class TableReader {
   SceneProblems* problems_;
   std::vector<std::string> known_;
 };
+
+/// A string key naming one value of an enum: `names` pairs each scene spelling with its value (components/model.hpp
+/// SceneNames); the default is `fallback`, the model's own default. A name not in the list is reported, and gives
+/// `fallback`.
+template <typename Enum, std::size_t N>
+Enum enum_choice(TableReader& reader, const std::string& key, Enum fallback,
+                 const std::array<std::pair<const char*, Enum>, N>& names) {
+  std::vector<std::string> allowed;
+  std::string fallback_name;
+  for (const auto& [name, value] : names) {
+    allowed.emplace_back(name);
+    if (value == fallback) fallback_name = name;
+  }
+  const std::string chosen = reader.choice(key, fallback_name, allowed);
+  for (const auto& [name, value] : names)
+    if (chosen == name) return value;
+  return fallback;
+}
 
 /// A default as a scene would spell it.
 std::string scene_spelling(double value);

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/mps/fluid_pair_batch.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
@@ -52,7 +53,7 @@ void FluidDragReaction::run(SystemContext& context) {
     if (wet <= 0.0) continue;  // out of the water since the sampling: its drag was zero while dry
     // Mixture reading: the pore water's relative momentum balance, divided by eps, has -grad p + rho g and the
     // drag per volume over eps (docs/COUPLING.md).
-    const double share = mixture_velocity_ ? 1.0 / (wet * voidages.voidage[grain]) : 1.0 / wet;
+    const double share = 1.0 / (wet * flux_share(fluid_velocity_, voidages.voidage[grain]));
     for (std::size_t c = 0; c < 8; ++c)
       if (grid_.fluid_volume(stencil.node[c]) > 0.0)
         node_impulse_[stencil.node[c]] -= (stencil.weight[c] * share) * drag.drag_impulse[grain];
@@ -188,7 +189,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
     if (batch.count > 0) flush();
     if (weight_sum <= 0.0) return;  // out of the water since the sampling: it keeps its impulse (zero while dry)
     const std::size_t grain = spread_slot_[k];
-    const double share = (mixture_velocity_ ? 1.0 / voidages.voidage[grain] : 1.0) / (weight_sum * volume);
+    const double share = (1.0 / flux_share(fluid_velocity_, voidages.voidage[grain])) / (weight_sum * volume);
     spread_per_weight_[k] = -share * drag.drag_impulse[grain];
     drag.drag_impulse[grain] = Vec3::Zero();
   });

@@ -25,7 +25,7 @@ class FluidDragReaction final : public System {
  public:
   explicit FluidDragReaction(const Model& model)
       : constants_(MpsConstants::from(model.fluid)),
-        mixture_velocity_(model.coupling.mixture_velocity),
+        fluid_velocity_(model.coupling.fluid_velocity),
         self_induced_velocity_(model.coupling.self_induced_velocity),
         kernel_reaction_(model.coupling.sampling_kernel_reaction),
         vertical_radius_(model.coupling.sampling_vertical_radius) {}
@@ -42,7 +42,7 @@ class FluidDragReaction final : public System {
   void spread_with_sampling_kernel(SystemContext& context, bool dilute_only);
 
   MpsConstants constants_;
-  bool mixture_velocity_ = false;  ///< the water takes the drag per volume over eps (CouplingModel)
+  CouplingModel::FluidVelocity fluid_velocity_;  ///< the water takes the drag per volume over flux_share
   bool self_induced_velocity_ = false;  ///< dilute grains spread with the sampling kernel (CouplingModel)
   bool kernel_reaction_ = false;        ///< every grain spreads with it (CouplingModel::sampling_kernel_reaction)
   double vertical_radius_ = 0.0;        ///< [m] R_v (CouplingModel::sampling_vertical_radius), 0 = isotropic

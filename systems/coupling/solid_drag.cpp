@@ -39,12 +39,12 @@ void SolidDrag::run(SystemContext& context) {
     const double volume = kPi / 6.0 * diameter * diameter * diameter;
     // Mixture reading (docs/COUPLING.md): the sampled MPS velocity is the mixture's volume flux, so the pore water
     // passes the grain at (u - u_s) / eps; the seed's reading takes u as the pore velocity itself.
-    const double flux_share = model_.mixture_velocity ? voidage : 1.0;
+    const double share = flux_share(model_.fluid_velocity, voidage);
     if (model_.self_induced_velocity && voidage > kSelfInducedMinVoidage) {
-      drag_without_own_disturbance(grain, grains, properties, sampled, voidage, flux_share, dt, fluid_step, drag);
+      drag_without_own_disturbance(grain, grains, properties, sampled, voidage, share, dt, fluid_step, drag);
     } else {
       const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
-      const Vec3 slip = relative / flux_share;
+      const Vec3 slip = relative / share;
       const double coefficient = drag_per_volume(voidage, diameter, slip.norm(), density, viscosity, model_);
       drag.drag_force[grain] = coefficient * volume * slip;
       if (model_.self_induced_velocity) {  // a grain in a dense bed: no correction (its validity: dilute grains)

@@ -23,7 +23,7 @@ SolidFluidSampling::SolidFluidSampling(const Model& model)
       fluid_acceleration_(model.coupling.added_mass || model.coupling.history_force),
       density_(model.fluid.density),
       self_induced_velocity_(model.coupling.self_induced_velocity),
-      mixture_velocity_(model.coupling.mixture_velocity),
+      fluid_velocity_(model.coupling.fluid_velocity),
       vertical_radius_(model.coupling.sampling_vertical_radius),
       body_force_(model.fluid.body_force),
       overlap_(model.coupling.self_induced_velocity ? self_induced_overlap() : 0.0) {}
@@ -134,10 +134,10 @@ void SolidFluidSampling::run(SystemContext& context) {
       // received over the last step; only for the dilute grains whose drag the correction applies to.
       const double voidage = context.read<GrainVoidage>().voidage[grain];
       if (voidage > kSelfInducedMinVoidage) {
-        const double flux_share = mixture_velocity_ ? voidage : 1.0;
+        const double share = flux_share(fluid_velocity_, voidage);
         const double kernel_radius = properties.radius[grain] + effective_radius;
         const double own = grain_volume(properties.radius[grain]) * overlap_ /
-                           (3.0 * kernel_radius * kernel_radius * kernel_radius * flux_share);
+                           (3.0 * kernel_radius * kernel_radius * kernel_radius * share);
         const Vec3 own_force = own * context.read<GrainDrag>().drag_force[grain];
         sampled.pressure_force[grain] -= own_force;
         // The water's acceleration the added mass and history forces use is the undisturbed one too.

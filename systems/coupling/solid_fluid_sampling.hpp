@@ -38,7 +38,7 @@ class SolidFluidSampling final : public System {
   bool fluid_acceleration_; ///< the water's acceleration is sampled (added mass or history force on)
   double density_;          ///< [kg/m^3] the water's
   bool self_induced_velocity_;  ///< CouplingModel::self_induced_velocity
-  bool mixture_velocity_;       ///< CouplingModel::mixture_velocity: the water took the drag over eps
+  CouplingModel::FluidVelocity fluid_velocity_;  ///< the water took the drag over flux_share
   double vertical_radius_;      ///< [m] CouplingModel::sampling_vertical_radius: 0 = the isotropic kernel
   BodyForceModel body_force_;   ///< the water's body force and how the grains feel it (docs/COUPLING.md)
   double overlap_;              ///< R^3 <rho_s rho_w> (self_induced.hpp), with the correction on

@@ -1,5 +1,7 @@
 #include "systems/coupling/solid_history_force.hpp"
 
+#include "systems/physics/coupling/drag_law.hpp"
+
 #include <array>
 
 #include "systems/physics/mps/mps_common.hpp"
@@ -12,7 +14,7 @@ SolidHistoryForce::SolidHistoryForce(const Model& model)
     : modes_(BassetModes::make(model.coupling.history_window, model.dt)),
       density_(model.fluid.density),
       viscosity_(model.fluid.kinematic_viscosity * model.fluid.density),
-      mixture_velocity_(model.coupling.mixture_velocity) {}
+      fluid_velocity_(model.coupling.fluid_velocity) {}
 
 void SolidHistoryForce::run(SystemContext& context) {
   const GrainState& grains = context.read<GrainState>();
@@ -39,7 +41,7 @@ void SolidHistoryForce::run(SystemContext& context) {
       return;
     }
     const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
-    const Vec3 slip = mixture_velocity_ ? Vec3(relative / voidages.voidage[grain]) : relative;
+    const Vec3 slip = relative / flux_share(fluid_velocity_, voidages.voidage[grain]);
     const Vec3 change = slip - added.history_relative_velocity[grain];
     added.history_relative_velocity[grain] = slip;
     Vec3 integral = Vec3::Zero();

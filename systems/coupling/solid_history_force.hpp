@@ -25,7 +25,7 @@ class SolidHistoryForce final : public System {
   BassetModes modes_;
   double density_;           ///< [kg/m^3]
   double viscosity_;         ///< [Pa s]
-  bool mixture_velocity_;    ///< the slip is (u - v) / eps (CouplingModel::mixture_velocity), as the drag's
+  CouplingModel::FluidVelocity fluid_velocity_;  ///< the slip is (u - v) / flux_share, as the drag's
 };
 
 }  // namespace riffle

@@ -17,8 +17,8 @@ SolidVoidage::SolidVoidage(const Model& model)
       voidage_radius_(model.coupling.voidage_radius),
       min_voidage_(model.coupling.min_voidage),
       vertical_radius_(model.coupling.voidage_vertical_radius),
-      over_tank_(model.coupling.voidage_over_tank),
-      self_corrected_(model.coupling.self_corrected_voidage) {}
+      over_tank_(model.coupling.voidage_volume == CouplingModel::VoidageVolume::kTank),
+      self_corrected_(model.coupling.voidage_estimate == CouplingModel::VoidageEstimate::kSelfCorrected) {}
 
 void SolidVoidage::run(SystemContext& context) {
   const ParticleState& particles = context.read<ParticleState>();

@@ -30,7 +30,7 @@ class SolidVoidage final : public System {
   double min_voidage_;      ///< [1]
   double vertical_radius_;  ///< [m] R_eps along z; 0 = voidage_radius_
   bool over_tank_;          ///< true: the grains' volume over the tank's, not over the fluid particles'
-  bool self_corrected_;     ///< false: main's trilinear reading with the grain's own volume included
+  bool self_corrected_;     ///< false: the trilinear (cloud-in-cell) reading with the grain's own volume included
   VoidageGrid grid_;
   std::vector<double> grain_volumes_;
 };

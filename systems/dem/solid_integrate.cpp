@@ -12,7 +12,7 @@ KickSettings KickSettings::from(const Model& model) {
   KickSettings settings;
   settings.added_mass = model.coupling.enabled && model.coupling.added_mass;
   settings.history = model.coupling.enabled && model.coupling.history_force;
-  settings.mixture_velocity = model.coupling.mixture_velocity;
+  settings.fluid_velocity = model.coupling.fluid_velocity;
   settings.fluid_density = model.fluid.density;
   return settings;
 }
@@ -65,7 +65,7 @@ void half_kick_inertial(GrainState& grains, const GrainProperties& properties, c
     const double r = properties.radius[i];
     const double coefficient =
         fluid.settings.added_mass && wet
-            ? stable_added_mass_coefficient(fluid.voidages.voidage[i], fluid.settings.mixture_velocity)
+            ? stable_added_mass_coefficient(fluid.voidages.voidage[i], fluid.settings.fluid_velocity)
             : 0.0;
     const double added_mass = coefficient * density_volume * (r * r * r);
     const AddedMassKick kick = added_mass_kick(total.force[i] + history, properties.mass[i], added_mass, gravity,

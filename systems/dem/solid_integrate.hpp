@@ -20,7 +20,7 @@ namespace riffle {
 struct KickSettings {
   bool added_mass = false;    ///< implicit added mass (CouplingModel::added_mass)
   bool history = false;       ///< add GrainAddedMass::history_force (CouplingModel::history_force)
-  bool mixture_velocity = false; ///< the water takes the impulses over eps (stable_added_mass_coefficient)
+  CouplingModel::FluidVelocity fluid_velocity = CouplingModel::FluidVelocity::kPore;  ///< stable_added_mass_coefficient
   double fluid_density = 0.0; ///< [kg/m^3]
   static KickSettings from(const Model& model);
   bool any() const { return added_mass || history; }

@@ -110,7 +110,7 @@ void FluidCorrect::run(SystemContext& context) {
     // 2 q_i m_i carries shear stress through sheared water (a repulsion between disordered particles): the applied
     // gradient gives the grains their share of it, as of every stress the water carries; GC's is blind to it, so a
     // sheared bed then takes less than the lid's drag (docs/FLUID.md, "What the grains sample").
-    const bool sample_corrected = conservative && schemes.grains_sample_corrected;
+    const bool sample_corrected = conservative && schemes.grain_gradient == FluidSchemes::GrainGradient::kCorrected;
     const bool gc_moment = schemes.gradient_correction || sample_corrected;
     Vec3 gradient_sum = Vec3::Zero(), sampled_sum = Vec3::Zero(), stabilisation = Vec3::Zero();
     GradientMoment moment;

@@ -13,6 +13,8 @@
 using namespace riffle;
 
 namespace {
+constexpr CouplingModel::FluidVelocity kPore = CouplingModel::FluidVelocity::kPore;
+constexpr CouplingModel::FluidVelocity kMixture = CouplingModel::FluidVelocity::kMixture;
 constexpr double kPi = 3.14159265358979323846;
 
 double kernel(const BassetModes& modes, double t) {
@@ -31,19 +33,20 @@ TEST_CASE("Zuber's added-mass coefficient: 1/2 for a lone sphere, (1 + 2 phi) / 
 
 TEST_CASE("the added-mass coefficient the grains use: Zuber's, capped where the water's reaction would not be stable") {
   // A lone grain and a dilute suspension: Zuber's.
-  CHECK(stable_added_mass_coefficient(1.0, false) == 0.5);
-  CHECK(stable_added_mass_coefficient(1.0, true) == 0.5);
-  CHECK(stable_added_mass_coefficient(0.9, true) == added_mass_coefficient(0.9));
+  CHECK(stable_added_mass_coefficient(1.0, kPore) == 0.5);
+  CHECK(stable_added_mass_coefficient(1.0, kMixture) == 0.5);
+  CHECK(stable_added_mass_coefficient(0.9, kMixture) == added_mass_coefficient(0.9));
   // A packed bed, phi = 0.6: Zuber's 2.75 would feed back C_a phi = 1.65 (pore) or 4.1 (mixture) times the water's
   // own acceleration; capped at half the water's inertia.
   CHECK(added_mass_coefficient(0.4) == doctest::Approx(2.75).epsilon(1e-14));
-  CHECK(stable_added_mass_coefficient(0.4, false) == doctest::Approx(0.5 * 0.4 / 0.6).epsilon(1e-14));
-  CHECK(stable_added_mass_coefficient(0.4, true) == doctest::Approx(0.5 * 0.16 / 0.6).epsilon(1e-14));
+  CHECK(stable_added_mass_coefficient(0.4, kPore) == doctest::Approx(0.5 * 0.4 / 0.6).epsilon(1e-14));
+  CHECK(stable_added_mass_coefficient(0.4, kMixture) == doctest::Approx(0.5 * 0.16 / 0.6).epsilon(1e-14));
   for (const double eps : {0.3, 0.5, 0.7, 0.9, 0.99})
     for (const bool mixture : {false, true}) {
-      const double fed_back = stable_added_mass_coefficient(eps, mixture) * (1.0 - eps) / (mixture ? eps : 1.0);
+      const CouplingModel::FluidVelocity reading = mixture ? kMixture : kPore;
+      const double fed_back = stable_added_mass_coefficient(eps, reading) * (1.0 - eps) / (mixture ? eps : 1.0);
       CHECK(fed_back <= 0.5 + 1e-12);
-      CHECK(stable_added_mass_coefficient(eps, mixture) <= added_mass_coefficient(eps));
+      CHECK(stable_added_mass_coefficient(eps, reading) <= added_mass_coefficient(eps));
     }
 }
 
@@ -184,11 +187,11 @@ TEST_CASE("the scene's added-mass and history switches: off by default, and a wi
 TEST_CASE("the scene's voidage keys: volume and the radius across the bed; a narrow radius over the water refused") {
   const std::string scene = test::coupled_scene_text();
   const Model plain = parse_scene(scene, "coupled.toml");
-  CHECK_FALSE(plain.coupling.voidage_over_tank);
+  CHECK(plain.coupling.voidage_volume == CouplingModel::VoidageVolume::kFluidParticles);
   CHECK(plain.coupling.voidage_vertical_radius == 0.0);
   const Model thin =
       parse_scene(scene + "[coupling]\nvoidage_volume = \"tank\"\nvoidage_vertical_radius = 0.005\n", "coupled.toml");
-  CHECK(thin.coupling.voidage_over_tank);
+  CHECK(thin.coupling.voidage_volume == CouplingModel::VoidageVolume::kTank);
   CHECK(thin.coupling.voidage_vertical_radius == 0.005);
   // Over the fluid particles' volume, a radius under 3 l0 aliases with the water's layers: refused, naming the key.
   CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nvoidage_vertical_radius = 0.02\n", "coupled.toml"),

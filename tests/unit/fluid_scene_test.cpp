@@ -175,9 +175,9 @@ ds = false
   const FluidSchemes conservative = sealed_schemes("conservative_gradient = true\n");
   CHECK(conservative.conservative_gradient);
   CHECK_FALSE(conservative.gradient_correction);
-  CHECK_FALSE(conservative.grains_sample_corrected);  // the grains sample the applied gradient unless told
+  CHECK(conservative.grain_gradient == FluidSchemes::GrainGradient::kApplied);  // the grains sample the applied gradient unless told
   const FluidSchemes corrected = sealed_schemes("conservative_gradient = true\ngrain_gradient = \"corrected\"\n");
-  CHECK(corrected.grains_sample_corrected);
+  CHECK(corrected.grain_gradient == FluidSchemes::GrainGradient::kCorrected);
 }
 
 TEST_CASE("bad fluid tables are rejected at file, line, column and key") {

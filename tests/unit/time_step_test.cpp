@@ -124,7 +124,7 @@ Model drag_model(bool mixture) {
   model.fluid.density = 1000.0;
   model.fluid.kinematic_viscosity = 1.0e-4;
   model.coupling.enabled = true;
-  model.coupling.mixture_velocity = mixture;
+  model.coupling.fluid_velocity = mixture ? CouplingModel::FluidVelocity::kMixture : CouplingModel::FluidVelocity::kPore;
   return model;
 }
 

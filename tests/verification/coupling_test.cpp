@@ -299,7 +299,7 @@ TEST_CASE("with the self-induced correction, the kernel spreading gives the flui
     model.fluid.spacing = 0.01;
     model.coupling.enabled = true;
     model.coupling.self_induced_velocity = true;
-    model.coupling.mixture_velocity = mixture;
+    model.coupling.fluid_velocity = mixture ? CouplingModel::FluidVelocity::kMixture : CouplingModel::FluidVelocity::kPore;
     World world;
     world.fluid.emplace();
     append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), 0.01));
@@ -345,7 +345,7 @@ TEST_CASE("mixture reading: the pore water passes a grain at (u - u_s) / eps and
   const Vec3 flux(0.004, 0.0, -0.001), grain_velocity(0.001, 0.002, 0.0);
   for (const bool mixture : {false, true}) {
     CAPTURE(mixture);
-    model.coupling.mixture_velocity = mixture;
+    model.coupling.fluid_velocity = mixture ? CouplingModel::FluidVelocity::kMixture : CouplingModel::FluidVelocity::kPore;
     World world;
     world.fluid.emplace();
     append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), 0.01));

@@ -45,7 +45,7 @@ Model reaction_model(bool kernel, bool mixture, bool periodic = false, double ve
   model.fluid.enabled = true;
   model.fluid.spacing = kSpacing;
   model.coupling.enabled = true;
-  model.coupling.mixture_velocity = mixture;
+  model.coupling.fluid_velocity = mixture ? CouplingModel::FluidVelocity::kMixture : CouplingModel::FluidVelocity::kPore;
   model.coupling.sampling_kernel_reaction = kernel;
   if (periodic) {
     model.tank.origin = Vec3::Zero();

@@ -31,7 +31,8 @@ Model box_model(double l0, double size, bool self_corrected = true) {
   model.fluid.enabled = true;
   model.fluid.spacing = l0;
   model.coupling.enabled = true;
-  model.coupling.self_corrected_voidage = self_corrected;
+  model.coupling.voidage_estimate = self_corrected ? CouplingModel::VoidageEstimate::kSelfCorrected
+                                                  : CouplingModel::VoidageEstimate::kCloudInCell;
   return model;
 }
 
@@ -364,7 +365,8 @@ TEST_CASE("voidage: a thin bed under coarse water reads its solid fraction with 
     Model model = box_model(l0, period);
     model.tank.size = Vec3(period, period, 0.02);
     model.tank.periodic = {true, true, false};
-    model.coupling.voidage_over_tank = setting.over_tank;
+    model.coupling.voidage_volume = setting.over_tank ? CouplingModel::VoidageVolume::kTank
+                                                       : CouplingModel::VoidageVolume::kFluidParticles;
     model.coupling.voidage_vertical_radius = setting.vertical_radius;
     SolidVoidage voidage(model);
     World world = box_world(model, centres, radius);

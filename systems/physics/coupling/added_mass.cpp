@@ -1,5 +1,7 @@
 #include "systems/physics/coupling/added_mass.hpp"
 
+#include "systems/physics/coupling/drag_law.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -14,12 +16,12 @@ double added_mass_coefficient(double voidage) {
   return 0.5 * (1.0 + 2.0 * solid_fraction) / (1.0 - solid_fraction);
 }
 
-double stable_added_mass_coefficient(double voidage, bool mixture_velocity) {
+double stable_added_mass_coefficient(double voidage, CouplingModel::FluidVelocity reading) {
   const double eps = std::clamp(voidage, 1e-6, 1.0);
   const double solid_fraction = 1.0 - eps;
   const double zuber = added_mass_coefficient(eps);
   if (solid_fraction <= 0.0) return zuber;
-  const double cap = 0.5 * (mixture_velocity ? eps : 1.0) * eps / solid_fraction;
+  const double cap = 0.5 * flux_share(reading, eps) * eps / solid_fraction;
   return std::min(zuber, cap);
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "components/model.hpp"
 #include "components/vec.hpp"
 
 namespace riffle {
@@ -22,7 +23,7 @@ double added_mass_coefficient(double voidage);
 /// (mixture) nears 1 that feedback grows from step to step (measured: the quick seed scene, phi = 0.6 in the bed,
 /// blew up in 110 steps). The cap keeps it at half the receiving water's inertia: C_a <= 1/2 eps / phi (pore),
 /// 1/2 eps^2 / phi (mixture). It binds above phi = 0.33 (pore) and 0.25 (mixture); a lone grain is never capped.
-double stable_added_mass_coefficient(double voidage, bool mixture_velocity);
+double stable_added_mass_coefficient(double voidage, CouplingModel::FluidVelocity reading);
 
 /// One half kick of a grain with added mass m_a, done implicitly (docs/COUPLING.md): the grain obeys
 ///   (m + m_a) dv/dt = F + m g + m_a a_f,

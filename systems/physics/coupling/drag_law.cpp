@@ -12,7 +12,7 @@ double drag_coefficient_times_reynolds(double reynolds, double newton_drag_coeff
 double drag_per_volume(double voidage, double diameter, double slip, double density, double viscosity,
                        const CouplingModel& coupling) {
   const double eps = voidage;
-  if (eps <= 0.8 && !coupling.wen_yu_dense) {
+  if (eps <= 0.8 && coupling.dense_drag == CouplingModel::DenseDrag::kErgun) {
     // Ergun: beta = eps^2 mu / K + F_ch eps^3 rho |du| / sqrt(K), K = eps^3 d^2 / (150 (1 - eps)^2)
     const double solid = 1.0 - eps;
     const double permeability = eps * eps * eps * diameter * diameter / (150.0 * solid * solid);

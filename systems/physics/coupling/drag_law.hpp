@@ -9,6 +9,15 @@
 
 namespace riffle {
 
+/// [1] What the water's velocity u stands for inside the bed, as a share of the volume: the voidage eps in the
+/// mixture reading (u is the mixture's volume flux, so the pore water moves relative to a grain at (u - v) / eps and
+/// the water takes the grains' drag per volume over eps), 1 in the pore reading (u is the pore water's velocity).
+/// Every place the reading changes (the drag's slip, its reaction, the history force's slip, the added mass's
+/// stability cap, the drag's step limit, the sampled flux) divides or multiplies by this.
+inline double flux_share(CouplingModel::FluidVelocity reading, double voidage) {
+  return reading == CouplingModel::FluidVelocity::kMixture ? voidage : 1.0;
+}
+
 /// [m^3] Volume of a grain of `radius` as the voidage and the pressure force -V <grad p> count it.
 inline double grain_volume(double radius) { return 4.0 / 3.0 * 3.14159265358979323846 * std::pow(radius, 3); }
 

@@ -46,7 +46,7 @@ double water_drag_rate(const Model& model, const GrainState& grains, const Grain
         for (std::size_t grain = range.begin(); grain < range.end(); ++grain) {
           if (!(sampled.fluid_weight[grain] > 0.0)) continue;  // dry: no drag
           const double voidage = voidages.voidage[grain];
-          const double share = coupling.mixture_velocity ? voidage : 1.0;  // s and s_w (both eps in the mixture)
+          const double share = flux_share(coupling.fluid_velocity, voidage);  // s and s_w (both eps in the mixture)
           const double slip = (sampled.fluid_velocity[grain] - grains.velocity[grain]).norm() / share;
           const double k = drag_per_volume(voidage, 2.0 * properties.radius[grain], slip, density, viscosity, coupling);
           found = std::max(found, k * (1.0 - voidage) / (density * share * share));
