@@ -114,7 +114,7 @@ struct TankModel {
   Vec3 origin = Vec3::Zero();          ///< [m] inner min corner at rest
   std::vector<std::string> open_faces; ///< faces without a wall: any of x_min, x_max, y_min, y_max, z_min, z_max
   std::int32_t wall_material = 0;      ///< index into Model::materials
-  double domain_margin = 0.0;          ///< [m] a particle further than this outside the swept tank is lost
+  double domain_margin = 0.05;         ///< [m] a particle further than this outside the swept tank is lost
   /// [1] per axis: periodic (no walls on its two faces; the period is size[axis]); only x and y may be
   std::array<bool, 3> periodic{false, false, false};
   TankMotionModel motion;

@@ -52,7 +52,7 @@ void read_layered_bed(TableReader& bed, Model& model, bool tank_known) {
   spec.base = bed.number("base", tank_low.z(), "m", Bounds::any());
   spec.layers = bed.integer("layers", std::nullopt, 1, 1000);
   spec.layer_thickness = bed.number("layer_thickness", std::nullopt, "m", Bounds::positive());
-  spec.loose_factor = bed.number("loose_factor", 1.0, "1", Bounds::closed(1.0, 1000.0));
+  spec.loose_factor = bed.number("loose_factor", spec.loose_factor, "1", Bounds::closed(1.0, 1000.0));
   spec.seed = static_cast<std::uint64_t>(bed.integer("seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
   std::vector<TableReader> classes = bed.tables("classes");
   for (TableReader& reader : classes) {

@@ -82,7 +82,7 @@ BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, co
     // A moving lid (docs/FLUID.md, "Driven flows"): no-slip or free-slip, moving along x only.
     box.lid = true;
     box.lid_free_slip = reader.choice("lid", std::nullopt, {"no_slip", "free_slip"}) == "free_slip";
-    box.lid_velocity = reader.number("velocity", 0.0, "m/s", Bounds::any());
+    box.lid_velocity = reader.number("velocity", box.lid_velocity, "m/s", Bounds::any());
     if (box.lid_free_slip && box.lid_velocity != 0.0)
       reader.problem("velocity", "a free-slip lid takes no part in the viscous term, so its velocity has no effect: "
                                  "give 0 or lid = \"no_slip\"");
@@ -210,7 +210,7 @@ void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionM
   if (out.kind == Kind::kSinusoidal) {
     out.acceleration = reader.number("amplitude", std::nullopt, "m/s^2", acceleration_bounds);
     out.period = reader.number("period", std::nullopt, "s", Bounds::positive());
-    out.phase = reader.number("phase", 0.0, "deg", Bounds::closed(-360.0, 360.0)) * std::numbers::pi / 180.0;
+    out.phase = reader.number("phase", out.phase, "deg", Bounds::closed(-360.0, 360.0)) * std::numbers::pi / 180.0;
   }
   if (out.kind == Kind::kBulkVelocity) {
     // The controller holds the mean u_x of the water in the lab frame (fluid_predict): in a tank that moves along x
@@ -260,7 +260,7 @@ void read_shifting(TableReader& fluid, FluidModel& out) {
   // does not; the cap (shifting_max) bounds the displacement, not the instability. A check against r_e is to come.
   out.shifting_coefficient = constant ? fluid.number("shifting_coefficient", 0.25, "1", Bounds{0.0, 1.0, false, true})
                                       : fluid.number("shifting_coefficient", 2.0, "1", Bounds{0.0, 10.0, false, true});
-  out.shifting_max_ratio = fluid.number("shifting_max", 0.1, "l0", Bounds{0.0, 0.25, false, true});
+  out.shifting_max_ratio = fluid.number("shifting_max", out.shifting_max_ratio, "l0", Bounds{0.0, 0.25, false, true});
   out.shifting_velocity_correction = fluid.boolean("shifting_velocity_correction", true);
   if (out.shifting == FluidModel::Shifting::kOff)
     for (const char* key : {"shifting_diffusivity", "shifting_coefficient", "shifting_max", "shifting_velocity_correction"})
@@ -298,33 +298,36 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.spacing = fluid.number("spacing", std::nullopt, "m", Bounds::positive());
   // numerics.md amendment 6: r_e = 2.4 l0 (3.1 l0 grows a zig-zag in the second surface layer); below 2 l0 the
   // Wendland stencil collapses to two shells, beyond 4 l0 the cost grows with no known benefit.
-  out.effective_radius_ratio = fluid.number("effective_radius", 2.4, "1", Bounds::closed(2.0, 4.0));
-  out.density = fluid.number("density", 1000.0, "kg/m^3", Bounds::positive());
-  out.kinematic_viscosity = fluid.number("kinematic_viscosity", 1.0e-6, "m^2/s", Bounds::non_negative());
+  out.effective_radius_ratio =
+      fluid.number("effective_radius", out.effective_radius_ratio, "1", Bounds::closed(2.0, 4.0));
+  out.density = fluid.number("density", out.density, "kg/m^3", Bounds::positive());
+  out.kinematic_viscosity =
+      fluid.number("kinematic_viscosity", out.kinematic_viscosity, "m^2/s", Bounds::non_negative());
   out.tank_walls = fluid.boolean("tank_walls", true);
   out.clamp_negative_pressure = fluid.boolean("clamp_negative_pressure", true);
   // numerics.md amendments: beta = 0.93 (0.97 misflags the second layer).
-  out.surface_threshold = fluid.number("surface_threshold", 0.93, "1", Bounds{0.5, 1.0, false, false});
-  out.density_relaxation_rate = fluid.number("density_relaxation_rate", 48.0, "1/s", Bounds::non_negative());
-  out.compressibility = fluid.number("compressibility", 1.0e-9, "1/Pa", Bounds::non_negative());
-  out.sound_speed = fluid.number("sound_speed", 0.0, "m/s", Bounds::non_negative());
-  out.courant = fluid.number("courant", 0.2, "1", Bounds{0.0, 0.5, false, true});
-  out.diffusion_number = fluid.number("diffusion_number", 0.2, "1", Bounds{0.0, 1.0, false, true});
-  out.min_dt = fluid.number("min_dt", 1.0e-6, "s", Bounds::positive());
-  out.solver_tolerance = fluid.number("solver_tolerance", 1.0e-8, "1", Bounds{0.0, 1.0, false, false});
-  out.solver_max_iterations = fluid.integer("solver_max_iterations", 2000, 1, 100000000);
+  out.surface_threshold = fluid.number("surface_threshold", out.surface_threshold, "1", Bounds{0.5, 1.0, false, false});
+  out.density_relaxation_rate =
+      fluid.number("density_relaxation_rate", out.density_relaxation_rate, "1/s", Bounds::non_negative());
+  out.compressibility = fluid.number("compressibility", out.compressibility, "1/Pa", Bounds::non_negative());
+  out.sound_speed = fluid.number("sound_speed", out.sound_speed, "m/s", Bounds::non_negative());
+  out.courant = fluid.number("courant", out.courant, "1", Bounds{0.0, 0.5, false, true});
+  out.diffusion_number = fluid.number("diffusion_number", out.diffusion_number, "1", Bounds{0.0, 1.0, false, true});
+  out.min_dt = fluid.number("min_dt", out.min_dt, "s", Bounds::positive());
+  out.solver_tolerance = fluid.number("solver_tolerance", out.solver_tolerance, "1", Bounds{0.0, 1.0, false, false});
+  out.solver_max_iterations = fluid.integer("solver_max_iterations", out.solver_max_iterations, 1, 100000000);
   out.preconditioner = fluid.choice("preconditioner", "two_level", {"two_level", "jacobi"}) == "jacobi"
                            ? FluidModel::Preconditioner::kJacobi
                            : FluidModel::Preconditioner::kTwoLevel;
-  out.neighbour_skin_ratio = fluid.number("neighbour_skin", 0.3, "1", Bounds::closed(0.0, 2.0));
+  out.neighbour_skin_ratio = fluid.number("neighbour_skin", out.neighbour_skin_ratio, "1", Bounds::closed(0.0, 2.0));
   // Violent flow uses up any skin every step; then a narrow one shortens every pass over the lists.
   out.narrow_neighbour_skin_ratio = fluid.number("neighbour_skin_narrow", std::min(0.1, out.neighbour_skin_ratio), "1",
                                                  Bounds::closed(0.0, 2.0));
   if (out.narrow_neighbour_skin_ratio > out.neighbour_skin_ratio)
     fluid.problem("neighbour_skin_narrow",
                   "must not exceed neighbour_skin (" + format_number(out.neighbour_skin_ratio) + ")");
-  out.sort_every = fluid.integer("sort_every", 20, 0, 1000000000);
-  out.sort_every_fast = fluid.integer("sort_every_fast", 5, 0, 1000000000);
+  out.sort_every = fluid.integer("sort_every", out.sort_every, 0, 1000000000);
+  out.sort_every_fast = fluid.integer("sort_every_fast", out.sort_every_fast, 0, 1000000000);
   if (auto schemes = fluid.table("schemes", false)) read_schemes(*schemes, out.schemes, !model.tank.open_faces.empty());
   // Escaped spray (systems/mps/fluid_escape.hpp): removed and counted, or the run stops at the first particle.
   out.escape = fluid.choice("escape", "remove", {"remove", "stop"}) == "stop" ? FluidModel::EscapePolicy::kStop
@@ -334,7 +337,8 @@ void read_fluid(TableReader& fluid, Model& model) {
     if (out.escape == FluidModel::EscapePolicy::kStop)
       fluid.problem("escape_distance", "needs escape = \"remove\" (with \"stop\" no particle is removed)");
   }
-  out.escape_fraction_limit = fluid.number("escape_fraction_limit", 0.01, "1", Bounds{0.0, 1.0, false, true});
+  out.escape_fraction_limit =
+      fluid.number("escape_fraction_limit", out.escape_fraction_limit, "1", Bounds{0.0, 1.0, false, true});
 
   if (auto body_force = fluid.table("body_force", false)) read_body_force(*body_force, out.body_force, model.tank.motion);
   if (auto initial = fluid.table("initial_velocity", false))
@@ -343,7 +347,8 @@ void read_fluid(TableReader& fluid, Model& model) {
                                                                                 : FluidModel::Turbulence::kNone;
   // C_s = 0.12: the value Gotoh et al. (2001) use for the SPS closure of their particle method (Smagorinsky's
   // constant is 0.1-0.2 in the literature; 0.17 from the Kolmogorov spectrum, Lilly 1967).
-  out.smagorinsky_constant = fluid.number("smagorinsky_constant", 0.12, "1", Bounds::closed(0.0, 1.0));
+  out.smagorinsky_constant =
+      fluid.number("smagorinsky_constant", out.smagorinsky_constant, "1", Bounds::closed(0.0, 1.0));
   if (fluid.has("smagorinsky_constant") && out.turbulence != FluidModel::Turbulence::kSps)
     fluid.problem("smagorinsky_constant", "needs turbulence = \"sps\"");
   read_shifting(fluid, out);

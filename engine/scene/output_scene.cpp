@@ -144,11 +144,11 @@ void read_bedload_probe(TableReader& table, const Model& model, ProbeModel& prob
     table.problem("kind", "this probe measures grains: the scene has none ([solids] with at least one grain)");
   switch (probe.kind) {
     case ProbeModel::Kind::kMovingFraction:
-      probe.threshold = table.number("threshold", 0.01, "m/s", Bounds::positive());
+      probe.threshold = table.number("threshold", probe.threshold, "m/s", Bounds::positive());
       break;
     case ProbeModel::Kind::kPackingDensity: {
-      probe.threshold = table.number("threshold", 0.01, "m/s", Bounds::positive());
-      probe.layer_depth = table.number("layer_depth", 0.0, "m", Bounds::positive());
+      probe.threshold = table.number("threshold", probe.threshold, "m/s", Bounds::positive());
+      probe.layer_depth = table.number("layer_depth", probe.layer_depth, "m", Bounds::positive());
       if (table.has("layer_bottom")) {
         if (table.has("layer_depth"))
           table.problem("layer_bottom", "give either layer_depth (below the local bed top) or layer_bottom (a fixed "
@@ -314,7 +314,7 @@ void read_probes(TableReader& output, Model& model) {
           break;
         }
     }
-    probe.interval = table.number("interval", 0.0, "s", Bounds::non_negative());
+    probe.interval = table.number("interval", probe.interval, "s", Bounds::non_negative());
 
     if (!kind_known) {
       // The kind decides which keys belong: with a bad kind the other keys cannot be judged, so none of them is
@@ -387,9 +387,10 @@ void read_probes(TableReader& output, Model& model) {
 
 void read_bed_profile_keys(TableReader& output, Model& model) {
   OutputModel& out = model.output;
-  out.bed_profile_interval = output.number("bed_profile_interval", 0.0, "s", Bounds::non_negative());
+  out.bed_profile_interval =
+      output.number("bed_profile_interval", out.bed_profile_interval, "s", Bounds::non_negative());
   // 0 (the default) stands for the smallest grain diameter, resolved by bed_layer_thickness(model).
-  out.bed_layer_thickness = output.number("bed_layer_thickness", 0.0, "m", Bounds::positive());
+  out.bed_layer_thickness = output.number("bed_layer_thickness", out.bed_layer_thickness, "m", Bounds::positive());
   if (out.bed_profile_interval > 0.0 && model.solids.spheres.empty() && model.solids.initial_state.empty())
     output.problem("bed_profile_interval", "the bed profile needs grains ([solids] with at least one grain)");
   else if (out.bed_layer_thickness > 0.0 && model.tank.size.z() / out.bed_layer_thickness > kMaxBedLayers)

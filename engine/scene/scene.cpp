@@ -82,7 +82,7 @@ void read_run(TableReader& run, Model& model, const SceneLimits& limits) {
   }
   model.end_time = run.number("end_time", std::nullopt, "s", Bounds::positive());
   model.dt = run.number("dt", std::nullopt, "s", Bounds::positive());
-  model.solid_substeps = run.integer("solid_substeps", 1, 1, 1000000);
+  model.solid_substeps = run.integer("solid_substeps", model.solid_substeps, 1, 1000000);
   model.gravity = run.vec3("gravity", Vec3(0.0, 0.0, -9.81), "m/s^2", Bounds::any());
   if (model.dt > 0.0 && model.end_time > 0.0 && model.end_time / model.dt > 1e12)
     run.problem("dt", "dt is too small for end_time (more than 1e12 steps)");
@@ -190,10 +190,10 @@ void read_motion(TableReader& motion, const Model& scene, TankMotionModel& model
     model.direction = direction / length;
   model.amplitude = motion.number("amplitude", std::nullopt, "m", Bounds::non_negative());
   model.frequency = motion.number("frequency", std::nullopt, "Hz", Bounds::positive());
-  model.ramp_time = motion.number("ramp_time", 0.0, "s", Bounds::non_negative());
+  model.ramp_time = motion.number("ramp_time", model.ramp_time, "s", Bounds::non_negative());
   // Degrees, as a phase is usually quoted; -90 turns x = -A sin(wt) into x = A cos(wt).
   model.phase = motion.number("phase", 0.0, "deg", Bounds::closed(-360.0, 360.0)) * (3.14159265358979323846 / 180.0);
-  model.start_time = motion.number("start_time", 0.0, "s", Bounds::non_negative());
+  model.start_time = motion.number("start_time", model.start_time, "s", Bounds::non_negative());
   motion.finish();
 }
 
@@ -224,10 +224,10 @@ void read_periodic(TableReader& tank, TankModel& model, bool motion_valid) {
 
 void read_tank(TableReader& tank, Model& model) {
   model.tank.size = tank.vec3("size", std::nullopt, "m", Bounds::positive());
-  model.tank.origin = tank.vec3("origin", Vec3::Zero(), "m", Bounds::any());
+  model.tank.origin = tank.vec3("origin", model.tank.origin, "m", Bounds::any());
   model.tank.open_faces = tank.choices("open_faces", kFaceNames);
   model.tank.wall_material = read_material(model, tank, "wall_material");
-  model.tank.domain_margin = tank.number("domain_margin", 0.05, "m", Bounds::non_negative());
+  model.tank.domain_margin = tank.number("domain_margin", model.tank.domain_margin, "m", Bounds::non_negative());
   const std::size_t problems_before_motion = tank.problem_count();
   if (auto motion = tank.table("motion", false)) read_motion(*motion, model, model.tank.motion);
   // A motion with problems (say a table that could not be read) has no sweep to judge.
@@ -261,7 +261,7 @@ void read_solids(TableReader& solids, Model& model) {
   model.solids.enabled = true;
   // Without a valid tank size every grain would also be reported as outside the tank, burying the real problem.
   const bool tank_known = (model.tank.size.array() > 0.0).all();
-  model.solids.sort_every = solids.integer("sort_every", 0, 0, 1000000000);
+  model.solids.sort_every = solids.integer("sort_every", model.solids.sort_every, 0, 1000000000);
   model.solids.fixed_to_tank = solids.boolean("fixed_to_tank", false);
   // Bounds: a hold beyond a day of simulated time is a typo (no scene here runs a simulated hour).
   if (solids.has("hold_until")) {
@@ -291,8 +291,8 @@ void read_solids(TableReader& solids, Model& model) {
     const std::size_t problems_before = sphere.problem_count();
     spec.position = sphere.vec3("position", std::nullopt, "m", Bounds::any());
     const bool position_known = sphere.problem_count() == problems_before;
-    spec.velocity = sphere.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
-    spec.angular_velocity = sphere.vec3("angular_velocity", Vec3::Zero(), "rad/s", Bounds::any());
+    spec.velocity = sphere.vec3("velocity", spec.velocity, "m/s", Bounds::any());
+    spec.angular_velocity = sphere.vec3("angular_velocity", spec.angular_velocity, "rad/s", Bounds::any());
     spec.radius = sphere.number("radius", std::nullopt, "m", Bounds::positive());
     spec.material = read_material(model, sphere, "material");
     spec.size_class = static_cast<std::int32_t>(sphere.integer("size_class", 0, 0, 1000));
@@ -324,7 +324,7 @@ void read_solids(TableReader& solids, Model& model) {
     const double spacing = block.number("spacing", std::nullopt, "m", Bounds::positive());
     SphereSpec spec;
     spec.radius = block.number("radius", std::nullopt, "m", Bounds::positive());
-    spec.velocity = block.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
+    spec.velocity = block.vec3("velocity", spec.velocity, "m/s", Bounds::any());
     spec.material = read_material(model, block, "material");
     spec.size_class = static_cast<std::int32_t>(block.integer("size_class", 0, 0, 1000));
     block.finish();
@@ -389,10 +389,11 @@ double default_checkpoint_interval(double end_time, double dt) {
 namespace {
 
 void read_output(TableReader& output, Model& model) {
-  model.output.vtk_interval = output.number("vtk_interval", 0.0, "s", Bounds::non_negative());
-  model.output.checkpoint_interval = output.number("checkpoint_interval", 0.0, "s", Bounds::non_negative());
-  model.output.checkpoint_keep = output.integer("checkpoint_keep", 3, 1, 1000000);
-  model.output.diagnostics_every = output.integer("diagnostics_every", 1, 1, 1000000000);
+  model.output.vtk_interval = output.number("vtk_interval", model.output.vtk_interval, "s", Bounds::non_negative());
+  model.output.checkpoint_interval =
+      output.number("checkpoint_interval", model.output.checkpoint_interval, "s", Bounds::non_negative());
+  model.output.checkpoint_keep = output.integer("checkpoint_keep", model.output.checkpoint_keep, 1, 1000000);
+  model.output.diagnostics_every = output.integer("diagnostics_every", model.output.diagnostics_every, 1, 1000000000);
   read_bed_profile_keys(output, model);  // engine/scene/output_scene.cpp
   read_probes(output, model);            // [[output.probes]], engine/scene/output_scene.cpp
   output.finish();
@@ -407,17 +408,21 @@ void read_contact(TableReader& contact, Model& model) {
   ContactPairParameters defaults;
   defaults.restitution = contact.number("restitution", std::nullopt, "1", Bounds::closed(0.0, 1.0));
   defaults.friction = contact.number("friction", std::nullopt, "1", Bounds::non_negative());
-  defaults.rolling_friction = contact.number("rolling_friction", 0.0, "1", Bounds::non_negative());
+  defaults.rolling_friction =
+      contact.number("rolling_friction", defaults.rolling_friction, "1", Bounds::non_negative());
   if (out.law == ContactLaw::kLinearSpringDashpot)
     out.collision_time = contact.number("collision_time", std::nullopt, "s", Bounds::positive());
-  out.max_impact_speed = contact.number("max_impact_speed", 1.0, "m/s", Bounds::positive());
-  out.rayleigh_fraction = contact.number("rayleigh_fraction", 0.25, "1", Bounds{0.0, 1.0, false, true});
-  out.steps_per_collision = contact.number("steps_per_collision", 16.0, "1", Bounds::closed(4.0, 1e6));
+  out.max_impact_speed = contact.number("max_impact_speed", out.max_impact_speed, "m/s", Bounds::positive());
+  out.rayleigh_fraction =
+      contact.number("rayleigh_fraction", out.rayleigh_fraction, "1", Bounds{0.0, 1.0, false, true});
+  out.steps_per_collision =
+      contact.number("steps_per_collision", out.steps_per_collision, "1", Bounds::closed(4.0, 1e6));
   // At least 1e-3: e = 0 is calibrated as half the tolerance, and the scaled collision of a smaller restitution is
   // so overdamped that it does not end within achieved_restitution's integration (the scene fuzzer found e = 5e-309).
-  out.restitution_tolerance = contact.number("restitution_tolerance", 0.02, "1", Bounds::closed(1e-3, 0.5));
-  out.skin = contact.number("skin", 0.0, "m", Bounds::non_negative());
-  out.sort_every_rebuild = contact.integer("sort_every_rebuild", 10, 1, 1000000);
+  out.restitution_tolerance =
+      contact.number("restitution_tolerance", out.restitution_tolerance, "1", Bounds::closed(1e-3, 0.5));
+  out.skin = contact.number("skin", out.skin, "m", Bounds::non_negative());
+  out.sort_every_rebuild = contact.integer("sort_every_rebuild", out.sort_every_rebuild, 1, 1000000);
 
   const std::size_t count = model.materials.size();
   out.material_count = count;
@@ -645,8 +650,9 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.drag = coupling.boolean("drag", true);
   out.pressure_gradient = coupling.boolean("pressure_gradient", true);
   out.viscous_stress = coupling.boolean("viscous_stress", false);
-  out.voidage_radius = coupling.number("voidage_radius", 0.0, "m", Bounds::non_negative());
-  out.voidage_vertical_radius = coupling.number("voidage_vertical_radius", 0.0, "m", Bounds::non_negative());
+  out.voidage_radius = coupling.number("voidage_radius", out.voidage_radius, "m", Bounds::non_negative());
+  out.voidage_vertical_radius =
+      coupling.number("voidage_vertical_radius", out.voidage_vertical_radius, "m", Bounds::non_negative());
   out.voidage_volume = enum_choice(coupling, "voidage_volume", out.voidage_volume, CouplingModel::kVoidageVolumeNames);
   const bool over_tank = out.voidage_volume == CouplingModel::VoidageVolume::kTank;
   // Cells narrower than about 3 l0 see the water's layers one by one: the fluid deposit then ripples with the lattice
@@ -665,16 +671,18 @@ void read_coupling(TableReader& coupling, Model& model) {
     coupling.problem("voidage_vertical_radius", "must lie between the tank's height / 2000 (" +
                                                     std::to_string(tank_height / 2000.0) + " m) and its height (" +
                                                     std::to_string(tank_height) + " m)");
-  out.min_voidage = coupling.number("min_voidage", 0.26, "1", Bounds::closed(0.0, 1.0));
-  out.drag_number = coupling.number("drag_number", 0.5, "1", Bounds::non_negative());
+  out.min_voidage = coupling.number("min_voidage", out.min_voidage, "1", Bounds::closed(0.0, 1.0));
+  out.drag_number = coupling.number("drag_number", out.drag_number, "1", Bounds::non_negative());
   out.voidage_estimate =
       enum_choice(coupling, "voidage_estimate", out.voidage_estimate, CouplingModel::kVoidageEstimateNames);
-  out.ergun_inertial_exponent = coupling.number("ergun_inertial_exponent", 1.5, "1", Bounds::closed(0.0, 4.0));
-  out.newton_drag_coefficient = coupling.number("newton_drag_coefficient", 0.44, "1", Bounds::positive());
+  out.ergun_inertial_exponent =
+      coupling.number("ergun_inertial_exponent", out.ergun_inertial_exponent, "1", Bounds::closed(0.0, 4.0));
+  out.newton_drag_coefficient =
+      coupling.number("newton_drag_coefficient", out.newton_drag_coefficient, "1", Bounds::positive());
   read_lubrication(coupling, model);
   out.added_mass = coupling.boolean("added_mass", false);
   out.history_force = coupling.boolean("history_force", false);
-  out.history_window = coupling.number("history_window", 0.1, "s", Bounds::positive());
+  out.history_window = coupling.number("history_window", out.history_window, "s", Bounds::positive());
   // The modes resolve the kernel from the fluid step up: a window of a few steps would be no history at all.
   if (out.history_force && out.history_window < 10.0 * model.dt)
     coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
@@ -683,7 +691,8 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
   out.sampling_kernel_reaction =
       coupling.choice("drag_reaction", "grid", {"grid", "sampling_kernel"}) == "sampling_kernel";
-  out.sampling_vertical_radius = coupling.number("sampling_vertical_radius", 0.0, "m", Bounds::non_negative());
+  out.sampling_vertical_radius =
+      coupling.number("sampling_vertical_radius", out.sampling_vertical_radius, "m", Bounds::non_negative());
   // Fewer than one layer of water across the kernel leaves a grain reading one or two particles.
   if (model.fluid.enabled && out.sampling_vertical_radius > 0.0 && out.sampling_vertical_radius < model.fluid.spacing)
     coupling.problem("sampling_vertical_radius", "below l0 (" + std::to_string(model.fluid.spacing) +
