@@ -45,6 +45,41 @@ int report_run(const RunOutcome& outcome) {
   return outcome.exit_code;
 }
 
+/// `riffle check`'s answer for a valid scene, from the model and its budget alone: the counts a run would lay out,
+/// the DEM sub-step and what sets it, the tank's motion, the water, the budget.
+void print_check(const std::string& scene_path, const Model& model) {
+  const std::size_t grains = model.solids.spheres.size() +
+                             (model.solids.initial_grains ? model.solids.initial_grains->size() : 0);
+  std::printf("%s: valid scene '%s': %zu grains, %zu walls, t_end = %g s, dt = %g s, %lld solid sub-steps\n",
+              scene_path.c_str(), model.name.c_str(), model.solids.enabled ? grains : 0,
+              tank_walls(model.tank).size(), model.end_time, model.dt,
+              static_cast<long long>(model.solid_substeps));
+  if (model.contact.enabled && model.contact.stable_solid_dt > 0.0)
+    std::printf("  DEM sub-step %.4g s (%lld per step); stable estimate %.4g s, set by %s\n"
+                "  restitution at this sub-step, head-on at max_impact_speed = %g m/s: within %.3g of the requested "
+                "(tolerance %g; worst: %s)\n",
+                model.solid_dt(), static_cast<long long>(model.solid_substeps), model.contact.stable_solid_dt,
+                model.contact.stable_solid_dt_reason.c_str(), model.contact.max_impact_speed,
+                model.contact.restitution_error, model.contact.restitution_tolerance,
+                model.contact.restitution_error_pair.c_str());
+  const TankMotionModel& motion = model.tank.motion;
+  const Vec3 sweep = tank_motion_sweep(motion);
+  if (motion.kind == TankMotionModel::Kind::kTable)
+    std::printf("  tank motion: table %s, %zu rows, t in [%g, %g] s, largest |displacement| (%.4g, %.4g, %.4g) m\n",
+                motion.table.file.c_str(), motion.table.time.size(), motion.table.time.front(),
+                motion.table.time.back(), sweep.x(), sweep.y(), sweep.z());
+  else if (motion.kind == TankMotionModel::Kind::kSinusoidal)
+    std::printf("  tank motion: sinusoidal, A = %g m, f = %g Hz, ramp %g s, phase %g deg, start %g s\n",
+                motion.amplitude, motion.frequency, motion.ramp_time, motion.phase * 180.0 / 3.14159265358979323846,
+                motion.start_time);
+  const SceneBudget budget = estimate_budget(model);
+  if (model.fluid.enabled)
+    std::printf("  fluid: %.0f MPS particles, %.0f of them fluid, spacing %g m, r_e = %g spacing\n",
+                budget.fluid_particles + budget.wall_particles + budget.dummy_particles, budget.fluid_particles,
+                model.fluid.spacing, model.fluid.effective_radius_ratio);
+  std::printf("%s", describe_budget(budget, model).c_str());
+}
+
 /// `riffle keys`: the union of the keys every scene's reading asks for (engine/toml/scene_reader.hpp, SceneKey),
 /// one tab-separated line each: key, kind, range, unit, its defaults (" | " between several), whether a scene sets
 /// it. Exits 2 after printing the keys if a scene is invalid (its problems on stderr).
@@ -250,37 +285,7 @@ int run_command(int argc, char** argv) {
   }
 
   if (*check) {
-    const Model& model = *model_only;
-    const std::size_t grains = model.solids.spheres.size() +
-                               (model.solids.initial_grains ? model.solids.initial_grains->size() : 0);
-    std::printf("%s: valid scene '%s': %zu grains, %zu walls, t_end = %g s, dt = %g s, %lld solid sub-steps\n",
-                scene_path.c_str(), model.name.c_str(), model.solids.enabled ? grains : 0,
-                tank_walls(model.tank).size(), model.end_time, model.dt,
-                static_cast<long long>(model.solid_substeps));
-    if (model.contact.enabled && model.contact.stable_solid_dt > 0.0)
-      std::printf("  DEM sub-step %.4g s (%lld per step); stable estimate %.4g s, set by %s\n"
-                  "  restitution at this sub-step, head-on at max_impact_speed = %g m/s: within %.3g of the requested "
-                  "(tolerance %g; worst: %s)\n",
-                  model.solid_dt(), static_cast<long long>(model.solid_substeps), model.contact.stable_solid_dt,
-                  model.contact.stable_solid_dt_reason.c_str(), model.contact.max_impact_speed,
-                  model.contact.restitution_error, model.contact.restitution_tolerance,
-                  model.contact.restitution_error_pair.c_str());
-    const TankMotionModel& motion = model.tank.motion;
-    const Vec3 sweep = tank_motion_sweep(motion);
-    if (motion.kind == TankMotionModel::Kind::kTable)
-      std::printf("  tank motion: table %s, %zu rows, t in [%g, %g] s, largest |displacement| (%.4g, %.4g, %.4g) m\n",
-                  motion.table.file.c_str(), motion.table.time.size(), motion.table.time.front(),
-                  motion.table.time.back(), sweep.x(), sweep.y(), sweep.z());
-    else if (motion.kind == TankMotionModel::Kind::kSinusoidal)
-      std::printf("  tank motion: sinusoidal, A = %g m, f = %g Hz, ramp %g s, phase %g deg, start %g s\n",
-                  motion.amplitude, motion.frequency, motion.ramp_time, motion.phase * 180.0 / 3.14159265358979323846,
-                  motion.start_time);
-    const SceneBudget budget = estimate_budget(model);
-    if (model.fluid.enabled)
-      std::printf("  fluid: %.0f MPS particles, %.0f of them fluid, spacing %g m, r_e = %g spacing\n",
-                  budget.fluid_particles + budget.wall_particles + budget.dummy_particles, budget.fluid_particles,
-                  model.fluid.spacing, model.fluid.effective_radius_ratio);
-    std::printf("%s", describe_budget(budget, model).c_str());
+    print_check(scene_path, *model_only);
     return kExitOk;
   }
 
