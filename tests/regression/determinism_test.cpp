@@ -10,7 +10,7 @@
 #include "systems/physics/mps/mps_common.hpp"
 #include "systems/dem/solid_neighbours.hpp"
 #include "engine/run/simulation.hpp"
-#include "tests/test_support.hpp"
+#include "tests/support/test_support.hpp"
 
 using namespace riffle;
 
