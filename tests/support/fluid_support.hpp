@@ -31,7 +31,7 @@ inline Model fluid_model(const Vec3& tank_size, double spacing, const std::vecto
   model.fluid.spacing = spacing;
   model.fluid.boxes = boxes;
   // The fluid verification tests run once more with the quasi-compressible pressure equation (tests/CMakeLists.txt,
-  // fluid_verification_quasi_compressible): issue 22 requires it to leave still water, the dam-break front and
+  // fluid_verification_quasi_compressible): it must leave still water, the dam-break front and
   // sloshing as good as the incompressible projection leaves them.
   if (const char* sound_speed = std::getenv("RIFFLE_TEST_SOUND_SPEED")) model.fluid.sound_speed = std::atof(sound_speed);
   return model;

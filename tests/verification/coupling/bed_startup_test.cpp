@@ -1,7 +1,7 @@
 // Seed 003's start-up in embryo (docs/SCENES.md, "The start-up"): a bed settled dry, put under water and a lid at
 // rest, held for a while and released, must not move: no grain faster than the seed's 0.01 m/s threshold of a
-// "moving" grain (seed 003 Sec. 5, its Eq. 29) at any step after the release. This is issue 24's "a settled bed
-// under a lid too slow to move it: no grain moves" with the lid at rest; the seed's large (2 mm) grains in the
+// "moving" grain (seed 003 Sec. 5, its Eq. 29) at any step after the release: "a settled bed under a lid too slow
+// to move it: no grain moves" with the lid at rest; the seed's large (2 mm) grains in the
 // seed's own 2 cm x 2 cm plan (273 grains, a closed box), so it runs in seconds.
 #include <doctest/doctest.h>
 
@@ -17,26 +17,30 @@
 #include "engine/run/simulation.hpp"
 #include "systems/physics/mps/mps_common.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
-/// The sheared-bed scenes' materials, contact law and a 2 cm x 2 cm box 2.75 cm high.
-const std::string kCommon = R"(
-[materials.grain]
-density = 2650.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.5
-rolling_friction = 0.05
-max_impact_speed = 1.0
-[tank]
-size = [0.02, 0.02, 0.0275]
-wall_material = "grain"
-)";
+/// The sheared-bed scenes: a run to `end_time` at dt = 0.5 ms, their material and contact law, and a 2 cm x 2 cm box
+/// `height` high; `tank_keys`: more [tank] keys, such as periodic.
+SceneBuilder sheared_box(double end_time, const std::string& tank_keys = "", double height = 0.0275) {
+  SceneBuilder scene;
+  scene.run({.end_time = end_time, .dt = 5.0e-4})
+      .material("grain", {.density = 2650.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .contact({.law = "hertz_mindlin", .restitution = 0.5, .friction = 0.5, .rolling_friction = 0.05,
+                .max_impact_speed = 1.0})
+      .tank({.size = {0.02, 0.02, height}, .wall_material = "grain"}).verbatim(tank_keys);
+  return scene;
+}
+
+/// `value` as printf's `format` writes it and a scene reads it back.
+double as_written(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, format, value);
+  return std::strtod(text, nullptr);
+}
 
 double max_grain_speed(const Solids& grains) {
   double fastest = 0.0;
@@ -47,22 +51,9 @@ double max_grain_speed(const Solids& grains) {
 /// The seed's 2 cm plan with its 273 grains of 2 mm generated loose, to settle dry for 0.3 s (`tank_keys`: more
 /// [tank] keys, such as periodic).
 std::string dry_bed_scene(const std::string& tank_keys) {
-  return R"(
-[run]
-end_time = 0.3
-dt = 5.0e-4
-)" + kCommon + tank_keys + R"(
-[solids]
-[[solids.layered_beds]]
-layers = 3
-layer_thickness = 0.002
-loose_factor = 2.0
-seed = 1
-[[solids.layered_beds.classes]]
-diameter = 0.002
-count = 273
-material = "grain"
-)";
+  return sheared_box(0.3, tank_keys).solids()
+      .layered_bed({.layers = 3, .layer_thickness = 0.002, .loose_factor = 2.0, .seed = 1})
+      .bed_class({.diameter = 0.002, .count = 273, .material = "grain"}).toml();
 }
 
 /// Runs a dry_bed_scene to its end (0.3 s).
@@ -84,30 +75,11 @@ TEST_CASE("a bed settled dry, held under water and a lid at rest, then released:
   write_checkpoint(bed, settle->checkpoint_data());
   settle.reset();
 
-  const std::string wet = R"(
-[run]
-end_time = 0.25
-dt = 5.0e-4
-)" + kCommon + R"(
-[solids]
-initial_state = ")" + bed + R"("
-hold_until = 0.05
-[fluid]
-spacing = 0.0025
-clamp_negative_pressure = false
-turbulence = "sps"
-smagorinsky_constant = 0.15
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.02, 0.02, 0.02]
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.02]
-high = [0.02, 0.02, 0.0275]
-lid = "no_slip"
-velocity = 0.0
-[coupling]
-fluid_velocity = "mixture"
-)";
+  const std::string wet = sheared_box(0.25).solids().set("initial_state", bed).set("hold_until", 0.05)
+      .fluid({.spacing = 0.0025, .clamp_negative_pressure = false}).set("turbulence", "sps")
+      .set("smagorinsky_constant", 0.15).fluid_box({0.0, 0.0, 0.0}, {0.02, 0.02, 0.02})
+      .wall_box({.low = {0.0, 0.0, 0.02}, .high = {0.02, 0.02, 0.0275}, .lid = "no_slip", .velocity = 0.0})
+      .coupling().set("fluid_velocity", "mixture").toml();
   auto run = Simulation::from_model(parse_scene(wet, "wet.toml"));
   REQUIRE(run->world().solids->size() == 273);
   double held_speed = 0.0, released_speed = 0.0;
@@ -165,39 +137,17 @@ constexpr double kLidHeight = 0.02, kLidSpeed = 0.02, kSlowLidViscosity = 1.0e-4
 /// with or without [coupling] viscous_stress; `fluid_keys`: more [fluid] keys.
 std::string slow_lid_scene(const std::string& bed, double bed_top, double spacing, bool viscous,
                            const std::string& fluid_keys = "") {
-  const double lid_z = kLidHeight;
-  char keys[512];
-  std::snprintf(keys, sizeof keys,
-                "[fluid.initial_velocity]\nkind = \"linear\"\nbottom = %.6f\ntop = %.6f\nvelocity = %.6f\n"
-                "[[fluid.wall_boxes]]\nlow = [0.0, 0.0, %.12g]\nhigh = [0.02, 0.02, %.12g]\nlid = \"no_slip\"\n"
-                "velocity = %.12g\n",
-                bed_top, lid_z, kLidSpeed, lid_z, lid_z + 3.0 * spacing,  // the lid three layers thick at any spacing
-                kLidSpeed);
-  char fluid[256];
-  std::snprintf(fluid, sizeof fluid, "[fluid]\nspacing = %.12g\nkinematic_viscosity = %.12g\n"
-                "clamp_negative_pressure = false\n", spacing, kSlowLidViscosity);
+  const double lid_z = kLidHeight, lid_top = kLidHeight + 3.0 * spacing;  // the lid three layers thick at any spacing
   // The tank as tall as the lid's top (its walls need a height in whole spacings; 0.0275 m at 2.5 mm).
-  std::string common = kCommon;
-  const std::string tank_size = "size = [0.02, 0.02, 0.0275]";
-  char wet_size[64];
-  std::snprintf(wet_size, sizeof wet_size, "size = [0.02, 0.02, %.12g]", lid_z + 3.0 * spacing);
-  common.replace(common.find(tank_size), tank_size.size(), wet_size);
-  return R"(
-  [run]
-  end_time = 0.3
-  dt = 5.0e-4
-  )" + common + "periodic = [\"x\", \"y\"]\n" + R"(
-  [solids]
-  initial_state = ")" + bed + R"("
-  hold_until = 0.05
-  )" + fluid + fluid_keys + R"(
-  [[fluid.boxes]]
-  low = [0.0, 0.0, 0.0]
-  high = [0.02, 0.02, 0.02]
-  )" + keys + R"(
-  [coupling]
-  fluid_velocity = "mixture"
-  viscous_stress = )" + std::string(viscous ? "true" : "false") + "\n";
+  return sheared_box(0.3, "periodic = [\"x\", \"y\"]\n", as_written("%.12g", lid_top))
+      .solids().set("initial_state", bed).set("hold_until", 0.05)
+      .fluid({.spacing = spacing, .kinematic_viscosity = kSlowLidViscosity, .clamp_negative_pressure = false})
+      .verbatim(fluid_keys).fluid_box({0.0, 0.0, 0.0}, {0.02, 0.02, 0.02})
+      .table("fluid.initial_velocity").set("kind", "linear").set("bottom", as_written("%.6f", bed_top))
+      .set("top", lid_z).set("velocity", kLidSpeed)
+      .wall_box({.low = {0.0, 0.0, lid_z}, .high = {0.02, 0.02, as_written("%.12g", lid_top)}, .lid = "no_slip",
+                 .velocity = kLidSpeed})
+      .coupling().set("fluid_velocity", "mixture").set("viscous_stress", viscous).toml();
 }
 
 /// The slow-lid case run (slow_lid_scene) and its momentum balance measured.
@@ -273,7 +223,7 @@ SlowLidBalance run_slow_lid(const std::string& bed, double bed_top, double spaci
 }  // namespace
 
 TEST_CASE("a settled bed under a lid too slow to move it, periodic in x and y: no grain moves, the lid drags as Couette") {
-  // Issue 24's verification, in the seed's 2 cm plan made periodic along x and y (its sheared beds' box): the bed
+  // A settled bed under a slow lid, in the seed's 2 cm plan made periodic along x and y (its sheared beds' box): the bed
   // settled dry in the periodic box, then water and a no-slip lid at U = 0.02 m/s. The water is made viscous
   // (nu = 1e-4 m^2/s, 100 x water) so that the layer (H ~ 13 mm from the bed's top to the lid) is laminar plane
   // Couette flow (Re = U H / nu ~ 3) whose stresses are large enough to measure: tau ~ rho nu U / H ~ 0.15 Pa, a

@@ -14,8 +14,10 @@
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/physics/coupling/voidage_grid.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -33,30 +35,11 @@ double terminal_slip(double voidage, double diameter, double solid_density, cons
 }
 
 std::string settling_scene(double solid_density, double height = 0.25) {
-  return R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-solid_substeps = 10
-[materials.grain]
-density = )" + std::to_string(solid_density) + R"(
-[materials.glass]
-density = 2500.0
-[tank]
-size = [0.1, 0.1, 0.3]
-open_faces = ["z_max"]
-wall_material = "glass"
-[solids]
-[[solids.spheres]]
-position = [0.05, 0.05, )" + std::to_string(height) + R"(]
-radius = 0.005
-material = "grain"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.1, 0.28]
-)";
+  return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3, .solid_substeps = 10})
+      .material("grain", {.density = solid_density}).material("glass", {.density = 2500.0})
+      .tank({.size = {0.1, 0.1, 0.3}, .open_faces = {"z_max"}, .wall_material = "glass"})
+      .sphere({.position = {0.05, 0.05, height}, .radius = 0.005, .material = "grain"})
+      .fluid({.spacing = 0.01}).fluid_box({0.0, 0.0, 0.0}, {0.1, 0.1, 0.28}).toml();
 }
 }  // namespace
 
@@ -174,53 +157,20 @@ TEST_CASE("a submerged settled bed leaves the hydrostatic pressure unchanged") {
   // pressure of every 1 cm layer must agree within the still-water error of MPS itself (0.1 % of rho g H RMS,
   // fluid_hydrostatic_test), and the bed must have come to rest. A water that made room for the grains would rise
   // by the bed's volume over the tank's area, 16 mm, and change the pressure by 16 % of rho g H.
-  const std::string water = R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-[materials.glass]
-density = 2500.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.4
-max_impact_speed = 0.5
-[tank]
-size = [0.1, 0.1, 0.15]
-open_faces = ["z_max"]
-wall_material = "glass"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.1, 0.1]
-[coupling]
-fluid_velocity = "mixture"
-)";
-  const std::string bed = R"(
-[solids]
-[[solids.blocks]]
-min = [0.005, 0.005, 0.005]
-max = [0.095, 0.095, 0.025]
-spacing = 0.01
-radius = 0.005
-material = "grain"
-)";
+  const std::string water = SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3})
+      .material("grain", {.density = 1318.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .material("glass", {.density = 2500.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .contact({.law = "hertz_mindlin", .restitution = 0.5, .friction = 0.4, .max_impact_speed = 0.5})
+      .tank({.size = {0.1, 0.1, 0.15}, .open_faces = {"z_max"}, .wall_material = "glass"}).fluid({.spacing = 0.01})
+      .fluid_box({0.0, 0.0, 0.0}, {0.1, 0.1, 0.1}).coupling().set("fluid_velocity", "mixture").toml();
+  const std::string bed = SceneBuilder()
+      .block({.min = {0.005, 0.005, 0.005}, .max = {0.095, 0.095, 0.025}, .spacing = 0.01, .radius = 0.005,
+              .material = "grain"})
+      .toml();
   auto with_bed = Simulation::from_model(parse_scene(water + bed, "bed.toml"));
   // The same water with one grain far above it (a scene with [contact] needs grains): dry, so it touches nothing.
-  auto clear = Simulation::from_model(parse_scene(water + R"(
-[solids]
-[[solids.spheres]]
-position = [0.05, 0.05, 0.14]
-radius = 0.005
-material = "grain"
-)", "clear.toml"));
+  auto clear = Simulation::from_model(parse_scene(water + SceneBuilder()
+      .sphere({.position = {0.05, 0.05, 0.14}, .radius = 0.005, .material = "grain"}).toml(), "clear.toml"));
   REQUIRE(with_bed->world().solids->size() == 300);
   for (int step = 0; step < 300; ++step) {
     with_bed->step();
@@ -260,27 +210,40 @@ material = "grain"
   CHECK(lowest > 0.005 - 0.001);
 }
 
-TEST_CASE("the fluid receives exactly minus the drag impulse of the grains") {
-  Model model = test::small_model();
-  model.fluid.enabled = true;
-  model.fluid.spacing = 0.01;
-  model.coupling.enabled = true;
-  World world;
-  world.fluid.emplace();
-  append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), 0.01));
+namespace {
+/// The drag impulses given to three grains (2.5, 5 and 7.5 mm) at these centres in a 10 cm cube of water.
+const Vec3 kImpulses[] = {Vec3(1.0e-4, -2.0e-5, 3.0e-4), Vec3(-5.0e-5, 7.0e-5, 1.0e-5), Vec3(2.0e-5, 0.0, -4.0e-5)};
+const Vec3 kCentres[] = {Vec3(0.05, 0.05, 0.05), Vec3(0.013, 0.021, 0.009), Vec3(0.08, 0.02, 0.06)};
+
+/// A World of water filling a 10 cm cube at l0 = 1 cm and the three grains of kImpulses, each with its impulse;
+/// returns their slots.
+std::vector<std::size_t> water_cube_with_grains(World& world) {
+  test::fill_with_water(world, Vec3(0.1, 0.1, 0.1), 0.01);
   world.solids.emplace();
-  const Vec3 impulses[] = {Vec3(1.0e-4, -2.0e-5, 3.0e-4), Vec3(-5.0e-5, 7.0e-5, 1.0e-5), Vec3(2.0e-5, 0.0, -4.0e-5)};
-  const Vec3 centres[] = {Vec3(0.05, 0.05, 0.05), Vec3(0.013, 0.021, 0.009), Vec3(0.08, 0.02, 0.06)};
-  Vec3 given = Vec3::Zero();
+  std::vector<std::size_t> slots;
   for (int k = 0; k < 3; ++k) {
-    const std::size_t slot = world.solids->add(centres[k], Vec3::Zero(), 0.0025 * (k + 1), 1318.0, 0, 0);
-    world.solids->drag_impulse[slot] = impulses[k];
-    given += impulses[k];
+    slots.push_back(world.solids->add(kCentres[k], Vec3::Zero(), 0.0025 * (k + 1), 1318.0, 0, 0));
+    world.solids->drag_impulse[slots.back()] = kImpulses[k];
   }
+  return slots;
+}
+
+/// Runs the fluid_drag_reaction system once (dt = 1 ms).
+void run_drag_reaction(World& world, const Model& model) {
   FluidDragReaction reaction(model);
   const Access access = reaction.access();
   SystemContext context(world, model, reaction, access, 0.0, 1.0e-3);
   reaction.run(context);
+}
+}  // namespace
+
+TEST_CASE("the fluid receives exactly minus the drag impulse of the grains") {
+  const Model model = test::small_coupled_model(0.01);
+  World world;
+  water_cube_with_grains(world);
+  Vec3 given = Vec3::Zero();
+  for (const Vec3& impulse : kImpulses) given += impulse;
+  run_drag_reaction(world, model);
   Vec3 received = Vec3::Zero();
   for (const Vec3& per_volume : world.fluid->drag_reaction) received += per_volume * 1.0e-6;  // times l0^3
   // Each grain's weights are normalised to one: equal to rounding (a few ulps of the largest impulse).
@@ -294,30 +257,18 @@ TEST_CASE("with the self-induced correction, the kernel spreading gives the flui
   // readings (the mixture reading gives the water the impulse over eps: checked against that), with a grain of a
   // bed (eps <= 0.8, grid spreading) among them.
   for (const bool mixture : {false, true}) {
-    Model model = test::small_model();
-    model.fluid.enabled = true;
-    model.fluid.spacing = 0.01;
-    model.coupling.enabled = true;
+    Model model = test::small_coupled_model(0.01);
     model.coupling.self_induced_velocity = true;
     model.coupling.mixture_velocity = mixture;
     World world;
-    world.fluid.emplace();
-    append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), 0.01));
-    world.solids.emplace();
-    const Vec3 impulses[] = {Vec3(1.0e-4, -2.0e-5, 3.0e-4), Vec3(-5.0e-5, 7.0e-5, 1.0e-5), Vec3(2.0e-5, 0.0, -4.0e-5)};
-    const Vec3 centres[] = {Vec3(0.05, 0.05, 0.05), Vec3(0.013, 0.021, 0.009), Vec3(0.08, 0.02, 0.06)};
+    const std::vector<std::size_t> slots = water_cube_with_grains(world);
     const double voidages[] = {0.9, 0.5, 1.0};  // the second, in a bed, keeps the grid spreading
     Vec3 expected = Vec3::Zero();
     for (int k = 0; k < 3; ++k) {
-      const std::size_t slot = world.solids->add(centres[k], Vec3::Zero(), 0.0025 * (k + 1), 1318.0, 0, 0);
-      world.solids->drag_impulse[slot] = impulses[k];
-      world.solids->voidage[slot] = voidages[k];
-      expected -= mixture ? Vec3(impulses[k] / voidages[k]) : impulses[k];
+      world.solids->voidage[slots[k]] = voidages[k];
+      expected -= mixture ? Vec3(kImpulses[k] / voidages[k]) : kImpulses[k];
     }
-    FluidDragReaction reaction(model);
-    const Access access = reaction.access();
-    SystemContext context(world, model, reaction, access, 0.0, 1.0e-3);
-    reaction.run(context);
+    run_drag_reaction(world, model);
     Vec3 received = Vec3::Zero();
     std::size_t touched = 0;
     for (const Vec3& per_volume : world.fluid->drag_reaction) {
@@ -335,20 +286,16 @@ TEST_CASE("mixture reading: the pore water passes a grain at (u - u_s) / eps and
   // mixture's volume flux, so the slip in the drag law is (u - u_s) / eps, and the water's share of each grain's
   // impulse is divided by eps. Steady Darcy flow through a fixed bed then balances -grad p with beta q / eps^2
   // per volume (q = u the flux), which is Ergun's permeability, and the grains take -eps grad p as drag.
-  Model model = test::small_model();
-  model.fluid.enabled = true;
-  model.fluid.spacing = 0.01;
+  Model model = test::small_coupled_model(0.01);
   model.fluid.density = kWaterDensity;
   model.fluid.kinematic_viscosity = kViscosity / kWaterDensity;
-  model.coupling.enabled = true;
   const double eps = 0.4, d = 0.005;
   const Vec3 flux(0.004, 0.0, -0.001), grain_velocity(0.001, 0.002, 0.0);
   for (const bool mixture : {false, true}) {
     CAPTURE(mixture);
     model.coupling.mixture_velocity = mixture;
     World world;
-    world.fluid.emplace();
-    append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), 0.01));
+    test::fill_with_water(world, Vec3(0.1, 0.1, 0.1), 0.01);
     world.solids.emplace();
     const std::size_t slot = world.solids->add(Vec3(0.05, 0.05, 0.05), grain_velocity, 0.5 * d, 1318.0, 0, 0);
     world.solids->fluid_velocity[slot] = flux;
@@ -408,53 +355,18 @@ TEST_CASE("momentum stays closed with every fluid force on: the water takes minu
   // velocity Verlet are accounted for: a half kick at the start of each step still applies the last force sum of
   // the step before (its pressure force and drag), and solid_drag books each sub-step's drag for a whole sub-step
   // while the kicks apply its second half in the next sub-step.
-  const std::string scene = R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-solid_substeps = 10
-[materials.grain]
-density = 1318.0
-[materials.light]
-density = 900.0
-[materials.neutral]
-density = 1000.0
-[materials.heavy]
-density = 2500.0
-[tank]
-size = [0.12, 0.08, 0.12]
-open_faces = ["z_max"]
-wall_material = "heavy"
-[tank.motion]
-kind = "sinusoidal"
-amplitude = 0.01
-frequency = 1.7
-ramp_time = 0.05
-[solids]
-[[solids.spheres]]
-position = [0.03, 0.04, 0.06]
-radius = 0.005
-material = "light"
-[[solids.spheres]]
-position = [0.06, 0.04, 0.05]
-radius = 0.004
-material = "neutral"
-[[solids.spheres]]
-position = [0.09, 0.04, 0.07]
-radius = 0.006
-material = "heavy"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.12, 0.08, 0.1]
-[coupling]
-added_mass = true
-history_force = true
-history_window = 0.05
-self_induced_velocity = true
-fluid_velocity = "pore"
-)";
+  const std::string scene = SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3, .solid_substeps = 10})
+      .material("grain", {.density = 1318.0}).material("light", {.density = 900.0})
+      .material("neutral", {.density = 1000.0}).material("heavy", {.density = 2500.0})
+      .tank({.size = {0.12, 0.08, 0.12}, .open_faces = {"z_max"}, .wall_material = "heavy"})
+      .tank_motion({.amplitude = 0.01, .frequency = 1.7, .ramp_time = 0.05})
+      .sphere({.position = {0.03, 0.04, 0.06}, .radius = 0.005, .material = "light"})
+      .sphere({.position = {0.06, 0.04, 0.05}, .radius = 0.004, .material = "neutral"})
+      .sphere({.position = {0.09, 0.04, 0.07}, .radius = 0.006, .material = "heavy"}).fluid({.spacing = 0.01})
+      .fluid_box({0.0, 0.0, 0.0}, {0.12, 0.08, 0.1})
+      .coupling().set("added_mass", true).set("history_force", true).set("history_window", 0.05)
+      .set("self_induced_velocity", true).set("fluid_velocity", "pore")
+      .toml();
   // The pore reading: there the water's momentum is the pore water's, one-for-one with the grains'. (In the mixture
   // reading, the default, the water stands for the mixture's volume flux and takes each grain's impulse over its
   // voidage by design: docs/COUPLING.md, "The water inside the bed".)

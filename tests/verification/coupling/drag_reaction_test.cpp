@@ -30,6 +30,9 @@
 #include "systems/coupling/solid_fluid_sampling.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
+
+using riffle::test::SceneBuilder;
 
 namespace riffle {
 namespace {
@@ -40,11 +43,8 @@ constexpr double kVolume = kSpacing * kSpacing * kSpacing;
 /// The small test model with water at l0 = 1 cm and the reaction spread by the sampling kernel (or the grid);
 /// periodic along x and y in a 0.1 m box if asked.
 Model reaction_model(bool kernel, bool mixture, bool periodic = false, double vertical_radius = 0.0) {
-  Model model = test::small_model();
+  Model model = test::small_coupled_model(kSpacing);
   model.coupling.sampling_vertical_radius = vertical_radius;
-  model.fluid.enabled = true;
-  model.fluid.spacing = kSpacing;
-  model.coupling.enabled = true;
   model.coupling.mixture_velocity = mixture;
   model.coupling.sampling_kernel_reaction = kernel;
   if (periodic) {
@@ -65,8 +65,7 @@ struct GrainSpec {
 /// Water filling [0, 0.1]^3 on the l0 lattice, and the grains with their pending drag impulses.
 World reaction_world(const std::vector<GrainSpec>& grains) {
   World world;
-  world.fluid.emplace();
-  append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), kSpacing));
+  test::fill_with_water(world, Vec3(0.1, 0.1, 0.1), kSpacing);
   world.solids.emplace();
   for (const GrainSpec& grain : grains) {
     const std::size_t slot = world.solids->add(grain.centre, Vec3::Zero(), grain.radius, 2650.0, 0, 0);
@@ -171,7 +170,7 @@ TEST_CASE("sampling-kernel reaction: the water receives exactly minus the grains
 TEST_CASE("sampling-kernel reaction: a held grain in sheared water pushes the water it samples, and dissipates") {
   // A held 2 mm grain at z = 3 mm over the floor, in a bed (eps = 0.45), the water filling z > 0 on the l0 = 2.5 mm
   // lattice (layers at 1.25, 3.75, ... mm), r_e = 2.4 l0: the sampling sphere R = 7 mm is cut by the floor, as
-  // under seed 003's held bed (docs/RESULTS.md, issue 24, item 3). The water is a shear flow u_x = s (z - z0) that
+  // under seed 003's held bed (docs/RESULTS.md). The water is a shear flow u_x = s (z - z0) that
   // runs backwards below z0. One step of the systems that run: the water copied (FluidSampleCopy), sampled
   // (SolidFluidSampling), the drag integrated (SolidDrag), spread back (FluidDragReaction).
   // Theory: a footprint with weights p_j (sum 1) gives the reaction power P = -share J . sum_j p_j u_j per step,
@@ -188,17 +187,13 @@ TEST_CASE("sampling-kernel reaction: a held grain in sheared water pushes the wa
   };
   const double share = 1.0 / 0.45;  // the mixture reading (the default): the water takes J / eps
   const auto run = [&](bool kernel, double z0, double vertical = 0.0) {
-    Model model = test::small_model();
+    Model model = test::small_coupled_model(l0);
     model.coupling.sampling_vertical_radius = vertical;
-    model.fluid.enabled = true;
-    model.fluid.spacing = l0;
-    model.coupling.enabled = true;
     model.coupling.sampling_kernel_reaction = kernel;
     model.tank.origin = Vec3::Zero();
     model.tank.size = Vec3(0.04, 0.04, 0.02);
     World world;
-    world.fluid.emplace();
-    append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.04, 0.04, 0.02), l0));
+    test::fill_with_water(world, Vec3(0.04, 0.04, 0.02), l0);
     FluidParticles& water = *world.fluid;
     for (std::size_t j = 0; j < water.size(); ++j) water.velocity[j] = Vec3(shear * (water.position[j].z() - z0), 0, 0);
     world.fluid_sample.emplace();
@@ -318,34 +313,12 @@ TEST_CASE("sampling-kernel reaction: byte-identical on one and two threads, and 
     CHECK(reaction_bytes(periodic, 1, 0.015) != reaction_bytes(periodic, 1));  // the key reaches the spreading
   }
   // The key through a scene: a 5 mm grain settling in a periodic box of water, 40 steps, 1 and 2 threads.
-  const std::string scene = R"([run]
-end_time = 1.0
-dt = 1.0e-3
-[materials.grain]
-density = 2650.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-[tank]
-size = [0.08, 0.08, 0.2]
-open_faces = ["z_max"]
-wall_material = "grain"
-periodic = ["x", "y"]
-[contact]
-restitution = 0.5
-friction = 0.5
-[solids]
-[[solids.spheres]]
-position = [0.002, 0.078, 0.12]
-radius = 0.005
-material = "grain"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.08, 0.08, 0.16]
-[coupling]
-drag_reaction = "sampling_kernel"
-)";
+  const std::string scene = SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3})
+      .material("grain", {.density = 2650.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .tank({.size = {0.08, 0.08, 0.2}, .open_faces = {"z_max"}, .periodic = {"x", "y"}, .wall_material = "grain"})
+      .contact({.restitution = 0.5, .friction = 0.5})
+      .sphere({.position = {0.002, 0.078, 0.12}, .radius = 0.005, .material = "grain"}).fluid({.spacing = 0.01})
+      .fluid_box({0.0, 0.0, 0.0}, {0.08, 0.08, 0.16}).coupling().set("drag_reaction", "sampling_kernel").toml();
   const auto bytes_after = [&](int threads, const std::string& extra) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     auto simulation = Simulation::from_model(parse_scene(scene + extra, "kernel.toml"));

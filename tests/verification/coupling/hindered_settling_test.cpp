@@ -1,4 +1,4 @@
-// Hindered settling in a closed column (issue 21; docs/COUPLING.md, "Hindered settling"): a suspension of equal
+// Hindered settling in a closed column (docs/COUPLING.md, "Hindered settling"): a suspension of equal
 // 3 mm beads settles through a viscous liquid; its bulk speed (the grains' mean velocity in a central band, after
 // the transient and long before the top of the suspension reaches the band) is the speed relative to the column
 // that Richardson & Zaki (1954) give: u = u_t eps^n, n = 4.65 at Re_t < 0.2, u_t the terminal speed of a lone bead
@@ -11,8 +11,10 @@
 
 #include "engine/run/simulation.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -34,38 +36,14 @@ double terminal_speed() {
 std::string column_scene(double solid_fraction, const std::string& reading, const std::string& extra) {
   const double volume = kColumn * kColumn * (kFillHigh - kFillLow);
   const auto count = static_cast<long>(std::lround(solid_fraction * volume / (kPi / 6.0 * std::pow(kDiameter, 3))));
-  return R"(
-[run]
-end_time = 0.3
-dt = 2.0e-3
-solid_substeps = 8
-[materials.bead]
-density = )" + std::to_string(kSolidDensity) + R"(
-[materials.glass]
-density = 2500.0
-[tank]
-size = [0.06, 0.06, 0.18]
-open_faces = ["z_max"]
-wall_material = "glass"
-[solids]
-[[solids.fills]]
-min = [0.0, 0.0, 0.01]
-max = [0.06, 0.06, 0.13]
-seed = 5
-[[solids.fills.classes]]
-diameter = 0.003
-count = )" + std::to_string(count) + R"(
-material = "bead"
-[fluid]
-spacing = 0.005
-density = 1000.0
-kinematic_viscosity = )" + std::to_string(kViscosity / kDensity) + R"(
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.06, 0.06, 0.16]
-[coupling]
-fluid_velocity = ")" + reading + R"("
-)" + extra;
+  return SceneBuilder().run({.end_time = 0.3, .dt = 2.0e-3, .solid_substeps = 8})
+             .material("bead", {.density = kSolidDensity}).material("glass", {.density = 2500.0})
+             .tank({.size = {0.06, 0.06, 0.18}, .open_faces = {"z_max"}, .wall_material = "glass"}).solids()
+             .array_table("solids.fills").set("min", {0.0, 0.0, 0.01}).set("max", {0.06, 0.06, 0.13}).set("seed", 5)
+             .array_table("solids.fills.classes").set("diameter", 0.003).set("count", count).set("material", "bead")
+             .fluid({.spacing = 0.005, .kinematic_viscosity = kViscosity / kDensity}).set("density", 1000.0)
+             .fluid_box({0.0, 0.0, 0.0}, {0.06, 0.06, 0.16}).coupling().set("fluid_velocity", reading).toml() +
+         extra;
 }
 
 struct Bulk {

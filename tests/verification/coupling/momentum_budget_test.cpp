@@ -42,6 +42,9 @@
 #include "systems/physics/mps/hydrostatic.hpp"
 #include "systems/physics/mps/mps_common.hpp"
 #include "systems/physics/mps/mps_operators.hpp"
+#include "tests/support/scene_builder.hpp"
+
+using riffle::test::SceneBuilder, riffle::test::Triple;
 
 namespace riffle {
 namespace {
@@ -223,55 +226,37 @@ void book_all(std::vector<std::unique_ptr<System>>& systems, Ledger& ledger, boo
 std::string grain_through_water(bool periodic, double dt, double spacing, const std::string& fluid_keys = "",
                                 const std::string& tables = "", bool periodic_cube = false, bool colliding = false,
                                 bool sealed = false) {
-  std::string tank = periodic ? "size = [0.08, 0.08, 0.2]\nperiodic = [\"x\", \"y\"]\n" : "size = [0.2, 0.2, 0.2]\n";
-  std::string water = periodic ? "low = [0.0, 0.0, 0.06]\nhigh = [0.08, 0.08, 0.14]\n"
-                               : "low = [0.05, 0.05, 0.05]\nhigh = [0.15, 0.15, 0.15]\n";
-  std::string grain = periodic ? "[0.06, 0.07, 0.1]" : "[0.07, 0.08, 0.1]";
-  if (colliding) {  // the slab's two halves thrown at each other along x (they meet in the middle and at the seam)
-    water = "low = [0.0, 0.0, 0.06]\nhigh = [0.04, 0.08, 0.14]\nvelocity = [0.5, 0.0, 0.0]\n\n[[fluid.boxes]]\n"
-            "low = [0.04, 0.0, 0.06]\nhigh = [0.08, 0.08, 0.14]\nvelocity = [-0.5, 0.0, 0.0]\n";
-  }
+  struct Water {
+    Triple low{}, high{};
+    SceneBuilder::OptTriple velocity{};
+  };
+  SceneBuilder::Tank tank = periodic ? SceneBuilder::Tank{.size = {0.08, 0.08, 0.2}, .periodic = {"x", "y"}}
+                                     : SceneBuilder::Tank{.size = {0.2, 0.2, 0.2}};
+  std::vector<Water> water = {periodic ? Water{{0.0, 0.0, 0.06}, {0.08, 0.08, 0.14}}
+                                       : Water{{0.05, 0.05, 0.05}, {0.15, 0.15, 0.15}}};
+  Triple grain = periodic ? Triple{0.06, 0.07, 0.1} : Triple{0.07, 0.08, 0.1};
+  if (colliding)  // the slab's two halves thrown at each other along x (they meet in the middle and at the seam)
+    water = {{{0.0, 0.0, 0.06}, {0.04, 0.08, 0.14}, {0.5, 0.0, 0.0}},
+             {{0.04, 0.0, 0.06}, {0.08, 0.08, 0.14}, {-0.5, 0.0, 0.0}}};
   if (sealed) {  // a box periodic along x and y full of water between its floor and its lid: no free surface
-    tank = "size = [0.08, 0.08, 0.08]\nperiodic = [\"x\", \"y\"]\n";
-    water = "low = [0.0, 0.0, 0.0]\nhigh = [0.08, 0.08, 0.08]\n";
-    grain = "[0.06, 0.07, 0.04]";
+    tank = {.size = {0.08, 0.08, 0.08}, .periodic = {"x", "y"}};
+    water = {{{0.0, 0.0, 0.0}, {0.08, 0.08, 0.08}}};
+    grain = {0.06, 0.07, 0.04};
   }
   if (periodic_cube) {  // the closed case's block and grain in a 0.2 m box periodic along x and y
-    tank = "size = [0.2, 0.2, 0.2]\nperiodic = [\"x\", \"y\"]\n";
-    water = "low = [0.05, 0.05, 0.05]\nhigh = [0.15, 0.15, 0.15]\n";
-    grain = "[0.07, 0.08, 0.1]";
+    tank = {.size = {0.2, 0.2, 0.2}, .periodic = {"x", "y"}};
+    water = {{{0.05, 0.05, 0.05}, {0.15, 0.15, 0.15}}};
+    grain = {0.07, 0.08, 0.1};
   }
-  char numbers[160];
-  std::snprintf(numbers, sizeof numbers, "dt = %.17g\n", dt);
-  std::string text = R"([run]
-end_time = 10.0
-)" + std::string(numbers) + R"(gravity = [0.0, 0.0, 0.0]
-
-[materials.grain]
-density = 2650.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[tank]
-)" + tank + R"(wall_material = "grain"
-
-[contact]
-restitution = 0.5
-friction = 0.5
-
-[solids]
-[[solids.spheres]]
-position = )" + grain + R"(
-velocity = [0.3, 0.2, 0.0]
-radius = 0.0025
-material = "grain"
-
-[fluid]
-)";
-  std::snprintf(numbers, sizeof numbers, "spacing = %.17g\n", spacing);
-  text += std::string(numbers) + fluid_keys + "\n[[fluid.boxes]]\n" + water + "\n[coupling]\npressure_gradient = false\n" +
-          tables;
-  return text;
+  tank.wall_material = "grain";
+  SceneBuilder scene;
+  scene.run({.end_time = 10.0, .dt = dt, .gravity = {0.0, 0.0, 0.0}})
+      .material("grain", {.density = 2650.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .tank(tank).contact({.restitution = 0.5, .friction = 0.5})
+      .sphere({.position = grain, .radius = 0.0025, .material = "grain", .velocity = {0.3, 0.2, 0.0}})
+      .fluid({.spacing = spacing}).verbatim(fluid_keys);
+  for (const Water& box : water) scene.fluid_box(box.low, box.high, box.velocity);
+  return scene.coupling().set("pressure_gradient", false).verbatim(tables).toml();
 }
 
 struct Budget {
@@ -410,25 +395,10 @@ namespace {
 /// (C_i + C_j)/2 (p_i + p_j) (a wall partner's C is I); the last two conserve momentum pair by pair.
 void print_still_water_form_errors(int steps) {
   tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
-  const Model model = parse_scene(R"([run]
-end_time = 10.0
-dt = 1.0e-3
-
-[materials.glass]
-density = 2500.0
-
-[tank]
-size = [0.1, 0.1, 0.15]
-open_faces = ["z_max"]
-wall_material = "glass"
-
-[fluid]
-spacing = 0.01
-
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.1, 0.1]
-)",
+  const Model model = parse_scene(SceneBuilder().run({.end_time = 10.0, .dt = 1.0e-3})
+      .material("glass", {.density = 2500.0})
+      .tank({.size = {0.1, 0.1, 0.15}, .open_faces = {"z_max"}, .wall_material = "glass"}).fluid({.spacing = 0.01})
+      .fluid_box({0.0, 0.0, 0.0}, {0.1, 0.1, 0.1}).toml(),
                                   "still.toml");
   World world = initial_world(model);
   Stepper stepper(build_pipeline(model), world, model);

@@ -13,8 +13,10 @@
 #include "systems/physics/coupling/added_mass.hpp"
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -24,46 +26,16 @@ constexpr double kEnd = kRamp + 3.0 / kFrequency;  // the ramp, then three perio
 /// Without gravity, so that the heavy grain stays at mid-depth and only the shaking moves it; in a closed tank full of
 /// water, which then moves with the tank (in an open one, water without gravity leaves over the top).
 std::string shaken_scene(bool history) {
-  return R"(
-[run]
-end_time = 3.0
-dt = 1.0e-3
-solid_substeps = 4
-gravity = [0.0, 0.0, 0.0]
-[materials.heavy]
-density = 2500.0
-[materials.neutral]
-density = 1000.0
-[tank]
-size = [0.14, 0.14, 0.1]
-open_faces = []
-wall_material = "heavy"
-[tank.motion]
-kind = "sinusoidal"
-direction = [1.0, 0.0, 0.0]
-amplitude = 0.01
-frequency = 1.7
-ramp_time = 0.588235294117647
-[solids]
-[[solids.spheres]]
-position = [0.07, 0.035, 0.045]
-radius = 0.005
-material = "heavy"
-[[solids.spheres]]
-position = [0.07, 0.105, 0.045]
-radius = 0.005
-material = "neutral"
-[fluid]
-spacing = 0.01
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.14, 0.14, 0.1]
-[coupling]
-voidage_radius = 0.04
-added_mass = true
-history_force = )" + std::string(history ? "true" : "false") + R"(
-history_window = 0.1
-)";
+  return SceneBuilder().run({.end_time = 3.0, .dt = 1.0e-3, .solid_substeps = 4, .gravity = {0.0, 0.0, 0.0}})
+      .material("heavy", {.density = 2500.0}).material("neutral", {.density = 1000.0})
+      .tank({.size = {0.14, 0.14, 0.1}, .wall_material = "heavy"}).set("open_faces", std::vector<std::string>{})
+      .tank_motion({.amplitude = kAmplitude, .frequency = kFrequency, .ramp_time = 0.588235294117647,
+                    .direction = {1.0, 0.0, 0.0}})
+      .sphere({.position = {0.07, 0.035, 0.045}, .radius = 0.005, .material = "heavy"})
+      .sphere({.position = {0.07, 0.105, 0.045}, .radius = 0.005, .material = "neutral"})
+      .fluid({.spacing = 0.01}).fluid_box({0.0, 0.0, 0.0}, {0.14, 0.14, 0.1})
+      .coupling().set("voidage_radius", 0.04).set("added_mass", true).set("history_force", history)
+      .set("history_window", 0.1).toml();
 }
 
 /// Amplitude and phase of the fundamental of x(t) over whole periods (least squares on 1, t, cos, sin).
@@ -197,7 +169,7 @@ TEST_CASE("a heavy and a neutral grain in a shaken tank move against the water a
     // pressure gradient, with the drag's share of the force). The phase (near pi, the grain lags the water by
     // the drag's arctan(k / (omega (m + m_a)))): 0.05 rad, a quarter of k's share, since the drag law changes
     // by 20 % over the voidage's 1 % (Wen & Yu's eps^-2.65 at 0.93 against 1) and the grain samples a water its
-    // own drag has set moving (docs/COUPLING.md, issue 21).
+    // own drag has set moving (docs/COUPLING.md, "The voidage at a grain").
     CHECK(run.heavy.amplitude == doctest::Approx(expected.amplitude).epsilon(0.04));
     CHECK(std::abs(phase_error) < 0.05);
     // Without added mass (or, where it is on, without the history force) the equation gives a relative amplitude

@@ -23,6 +23,9 @@
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/coupling/fluid_drag_reaction.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
+
+using riffle::test::SceneBuilder;
 
 namespace riffle {
 namespace {
@@ -30,43 +33,15 @@ namespace {
 /// A 5 mm grain (2650 kg/m^3) settling from (x, y, 0.12) in still water 0.16 m deep, l0 = 1 cm, in a tank of
 /// 0.08 x 0.08 m periodic along x and y (sampling radius r + r_e = 0.029 m < half the period).
 std::string settling_scene(double x, double y, const std::string& extra = "") {
-  return R"([run]
-end_time = 1.0
-dt = 1.0e-3
-
-[materials.grain]
-density = 2650.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[materials.glass]
-density = 2500.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[tank]
-size = [0.08, 0.08, 0.2]
-open_faces = ["z_max"]
-wall_material = "glass"
-periodic = ["x", "y"]
-
-[contact]
-restitution = 0.5
-friction = 0.5
-
-[solids]
-[[solids.spheres]]
-position = [)" + std::to_string(x) + ", " + std::to_string(y) + R"(, 0.12]
-radius = 0.005
-material = "grain"
-
-[fluid]
-spacing = 0.01
-
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.08, 0.08, 0.16]
-)" + extra;
+  return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3})
+             .material("grain", {.density = 2650.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+             .material("glass", {.density = 2500.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+             .tank({.size = {0.08, 0.08, 0.2}, .open_faces = {"z_max"}, .periodic = {"x", "y"},
+                    .wall_material = "glass"})
+             .contact({.restitution = 0.5, .friction = 0.5})
+             .sphere({.position = {x, y, 0.12}, .radius = 0.005, .material = "grain"})
+             .fluid({.spacing = 0.01}).fluid_box({0.0, 0.0, 0.0}, {0.08, 0.08, 0.16}).toml() +
+         extra;
 }
 
 struct GrainRecord {
@@ -147,8 +122,7 @@ TEST_CASE("a grain settling across the seam and corner matches the grain half a 
 TEST_CASE("the water receives exactly minus the drag impulse of grains on the seam and corner, on both sides") {
   const auto make_world = [](const std::vector<Vec3>& centres, const std::vector<double>& voidages) {
     World world;
-    world.fluid.emplace();
-    append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(0.1, 0.1, 0.1), 0.01));
+    test::fill_with_water(world, Vec3(0.1, 0.1, 0.1), 0.01);
     world.solids.emplace();
     for (std::size_t k = 0; k < centres.size(); ++k) {
       const std::size_t slot = world.solids->add(centres[k], Vec3::Zero(), 0.0025, 1318.0, 0, 0);
@@ -158,10 +132,7 @@ TEST_CASE("the water receives exactly minus the drag impulse of grains on the se
     return world;
   };
   const auto make_model = [](bool kernel) {
-    Model model = test::small_model();
-    model.fluid.enabled = true;
-    model.fluid.spacing = 0.01;
-    model.coupling.enabled = true;
+    Model model = test::small_coupled_model(0.01);
     model.coupling.self_induced_velocity = kernel;
     model.tank.origin = Vec3::Zero();
     model.tank.size = Vec3(0.1, 0.1, 0.1);

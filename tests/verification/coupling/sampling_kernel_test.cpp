@@ -45,18 +45,14 @@ struct Sampled {
 /// gradient g0 + G x; one grain of radius 2.5 mm at `centre` sampled once (added mass on: the acceleration too).
 Sampled sample(const Vec3& centre, double vertical, bool periodic, const Vec3& a, const Eigen::Matrix3d& b,
                const Vec3& g0, const Eigen::Matrix3d& g) {
-  Model model = test::small_model();
-  model.fluid.enabled = true;
-  model.fluid.spacing = kSpacing;
-  model.coupling.enabled = true;
+  Model model = test::small_coupled_model(kSpacing);
   model.coupling.added_mass = true;
   model.coupling.sampling_vertical_radius = vertical;
   model.tank.origin = Vec3::Zero();
   model.tank.size = Vec3(kBox, kBox, kBox);
   if (periodic) model.tank.periodic = {true, true, false};
   World world;
-  world.fluid.emplace();
-  append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(kBox, kBox, kBox), kSpacing));
+  test::fill_with_water(world, Vec3(kBox, kBox, kBox), kSpacing);
   FluidParticles& water = *world.fluid;
   for (std::size_t j = 0; j < water.size(); ++j) {
     water.velocity[j] = a + b * water.position[j];

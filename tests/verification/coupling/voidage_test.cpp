@@ -1,7 +1,7 @@
-// The voidage at a grain (docs/COUPLING.md, "The voidage at a grain"; issue 21): the solid_voidage system run on a
+// The voidage at a grain (docs/COUPLING.md, "The voidage at a grain"): the solid_voidage system run on a
 // World of water particles and grains. A lone grain reads 1 wherever it is (bulk, against a wall, carried across
 // the grid), a random packing reads its solid fraction away from its edges, a simple cubic packing 1 - pi/6, and the
-// reading converges as the water's spacing l0 shrinks. The tolerances are the issue's (0.5 %, 0.2 %, 2 %); the
+// reading converges as the water's spacing l0 shrinks. The tolerances are the requirement's (0.5 %, 0.2 %, 2 %); the
 // references are geometry (the grains' true solid fraction), never riffle's output.
 #include <doctest/doctest.h>
 
@@ -24,13 +24,10 @@ constexpr double kPi = 3.14159265358979323846;
 
 /// A model with water of spacing `l0` in a closed box tank [0, size]^3 at rest, coupled.
 Model box_model(double l0, double size, bool self_corrected = true) {
-  Model model = test::small_model();
+  Model model = test::small_coupled_model(l0);
   model.tank.origin = Vec3::Zero();
   model.tank.size = Vec3::Constant(size);
   model.tank.motion.kind = TankMotionModel::Kind::kNone;
-  model.fluid.enabled = true;
-  model.fluid.spacing = l0;
-  model.coupling.enabled = true;
   model.coupling.self_corrected_voidage = self_corrected;
   return model;
 }
@@ -38,8 +35,7 @@ Model box_model(double l0, double size, bool self_corrected = true) {
 /// The tank filled with water particles (the quadrature of space the voidage uses), and the grains given.
 World box_world(const Model& model, const std::vector<Vec3>& centres, double radius) {
   World world;
-  world.fluid.emplace();
-  append_layout(*world.fluid, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), model.tank.size, model.fluid.spacing));
+  test::fill_with_water(world, model.tank.size, model.fluid.spacing);
   world.solids.emplace();
   for (const Vec3& centre : centres) world.solids->add(centre, Vec3::Zero(), radius, 2500.0, 0, 0);
   return world;
@@ -231,6 +227,18 @@ TEST_CASE("voidage: a random packing reads its solid fraction away from its edge
   }
 }
 
+namespace {
+/// The voidages the first `count` grains read, of those whose centres lie above `low` and below `high` on every axis.
+std::vector<double> interior_voidages(const World& world, std::size_t count, double low, double high) {
+  std::vector<double> interior;
+  for (std::size_t g = 0; g < count; ++g) {
+    const Vec3& p = world.solids->position[g];
+    if (p.minCoeff() > low && p.maxCoeff() < high) interior.push_back(world.solids->voidage[g]);
+  }
+  return interior;
+}
+}  // namespace
+
 TEST_CASE("voidage: the reading of a random packing converges as the water's spacing shrinks") {
   // The same packing (solid fraction 0.15, 10 mm grains) in water of l0 = 10, 5 and 2.5 mm. R_eps = max(3 l0, 2 d)
   // is 30, 20 and 20 mm: from 5 mm on, only the water's quadrature of space changes, and its error must shrink.
@@ -246,11 +254,8 @@ TEST_CASE("voidage: the reading of a random packing converges as the water's spa
     SolidVoidage voidage(model);
     World world = box_world(model, centres, radius);
     run_voidage(voidage, world, model);
-    std::vector<double> interior;
-    for (std::size_t g = 0; g < centres.size(); ++g) {
-      const Vec3& p = world.solids->position[g];
-      if (p.minCoeff() > wall + margin && p.maxCoeff() < size - wall - margin) interior.push_back(1.0 - world.solids->voidage[g]);
-    }
+    std::vector<double> interior = interior_voidages(world, centres.size(), wall + margin, size - wall - margin);
+    for (double& reading : interior) reading = 1.0 - reading;  // the solid fraction
     errors.push_back(std::abs(spread_of(interior).mean - truth));
     readings.push_back(interior);
   }
@@ -285,11 +290,7 @@ TEST_CASE("voidage: a submerged simple cubic packing reads 1 - pi/6 with the sys
       SolidVoidage voidage(model);
       World world = box_world(model, centres, radius);
       run_voidage(voidage, world, model);
-      std::vector<double> interior;
-      for (std::size_t g = 0; g < centres.size(); ++g) {
-        const Vec3& p = world.solids->position[g];
-        if (p.minCoeff() > 0.03 && p.maxCoeff() < size - 0.03) interior.push_back(world.solids->voidage[g]);
-      }
+      const std::vector<double> interior = interior_voidages(world, centres.size(), 0.03, size - 0.03);
       const Spread s = spread_of(interior);
       MESSAGE(std::string(self_corrected ? "self-corrected" : "cloud-in-cell (main)") << ", R_eps = "
               << (voidage_radius > 0.0 ? voidage_radius * 1e3 : 20.0) << " mm: simple cubic packing, voidage " << s.low
@@ -340,7 +341,7 @@ double slab_fraction(const std::vector<Vec3>& centres, double radius, double are
 }  // namespace
 
 TEST_CASE("voidage: a thin bed under coarse water reads its solid fraction with the tank's volume") {
-  // Seed 003's large bed in riffle's scene (docs/RESULTS.md, issue 24 item 5): 2 mm grains in a bed 4 d deep under
+  // Seed 003's large bed in riffle's scene (docs/RESULTS.md): 2 mm grains in a bed 4 d deep under
   // water of l0 = 2.5 mm, periodic along x and y. The default kernel (R_eps = max(3 l0, 2 d) = 7.5 mm, the fluid
   // particles' volume) is wider than the bed: its grains read the water above and the floor. With the grains' volume
   // over the tank's (voidage_volume = "tank", exact, so the cells may be finer than l0) and R_eps = d across the bed,

@@ -6,42 +6,23 @@
 
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
 /// A small closed tank with contacts; `solids` and `extra` are appended verbatim.
 std::string dem_scene(const std::string& solids, double end_time = 0.3, const std::string& motion = "",
                       const std::string& contact = "restitution = 0.5\nfriction = 0.4\n") {
-  return R"(
-[run]
-end_time = )" + std::to_string(end_time) + R"(
-dt = 1.0e-3
-
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[materials.heavy]
-density = 7800.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[materials.glass]
-density = 2500.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[contact]
-)" + contact + R"(
-[tank]
-size = [0.04, 0.04, 0.08]
-wall_material = "glass"
-)" + motion + R"(
-[solids]
-)" + solids;
+  return SceneBuilder(SceneBuilder::kSpaced).run({.end_time = end_time, .dt = 1.0e-3})
+             .material("grain", {.density = 1318.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+             .material("heavy", {.density = 7800.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+             .material("glass", {.density = 2500.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+             .table("contact").verbatim(contact).tank({.size = {0.04, 0.04, 0.08}, .wall_material = "glass"})
+             .verbatim(motion).solids().toml() +
+         solids;
 }
 
 double total_weight(const Solids& solids, const Vec3& gravity) {
@@ -70,15 +51,10 @@ double largest_dimensionless_overlap(const Solids& solids, const Contacts& conta
   return largest;
 }
 
-const char* kLooseBlock = R"(
-[[solids.blocks]]
-min = [0.004, 0.004, 0.004]
-max = [0.036, 0.036, 0.03]
-spacing = 0.0065
-radius = 0.0025
-material = "grain"
-velocity = [0.05, -0.03, 0.0]
-)";
+const std::string kLooseBlock = SceneBuilder().within("solids")
+    .block({.min = {0.004, 0.004, 0.004}, .max = {0.036, 0.036, 0.03}, .spacing = 0.0065, .radius = 0.0025,
+            .material = "grain", .velocity = {0.05, -0.03, 0.0}})
+    .toml();
 
 }  // namespace
 
@@ -116,13 +92,9 @@ TEST_CASE("a settled bed: the walls carry the whole weight and the grains come t
 }
 
 TEST_CASE("hard case: a high-speed impact at 10 times the design speed neither explodes nor tunnels") {
-  const std::string solids = R"(
-[[solids.spheres]]
-position = [0.02, 0.02, 0.02]
-velocity = [0.0, 0.0, -10.0]
-radius = 0.0025
-material = "grain"
-)";
+  const std::string solids = SceneBuilder().within("solids")
+      .sphere({.position = {0.02, 0.02, 0.02}, .radius = 0.0025, .material = "grain", .velocity = {0.0, 0.0, -10.0}})
+      .toml();
   auto simulation = Simulation::from_model(parse_scene(dem_scene(solids, 0.02), "impact.toml"));
   // It reaches the floor after 1.75 ms; the Hertz contact at 10 m/s lasts about 0.1 ms.
   run_steps(*simulation, 3);
@@ -135,20 +107,11 @@ material = "grain"
 }
 
 TEST_CASE("hard case: a heavy sphere dropped on a dense packing") {
-  std::string solids = R"(
-[[solids.blocks]]
-min = [0.0026, 0.0026, 0.0026]
-max = [0.0374, 0.0374, 0.018]
-spacing = 0.0051
-radius = 0.0025
-material = "grain"
-
-[[solids.spheres]]
-position = [0.02, 0.02, 0.05]
-velocity = [0.0, 0.0, -1.0]
-radius = 0.0075
-material = "heavy"
-)";
+  std::string solids = SceneBuilder(SceneBuilder::kSpaced).within("solids")
+      .block({.min = {0.0026, 0.0026, 0.0026}, .max = {0.0374, 0.0374, 0.018}, .spacing = 0.0051, .radius = 0.0025,
+              .material = "grain"})
+      .sphere({.position = {0.02, 0.02, 0.05}, .radius = 0.0075, .material = "heavy", .velocity = {0.0, 0.0, -1.0}})
+      .toml();
   auto simulation = Simulation::from_model(parse_scene(dem_scene(solids, 0.2), "heavy.toml"));
   const std::size_t grains = simulation->world().solids->size();
   run_steps(*simulation, 200);
@@ -193,19 +156,10 @@ TEST_CASE("hard case: grains wedged in the corners of a violently shaken tank st
 }
 
 TEST_CASE("hard case: a large sphere on a layer of small ones neither tunnels nor is thrown out") {
-  const std::string solids = R"(
-[[solids.blocks]]
-min = [0.0026, 0.0026, 0.0026]
-max = [0.0374, 0.0374, 0.0026]
-spacing = 0.0051
-radius = 0.0025
-material = "grain"
-
-[[solids.spheres]]
-position = [0.02, 0.02, 0.0135]
-radius = 0.0075
-material = "grain"
-)";
+  const std::string solids = SceneBuilder(SceneBuilder::kSpaced).within("solids")
+      .block({.min = {0.0026, 0.0026, 0.0026}, .max = {0.0374, 0.0374, 0.0026}, .spacing = 0.0051, .radius = 0.0025,
+              .material = "grain"})
+      .sphere({.position = {0.02, 0.02, 0.0135}, .radius = 0.0075, .material = "grain"}).toml();
   const std::string contact = "restitution = 0.5\nfriction = 0.4\nrolling_friction = 0.02\n";
   auto simulation = Simulation::from_model(parse_scene(dem_scene(solids, 0.3, "", contact), "large_on_small.toml"));
   const EntityId large = 0;  // explicit spheres get the first ids (slots may already be reordered by cell)

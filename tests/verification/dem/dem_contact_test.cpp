@@ -35,8 +35,10 @@
 #include "engine/run/simulation.hpp"
 #include "systems/physics/dem/contact_law.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
@@ -78,7 +80,7 @@ struct SceneSpec {
   long substeps = 1;               ///< 0: leave run.solid_substeps out (the reader chooses)
   Vec3 gravity = Vec3::Zero();
   Vec3 tank = Vec3::Constant(0.02);
-  std::vector<Body> bodies;  ///< ids 0, 1, ... in this order
+  std::vector<Body> bodies{};  ///< ids 0, 1, ... in this order
 };
 
 std::string format(const Vec3& v) {
@@ -308,11 +310,7 @@ TEST_CASE("an oblique impact in gross sliding: dv_t = -mu (1 + e) v_n and dw = (
   // restitution error bound of the top of the file.
   const double v_n = 0.2, v_t = 1.0, friction = 0.3, restitution = 0.5, N = 200.0;
   for (const std::string law : {"hertz_mindlin", "linear_spring_dashpot"}) {
-    SceneSpec spec;
-    spec.law = law;
-    spec.restitution = restitution;
-    spec.friction = friction;
-    spec.tank = Vec3(0.05, 0.02, 0.02);
+    SceneSpec spec{.law = law, .restitution = restitution, .friction = friction, .tank = Vec3(0.05, 0.02, 0.02)};
     const CollisionScales scales = collision_scales(law, kRadius, kMass, v_n, restitution, spec.collision_time);
     spec.dt = scales.duration / N;
     const double gap = 3.5 * v_n * spec.dt;
@@ -347,11 +345,7 @@ TEST_CASE("two spinning spheres in gross sliding: friction impulse mu P_n, equal
   // the pair forces are opposite: dw_first = dw_second and total momentum are exact to rounding.
   const double v_n = 0.2, spin = 200.0, friction = 0.3, restitution = 0.5, N = 200.0;
   for (const std::string law : {"hertz_mindlin", "linear_spring_dashpot"}) {
-    SceneSpec spec;
-    spec.law = law;
-    spec.restitution = restitution;
-    spec.friction = friction;
-    spec.tank = Vec3::Constant(0.03);
+    SceneSpec spec{.law = law, .restitution = restitution, .friction = friction, .tank = Vec3::Constant(0.03)};
     const CollisionScales scales = collision_scales(law, 0.5 * kRadius, 0.5 * kMass, v_n, restitution, spec.collision_time);
     spec.dt = scales.duration / N;
     const double gap = 3.7 * v_n * spec.dt;
@@ -584,41 +578,15 @@ TEST_CASE("an elastic frictionless gas of grains in a closed box keeps its energ
 namespace {
 /// A scene of two grain sizes of "grain" in a tank of "glass", for the sub-step estimates.
 std::string substep_scene(const std::string& law, const std::string& substeps_line) {
-  return R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-)" + substeps_line + R"(
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[materials.glass]
-density = 2500.0
-young_modulus = 1.0e10
-poisson_ratio = 0.25
-
-[tank]
-size = [0.05, 0.05, 0.05]
-wall_material = "glass"
-
-[contact]
-law = ")" + law + R"("
-restitution = 0.5
-friction = 0.4
-)" + (law == "linear_spring_dashpot" ? "collision_time = 1.0e-3\n" : "") + R"(
-[solids]
-[[solids.spheres]]
-position = [0.01, 0.01, 0.01]
-radius = 0.0025
-material = "grain"
-
-[[solids.spheres]]
-position = [0.03, 0.03, 0.03]
-radius = 0.005
-material = "grain"
-)";
+  SceneBuilder scene;
+  scene.run({.end_time = 1.0, .dt = 1.0e-3}).verbatim(substeps_line)
+      .material("grain", {.density = 1318.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .material("glass", {.density = 2500.0, .young_modulus = 1.0e10, .poisson_ratio = 0.25})
+      .tank({.size = {0.05, 0.05, 0.05}, .wall_material = "glass"})
+      .contact({.law = law, .restitution = 0.5, .friction = 0.4});
+  if (law == "linear_spring_dashpot") scene.set("collision_time", 1.0e-3);
+  return scene.sphere({.position = {0.01, 0.01, 0.01}, .radius = 0.0025, .material = "grain"})
+      .sphere({.position = {0.03, 0.03, 0.03}, .radius = 0.005, .material = "grain"}).toml();
 }
 }  // namespace
 
@@ -672,9 +640,9 @@ TEST_CASE("the DEM sub-step is chosen within the stability estimates, and a scen
 }
 
 TEST_CASE("at the sub-step riffle chooses, impacts rebound within restitution_tolerance, down to e = 0") {
-  // Issue 19: with the linear law and e = 0.01, a sphere hitting a wall at 3.9 m/s left at 7.63 m/s at the chosen
-  // sub-step (the damping term beyond its explicit stability limit) and Hertz gave 0.0051 for 0.01; e = 0 was
-  // refused. The sub-step must now meet the requested restitution within contact.restitution_tolerance (0.02, the
+  // A sub-step chosen from the stiffness alone can break restitution: with the linear law and e = 0.01, a sphere
+  // hitting a wall at 3.9 m/s would leave at 7.63 m/s (the damping term beyond its explicit stability limit), and
+  // Hertz would give 0.0051 for 0.01. The sub-step must meet the requested restitution within contact.restitution_tolerance (0.02, the
   // user's requirement) for a head-on impact at max_impact_speed, whatever the law and e; and the estimate
   // (discrete_restitution) must be what the DEM actually does.
   const double speed = 3.9;
@@ -708,8 +676,8 @@ TEST_CASE("at the sub-step riffle chooses, impacts rebound within restitution_to
 }
 
 TEST_CASE("absurd materials give a bounded sub-step count or a clear refusal, never an overflowed one") {
-  // Issue 19: E = 1e308 or dt >= 1e300 gave -9.2e18 sub-steps (an unchecked cast; grains froze, exit 0) and
-  // E = 5e-324 gave 0.
+  // E = 1e308 or dt >= 1e300 ask for more sub-steps than an integer holds (an unchecked cast would give -9.2e18:
+  // grains frozen, exit 0), and E = 5e-324 for none.
   auto substeps_or_message = [](const SceneSpec& spec) -> std::pair<std::int64_t, std::string> {
     try {
       return {parse_scene(scene_text(spec), "absurd.toml").solid_substeps, ""};

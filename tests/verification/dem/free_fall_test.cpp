@@ -12,8 +12,10 @@
 #include "engine/run/simulation.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 TEST_CASE("free flight follows the parabola to rounding error, whatever the sub-step count") {
   for (int substeps : {1, 4, 10}) {
@@ -59,13 +61,9 @@ TEST_CASE("free flight conserves kinetic plus potential energy and leaves spin u
 }
 
 TEST_CASE("a grain that leaves the domain stops the run with a diagnosis naming it") {
-  const std::string scene = test::small_scene_text(R"(
-[[solids.spheres]]
-position = [0.2, 0.08, 0.1]
-velocity = [5.0, 0.0, 0.0]
-radius = 0.005
-material = "grain"
-)");
+  const std::string scene = test::small_scene_text(SceneBuilder().within("solids")
+      .sphere({.position = {0.2, 0.08, 0.1}, .radius = 0.005, .material = "grain", .velocity = {5.0, 0.0, 0.0}})
+      .toml());
   auto simulation = Simulation::from_model(parse_scene(scene, "escape.toml"));
   const EntityId runaway = simulation->world().solids->id[0];  // explicit spheres come first
   int steps = 0;
@@ -96,29 +94,13 @@ namespace {
 /// Two grains in a still tank, held until `hold_until` ([solids] hold_until), with an upward initial velocity that
 /// the hold must wipe: dt = 1 ms, 4 sub-steps of 0.25 ms.
 std::string held_grains_scene(const std::string& hold) {
-  return R"(
-[run]
-end_time = 0.05
-dt = 1.0e-3
-solid_substeps = 4
-[materials.grain]
-density = 1318.0
-[tank]
-size = [0.24, 0.16, 0.20]
-wall_material = "grain"
-[solids]
-)" + hold + R"(
-[[solids.spheres]]
-position = [0.1, 0.08, 0.15]
-velocity = [0.0, 0.0, 0.5]
-radius = 0.0025
-material = "grain"
-[[solids.spheres]]
-position = [0.15, 0.08, 0.12]
-angular_velocity = [0.0, 3.0, 0.0]
-radius = 0.003
-material = "grain"
-)";
+  return SceneBuilder().run({.end_time = 0.05, .dt = 1.0e-3, .solid_substeps = 4})
+      .material("grain", {.density = 1318.0}).tank({.size = {0.24, 0.16, 0.20}, .wall_material = "grain"})
+      .solids().verbatim(hold + "\n")
+      .sphere({.position = {0.1, 0.08, 0.15}, .radius = 0.0025, .material = "grain", .velocity = {0.0, 0.0, 0.5}})
+      .sphere({.position = {0.15, 0.08, 0.12}, .radius = 0.003, .material = "grain",
+               .angular_velocity = {0.0, 3.0, 0.0}})
+      .toml();
 }
 }  // namespace
 
@@ -177,39 +159,14 @@ namespace {
 /// key in mid-air. Hertz-Mindlin grains of E = 1e7 Pa, nu = 0.3, 2650 kg/m^3, radius 2.5 mm; `motion` is appended
 /// to [tank].
 std::string rough_floor_scene(const std::string& motion) {
-  return R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-[materials.grain]
-density = 2650.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-[tank]
-size = [0.05, 0.05, 0.05]
-wall_material = "grain"
-)" + motion + R"(
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.4
-[solids]
-fixed_below = 0.004
-[[solids.spheres]]
-position = [0.025, 0.025, 0.0026]
-radius = 0.0025
-material = "grain"
-[[solids.spheres]]
-position = [0.025, 0.025, 0.0077]
-radius = 0.0025
-material = "grain"
-[[solids.spheres]]
-position = [0.01, 0.01, 0.03]
-velocity = [0.0, 0.0, 0.5]
-radius = 0.0025
-material = "grain"
-fixed = true
-)";
+  return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3})
+      .material("grain", {.density = 2650.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .tank({.size = {0.05, 0.05, 0.05}, .wall_material = "grain"}).verbatim(motion + "\n")
+      .contact({.law = "hertz_mindlin", .restitution = 0.5, .friction = 0.4}).solids().set("fixed_below", 0.004)
+      .sphere({.position = {0.025, 0.025, 0.0026}, .radius = 0.0025, .material = "grain"})
+      .sphere({.position = {0.025, 0.025, 0.0077}, .radius = 0.0025, .material = "grain"})
+      .sphere({.position = {0.01, 0.01, 0.03}, .radius = 0.0025, .material = "grain", .velocity = {0.0, 0.0, 0.5}})
+      .set("fixed", true).toml();
 }
 }  // namespace
 
@@ -242,12 +199,8 @@ TEST_CASE("fixed grains (a rough floor) hold still, carry a resting grain's weig
   CHECK(grains.contact_force[2] == Vec3::Zero());  // the one in mid-air touches nothing
 
   // Shaken (the seed's motion, ramped over 0.2 s): the fixed grains keep their place in the tank exactly.
-  const std::string shaken_text = rough_floor_scene(R"([tank.motion]
-kind = "sinusoidal"
-amplitude = 0.01
-frequency = 1.7
-ramp_time = 0.2
-)");
+  const std::string shaken_text = rough_floor_scene(SceneBuilder()
+      .tank_motion({.amplitude = 0.01, .frequency = 1.7, .ramp_time = 0.2}).toml());
   const Model shaken_model = parse_scene(shaken_text, "shaken_floor.toml");
   auto shaken = Simulation::from_model(shaken_model);
   const Solids& riding = *shaken->world().solids;

@@ -17,6 +17,9 @@
 #include "engine/run/simulation.hpp"
 #include "engine/scene/scene.hpp"
 #include "tests/support/fluid_support.hpp"
+#include "tests/support/scene_builder.hpp"
+
+using riffle::test::SceneBuilder;
 
 namespace riffle {
 namespace {
@@ -113,70 +116,19 @@ TEST_CASE("a body force along x on water at rest in a closed box gives the hydro
 // 22 % at r_e, 9 % at the kernel-weighted mean d_i of about l0 (h = 8 l0). First order in l0: halving l0 halves it
 // (tools/riffle-tools driven-flow-study closed_lid, docs/FLUID.md).
 TEST_CASE("a lid over a layer in a long closed box: the Couette flow with return flow, and traction 4 mu U / h") {
-  const std::string text = R"(
-[run]
-name = "lid"
-end_time = 1.6
-dt = 5.0e-3
-gravity = [0.0, 0.0, 0.0]
-
-[materials.glass]
-density = 2500.0
-
-[tank]
-size = [0.54, 0.10, 0.14]
-wall_material = "glass"
-
-[fluid]
-spacing = 0.01
-kinematic_viscosity = 2.0e-3
-clamp_negative_pressure = false
-
-[[fluid.boxes]]
-low = [0.03, 0.03, 0.03]
-high = [0.51, 0.07, 0.11]
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.03]
-high = [0.54, 0.03, 0.11]
-lid = "free_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.07, 0.03]
-high = [0.54, 0.10, 0.11]
-lid = "free_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.03, 0.03]
-high = [0.03, 0.07, 0.11]
-
-[[fluid.wall_boxes]]
-low = [0.51, 0.03, 0.03]
-high = [0.54, 0.07, 0.11]
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.54, 0.10, 0.03]
-lid = "no_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.11]
-high = [0.19, 0.10, 0.14]
-lid = "no_slip"
-velocity = 0.025
-
-[[fluid.wall_boxes]]
-low = [0.19, 0.0, 0.11]
-high = [0.35, 0.10, 0.14]
-lid = "no_slip"
-velocity = 0.025
-
-[[fluid.wall_boxes]]
-low = [0.35, 0.0, 0.11]
-high = [0.54, 0.10, 0.14]
-lid = "no_slip"
-velocity = 0.025
-)";
+  const std::string text = SceneBuilder(SceneBuilder::kSpaced)
+      .run({.name = "lid", .end_time = 1.6, .dt = 5.0e-3, .gravity = {0.0, 0.0, 0.0}})
+      .material("glass", {.density = 2500.0}).tank({.size = {0.54, 0.10, 0.14}, .wall_material = "glass"})
+      .fluid({.spacing = 0.01, .kinematic_viscosity = 2.0e-3, .clamp_negative_pressure = false})
+      .fluid_box({0.03, 0.03, 0.03}, {0.51, 0.07, 0.11})
+      .wall_box({.low = {0.0, 0.0, 0.03}, .high = {0.54, 0.03, 0.11}, .lid = "free_slip"})
+      .wall_box({.low = {0.0, 0.07, 0.03}, .high = {0.54, 0.10, 0.11}, .lid = "free_slip"})
+      .wall_box({.low = {0.0, 0.03, 0.03}, .high = {0.03, 0.07, 0.11}})
+      .wall_box({.low = {0.51, 0.03, 0.03}, .high = {0.54, 0.07, 0.11}})
+      .wall_box({.low = {0.0, 0.0, 0.0}, .high = {0.54, 0.10, 0.03}, .lid = "no_slip"})
+      .wall_box({.low = {0.0, 0.0, 0.11}, .high = {0.19, 0.10, 0.14}, .lid = "no_slip", .velocity = 0.025})
+      .wall_box({.low = {0.19, 0.0, 0.11}, .high = {0.35, 0.10, 0.14}, .lid = "no_slip", .velocity = 0.025})
+      .wall_box({.low = {0.35, 0.0, 0.11}, .high = {0.54, 0.10, 0.14}, .lid = "no_slip", .velocity = 0.025}).toml();
   // Gravity off: the layer is closed, gravity would only add a hydrostatic field.
   test::FluidRun run(parse_scene(text, "lid.toml"));
   REQUIRE(run.fluid_count() == 48 * 4 * 8);
@@ -215,36 +167,13 @@ namespace {
 /// A grain (held in place: fixed_to_tank, its forces still computed) 3 cm deep in the middle of water at rest under
 /// a body force f = 0.1 g along x in a closed box; `grains` the [fluid.body_force] key.
 std::string grain_under_body_force(const std::string& grains) {
-  return R"(
-[run]
-end_time = 1.5
-dt = 2.0e-3
-solid_substeps = 4
-[materials.grain]
-density = 1000.0
-[materials.glass]
-density = 2500.0
-[tank]
-size = [0.2, 0.04, 0.15]
-open_faces = ["z_max"]
-wall_material = "glass"
-[solids]
-fixed_to_tank = true
-[[solids.spheres]]
-position = [0.1, 0.02, 0.05]
-radius = 0.005
-material = "grain"
-[fluid]
-spacing = 0.01
-kinematic_viscosity = 5.0e-3
-[fluid.body_force]
-kind = "constant"
-acceleration = 0.981
-grains = ")" + grains + R"("
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.2, 0.04, 0.1]
-)";
+  return SceneBuilder().run({.end_time = 1.5, .dt = 2.0e-3, .solid_substeps = 4})
+      .material("grain", {.density = 1000.0}).material("glass", {.density = 2500.0})
+      .tank({.size = {0.2, 0.04, 0.15}, .open_faces = {"z_max"}, .wall_material = "glass"})
+      .solids().set("fixed_to_tank", true).sphere({.position = {0.1, 0.02, 0.05}, .radius = 0.005, .material = "grain"})
+      .fluid({.spacing = 0.01, .kinematic_viscosity = 5.0e-3})
+      .body_force("constant").set("acceleration", 0.981).set("grains", grains)
+      .fluid_box({0.0, 0.0, 0.0}, {0.2, 0.04, 0.1}).toml();
 }
 
 }  // namespace

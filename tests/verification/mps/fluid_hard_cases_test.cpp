@@ -231,7 +231,7 @@ TEST_CASE("a falling block splashes into a pool and throws droplets") {
   report("splash", o);
   // A droplet thrown out of the open top beyond the domain margin is physics (wedge-entry jets leave at up to twice
   // the impact speed, 6 m/s reaches 1.8 m): it is removed ([fluid] escape = "remove", the default) and the run
-  // goes on (before issue 22 it stopped with the left-domain diagnosis).
+  // goes on (rather than stopping with the left-domain diagnosis).
   CHECK(o.completed);
   CHECK(run.world.fluid_summary->removed_count() == o.removed_ids.size());
   // Main 492f9ef stopped this run at t = 0.152 s (step 316) with a particle 0.55 m up; now it is removed.

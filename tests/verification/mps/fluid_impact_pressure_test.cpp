@@ -3,7 +3,7 @@
 // a tank 1.61 m long, a column 0.6 m x 0.3 m, sensor 1 on the downstream wall 3 mm above the floor. The peak of the
 // first impact's impulse (its mean over 15 ms) is checked against the experiment at two Courant numbers; the peak,
 // a one-step spike of order rho u^2 / C_r in riffle's incompressible projection, is reported against the measured
-// 2.5-97.5 % scatter of 100 runs (not met: docs/RESULTS.md, "Issue 22: impact pressure").
+// 2.5-97.5 % scatter of 100 runs (not met: docs/RESULTS.md, the impact pressure).
 //
 // Sizes (CTest time): l0 = 11.5 mm (H / 26; 1.61 m = 140 l0), a slab 4 l0 thick, up to 15 ms after the front reaches the
 // wall (t ~ 0.45 s). The full study (l0 = 10 and 5 mm, post-impact noise) is tools/riffle-tools impact-study (docs/RESULTS.md).
@@ -112,7 +112,7 @@ TEST_CASE("dam break impact on a wall sensor against Lobovsky et al. 2014") {
   CHECK(coarse.mean_15ms < mean_high);
   CHECK(fine_dt.mean_15ms > mean_low);
   CHECK(fine_dt.mean_15ms < mean_high);
-  // NOT met (issue 22, docs/RESULTS.md "Issue 22: impact pressure"): the peak is a one-step spike of order
+  // NOT met (docs/RESULTS.md, the impact pressure): the peak is a one-step spike of order
   // rho u^2 / C_r, above the measured scatter, and it grows as dt is halved. Reported, not asserted, until a scheme
   // brings it inside; a fix turns these into CHECKs.
   WARN(coarse.peak <= measured.high);

@@ -207,7 +207,7 @@ TEST_CASE("shaken tank at the seed forcing stays stable and keeps its particles"
 // 0.7 %, with 48 /s within 0.3 %.
 TEST_CASE("shaken tank holds mean n/n0 and volume within 1 percent") {
   const Shaken shaken = shaken_tank();
-  // Incompressibility: the brief's 1 % on the interior mean n/n0 and on the particle volume (numerics 6.2: 1 %).
+  // Incompressibility: the required 1 % on the interior mean n/n0 and on the particle volume (numerics 6.2: 1 %).
   CHECK(shaken.density_min > 0.99);
   CHECK(shaken.density_max < 1.01);
   CHECK(shaken.volume_error < 0.01);

@@ -32,6 +32,9 @@
 #include "engine/scene/scene.hpp"
 #include "tests/support/fluid_support.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
+
+using riffle::test::SceneBuilder;
 
 namespace riffle {
 namespace {
@@ -374,32 +377,18 @@ namespace riffle {
 // periodic along x and y; `body_force` is a [fluid.body_force] table or empty, `top_lid` the top lid's keys.
 std::string periodic_channel(const std::string& name, double end_time, const std::string& body_force,
                              const std::string& top_lid) {
-  return "[run]\nname = \"" + name + "\"\nend_time = " + std::to_string(end_time) +
-         "\ndt = 0.0032\ngravity = [0.0, 0.0, 0.0]\n\n" + R"([materials.glass]
-density = 2500.0
+  return SceneBuilder().run({.name = name, .end_time = end_time, .dt = 0.0032, .gravity = {0.0, 0.0, 0.0}})
+      .material("glass", {.density = 2500.0})
+      .tank({.size = {0.032, 0.024, 0.064}, .periodic = {"x", "y"}, .wall_material = "glass"})
+      .fluid({.spacing = 0.004, .kinematic_viscosity = 0.001, .clamp_negative_pressure = false})
+      .verbatim(body_force + "\n").fluid_box({0.0, 0.0, 0.012}, {0.032, 0.024, 0.052})
+      .wall_box({.low = {0.0, 0.0, 0.0}, .high = {0.032, 0.024, 0.012}, .lid = "no_slip"})
+      .wall_box({.low = {0.0, 0.0, 0.052}, .high = {0.032, 0.024, 0.064}}).verbatim(top_lid + "\n").toml();
+}
 
-[tank]
-size = [0.032, 0.024, 0.064]
-wall_material = "glass"
-periodic = ["x", "y"]
-
-[fluid]
-spacing = 0.004
-kinematic_viscosity = 0.001
-clamp_negative_pressure = false
-)" + body_force + "\n" + R"([[fluid.boxes]]
-low = [0.0, 0.0, 0.012]
-high = [0.032, 0.024, 0.052]
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.032, 0.024, 0.012]
-lid = "no_slip"
-
-[[fluid.wall_boxes]]
-low = [0.0, 0.0, 0.052]
-high = [0.032, 0.024, 0.064]
-)" + top_lid + "\n";
+/// The channels' [fluid.body_force]: a constant acceleration `f` along x, which the grains do not feel.
+std::string poiseuille_force(double f) {
+  return SceneBuilder().within("fluid").body_force("constant").set("acceleration", f).set("grains", "none").toml();
 }
 
 // e_2 = sqrt(sum_i (u_x,i - u(z_i))^2 / sum_i u(z_i)^2) over the fluid particles, each at its own height above the
@@ -421,7 +410,7 @@ double profile_error(const test::FluidRun& run, double z0, Profile exact_at) {
 // boxes' faces, z = 0 and H), a constant body force f = 12 nu U / H^2 along x (bulk velocity U = 1 cm/s),
 // nu = 1e-3 m^2/s, no gravity; run to t = 2 H^2 / nu, where the slowest transient, exp(-pi^2 nu t / H^2), is 3e-9.
 // Steady: u(z) = f z (H - z) / (2 nu). Norm: e_2 = sqrt(sum_i (u_x,i - u(z_i))^2 / sum_i u(z_i)^2) over the fluid
-// particles, each at its own z. The study (docs/RESULTS.md, "Issue 24: plane Poiseuille flow in a periodic channel")
+// particles, each at its own z. The study (docs/RESULTS.md, plane Poiseuille flow in a periodic channel)
 // measured e_2 = 1.08 %, 0.42 %, 0.33 % at H/l0 = 10, 20, 40 (the error a smooth excess of the velocity, the same
 // in every eighth of the period, the seam's included; it falls at order 1.35 from 10 to 20 and then flattens toward
 // the MPS Laplacian's floor on a sheared lattice), and halving dt changes it by 1e-5 at H/l0 = 10 (by 5 % of itself
@@ -430,12 +419,7 @@ double profile_error(const test::FluidRun& run, double z0, Profile exact_at) {
 // lost across the seam (each an error of 10 % or more in the profile) fails it. ~1000 steps of 480 fluid particles:
 // about 1.5 s.
 TEST_CASE("plane Poiseuille flow in a channel periodic along x and y matches f z (H - z) / (2 nu)") {
-  const std::string text = periodic_channel("poiseuille", 3.2, R"(
-[fluid.body_force]
-kind = "constant"
-acceleration = 0.075
-grains = "none"
-)", R"(lid = "no_slip")");
+  const std::string text = periodic_channel("poiseuille", 3.2, poiseuille_force(0.075), R"(lid = "no_slip")");
   const double height = 0.04, z0 = 0.012, nu = 1.0e-3, f = 0.075;
   test::FluidRun run(parse_scene(text, "poiseuille.toml"));
   REQUIRE(run.fluid_count() == 8 * 6 * 10);
@@ -498,12 +482,9 @@ void check_laminar_channels(Variant variant, Expect expect, const std::string& l
   }
   {
     const double nu = 1.0e-3, f = 0.075;
-    test::FluidRun run(parse_scene(variant(periodic_channel("poiseuille", 3.2, R"(
-[fluid.body_force]
-kind = "constant"
-acceleration = 0.075
-grains = "none"
-)", R"(lid = "no_slip")")), "poiseuille_" + label + ".toml"));
+    test::FluidRun run(parse_scene(
+        variant(periodic_channel("poiseuille", 3.2, poiseuille_force(0.075), R"(lid = "no_slip")")),
+        "poiseuille_" + label + ".toml"));
     REQUIRE(expect(run.model));
     REQUIRE_MESSAGE(run.run_until(3.2), run.diagnosis());
     const double error = profile_error(run, z0, [&](double z) { return f * z * (height - z) / (2.0 * nu); });
@@ -544,18 +525,15 @@ namespace riffle {
 // (H / delta = 2.2, delta = sqrt(2 nu / omega) = 17.8 mm), six periods. Exact (finite depth, du/dz = 0 at the lid):
 // u = Re[(F^/(i omega)) (1 - cosh(k (H - z)) / cosh(k H)) e^(i omega t)], k = (1 + i) / delta, F^ = -i F. Each l0
 // layer's mean u_x is fitted by a cos + b sin + c over the last two periods (every step), u^ = a - i b; norm: the RMS
-// over the layers of |u^ - u^_exact| / (F / omega). The study (docs/RESULTS.md, "Issue 24") measured 2.16 %, 0.97 %,
-// 0.49 % at H/l0 = 10, 20, 40 (order 1.07, from frames every 0.1 s); the tolerance at H/l0 = 10 is 3.5 %: the first
-// order trend puts the error there at 2.2 %, and an amplitude or phase wrong by a tenth (a wrong viscosity, slip at
-// the floor, the lid's ghosts missing) gives 10 % or more. ~1900 steps of 480 fluid particles: about 2 s.
+// over the layers of |u^ - u^_exact| / (F / omega). The study (docs/RESULTS.md, Stokes' second problem) measured
+// 2.16 %, 0.97 %, 0.49 % at H/l0 = 10, 20, 40 (order 1.07, from frames every 0.1 s); the tolerance at H/l0 = 10 is
+// 3.5 %: the first order trend puts the error there at 2.2 %, and an amplitude or phase wrong by a tenth (a wrong
+// viscosity, slip at the floor, the lid's ghosts missing) gives 10 % or more. ~1900 steps of 480 fluid particles:
+// about 2 s.
 TEST_CASE("Stokes' second problem in a channel periodic along x and y: amplitude and phase of each layer") {
-  const std::string text = periodic_channel("stokes2", 6.0, R"(
-[fluid.body_force]
-kind = "sinusoidal"
-amplitude = 0.06283185307179587
-period = 1.0
-grains = "none"
-)", R"(lid = "free_slip")");
+  const std::string oscillating = SceneBuilder().within("fluid").body_force("sinusoidal")
+      .set("amplitude", 0.06283185307179587).set("period", 1.0).set("grains", "none").toml();
+  const std::string text = periodic_channel("stokes2", 6.0, oscillating, R"(lid = "free_slip")");
   const double l0 = 0.004, height = 0.04, z0 = 0.012, nu = 1.0e-3, omega = 2.0 * std::numbers::pi;
   const double force = 0.01 * omega;
   test::FluidRun run(parse_scene(text, "stokes2.toml"));

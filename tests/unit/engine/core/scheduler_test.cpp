@@ -17,8 +17,10 @@
 #include "engine/run/stepper.hpp"
 #include "engine/run/registry.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
@@ -116,30 +118,11 @@ TEST_CASE("a scene without solids schedules no solid system") {
 TEST_CASE("a coupled scene's fluid systems and the grains' sub-step loop share no component and run side by side") {
   // docs/COUPLING.md: the coupling is staggered by one fluid step, so the exchange happens through the step-start
   // copy and the end-of-step systems.
-  const Model model = parse_scene(R"(
-[run]
-end_time = 0.01
-dt = 1.0e-3
-solid_substeps = 10
-[materials.grain]
-density = 1318.0
-[materials.glass]
-density = 2500.0
-[tank]
-size = [0.05, 0.05, 0.05]
-open_faces = ["z_max"]
-wall_material = "glass"
-[solids]
-[[solids.spheres]]
-position = [0.025, 0.025, 0.02]
-radius = 0.003
-material = "grain"
-[fluid]
-spacing = 0.005
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.05, 0.05, 0.03]
-)", "coupled.toml");
+  const Model model = parse_scene(SceneBuilder().run({.end_time = 0.01, .dt = 1.0e-3, .solid_substeps = 10})
+      .material("grain", {.density = 1318.0}).material("glass", {.density = 2500.0})
+      .tank({.size = {0.05, 0.05, 0.05}, .open_faces = {"z_max"}, .wall_material = "glass"})
+      .sphere({.position = {0.025, 0.025, 0.02}, .radius = 0.003, .material = "grain"}).fluid({.spacing = 0.005})
+      .fluid_box({0.0, 0.0, 0.0}, {0.05, 0.05, 0.03}).toml(), "coupled.toml");
   World world = initial_world(model);
   Stepper stepper(build_pipeline(model), world, model);
   CHECK(stepper.concurrent_branches());

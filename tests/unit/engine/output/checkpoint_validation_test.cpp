@@ -18,8 +18,10 @@
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 // The largest single allocation while `g_track_allocations` is set: the decoder must not allocate what a forged
 // length asks for before it knows the bytes are there.
@@ -67,45 +69,15 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// A closed box of touching grains with contacts, after a few steps: pairs, wall pairs and springs exist.
 std::string contact_scene_text() {
-  return R"(
-[run]
-name = "contacts"
-end_time = 0.05
-dt = 1.0e-3
-
-[materials.grain]
-density = 2500.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[materials.glass]
-density = 2500.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.4
-
-[tank]
-size = [0.03, 0.03, 0.03]
-wall_material = "glass"
-
-[solids]
-[[solids.blocks]]
-min = [0.0025, 0.0025, 0.0025]
-max = [0.0275, 0.0275, 0.0125]
-spacing = 0.005
-radius = 0.0025
-material = "grain"
-size_class = 1
-
-[output]
-vtk_interval = 0.001
-checkpoint_interval = 0.002
-checkpoint_keep = 2
-)";
+  return SceneBuilder().run({.name = "contacts", .end_time = 0.05, .dt = 1.0e-3})
+      .material("grain", {.density = 2500.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .material("glass", {.density = 2500.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .contact({.law = "hertz_mindlin", .restitution = 0.5, .friction = 0.4})
+      .tank({.size = {0.03, 0.03, 0.03}, .wall_material = "glass"})
+      .block({.min = {0.0025, 0.0025, 0.0025}, .max = {0.0275, 0.0275, 0.0125}, .spacing = 0.005, .radius = 0.0025,
+              .material = "grain"})
+      .set("size_class", 1)
+      .output().set("vtk_interval", 0.001).set("checkpoint_interval", 0.002).set("checkpoint_keep", 2).toml();
 }
 
 CheckpointData stepped(Model model, int steps) {

@@ -20,8 +20,10 @@
 #include "engine/run/simulation.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder, riffle::test::Triple, riffle::test::TomlValue;
 namespace fs = std::filesystem;
 
 namespace {
@@ -215,19 +217,8 @@ std::vector<std::string> read_output_probes(const std::string& text, Model& mode
 }
 
 /// "file:line:column: " of the first `needle` in `text` ('^' in the needle marks the character meant).
-std::string location(const std::string& file, const std::string& text, std::string needle) {
-  std::size_t mark = needle.find('^');
-  if (mark == std::string::npos)
-    mark = 0;
-  else
-    needle.erase(mark, 1);
-  const std::size_t found = text.find(needle);
-  REQUIRE_MESSAGE(found != std::string::npos, needle);
-  const std::size_t at = found + mark;
-  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<long>(at), '\n');
-  const std::size_t line_start = at == 0 ? std::string::npos : text.rfind('\n', at - 1);
-  const std::size_t column = line_start == std::string::npos ? at + 1 : at - line_start;
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+std::string location(const std::string& file, const std::string& text, const std::string& needle) {
+  return test::location(file, text, needle, false);
 }
 
 std::vector<std::string> lines_of(const fs::path& path) {
@@ -261,35 +252,14 @@ void check_one_problem(const std::string& text, Model& model, const BadProbe& ba
 
 TEST_CASE("fluid probes are read with their defaults") {
   Model model = fluid_model();
-  const std::vector<std::string> problems = read_output_probes(R"(
-[output]
-[[output.probes]]
-kind = "fluid_pressure"
-points = [[0.0, 0.03, 0.01], [0.1, 0.06, 0]]
-interval = 0.005
-
-[[output.probes]]
-kind = "wave_gauge"
-points = [[0.005, 0.03], [0.05, 0.03]]
-
-[[output.probes]]
-kind = "wave_gauge"
-name = "wide"
-points = [[0.05, 0.03]]
-radius = 0.02
-
-[[output.probes]]
-kind = "surge_front"
-
-[[output.probes]]
-kind = "surge_front"
-name = "low_front"
-direction = [0, -2, 0]
-below = 0.01
-
-[[output.probes]]
-kind = "fluid_totals"
-)",
+  const std::vector<std::string> problems = read_output_probes(SceneBuilder().output()
+      .probe("fluid_pressure").set("points", TomlValue::verbatim("[[0.0, 0.03, 0.01], [0.1, 0.06, 0]]"))
+      .set("interval", 0.005)
+      .probe("wave_gauge").set("points", TomlValue::verbatim("[[0.005, 0.03], [0.05, 0.03]]"))
+      .probe("wave_gauge").set("name", "wide").set("points", TomlValue::verbatim("[[0.05, 0.03]]")).set("radius", 0.02)
+      .probe("surge_front")
+      .probe("surge_front").set("name", "low_front").set("direction", std::vector<int>{0, -2, 0}).set("below", 0.01)
+      .probe("fluid_totals").toml(),
                                                                model);
   CHECK(problems.empty());
   REQUIRE(model.output.probes.size() == 6);
@@ -376,18 +346,10 @@ TEST_CASE("a fluid probe in a scene without [fluid] is an error at its kind") {
 
 TEST_CASE("ProbeWriter writes one column per sensor, empty fields where nothing is measured") {
   Model model = fluid_model();
-  read_output_probes(R"([output]
-[[output.probes]]
-kind = "fluid_pressure"
-points = [[0.03, 0.03, 0.0], [0.03, 0.03, 0.09]]
-[[output.probes]]
-kind = "wave_gauge"
-points = [[0.005, 0.03], [0.09, 0.03]]
-[[output.probes]]
-kind = "surge_front"
-[[output.probes]]
-kind = "fluid_totals"
-)",
+  read_output_probes(SceneBuilder().output()
+      .probe("fluid_pressure").set("points", std::vector<Triple>{{0.03, 0.03, 0.0}, {0.03, 0.03, 0.09}})
+      .probe("wave_gauge").set("points", TomlValue::verbatim("[[0.005, 0.03], [0.09, 0.03]]")).probe("surge_front")
+      .probe("fluid_totals").toml(),
                      model);
   REQUIRE(model.output.probes.size() == 4);
   const fs::path directory = test::scratch_dir("fluid_probes_writer");
@@ -435,13 +397,14 @@ kind = "fluid_totals"
   }
 }
 
-// ---- The point sensor in air (issue 22: it read down to -226 Pa above a thin layer of water) ----
+// ---- The point sensor in air (a sensor that averaged in the air particles would read down to -226 Pa above a thin
+// layer of water) ----
 
 TEST_CASE("a pressure sensor above the water reads 0, not its negative hydrostatic extrapolation") {
   const FluidParticles water = still_water();
   FluidProbeSettings s = settings();
   // Above the free surface (z = H) the extrapolation rho g (H - z) is negative: the sensor is in air and reads 0.
-  // Before issue 22 these read -24.5, -49, -98 and -147 Pa.
+  // Extrapolated, they would read -24.5, -49, -98 and -147 Pa.
   for (const Vec3& point : {Vec3(0.03, 0.03, kDepth + 0.25 * kSpacing), Vec3(0.03, 0.03, kDepth + 0.5 * kSpacing),
                             Vec3(0.03, 0.03, kDepth + kSpacing), Vec3(0.0, 0.03, kDepth + 1.5 * kSpacing)}) {
     CAPTURE(point.transpose());
@@ -548,22 +511,14 @@ TEST_CASE("WindowMean: the time average over the window ending at the latest rea
 
 TEST_CASE("pressure transducers are read with their defaults, their face inferred or named") {
   Model model = fluid_model();
-  const std::vector<std::string> problems = read_output_probes(R"(
-[output]
-[[output.probes]]
-kind = "pressure_transducer"
-points = [[0.0, 0.03, 0.02], [0.1, 0.03, 0.005], [0.05, 0.06, 0.05], [0.05, 0.03, 0.0]]
-diameter = 0.01
-
-[[output.probes]]
-kind = "pressure_transducer"
-name = "sides"
-face = "x_max"
-points = [[0.1, 0.03, 0.05]]
-diameter = 0.006
-average_window = 0.002
-interval = 0.001
-)",
+  const std::vector<std::string> problems = read_output_probes(SceneBuilder().output()
+      .probe("pressure_transducer")
+      .set("points", std::vector<Triple>{{0.0, 0.03, 0.02}, {0.1, 0.03, 0.005}, {0.05, 0.06, 0.05}, {0.05, 0.03, 0.0}})
+      .set("diameter", 0.01)
+      .probe("pressure_transducer").set("name", "sides").set("face", "x_max")
+      .set("points", std::vector<Triple>{{0.1, 0.03, 0.05}}).set("diameter", 0.006).set("average_window", 0.002)
+      .set("interval", 0.001)
+      .toml(),
                                                                model);
   CHECK(problems.empty());
   REQUIRE(model.output.probes.size() == 2);
@@ -620,21 +575,13 @@ TEST_CASE("bad pressure transducers are reported as file:line:column: key: messa
 TEST_CASE("ProbeWriter: a transducer's rows, instant or the time-weighted mean over its window") {
   Model model = fluid_model();
   model.tank.open_faces = {"z_max"};
-  read_output_probes(R"([output]
-[[output.probes]]
-kind = "pressure_transducer"
-name = "instant"
-points = [[0.03, 0.03, 0.0], [0.0, 0.03, 0.09]]
-diameter = 0.01
-interval = 0.003
-[[output.probes]]
-kind = "pressure_transducer"
-name = "mean"
-points = [[0.03, 0.03, 0.0]]
-diameter = 0.01
-interval = 0.003
-average_window = 0.002
-)",
+  read_output_probes(SceneBuilder().output()
+      .probe("pressure_transducer").set("name", "instant")
+      .set("points", std::vector<Triple>{{0.03, 0.03, 0.0}, {0.0, 0.03, 0.09}}).set("diameter", 0.01)
+      .set("interval", 0.003)
+      .probe("pressure_transducer").set("name", "mean").set("points", std::vector<Triple>{{0.03, 0.03, 0.0}})
+      .set("diameter", 0.01).set("interval", 0.003).set("average_window", 0.002)
+      .toml(),
                      model);
   REQUIRE(model.output.probes.size() == 2);
   const fs::path directory = test::scratch_dir("transducer_writer");
@@ -664,26 +611,14 @@ average_window = 0.002
 }
 
 TEST_CASE("a scene with pressure transducers runs and writes their CSV, and on resume the rows go on") {
-  const std::string output = R"(
-[output]
-checkpoint_interval = 0.005
-
-[[output.probes]]
-kind = "pressure_transducer"
-name = "walls"
-points = [[0.1, 0.0, 0.005], [0.12, 0.0, 0.0], [0.14, 0.0, 0.025]]
-diameter = 0.005
-interval = 0.002
-
-[[output.probes]]
-kind = "pressure_transducer"
-name = "mean"
-face = "x_min"
-points = [[0.1, 0.0, 0.005]]
-diameter = 0.005
-interval = 0.002
-average_window = 0.003
-)";
+  const std::string output = SceneBuilder(SceneBuilder::kSpaced).output().set("checkpoint_interval", 0.005)
+      .probe("pressure_transducer").set("name", "walls")
+      .set("points", std::vector<Triple>{{0.1, 0.0, 0.005}, {0.12, 0.0, 0.0}, {0.14, 0.0, 0.025}})
+      .set("diameter", 0.005).set("interval", 0.002)
+      .probe("pressure_transducer").set("name", "mean").set("face", "x_min")
+      .set("points", std::vector<Triple>{{0.1, 0.0, 0.005}}).set("diameter", 0.005).set("interval", 0.002)
+      .set("average_window", 0.003)
+      .toml();
   const fs::path directory = test::scratch_dir("transducer_run");
   const fs::path a = directory / "a";
   auto simulation = Simulation::from_model(parse_scene(test::fluid_scene_text(output), "fluid.toml"));

@@ -17,8 +17,10 @@
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder, riffle::test::TomlValue;
 namespace fs = std::filesystem;
 
 namespace {
@@ -26,64 +28,21 @@ namespace {
 /// 81 grains with contacts in a shaken open-top box: 9 large grains (class 1, ids 0-8) on the floor and 72 small
 /// ones (class 0, ids 9-80) falling onto them. `output` is appended as the [output] table's body.
 std::string contact_scene(const std::string& output) {
-  return R"([run]
-name = "probes"
-end_time = 0.04
-dt = 1.0e-3
-
-[materials.grain]
-density = 2500.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[tank]
-size = [0.04, 0.04, 0.06]
-open_faces = ["z_max"]
-wall_material = "grain"
-
-[tank.motion]
-kind = "sinusoidal"
-amplitude = 0.005
-frequency = 2.0
-
-[contact]
-restitution = 0.5
-friction = 0.4
-
-[[solids.blocks]]
-min = [0.005, 0.005, 0.005]
-max = [0.035, 0.035, 0.015]
-spacing = 0.0101
-radius = 0.005
-material = "grain"
-size_class = 1
-
-[[solids.blocks]]
-min = [0.005, 0.005, 0.02]
-max = [0.035, 0.035, 0.03]
-spacing = 0.0051
-radius = 0.0025
-material = "grain"
-
-[output]
-)" + output;
+  return SceneBuilder().run({.name = "probes", .end_time = 0.04, .dt = 1.0e-3})
+      .material("grain", {.density = 2500.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .tank({.size = {0.04, 0.04, 0.06}, .open_faces = {"z_max"}, .wall_material = "grain"})
+      .tank_motion({.amplitude = 0.005, .frequency = 2.0}).contact({.restitution = 0.5, .friction = 0.4})
+      .block({.min = {0.005, 0.005, 0.005}, .max = {0.035, 0.035, 0.015}, .spacing = 0.0101, .radius = 0.005,
+              .material = "grain"})
+      .set("size_class", 1)
+      .block({.min = {0.005, 0.005, 0.02}, .max = {0.035, 0.035, 0.03}, .spacing = 0.0051, .radius = 0.0025,
+              .material = "grain"})
+      .output().toml() + output;
 }
 
 /// "file:line:column: " of the first occurrence of `needle` in `text` (a '^' in the needle marks the character meant).
-std::string location(const std::string& file, const std::string& text, std::string needle) {
-  std::size_t mark = needle.find('^');
-  if (mark == std::string::npos)
-    mark = 0;
-  else
-    needle.erase(mark, 1);
-  const std::size_t found = text.find(needle);
-  REQUIRE_MESSAGE(found != std::string::npos, needle);
-  const std::size_t at = found + mark;
-  const auto line =
-      1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
-  const std::size_t line_start = text.rfind('\n', at == 0 ? 0 : at - 1);
-  const std::size_t column = line_start == std::string::npos || at == 0 ? at + 1 : at - line_start;
-  return file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+std::string location(const std::string& file, const std::string& text, const std::string& needle) {
+  return test::location(file, text, needle, false);
 }
 
 std::vector<std::string> problems_of(const std::string& text) { return test::problems_of(text, "probes.toml"); }
@@ -107,22 +66,10 @@ std::string read_text(const fs::path& path) {
 }  // namespace
 
 TEST_CASE("[[output.probes]] are read with their defaults") {
-  const Model model = parse_scene(contact_scene(R"(
-[[output.probes]]
-kind = "grains"
-ids = [0, 5, 17]
-interval = 0.01
-
-[[output.probes]]
-kind = "wall_forces"
-name = "walls"
-
-[[output.probes]]
-kind = "grains"
-name = "top"
-file = "top_grain.csv"
-ids = [80]
-)"),
+  const Model model = parse_scene(contact_scene(SceneBuilder(SceneBuilder::kSpaced)
+      .probe("grains").set("ids", std::vector<int>{0, 5, 17}).set("interval", 0.01)
+      .probe("wall_forces").set("name", "walls")
+      .probe("grains").set("name", "top").set("file", "top_grain.csv").set("ids", std::vector<int>{80}).toml()),
                                   "probes.toml");
   REQUIRE(model.output.probes.size() == 3);
   const ProbeModel& grains = model.output.probes[0];
@@ -394,35 +341,12 @@ TEST_CASE("with [solids] initial_state, probe ids cover its grains and then the 
   write_checkpoint((directory / "bed.ckpt").string(),
                    Simulation::from_model(parse_scene(contact_scene(""), "probes.toml"))->checkpoint_data());
   auto scene = [&](const std::string& ids) {
-    return R"([run]
-end_time = 0.01
-dt = 1.0e-3
-
-[materials.grain]
-density = 2500.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[tank]
-size = [0.04, 0.04, 0.06]
-wall_material = "grain"
-
-[contact]
-restitution = 0.5
-friction = 0.4
-
-[solids]
-initial_state = "bed.ckpt"
-
-[[solids.spheres]]
-position = [0.02, 0.02, 0.05]
-radius = 0.004
-material = "grain"
-
-[output]
-[[output.probes]]
-kind = "grains"
-ids = )" + ids + "\n";
+    return SceneBuilder().run({.end_time = 0.01, .dt = 1.0e-3})
+        .material("grain", {.density = 2500.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+        .tank({.size = {0.04, 0.04, 0.06}, .wall_material = "grain"}).contact({.restitution = 0.5, .friction = 0.4})
+        .solids().set("initial_state", "bed.ckpt")
+        .sphere({.position = {0.02, 0.02, 0.05}, .radius = 0.004, .material = "grain"})
+        .output().probe("grains").set("ids", TomlValue::verbatim(ids)).toml();
   };
   const std::string scene_file = (directory / "continued.toml").string();
   const Model model = parse_scene(scene(std::string("[0, 80, 81]")), scene_file);

@@ -15,35 +15,20 @@
 #include "engine/scene/scene.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
-std::string replaced(std::string text, std::string_view old, std::string_view with) {
-  const std::size_t at = text.find(old);
-  REQUIRE_MESSAGE(at != std::string::npos, "\"", std::string(old), "\" is not in the scene");
-  REQUIRE_MESSAGE(text.find(old, at + 1) == std::string::npos, "\"", std::string(old), "\" occurs twice");
-  return text.replace(at, old.size(), with);
-}
-
 /// "file:line:column: " of the character marked '^' in `needle` (default its first), which occurs once in `text`.
-std::string location(const std::string& text, std::string needle, const std::string& file) {
-  std::size_t mark = needle.find('^');
-  if (mark == std::string::npos)
-    mark = 0;
-  else
-    needle.erase(mark, 1);
-  const std::size_t found = text.find(needle);
-  REQUIRE_MESSAGE(found != std::string::npos, "\"", needle, "\" is not in the scene");
-  REQUIRE_MESSAGE(text.find(needle, found + 1) == std::string::npos, "\"", needle, "\" occurs twice");
-  const std::size_t at = found + mark;
-  const std::size_t line_start = at == 0 ? 0 : text.rfind('\n', at - 1) + 1;
-  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
-  return file + ":" + std::to_string(line) + ":" + std::to_string(at - line_start + 1) + ": ";
+std::string location(const std::string& text, const std::string& needle, const std::string& file) {
+  return test::location(file, text, needle);
 }
 
 using test::problems_of;
+using test::replace_once;
 
 std::string joined(const std::vector<std::string>& lines) {
   std::string out;
@@ -107,33 +92,15 @@ TEST_CASE("a minimal fluid table gets the documented defaults") {
 }
 
 TEST_CASE("every fluid key is read into the model") {
-  const std::string text = replaced(test::fluid_scene_text(), "[fluid]\nspacing = 0.005\n", R"([fluid]
-spacing = 0.005
-effective_radius = 3.1
-density = 998.2
-kinematic_viscosity = 1.004e-6
-tank_walls = false
-clamp_negative_pressure = false
-surface_threshold = 0.97
-density_relaxation_rate = 10.0
-compressibility = 0.0
-sound_speed = 20.0
-courant = 0.1
-diffusion_number = 0.125
-min_dt = 1e-7
-solver_tolerance = 1e-10
-solver_max_iterations = 500
-neighbour_skin = 0.0
-escape_distance = 0.05
-escape_fraction_limit = 0.2
-
-[fluid.schemes]
-hs = false
-ecs = true
-hl = false
-gc = true
-ds = false
-)");
+  const std::string text = replace_once(test::fluid_scene_text(), "[fluid]\nspacing = 0.005\n", SceneBuilder()
+      .fluid({.spacing = 0.005, .kinematic_viscosity = 1.004e-6, .clamp_negative_pressure = false})
+      .set("effective_radius", 3.1).set("density", 998.2).set("tank_walls", false).set("surface_threshold", 0.97)
+      .set("density_relaxation_rate", 10.0).set("compressibility", 0.0).set("sound_speed", 20.0).set("courant", 0.1)
+      .set("diffusion_number", 0.125).set("min_dt", 1e-7).set("solver_tolerance", 1e-10)
+      .set("solver_max_iterations", 500).set("neighbour_skin", 0.0).set("escape_distance", 0.05)
+      .set("escape_fraction_limit", 0.2)
+      .table("fluid.schemes").set("hs", false).set("ecs", true).set("hl", false).set("gc", true).set("ds", false)
+      .toml());
   const FluidModel fluid = parse_scene(text, "full.toml").fluid;
   CHECK(fluid.effective_radius_ratio == 3.1);
   CHECK(fluid.effective_radius() == doctest::Approx(0.0155).epsilon(1e-14));
@@ -155,7 +122,7 @@ ds = false
   CHECK(fluid.escape == FluidModel::EscapePolicy::kRemove);
   CHECK(fluid.escape_distance == 0.05);
   CHECK(fluid.escape_fraction_limit == 0.2);
-  CHECK(parse_scene(replaced(test::fluid_scene_text(), "spacing = 0.005\n", "spacing = 0.005\nescape = \"stop\"\n"),
+  CHECK(parse_scene(replace_once(test::fluid_scene_text(), "spacing = 0.005\n", "spacing = 0.005\nescape = \"stop\"\n"),
                     "stop.toml")
             .fluid.escape == FluidModel::EscapePolicy::kStop);
   CHECK_FALSE(fluid.schemes.higher_order_source);
@@ -167,7 +134,7 @@ ds = false
   // The conservative gradient turns GC off unless gc is given (and refused true: the bad-table case below).
   // The sealed fluid scene (no open face) with these [fluid.schemes] keys.
   const auto sealed_schemes = [](const std::string& keys) {
-    return parse_scene(replaced(replaced(test::fluid_scene_text(), "open_faces = [\"z_max\"]\n", ""),
+    return parse_scene(replace_once(replace_once(test::fluid_scene_text(), "open_faces = [\"z_max\"]\n", ""),
                                 "spacing = 0.005\n", "spacing = 0.005\n[fluid.schemes]\n" + keys),
                        "sealed.toml")
         .fluid.schemes;
@@ -288,7 +255,7 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
        "nearest valid size 0.025 m"},
   };
   for (const BadFluid& bad : cases) {
-    const std::string text = replaced(test::fluid_scene_text(), bad.find, bad.replace);
+    const std::string text = replace_once(test::fluid_scene_text(), bad.find, bad.replace);
     const std::string prefix = location(text, bad.at, "bad.toml") + bad.key + ": ";
     CAPTURE(text);
     const std::vector<std::string> problems = problems_of(text);
@@ -311,8 +278,8 @@ TEST_CASE("a fluid without boxes is refused, and tank_walls = false lifts the wh
   CHECK(problems[0].rfind(location(text, "^[fluid]", "bad.toml") +
                               "fluid.boxes: expected at least one [[fluid.boxes]] table",
                           0) == 0);
-  text = replaced(test::fluid_scene_text(), "size = [0.04, 0.02, 0.03]", "size = [0.04, 0.023, 0.03]");
-  text = replaced(text, "spacing = 0.005", "spacing = 0.005\ntank_walls = false");
+  text = replace_once(test::fluid_scene_text(), "size = [0.04, 0.02, 0.03]", "size = [0.04, 0.023, 0.03]");
+  text = replace_once(text, "spacing = 0.005", "spacing = 0.005\ntank_walls = false");
   const Model model = parse_scene(text, "no_walls.toml");
   const World world = initial_world(model);
   CHECK(count_kind(*world.fluid, FluidKind::kDummy) == 0);
@@ -386,8 +353,9 @@ TEST_CASE("the initial fluid follows the closed forms with fluid in the first sl
 }
 
 TEST_CASE("the tank shell grows with the effective radius and every closed face") {
-  std::string text = replaced(test::fluid_scene_text(), "spacing = 0.005", "spacing = 0.005\neffective_radius = 3.1");
-  text = replaced(text, "open_faces = [\"z_max\"]\n", "");
+  std::string text =
+      replace_once(test::fluid_scene_text(), "spacing = 0.005", "spacing = 0.005\neffective_radius = 3.1");
+  text = replace_once(text, "open_faces = [\"z_max\"]\n", "");
   const World world = initial_world(parse_scene(text, "closed.toml"));
   // ceil(3.1) - 1 = 3 dummy layers behind the wall layer, on all six faces.
   const std::array<double, 3> cells = {8, 4, 6};

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "engine/scene/scene.hpp"
+#include "tests/support/test_support.hpp"
 
 namespace {
 
@@ -81,56 +82,8 @@ diagnostics_every = 5
 
 constexpr std::size_t kBaseGrains = 7 * 7 * 3 + 1;
 
-std::size_t count_of(std::string_view text, std::string_view needle) {
-  std::size_t count = 0;
-  for (std::size_t at = text.find(needle); at != std::string_view::npos; at = text.find(needle, at + 1)) ++count;
-  return count;
-}
-
-/// `text` with `old` (which must occur exactly once, so a table row cannot silently edit the wrong line) replaced.
-std::string replace_once(std::string_view text, std::string_view old, std::string_view with) {
-  REQUIRE_MESSAGE(count_of(text, old) == 1, "\"", std::string(old), "\" must occur exactly once in the scene");
-  std::string out(text);
-  out.replace(out.find(old), old.size(), with);
-  return out;
-}
-
-struct TextPosition {
-  int line = 0;
-  int column = 0;
-};
-
-/// Where `needle` is in `text` (1-based line and column, as toml++ reports them). The needle must occur once; a
-/// '^' in it marks the character meant (default: its first), so "dt = ^-1" points at the value, not the key.
-TextPosition position_of(std::string_view text, std::string needle) {
-  std::size_t mark = needle.find('^');
-  if (mark == std::string::npos)
-    mark = 0;
-  else
-    needle.erase(mark, 1);
-  REQUIRE_MESSAGE(count_of(text, needle) == 1, "\"", needle, "\" must occur exactly once in the scene");
-  const std::size_t at = text.find(needle) + mark;
-  const std::size_t newline = at == 0 ? std::string_view::npos : text.rfind('\n', at - 1);
-  TextPosition position;
-  position.line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-  position.column = static_cast<int>(newline == std::string_view::npos ? at + 1 : at - newline);
-  return position;
-}
-
-/// The problems raised for `text`; fails the check (but lets a table go on) if the scene is accepted or anything
-/// but SceneError escapes.
-std::vector<std::string> problems_of(const std::string& text, const std::string& file_name = "bad.toml") {
-  try {
-    riffle::parse_scene(text, file_name);
-  } catch (const riffle::SceneError& error) {
-    return error.problems();
-  } catch (const std::exception& error) {
-    FAIL_CHECK("parse_scene threw something other than SceneError: ", error.what(), "\n", text);
-    return {};
-  }
-  FAIL_CHECK("the scene was accepted:\n", text);
-  return {};
-}
+using riffle::test::count_of, riffle::test::replace_once, riffle::test::position_of, riffle::test::problems_of,
+    riffle::test::TextPosition;
 
 std::string joined(const std::vector<std::string>& lines) {
   std::string out;

@@ -19,6 +19,7 @@
 #include "engine/scene/bed_scene.hpp"
 #include "engine/setup/bed_generation.hpp"
 #include "engine/toml/scene_reader.hpp"
+#include "tests/support/test_support.hpp"
 
 namespace {
 
@@ -86,12 +87,6 @@ bool inside_box(const SphereSpec& sphere, const Vec3& low, const Vec3& high) {
   constexpr double kTolerance = 1e-12;  // [m]
   return (sphere.position.array() - sphere.radius >= low.array() - kTolerance).all() &&
          (sphere.position.array() + sphere.radius <= high.array() + kTolerance).all();
-}
-
-std::size_t count_of(std::string_view text, std::string_view needle) {
-  std::size_t count = 0;
-  for (std::size_t at = text.find(needle); at != std::string_view::npos; at = text.find(needle, at + 1)) ++count;
-  return count;
 }
 
 }  // namespace
@@ -406,25 +401,11 @@ ReadResult read_beds(const std::string& text) {
   return result;
 }
 
-std::string replace_once(std::string_view text, std::string_view old, std::string_view with) {
-  REQUIRE_MESSAGE(count_of(text, old) == 1, "\"", std::string(old), "\" must occur exactly once in the scene");
-  std::string out(text);
-  out.replace(out.find(old), old.size(), with);
-  return out;
-}
+using riffle::test::count_of, riffle::test::replace_once;
 
 /// "beds.toml:LINE:COLUMN: " for `needle` in `text` (which must occur once); a '^' in the needle marks the column.
-std::string location_of(std::string_view text, std::string needle) {
-  std::size_t mark = needle.find('^');
-  if (mark == std::string::npos)
-    mark = 0;
-  else
-    needle.erase(mark, 1);
-  REQUIRE_MESSAGE(count_of(text, needle) == 1, "\"", needle, "\" must occur exactly once in the scene");
-  const std::size_t at = text.find(needle) + mark;
-  const std::size_t line_start = at == 0 ? 0 : text.rfind('\n', at - 1) + 1;  // npos + 1 == 0
-  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
-  return "beds.toml:" + std::to_string(line) + ":" + std::to_string(at - line_start + 1) + ": ";
+std::string location_of(std::string_view text, const std::string& needle) {
+  return riffle::test::location("beds.toml", text, needle);
 }
 
 std::string joined(const std::vector<std::string>& lines) {

@@ -14,8 +14,10 @@
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
@@ -28,25 +30,10 @@ std::pair<double, double> cell_faces(const BoxGrid& grid, int axis) {
 /// A 2-D-like dam break tank of 1.6 x 0.096 x 0.64 m at l0 = 32 mm (50 x 3 x 20 cells) with an obstacle whose low x
 /// is 15 mm off the lattice.
 std::string obstacle_scene(const std::string& obstacle, const std::string& water = "") {
-  return R"(
-[run]
-end_time = 0.1
-dt = 1.0e-3
-
-[materials.glass]
-density = 2500.0
-
-[tank]
-size = [1.6, 0.096, 0.64]
-wall_material = "glass"
-
-[fluid]
-spacing = 0.032
-
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.64, 0.096, 0.32]
-)" + water + "\n[[fluid.wall_boxes]]\n" + obstacle;
+  return SceneBuilder(SceneBuilder::kSpaced).run({.end_time = 0.1, .dt = 1.0e-3})
+      .material("glass", {.density = 2500.0}).tank({.size = {1.6, 0.096, 0.64}, .wall_material = "glass"})
+      .fluid({.spacing = 0.032}).fluid_box({0.0, 0.0, 0.0}, {0.64, 0.096, 0.32})
+      .toml() + water + "\n[[fluid.wall_boxes]]\n" + obstacle;
 }
 
 using test::problems_of;

@@ -1,4 +1,4 @@
-// Budgets before allocation (issue 19): scenes too big for the memory limit are refused with a file:line:column:
+// Budgets before allocation: scenes too big for the memory limit are refused with a file:line:column:
 // key: message before any particle is generated; the limit can be raised by run.memory_limit and --memory-limit;
 // the grain grid stays small whatever the empty space or the smallest grain; scene files must be regular files.
 // Each case here ended in std::bad_alloc, a hang or a read until memory ran out before (main 25b9940).

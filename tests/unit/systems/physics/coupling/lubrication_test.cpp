@@ -7,8 +7,10 @@
 
 #include "systems/physics/coupling/lubrication.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -90,32 +92,11 @@ TEST_CASE("the swept coefficient takes the exact ln(h0/h1) of the film a sub-ste
 
 namespace {
 std::string coupled_scene(const std::string& coupling) {
-  return R"(
-[run]
-end_time = 0.01
-dt = 1.0e-3
-[materials.grain]
-density = 2500.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-[tank]
-size = [0.04, 0.04, 0.04]
-wall_material = "grain"
-[contact]
-restitution = 0.9
-friction = 0.3
-[solids]
-[[solids.spheres]]
-position = [0.02, 0.02, 0.01]
-radius = 0.0025
-material = "grain"
-[fluid]
-spacing = 0.005
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.04, 0.04, 0.03]
-[coupling]
-)" + coupling;
+  return SceneBuilder().run({.end_time = 0.01, .dt = 1.0e-3})
+      .material("grain", {.density = 2500.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .tank({.size = {0.04, 0.04, 0.04}, .wall_material = "grain"}).contact({.restitution = 0.9, .friction = 0.3})
+      .sphere({.position = {0.02, 0.02, 0.01}, .radius = 0.0025, .material = "grain"}).fluid({.spacing = 0.005})
+      .fluid_box({0.0, 0.0, 0.0}, {0.04, 0.04, 0.03}).coupling().toml() + coupling;
 }
 
 std::string problems(const std::string& coupling) {

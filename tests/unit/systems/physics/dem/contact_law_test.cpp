@@ -367,7 +367,7 @@ TEST_CASE("the restitution the DEM integrator achieves converges to the requeste
 }
 
 TEST_CASE("a dashpot beyond its explicit stability limit creates energy: e = 0.01 at 16 steps per collision") {
-  // The defect of issue 19 (a 3.9 m/s impact left at 7.63 m/s): c = 9.6 for the linear law at e = 0.01, and
+  // The explicit damping beyond its stability limit (a 3.9 m/s impact would leave at 7.63 m/s): c = 9.6 for the linear law at e = 0.01, and
   // c omega dt = 9.6 x 5.6 / 16 = 3.4 > 2. The sub-step choice (engine/scene/scene.cpp) must see this, so the estimate
   // must show it.
   ContactPairParameters pair = pair_parameters(ContactLaw::kLinearSpringDashpot, 0.01, 0.5);

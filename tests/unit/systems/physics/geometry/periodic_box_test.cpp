@@ -12,8 +12,10 @@
 #include "systems/mps/fluid_pressure.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
@@ -27,31 +29,12 @@ PeriodicBox box_xy() {
 
 /// A grain scene in a box periodic along `periodic` (a TOML array body), with `extra` appended.
 std::string periodic_scene(const std::string& tank_extra, const std::string& extra = "") {
-  return R"([run]
-end_time = 0.01
-dt = 1.0e-4
-gravity = [0.0, 0.0, -9.81]
-
-[materials.grain]
-density = 2650.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-
-[tank]
-size = [0.04, 0.03, 0.02]
-wall_material = "grain"
-)" + tank_extra + R"(
-
-[contact]
-restitution = 0.5
-friction = 0.5
-
-[solids]
-[[solids.spheres]]
-position = [0.02, 0.015, 0.005]
-radius = 0.0025
-material = "grain"
-)" + extra;
+  return SceneBuilder().run({.end_time = 0.01, .dt = 1.0e-4, .gravity = {0.0, 0.0, -9.81}})
+             .material("grain", {.density = 2650.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+             .tank({.size = {0.04, 0.03, 0.02}, .wall_material = "grain"}).verbatim(tank_extra + "\n")
+             .contact({.restitution = 0.5, .friction = 0.5})
+             .sphere({.position = {0.02, 0.015, 0.005}, .radius = 0.0025, .material = "grain"}).toml() +
+         extra;
 }
 
 bool mentions(const std::vector<std::string>& problems, const std::string& text) {
@@ -131,17 +114,11 @@ TEST_CASE("tank.periodic: walls only on the other faces, and the scene's mistake
   CHECK_FALSE(plain.tank.any_periodic());
 
   // A sphere may reach across the seam (its centre inside the period), not past a wall.
-  CHECK_NOTHROW(parse_scene(periodic_scene("periodic = [\"x\", \"y\"]\n", R"([[solids.spheres]]
-position = [0.001, 0.029, 0.005]
-radius = 0.0025
-material = "grain"
-)"),
+  CHECK_NOTHROW(parse_scene(periodic_scene("periodic = [\"x\", \"y\"]\n", SceneBuilder().within("solids")
+      .sphere({.position = {0.001, 0.029, 0.005}, .radius = 0.0025, .material = "grain"}).toml()),
                             "seam.toml"));
-  CHECK(mentions(test::problems_of(periodic_scene("periodic = [\"y\"]\n", R"([[solids.spheres]]
-position = [0.001, 0.029, 0.005]
-radius = 0.0025
-material = "grain"
-)")),
+  CHECK(mentions(test::problems_of(periodic_scene("periodic = [\"y\"]\n", SceneBuilder().within("solids")
+      .sphere({.position = {0.001, 0.029, 0.005}, .radius = 0.0025, .material = "grain"}).toml())),
                  "does not fit inside the tank"));
 
   SUBCASE("z cannot be periodic") {
@@ -156,12 +133,8 @@ material = "grain"
     CHECK(mentions(problems, "x_max cannot also be listed in open_faces"));
   }
   SUBCASE("a tank shaken along a periodic axis is refused; along another axis it is fine") {
-    const std::string shaken = R"([tank.motion]
-kind = "sinusoidal"
-direction = [1.0, 0.0, 0.0]
-amplitude = 0.001
-frequency = 2.0
-)";
+    const std::string shaken = SceneBuilder()
+        .tank_motion({.amplitude = 0.001, .frequency = 2.0, .direction = {1.0, 0.0, 0.0}}).toml();
     const auto problems = test::problems_of(periodic_scene("periodic = [\"x\"]\n" + shaken));
     CHECK(mentions(problems, "the tank moves along x ([tank.motion]), which is periodic"));
     std::string along_y = shaken;
@@ -278,24 +251,14 @@ TEST_CASE("the pressure solve exchanges the ghosts' pressures exactly when the m
 }
 
 TEST_CASE("a layered bed generated in a periodic box overlaps nowhere, across the seam included") {
-  const Model model = parse_scene(periodic_scene("periodic = [\"x\", \"y\"]\n", R"(
-[[solids.layered_beds]]
-layers = 2
-layer_thickness = 0.005
-loose_factor = 1.7
-seed = 3
-
-[[solids.layered_beds.classes]]
-diameter = 0.004
-count = 30
-material = "grain"
-arrangement = "regular"
-
-[[solids.layered_beds.classes]]
-diameter = 0.002
-count = 200
-material = "grain"
-)"),
+  const Model model = parse_scene(periodic_scene("periodic = [\"x\", \"y\"]\n", SceneBuilder(SceneBuilder::kSpaced)
+      .within("solids")
+      .array_table("solids.layered_beds").set("layers", 2).set("layer_thickness", 0.005).set("loose_factor", 1.7)
+      .set("seed", 3)
+      .array_table("solids.layered_beds.classes").set("diameter", 0.004).set("count", 30).set("material", "grain")
+      .set("arrangement", "regular")
+      .array_table("solids.layered_beds.classes").set("diameter", 0.002).set("count", 200).set("material", "grain")
+      .toml()),
                                   "bed.toml");
   const std::vector<SphereSpec>& spheres = model.solids.spheres;
   REQUIRE(spheres.size() == 231);

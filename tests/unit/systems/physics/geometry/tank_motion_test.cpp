@@ -84,15 +84,7 @@ std::string motion_scene(const std::string& motion, double end_time = 0.1) {
          "wall_material = \"glass\"\n\n[tank.motion]\n" + motion;
 }
 
-std::vector<std::string> problems_of(const std::string& text, const std::string& file = "bad.toml") {
-  try {
-    parse_scene(text, file);
-  } catch (const SceneError& error) {
-    return error.problems();
-  }
-  FAIL_CHECK("the scene was accepted:\n", text);
-  return {};
-}
+using test::problems_of;
 
 bool mentions(const std::vector<std::string>& problems, const std::string& start, const std::string& fragment) {
   return std::any_of(problems.begin(), problems.end(), [&](const std::string& line) {

@@ -10,8 +10,10 @@
 #include "systems/physics/measures/bed_statistics.hpp"
 #include "engine/scene/scene.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
@@ -195,18 +197,9 @@ TEST_CASE("[output] bed_profile_interval and bed_layer_thickness") {
     }
   }
   SUBCASE("a bed profile without grains is refused") {
-    const std::string text = R"(
-[run]
-end_time = 0.1
-dt = 1.0e-3
-[materials.grain]
-density = 1000.0
-[tank]
-size = [0.1, 0.1, 0.1]
-wall_material = "grain"
-[output]
-bed_profile_interval = 0.01
-)";
+    const std::string text = SceneBuilder().run({.end_time = 0.1, .dt = 1.0e-3})
+        .material("grain", {.density = 1000.0}).tank({.size = {0.1, 0.1, 0.1}, .wall_material = "grain"})
+        .output().set("bed_profile_interval", 0.01).toml();
     CHECK_THROWS_WITH_AS(parse_scene(text, "empty.toml"), doctest::Contains("the bed profile needs grains"),
                          SceneError);
   }

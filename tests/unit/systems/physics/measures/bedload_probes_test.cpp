@@ -16,20 +16,18 @@
 #include "systems/physics/measures/bedload.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 // A layer of glass grains on the floor of test::fluid_scene_text's tank, under its water.
-const std::string kGlassGrains = R"(
-[[solids.blocks]]
-min = [0.105, -0.005, 0.002]
-max = [0.135, 0.005, 0.004]
-spacing = 0.002
-radius = 0.0009
-material = "glass"
-)";
+const std::string kGlassGrains = SceneBuilder().within("solids")
+    .block({.min = {0.105, -0.005, 0.002}, .max = {0.135, 0.005, 0.004}, .spacing = 0.002, .radius = 0.0009,
+            .material = "glass"})
+    .toml();
 
 TankFrame box_frame(const Vec3& size, const Vec3& displacement = Vec3::Zero(), const Vec3& velocity = Vec3::Zero()) {
   TankFrame frame;
@@ -252,24 +250,10 @@ TEST_CASE("the bed shear stress: the water's x force on the grains plus the floo
 }
 
 TEST_CASE("the bed-load probes' scene keys: defaults and errors") {
-  const std::string grains = test::small_scene_text(R"(
-[output]
-[[output.probes]]
-kind = "moving_fraction"
-interval = 0.01
-
-[[output.probes]]
-kind = "packing_density"
-threshold = 0.02
-layer_bottom = 0.004
-
-[[output.probes]]
-kind = "bedload_flux"
-
-[[output.probes]]
-kind = "velocity_profile"
-layer_thickness = 0.002
-)");
+  const std::string grains = test::small_scene_text(SceneBuilder().output()
+      .probe("moving_fraction").set("interval", 0.01)
+      .probe("packing_density").set("threshold", 0.02).set("layer_bottom", 0.004).probe("bedload_flux")
+      .probe("velocity_profile").set("layer_thickness", 0.002).toml());
   const Model model = parse_scene(grains, "bedload.toml");
   REQUIRE(model.output.probes.size() == 4);
   CHECK(model.output.probes[0].kind == ProbeModel::Kind::kMovingFraction);
@@ -282,14 +266,8 @@ layer_thickness = 0.002
   CHECK(model.output.probes[3].layer_thickness == 0.002);
 
   // With [fluid], a velocity profile's layers default to l0; the shear stress has no lid column (no moving lid).
-  const Model water = parse_scene(test::fluid_scene_text(kGlassGrains + R"(
-[output]
-[[output.probes]]
-kind = "velocity_profile"
-
-[[output.probes]]
-kind = "bed_shear_stress"
-)"),
+  const Model water = parse_scene(test::fluid_scene_text(kGlassGrains + SceneBuilder().output()
+      .probe("velocity_profile").probe("bed_shear_stress").toml()),
                                   "water.toml");
   REQUIRE(water.output.probes.size() == 2);
   CHECK(water.output.probes[0].layer_thickness == 0.005);
@@ -346,19 +324,8 @@ std::vector<std::string> fields_of(const std::string& line) {
 }  // namespace
 
 TEST_CASE("the bed-load probe files: headers per class and rows from the grains and water set in the World") {
-  Model model = parse_scene(test::fluid_scene_text(kGlassGrains + R"(
-[output]
-[[output.probes]]
-kind = "moving_fraction"
-[[output.probes]]
-kind = "packing_density"
-[[output.probes]]
-kind = "bedload_flux"
-[[output.probes]]
-kind = "velocity_profile"
-[[output.probes]]
-kind = "bed_shear_stress"
-)"),
+  Model model = parse_scene(test::fluid_scene_text(kGlassGrains + SceneBuilder().output().probe("moving_fraction")
+      .probe("packing_density").probe("bedload_flux").probe("velocity_profile").probe("bed_shear_stress").toml()),
                             "water.toml");
   REQUIRE(model.output.probes.size() == 5);
   // Two small grains (class 0, one moving at 0.02 m/s relative to the tank) and one large grain at rest (class 1)

@@ -14,8 +14,10 @@
 #include "systems/mps/fluid_neighbours.hpp"
 #include "systems/physics/mps/driven_flow.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
@@ -172,20 +174,10 @@ TEST_CASE("scene keys: body force, turbulence and lids read with their defaults"
   CHECK_FALSE(plain.fluid.has_lids());
   CHECK_FALSE(plain.fluid.reports_driving());
 
-  std::string text = test::fluid_scene_text(R"(
-[fluid.body_force]
-kind = "sinusoidal"
-amplitude = 0.5
-period = 2.0
-phase = 90.0
-grains = "frame"
-
-[[fluid.wall_boxes]]
-low = [0.1, -0.01, 0.02]
-high = [0.14, 0.01, 0.03]
-lid = "no_slip"
-velocity = 0.25
-)");
+  std::string text = test::fluid_scene_text(SceneBuilder(SceneBuilder::kSpaced).within("fluid")
+      .body_force("sinusoidal").set("amplitude", 0.5).set("period", 2.0).set("phase", 90.0)
+      .set("grains", "frame")
+      .wall_box({.low = {0.1, -0.01, 0.02}, .high = {0.14, 0.01, 0.03}, .lid = "no_slip", .velocity = 0.25}).toml());
   text.replace(text.find("spacing = 0.005"), 15, "spacing = 0.005\nturbulence = \"sps\"\nsmagorinsky_constant = 0.15");
   const Model model = parse_scene(text, "driven.toml");
   CHECK(model.fluid.body_force.kind == BodyForceModel::Kind::kSinusoidal);
@@ -205,13 +197,10 @@ velocity = 0.25
   CHECK(model.fluid.reports_driving());
 
   // The controller holds the lab-frame mean velocity: the tank may move, but not along x.
-  std::string bulk_text = test::fluid_scene_text(R"(
-[fluid.body_force]
-kind = "bulk_velocity"
-target_velocity = 0.3
-response_time = 0.5
-viscous_time = 2.0
-)");
+  std::string bulk_text = test::fluid_scene_text(SceneBuilder().within("fluid")
+      .body_force("bulk_velocity").set("target_velocity", 0.3).set("response_time", 0.5)
+      .set("viscous_time", 2.0)
+      .toml());
   CHECK(mentions(test::problems_of(bulk_text), "fluid.body_force.kind", "does not move along x"));
   bulk_text.replace(bulk_text.find("[tank.motion]\n"), 14, "[tank.motion]\ndirection = [0.0, 0.0, 1.0]\n");
   const Model bulk = parse_scene(bulk_text, "bulk.toml");
