@@ -119,6 +119,9 @@ inline Model small_coupled_model(double spacing) {
   return model;
 }
 
+/// A point or vector as the scene builder takes it.
+inline Triple triple(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
 /// Gives `world` water particles filling the box from the origin to `high` on the lattice of `spacing`.
 inline void fill_with_water(World& world, const Vec3& high, double spacing) {
   world.fluid.emplace();

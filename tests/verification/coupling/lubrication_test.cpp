@@ -25,8 +25,10 @@
 #include "systems/dem/solid_neighbours.hpp"
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/coupling/lubrication.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 
@@ -43,20 +45,14 @@ struct LubeScene {
 };
 
 std::string scene_text(const LubeScene& spec) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "[run]\nend_time = 1.0\ndt = 1.0e-4\ngravity = [0.0, 0.0, 0.0]\n"
-      << "[materials.grain]\ndensity = " << spec.density << "\nyoung_modulus = " << spec.young
-      << "\npoisson_ratio = 0.3\n"
-      << "[tank]\nsize = [0.1, 0.1, 0.1]\nwall_material = \"grain\"\n"
-      << "[contact]\nrestitution = " << spec.restitution << "\nfriction = 0.3\nmax_impact_speed = "
-      << spec.max_impact_speed << "\n"
-      << "[solids]\n[[solids.spheres]]\nposition = [0.05, 0.05, 0.05]\nradius = 0.0025\nmaterial = \"grain\"\n"
-      << "[fluid]\nspacing = 0.01\ndensity = " << spec.fluid_density
-      << "\nkinematic_viscosity = " << spec.viscosity / spec.fluid_density
-      << "\n[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [0.1, 0.1, 0.1]\n"
-      << "[coupling]\n" << spec.coupling;
-  return out.str();
+  return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-4, .gravity = {0.0, 0.0, 0.0}})
+      .material("grain", {.density = spec.density, .young_modulus = spec.young, .poisson_ratio = 0.3})
+      .tank({.size = {0.1, 0.1, 0.1}, .wall_material = "grain"})
+      .contact({.restitution = spec.restitution, .friction = 0.3, .max_impact_speed = spec.max_impact_speed})
+      .sphere({.position = {0.05, 0.05, 0.05}, .radius = 0.0025, .material = "grain"})
+      .fluid({.spacing = 0.01, .kinematic_viscosity = spec.viscosity / spec.fluid_density})
+      .set("density", spec.fluid_density).fluid_box({0.0, 0.0, 0.0}, {0.1, 0.1, 0.1})
+      .coupling().verbatim(spec.coupling).toml();
 }
 
 /// A World with the grains given (wet, in still water, voidage 1) and the tank's floor, and one DEM sub-step as the

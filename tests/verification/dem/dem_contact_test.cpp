@@ -83,31 +83,23 @@ struct SceneSpec {
   std::vector<Body> bodies{};  ///< ids 0, 1, ... in this order
 };
 
-std::string format(const Vec3& v) {
-  std::ostringstream out;
-  out.precision(17);
-  out << '[' << v[0] << ", " << v[1] << ", " << v[2] << ']';
-  return out.str();
-}
-
 std::string scene_text(const SceneSpec& spec) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "[run]\nend_time = 10.0\ndt = " << spec.dt << '\n';
-  if (spec.substeps > 0) out << "solid_substeps = " << spec.substeps << '\n';
-  out << "gravity = " << format(spec.gravity) << "\n\n";
-  out << "[materials.grain]\ndensity = " << kDensity << "\nyoung_modulus = " << spec.young
-      << "\npoisson_ratio = " << kPoisson << "\n\n";
-  out << "[tank]\nsize = " << format(spec.tank) << "\nwall_material = \"grain\"\n\n";
-  out << "[contact]\nlaw = \"" << spec.law << "\"\nrestitution = " << spec.restitution
-      << "\nfriction = " << spec.friction << "\nmax_impact_speed = " << spec.max_impact_speed << '\n';
-  if (spec.law == "linear_spring_dashpot") out << "collision_time = " << spec.collision_time << '\n';
-  out << "\n[solids]\n";
-  for (const Body& body : spec.bodies)
-    out << "[[solids.spheres]]\nposition = " << format(body.position) << "\nvelocity = " << format(body.velocity)
-        << "\nangular_velocity = " << format(body.angular_velocity) << "\nradius = " << kRadius
-        << "\nmaterial = \"grain\"\n" << (body.fixed ? "fixed = true\n" : "");
-  return out.str();
+  SceneBuilder scene;
+  scene.run({.end_time = 10.0, .dt = spec.dt});
+  if (spec.substeps > 0) scene.set("solid_substeps", spec.substeps);
+  scene.set("gravity", test::triple(spec.gravity))
+      .material("grain", {.density = kDensity, .young_modulus = spec.young, .poisson_ratio = kPoisson})
+      .tank({.size = test::triple(spec.tank), .wall_material = "grain"})
+      .contact({.law = spec.law, .restitution = spec.restitution, .friction = spec.friction,
+                .max_impact_speed = spec.max_impact_speed});
+  if (spec.law == "linear_spring_dashpot") scene.set("collision_time", spec.collision_time);
+  scene.solids();
+  for (const Body& body : spec.bodies) {
+    scene.sphere({.position = test::triple(body.position), .radius = kRadius, .material = "grain",
+                  .velocity = test::triple(body.velocity), .angular_velocity = test::triple(body.angular_velocity)});
+    if (body.fixed) scene.set("fixed", true);
+  }
+  return scene.toml();
 }
 
 std::unique_ptr<Simulation> simulate(const SceneSpec& spec) {

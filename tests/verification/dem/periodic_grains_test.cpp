@@ -25,8 +25,10 @@
 #include "engine/output/checkpoint.hpp"
 #include "engine/run/simulation.hpp"
 #include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder, riffle::test::TomlValue;
 
 namespace {
 
@@ -35,26 +37,20 @@ struct Grain {
   bool fixed = false;  ///< [[solids.spheres]] fixed: held for the whole run (a rough floor's grain)
 };
 
-std::string format(const Vec3& v) {
-  std::ostringstream out;
-  out.precision(17);
-  out << '[' << v[0] << ", " << v[1] << ", " << v[2] << ']';
-  return out.str();
-}
-
 /// Grains of `radius` in a box `size`, periodic along `periodic` (a TOML array), gravity `gravity`.
 std::string scene(const Vec3& size, const std::string& periodic, const Vec3& gravity, double radius,
                   const std::vector<Grain>& grains, double dt, int substeps) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "[run]\nend_time = 10.0\ndt = " << dt << "\nsolid_substeps = " << substeps << "\ngravity = " << format(gravity)
-      << "\n\n[materials.grain]\ndensity = 2650.0\nyoung_modulus = 1.0e8\npoisson_ratio = 0.3\n\n"
-      << "[tank]\nsize = " << format(size) << "\nwall_material = \"grain\"\nperiodic = " << periodic << "\n\n"
-      << "[contact]\nrestitution = 0.8\nfriction = 0.5\nrolling_friction = 0.01\n\n[solids]\n";
-  for (const Grain& grain : grains)
-    out << "[[solids.spheres]]\nposition = " << format(grain.position) << "\nvelocity = " << format(grain.velocity)
-        << "\nradius = " << radius << "\nmaterial = \"grain\"\n" << (grain.fixed ? "fixed = true\n" : "");
-  return out.str();
+  SceneBuilder text;
+  text.run({.end_time = 10.0, .dt = dt, .solid_substeps = substeps, .gravity = test::triple(gravity)})
+      .material("grain", {.density = 2650.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .tank({.size = test::triple(size), .wall_material = "grain"}).set("periodic", TomlValue::verbatim(periodic))
+      .contact({.restitution = 0.8, .friction = 0.5, .rolling_friction = 0.01}).solids();
+  for (const Grain& grain : grains) {
+    text.sphere({.position = test::triple(grain.position), .radius = radius, .material = "grain",
+                 .velocity = test::triple(grain.velocity)});
+    if (grain.fixed) text.set("fixed", true);
+  }
+  return text.toml();
 }
 
 std::size_t slot_of(const Solids& solids, EntityId id) {

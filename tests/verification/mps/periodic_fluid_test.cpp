@@ -331,11 +331,9 @@ namespace {
 /// Water collapsing in a tank periodic along x and y: a column over half the period falls and spreads across the
 /// seams, so particles cross, lists are rebuilt and the slots are sorted.
 std::string collapsing_scene() {
-  return "[run]\nend_time = 1.0\ndt = 2.0e-3\n\n[materials.glass]\ndensity = 2500.0\n\n"
-         "[tank]\nsize = [0.08, 0.07, 0.1]\nwall_material = \"glass\"\nopen_faces = [\"z_max\"]\n"
-         "periodic = [\"x\", \"y\"]\n\n"
-         "[fluid]\nspacing = 0.01\n\n[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [0.04, 0.07, 0.06]\n"
-         "velocity = [0.3, 0.2, 0.0]\n";
+  return SceneBuilder().run({.end_time = 1.0, .dt = 2.0e-3}).material("glass", {.density = 2500.0})
+      .tank({.size = {0.08, 0.07, 0.1}, .open_faces = {"z_max"}, .periodic = {"x", "y"}, .wall_material = "glass"})
+      .fluid({.spacing = 0.01}).fluid_box({0.0, 0.0, 0.0}, {0.04, 0.07, 0.06}, {0.3, 0.2, 0.0}).toml();
 }
 std::string fluid_bytes_after(const std::string& text, int threads, int steps) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
