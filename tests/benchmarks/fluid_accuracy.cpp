@@ -1,5 +1,5 @@
 // Speed against error for the MPS fluid (docs/BENCHMARKS.md, "Fluid (MPS)"). Scenes are built in code
-// (tests/fluid_support.hpp), not read from scene files.
+// (tests/support/fluid_support.hpp), not read from scene files.
 //
 //   riffle_fluid_accuracy accuracy OUT.csv [--threads N] [--fine] [--cap SECONDS] [--only hydro|dam|variants]
 //                                  [--hydro-time SECONDS] [--rate DENSITY_RATE] [--reference MARTIN_MOYCE.csv]
@@ -45,7 +45,7 @@
 #include <vector>
 
 #include "engine/core/timers.hpp"
-#include "tests/fluid_support.hpp"
+#include "tests/support/fluid_support.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// libFuzzer harness over the scene reader (issue 19): arbitrary text through parse_scene, whose budget check
+// libFuzzer harness over the scene reader: arbitrary text through parse_scene, whose budget check
 // (engine/setup/budget.hpp) runs with a 64 MiB limit and at most 2000 grains; a scene it accepts and that is small is then
 // built into its initial world (laid out, neighbour lists, initial forces). Acceptable outcomes are a Model or a
 // SceneError; any other exception, a crash, a hang or an allocation above libFuzzer's -malloc_limit_mb is a finding.

@@ -10,22 +10,19 @@
 #include "systems/physics/mps/mps_common.hpp"
 #include "systems/dem/solid_neighbours.hpp"
 #include "engine/run/simulation.hpp"
-#include "tests/test_support.hpp"
+#include "tests/support/test_support.hpp"
+#include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
+using riffle::test::SceneBuilder;
 
 namespace {
 /// A scene large enough that parallel loops really split (several thousand grains).
 std::string busy_scene() {
-  std::string text = test::small_scene_text(R"(
-[[solids.blocks]]
-min = [0.01, 0.01, 0.01]
-max = [0.23, 0.15, 0.08]
-spacing = 0.006
-radius = 0.0025
-material = "grain"
-velocity = [0.3, 0.1, 1.0]
-)");
+  std::string text = test::small_scene_text(SceneBuilder().within("solids")
+      .block({.min = {0.01, 0.01, 0.01}, .max = {0.23, 0.15, 0.08}, .spacing = 0.006, .radius = 0.0025,
+              .material = "grain", .velocity = {0.3, 0.1, 1.0}})
+      .toml());
   return text;
 }
 
@@ -83,35 +80,13 @@ namespace {
 /// Grains falling into a pile with contacts: rebuilds, reordering by cell (every rebuild) and sliding contacts, so
 /// tangential springs must be carried across reorders and checkpoints.
 std::string contact_scene() {
-  return R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-[contact]
-restitution = 0.5
-friction = 0.4
-rolling_friction = 0.01
-sort_every_rebuild = 1
-[tank]
-size = [0.04, 0.04, 0.1]
-wall_material = "grain"
-[tank.motion]
-kind = "sinusoidal"
-amplitude = 0.01
-frequency = 3.0
-[solids]
-[[solids.blocks]]
-min = [0.004, 0.004, 0.004]
-max = [0.036, 0.036, 0.03]
-spacing = 0.0062
-radius = 0.0025
-material = "grain"
-velocity = [0.2, -0.1, 0.0]
-)";
+  return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3})
+      .material("grain", {.density = 1318.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .contact({.restitution = 0.5, .friction = 0.4, .rolling_friction = 0.01}).set("sort_every_rebuild", 1)
+      .tank({.size = {0.04, 0.04, 0.1}, .wall_material = "grain"}).tank_motion({.amplitude = 0.01, .frequency = 3.0})
+      .block({.min = {0.004, 0.004, 0.004}, .max = {0.036, 0.036, 0.03}, .spacing = 0.0062, .radius = 0.0025,
+              .material = "grain", .velocity = {0.2, -0.1, 0.0}})
+      .toml();
 }
 }  // namespace
 
@@ -175,27 +150,10 @@ namespace {
 /// A dam break in the shaken seed tank: the fluid moves fast (Courant-limited steps, neighbour rebuilds, surface
 /// particles come and go) and the PPE warm start carries state between steps.
 std::string fluid_scene() {
-  return R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-[materials.glass]
-density = 2500.0
-[tank]
-size = [0.12, 0.04, 0.08]
-open_faces = ["z_max"]
-wall_material = "glass"
-[tank.motion]
-kind = "sinusoidal"
-amplitude = 0.01
-frequency = 1.7
-[fluid]
-spacing = 0.005
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.04, 0.04, 0.06]
-velocity = [0.2, 0.0, 0.0]
-)";
+  return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3}).material("glass", {.density = 2500.0})
+      .tank({.size = {0.12, 0.04, 0.08}, .open_faces = {"z_max"}, .wall_material = "glass"})
+      .tank_motion({.amplitude = 0.01, .frequency = 1.7}).fluid({.spacing = 0.005})
+      .fluid_box({0.0, 0.0, 0.0}, {0.04, 0.04, 0.06}, {0.2, 0.0, 0.0}).toml();
 }
 }  // namespace
 
@@ -294,47 +252,16 @@ namespace {
 /// Grains in shaken water, contacts and drag on: the two branches of a step run side by side, the grains sample the
 /// step-start copy of the water, and the drag goes back to the water at the end of the step (docs/COUPLING.md).
 std::string coupled_scene() {
-  return R"(
-[run]
-end_time = 1.0
-dt = 1.0e-3
-solid_substeps = 50
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-[materials.glass]
-density = 2500.0
-young_modulus = 1.0e8
-poisson_ratio = 0.3
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.4
-[tank]
-size = [0.08, 0.04, 0.08]
-open_faces = ["z_max"]
-wall_material = "glass"
-[tank.motion]
-kind = "sinusoidal"
-amplitude = 0.01
-frequency = 1.7
-[solids]
-[[solids.blocks]]
-min = [0.005, 0.005, 0.005]
-max = [0.075, 0.035, 0.03]
-spacing = 0.0055
-radius = 0.0025
-material = "grain"
-velocity = [0.05, 0.0, -0.1]
-[fluid]
-spacing = 0.005
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.08, 0.04, 0.05]
-[coupling]
-fluid_velocity = "mixture"
-)";
+  return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3, .solid_substeps = 50})
+      .material("grain", {.density = 1318.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .material("glass", {.density = 2500.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+      .contact({.law = "hertz_mindlin", .restitution = 0.5, .friction = 0.4})
+      .tank({.size = {0.08, 0.04, 0.08}, .open_faces = {"z_max"}, .wall_material = "glass"})
+      .tank_motion({.amplitude = 0.01, .frequency = 1.7})
+      .block({.min = {0.005, 0.005, 0.005}, .max = {0.075, 0.035, 0.03}, .spacing = 0.0055, .radius = 0.0025,
+              .material = "grain", .velocity = {0.05, 0.0, -0.1}})
+      .fluid({.spacing = 0.005}).fluid_box({0.0, 0.0, 0.0}, {0.08, 0.04, 0.05})
+      .coupling().set("fluid_velocity", "mixture").toml();
 }
 }  // namespace
 

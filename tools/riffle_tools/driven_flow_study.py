@@ -41,7 +41,7 @@ NU = 1.0e-3  # [m^2/s] laminar cases: a viscous fluid keeps the runs short (Re ~
 
 
 def lid_scene(l0, periodic=None):
-    """The closed-box lid case of tests/verification/driven_flow_test.cpp at spacing l0 (the same physical sizes):
+    """The closed-box lid case of tests/verification/mps/driven_flow_test.cpp at spacing l0 (the same physical sizes):
     water h = 0.08 m deep, 0.48 m long, 0.04 m wide; free-slip side boxes, end walls under the lid and a no-slip
     floor lid at rest, each 3 l0 thick; the top lid cut into three at the water's middle third. nu = 2e-3,
     U = 25 mm/s (Re = 1), t = 5 h^2 / (pi^2 nu). periodic: not None = a periodic channel (no end walls)."""

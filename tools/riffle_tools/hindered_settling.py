@@ -5,11 +5,11 @@ A suspension of equal 3 mm beads (1100 kg/m^3) in a liquid of 1000 kg/m^3 and 0.
 grains' mean downward velocity relative to the water's local velocity (the flux the model's continuity conserves:
 zero section mean in the closed column) in the band z = 60-80 mm, averaged over t = 0.032-0.1 s (the beads relax
 in 3 ms, the top of the suspension moves less than 0.2 mm); the speed in the column's frame is printed too (it
-carries the water's transient and a slow wall circulation: tests/verification/hindered_settling_test.cpp).
+carries the water's transient and a slow wall circulation: tests/verification/coupling/hindered_settling_test.cpp).
 Richardson-Zaki is evaluated at the suspension's solid fraction (grain centres in z = 30-110 mm), which the fill
 makes 2-4 % above the nominal one. Richardson-Zaki: u = u_t eps^n with n = 4.65 (Re_t < 0.2,
 d/D -> 0) and u_t the Schiller-Naumann terminal speed of a lone bead (the law riffle's drag uses as eps -> 1).
-The same scene as tests/verification/hindered_settling_test.cpp (which runs phi = 0.05 and 0.1).
+The same scene as tests/verification/coupling/hindered_settling_test.cpp (which runs phi = 0.05 and 0.1).
 
   tools/riffle-tools hindered-settling build/riffle [work-dir] [--phi 0.05,0.1,0.2,0.3]
       [--readings mixture,pore] [--extra 'voidage_estimate = "cloud_in_cell"']

@@ -43,7 +43,7 @@ plt = plotting.pyplot("seed003_plots")
 BEDS = ("small", "large", "bidisperse")
 
 
-# The formulas of systems/physics/bedload.hpp (unit-tested there: tests/unit/bedload_laws_test.cpp; the same values
+# The formulas of systems/physics/bedload.hpp (unit-tested there: tests/unit/systems/physics/measures/bedload_laws_test.cpp; the same values
 # are checked here by tests/tools/test_seed003_plots.py).
 def shields_brownlie(particle_reynolds):
     """Theta_c = 0.22 Re_p^-0.6 + 0.06 10^(-7.7 Re_p^-0.6) (Brownlie 1981)."""

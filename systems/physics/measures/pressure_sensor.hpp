@@ -1,7 +1,7 @@
 #pragma once
 // Pieces of the fluid pressure probes (engine/output/probes.*): when a point counts as wet, what pressure it reads,
 // and the quadrature a pressure transducer integrates over its disc with. Pure formulas, tested on their own
-// (tests/unit/pressure_sensor_test.cpp).
+// (tests/unit/systems/physics/measures/pressure_sensor_test.cpp).
 #include <vector>
 
 namespace riffle {

@@ -2,7 +2,7 @@
 // MPS particle operators (numerics.md Sec. 2; seed 000 Eqs. 4-12), written once as the per-pair terms and the
 // per-particle closures that the fluid systems sum in their pair loops (each system fuses several operators in one
 // walk over a particle's neighbours, so the sums stay in the systems and the terms live here). Verified on lattices
-// in tests/unit/mps_operators_test.cpp, which sums these same functions over the pair geometry of fluid_pair_batch.
+// in tests/unit/systems/physics/mps/mps_operators_test.cpp, which sums these same functions over the pair geometry of fluid_pair_batch.
 #include <Eigen/Core>
 
 #include "components/vec.hpp"

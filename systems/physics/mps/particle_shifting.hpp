@@ -7,7 +7,7 @@
 // D = A h^2), the cap on the shift, the free-surface projection of Khayyer, Gotoh & Shimizu 2017 (J. Comput. Phys.
 // 332, 236-256, "optimized particle shifting": no normal component at and next to the free surface) and the Taylor
 // correction of the velocity to the shifted position (Lind et al. 2012). Verified in
-// tests/unit/particle_shifting_test.cpp; summed over the neighbours by systems/mps/fluid_shift.*.
+// tests/unit/systems/physics/mps/particle_shifting_test.cpp; summed over the neighbours by systems/mps/fluid_shift.*.
 #include <Eigen/Core>
 
 #include "components/vec.hpp"

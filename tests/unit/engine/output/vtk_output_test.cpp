@@ -1,0 +1,164 @@
+// VTK XML output: base64 encoding and the arrays a reader will decode.
+#include <doctest/doctest.h>
+
+#include <cstring>
+#include <algorithm>
+#include <cctype>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/setup/initial_state.hpp"
+#include "engine/run/simulation.hpp"
+#include "engine/output/vtk_output.hpp"
+#include "tests/support/test_support.hpp"
+
+using namespace riffle;
+
+namespace {
+std::string base64_decode(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  unsigned buffer = 0;
+  int bits = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    buffer = (buffer << 6) | static_cast<unsigned>(alphabet.find(c));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += static_cast<char>((buffer >> bits) & 0xFF);
+    }
+  }
+  return out;
+}
+
+/// The decoded payload (after the UInt32 byte count) of the DataArray named `name`.
+std::string array_bytes(const std::string& vtp, const std::string& name) {
+  // Plain string search: std::regex recurses per character and overflows the stack on long base64 runs.
+  const std::size_t tag = vtp.find("Name=\"" + name + "\"");
+  REQUIRE(tag != std::string::npos);
+  const std::size_t open_end = vtp.find('>', tag);
+  const std::size_t close = vtp.find("</DataArray>", open_end);
+  REQUIRE(close != std::string::npos);
+  std::string text = vtp.substr(open_end + 1, close - open_end - 1);
+  text.erase(std::remove_if(text.begin(), text.end(), [](unsigned char c) { return std::isspace(c); }), text.end());
+  const std::string block = base64_decode(text);
+  REQUIRE(block.size() >= 4);
+  std::uint32_t count;
+  std::memcpy(&count, block.data(), 4);
+  REQUIRE(block.size() == 4 + count);
+  return block.substr(4);
+}
+
+template <class T>
+std::vector<T> values(const std::string& bytes) {
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
+}  // namespace
+
+TEST_CASE("base64 matches RFC 4648 test vectors") {
+  CHECK(base64_encode("", 0) == "");
+  CHECK(base64_encode("f", 1) == "Zg==");
+  CHECK(base64_encode("fo", 2) == "Zm8=");
+  CHECK(base64_encode("foo", 3) == "Zm9v");
+  CHECK(base64_encode("foob", 4) == "Zm9vYg==");
+  CHECK(base64_encode("fooba", 5) == "Zm9vYmE=");
+  CHECK(base64_encode("foobar", 6) == "Zm9vYmFy");
+}
+
+TEST_CASE("solids_vtp carries positions and every output field exactly") {
+  const World world = initial_world(test::small_model());
+  const Solids& solids = *world.solids;
+  const std::string vtp = solids_vtp(solids);
+  CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(solids.size()) + "\"") != std::string::npos);
+  const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
+  REQUIRE(points.size() == 3 * solids.size());
+  for (std::size_t i = 0; i < solids.size(); ++i)
+    for (int c = 0; c < 3; ++c) CHECK(points[3 * i + static_cast<std::size_t>(c)] == solids.position[i][c]);
+  CHECK(values<double>(array_bytes(vtp, "radius")) == solids.radius);
+  CHECK(values<std::uint64_t>(array_bytes(vtp, "id")) == solids.id);
+  CHECK(values<std::int32_t>(array_bytes(vtp, "size_class")) == solids.size_class);
+  CHECK(values<double>(array_bytes(vtp, "velocity")).size() == 3 * solids.size());
+  // Fields marked not for output stay out.
+  CHECK(vtp.find("Name=\"moment_of_inertia\"") == std::string::npos);
+}
+
+TEST_CASE("walls_vtp draws each wall as a quad around its centre") {
+  const World world = initial_world(test::small_model());
+  const Walls& walls = *world.walls;
+  const std::string vtp = walls_vtp(walls);
+  CHECK(vtp.find("NumberOfPolys=\"" + std::to_string(walls.size()) + "\"") != std::string::npos);
+  const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
+  REQUIRE(points.size() == 12 * walls.size());
+  for (std::size_t wall = 0; wall < walls.size(); ++wall) {
+    Vec3 mean = Vec3::Zero();
+    for (std::size_t corner = 0; corner < 4; ++corner)
+      mean += Vec3(points[12 * wall + 3 * corner], points[12 * wall + 3 * corner + 1],
+                   points[12 * wall + 3 * corner + 2]);
+    CHECK((mean / 4.0 - walls.point[wall]).norm() < 1e-15);
+  }
+  CHECK(values<std::int64_t>(array_bytes(vtp, "offsets")).back() == static_cast<std::int64_t>(4 * walls.size()));
+}
+
+TEST_CASE("pvd_collection lists every frame with its time") {
+  const std::string pvd = pvd_collection({0.0, 0.5}, {"vtk/a_000000.vtp", "vtk/a_000001.vtp"});
+  CHECK(pvd.find("timestep=\"0\" group=\"\" part=\"0\" file=\"vtk/a_000000.vtp\"") != std::string::npos);
+  CHECK(pvd.find("timestep=\"0.5\" group=\"\" part=\"0\" file=\"vtk/a_000001.vtp\"") != std::string::npos);
+}
+
+TEST_CASE("fluid_vtp carries the MPS particles and their output fields exactly") {
+  World world = initial_world(test::fluid_model());
+  FluidParticles& fluid = *world.fluid;
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    fluid.pressure[i] = 10.0 * static_cast<double>(i) + 0.25;
+    fluid.number_density[i] = 1.0 / (1.0 + static_cast<double>(i));
+    fluid.free_surface[i] = static_cast<std::int32_t>(i % 3 == 0);
+  }
+  const std::string vtp = fluid_vtp(fluid);
+  CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
+  CHECK(vtp.find("NumberOfVerts=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
+  const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
+  REQUIRE(points.size() == 3 * fluid.size());
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    for (int c = 0; c < 3; ++c) CHECK(points[3 * i + static_cast<std::size_t>(c)] == fluid.position[i][c]);
+  CHECK(values<std::uint64_t>(array_bytes(vtp, "id")) == fluid.id);
+  CHECK(values<std::int32_t>(array_bytes(vtp, "kind")) == fluid.kind);
+  CHECK(values<double>(array_bytes(vtp, "pressure")) == fluid.pressure);
+  CHECK(values<double>(array_bytes(vtp, "number_density")) == fluid.number_density);
+  CHECK(values<std::int32_t>(array_bytes(vtp, "free_surface")) == fluid.free_surface);
+  const std::vector<double> velocity = values<double>(array_bytes(vtp, "velocity"));
+  REQUIRE(velocity.size() == 3 * fluid.size());
+  CHECK(velocity[0] == fluid.velocity[0].x());
+  CHECK(velocity[2] == fluid.velocity[0].z());
+  for (const char* hidden : {"rest_position", "predicted_position", "density_rate", "\"position"})
+    CHECK_MESSAGE(vtp.find(std::string("Name=\"") + hidden) == std::string::npos, hidden);
+}
+
+TEST_CASE("a run with a fluid writes fluid frames and the fluid.pvd series") {
+  const auto out = test::scratch_dir("vtk_fluid_run");
+  Model model = test::fluid_model();
+  model.output.vtk_interval = 0.005;
+  auto simulation = Simulation::from_model(std::move(model));
+  RunOptions options;
+  options.out_dir = out.string();
+  options.threads = 1;
+  REQUIRE(simulation->run(options).exit_code == kExitOk);
+  const auto read = [](const std::filesystem::path& path) {
+    std::ifstream file(path, std::ios::binary);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return text.str();
+  };
+  const std::string pvd = read(out / "fluid.pvd");
+  for (const char* frame : {"vtk/fluid_000000.vtp", "vtk/fluid_000001.vtp", "vtk/fluid_000002.vtp"}) {
+    CHECK_MESSAGE(pvd.find(std::string("file=\"") + frame + "\"") != std::string::npos, frame);
+    CHECK_MESSAGE(std::filesystem::exists(out / frame), frame);
+  }
+  const std::string last = read(out / "vtk/fluid_000002.vtp");
+  CHECK(values<std::int32_t>(array_bytes(last, "kind")) == simulation->world().fluid->kind);
+  CHECK_FALSE(std::filesystem::exists(out / "solids.pvd"));  // no grains in this scene
+}

@@ -1,0 +1,143 @@
+// Verification: pressure transducers (engine/output/probes.*, kind "pressure_transducer") on the walls of a tank of
+// still water run by the engine, at rest and shaken vertically. Theory: the fluid at rest in the tank's frame has
+// p = rho (g - a) . (x - x_s), x_s on the free surface; a disc's mean of a linear field is its value at the centre,
+// and a disc across the water line reads the mean of rho g max(0, h) over the disc (half_submerged_mean).
+// The discrete scheme puts p = 0 at the centres of the surface particles, l0/2 below the real surface
+// (fluid_hydrostatic_test), so its exact answer is the offset line, depth h' = h - l0/2; against it the tolerance is
+// rho |g - a| 0.1 l0, the bound numerics 6.2 sets on still water (a particle 0.1 l0 off its lattice site carries
+// that much pressure), and against the continuum rho g h it is that plus rho g l0/2.
+//
+// Sizes (CTest time): l0 = 10 mm, a 6 x 4 x 10 block (240 particles), dt = 2 ms, 150 and 375 steps.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "engine/output/probes.hpp"
+#include "tests/support/fluid_support.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace riffle {
+namespace {
+
+constexpr double kG = 9.81;
+constexpr double kRho = 1000.0;
+constexpr double kSpacing = 0.01;
+constexpr double kDepth = 0.10;  // [m] H
+constexpr double kPi = 3.14159265358979323846;
+
+using test::half_submerged_mean;
+
+Model still_water_model() {
+  Model model = test::fluid_model(Vec3(0.06, 0.04, 0.14), kSpacing,
+                                  {ParticleBoxModel{Vec3::Zero(), Vec3(0.06, 0.04, kDepth)}});
+  model.dt = 2.0e-3;
+  return model;
+}
+
+struct Disc {
+  std::string where;
+  Vec3 point;        // [m] tank frame, on a wall's inner face
+  Vec3 normal;       // out of the water
+  double diameter;   // [m]
+  double expected;   // [Pa] offset-line theory at rest (per rho |g - a| for the shaken tank: a depth)
+};
+
+}  // namespace
+
+TEST_CASE("a transducer in still water reads rho g h, the wetted-area mean across the water line, 0 in air") {
+  test::FluidRun run(still_water_model());
+  const FluidProbeSettings settings = fluid_probe_settings(run.model);
+  const double line = kDepth - 0.5 * kSpacing;  // the discrete water line (p = 0 at the surface particles)
+  const double rho_g = kRho * kG;
+  const std::vector<Disc> discs = {
+      {"x_min wall, 5 cm deep", Vec3(0.0, 0.02, 0.05), -Vec3::UnitX(), 0.01, rho_g * (line - 0.05)},
+      {"y_max wall, 8 cm deep, 2 cm across", Vec3(0.03, 0.04, 0.02), Vec3::UnitY(), 0.02, rho_g * (line - 0.02)},
+      {"floor", Vec3(0.03, 0.02, 0.0), -Vec3::UnitZ(), 0.02, rho_g * line},
+      {"x_max wall, centred on the water line", Vec3(0.06, 0.02, line), Vec3::UnitX(), 0.02,
+       rho_g * half_submerged_mean(0.0, 0.01)},
+      {"x_max wall, 4 mm below the water line", Vec3(0.06, 0.02, line - 0.004), Vec3::UnitX(), 0.02,
+       rho_g * half_submerged_mean(0.004, 0.01)},
+      {"x_min wall, in air", Vec3(0.0, 0.02, 0.125), -Vec3::UnitX(), 0.01, 0.0},
+  };
+  const TankMotion at_rest = run.world.tank_motion.value_or(TankMotion{});
+  // 0.2 s to settle, then every step of the next 0.1 s.
+  REQUIRE_MESSAGE(run.run_until(0.2), run.diagnosis());
+  std::vector<double> worst(discs.size(), 0.0);
+  while (run.world.time < 0.3 - 1e-12) {
+    REQUIRE_MESSAGE(run.step(), run.diagnosis());
+    for (std::size_t k = 0; k < discs.size(); ++k) {
+      const double reading = pressure_transducer_reading(*run.world.fluid, settings, at_rest, discs[k].point,
+                                                         discs[k].normal, discs[k].diameter);
+      if (discs[k].expected == 0.0) CHECK(reading == 0.0);  // in air: exactly 0, never NaN or negative
+      worst[k] = std::max(worst[k], std::abs(reading - discs[k].expected));
+    }
+  }
+  for (std::size_t k = 0; k < discs.size(); ++k) {
+    CAPTURE(discs[k].where);
+    MESSAGE(discs[k].where << ": expected " << discs[k].expected << " Pa, largest deviation " << worst[k] << " Pa ("
+                           << worst[k] / (rho_g * kSpacing) << " rho g l0)");
+    // Offset-line theory within rho g 0.1 l0; across the line also the quadrature's 0.25 % of rho g R.
+    CHECK(worst[k] <= rho_g * (0.1 * kSpacing + 0.0025 * 0.5 * discs[k].diameter));
+  }
+  // Against the continuum rho g h (h from the real surface, H): the offset line's l0/2 more.
+  const double reading = pressure_transducer_reading(*run.world.fluid, settings, at_rest, discs[0].point,
+                                                     discs[0].normal, discs[0].diameter);
+  CHECK(std::abs(reading - rho_g * (kDepth - 0.05)) <= rho_g * 0.6 * kSpacing);
+}
+
+TEST_CASE("a transducer in a vertically shaken tank moves with it and reads rho (g - a) h") {
+  // x_z = -A sin(2 pi f t) after a C2 ramp of half a period: |a| up to A (2 pi f)^2 = 0.3 g, so the readings swing
+  // by 30 %; the tank moves by up to A = 18.6 mm, so a disc that stayed behind would be off by up to rho g A = 183 Pa.
+  // The fluid's pressures lag the tank's acceleration by one step (the pressure solved in a step realises the
+  // velocity change the walls made in the step before: against a(t - dt) the deviations below fall from 0.06-0.11
+  // to 0.03 rho |g - a| l0), a scheme error of rho h' |da/dt| dt, |da/dt| <= A (2 pi f)^3, added to the tolerance.
+  Model model = still_water_model();
+  const double frequency = 2.0;
+  model.tank.motion.kind = TankMotionModel::Kind::kSinusoidal;
+  model.tank.motion.direction = Vec3::UnitZ();
+  model.tank.motion.frequency = frequency;
+  model.tank.motion.amplitude = 0.3 * kG / std::pow(2.0 * kPi * frequency, 2);
+  model.tank.motion.ramp_time = 0.5 / frequency;
+  test::FluidRun run(std::move(model));
+  const FluidProbeSettings settings = fluid_probe_settings(run.model);
+  const double line = kDepth - 0.5 * kSpacing;
+  const std::vector<Disc> discs = {
+      {"x_min wall, 5 cm deep", Vec3(0.0, 0.02, 0.05), -Vec3::UnitX(), 0.01, line - 0.05},
+      {"y_min wall, 8 cm deep", Vec3(0.03, 0.0, 0.02), -Vec3::UnitY(), 0.01, line - 0.02},
+      {"floor", Vec3(0.03, 0.02, 0.0), -Vec3::UnitZ(), 0.02, line},
+      {"x_min wall, in air", Vec3(0.0, 0.02, 0.125), -Vec3::UnitX(), 0.01, 0.0},
+  };
+  const double jerk = run.model.tank.motion.amplitude * std::pow(2.0 * kPi * frequency, 3);  // [m/s^3] max |da/dt|
+  std::vector<double> worst(discs.size(), 0.0);
+  double largest_acceleration = 0.0, largest_displacement = 0.0;
+  while (run.world.time < 0.25 + 1.0 / frequency - 1e-12) {
+    REQUIRE_MESSAGE(run.step(), run.diagnosis());
+    REQUIRE(run.world.tank_motion);
+    const TankMotion& tank = *run.world.tank_motion;
+    const double body = kG + tank.acceleration.z();  // |g - a| for a vertical a (up positive)
+    if (run.world.time < 0.25) continue;             // the ramp and the first quarter period: settle
+    largest_acceleration = std::max(largest_acceleration, std::abs(tank.acceleration.z()));
+    largest_displacement = std::max(largest_displacement, std::abs(tank.displacement.z()));
+    for (std::size_t k = 0; k < discs.size(); ++k) {
+      const double reading = pressure_transducer_reading(*run.world.fluid, settings, tank, discs[k].point,
+                                                         discs[k].normal, discs[k].diameter);
+      if (discs[k].expected == 0.0) CHECK(reading == 0.0);
+      // Relative to the tolerance: rho |g - a| 0.1 l0 (still water) + rho h' |da/dt| dt (the one-step lag).
+      const double tolerance = kRho * (body * 0.1 * kSpacing + discs[k].expected * jerk * run.model.dt);
+      worst[k] = std::max(worst[k], std::abs(reading - kRho * body * discs[k].expected) / tolerance);
+    }
+  }
+  MESSAGE("largest tank acceleration " << largest_acceleration / kG << " g, displacement " << largest_displacement
+                                       << " m");
+  CHECK(largest_acceleration > 0.29 * kG);
+  for (std::size_t k = 0; k < discs.size(); ++k) {
+    CAPTURE(discs[k].where);
+    MESSAGE(discs[k].where << ": largest deviation from rho (g - a) h' " << worst[k] << " of the tolerance");
+    CHECK(worst[k] <= 1.0);
+  }
+}
+
+}  // namespace riffle
