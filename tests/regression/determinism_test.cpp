@@ -283,7 +283,7 @@ TEST_CASE("grains in water with added mass and the history force: threads and a 
   CHECK(uninterrupted != checkpoint_bytes_after(coupled_scene(), "coupled.toml", 2, 30));  // the forces act
 }
 
-TEST_CASE("dilute grains in water with every issue-21 force on: threads and a resumed run give the same bytes") {
+TEST_CASE("dilute grains in water with every added coupling force on: threads and a resumed run give the same bytes") {
   // The self-induced correction's build-up (GrainDrag's self_induced_* fields) acts on dilute grains only (voidage
   // above 0.8): a sparse block, so that it does; its state, like the history's, is in grain fields.
   std::string scene = coupled_scene();
