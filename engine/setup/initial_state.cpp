@@ -175,8 +175,8 @@ World initial_world(const Model& model) {
   World world = unlaid_world(model);
   apply_tank_motion(*world.tank_motion, *world.walls);
   if (model.solids.enabled) {
-    if (!model.solids.initial_state.empty())
-      world.solids = model.solids.initial_grains ? *model.solids.initial_grains : read_initial_grains(model);
+    // The grains of initial_state, read once by the scene reader (a scene whose checkpoint cannot be read is refused).
+    if (model.solids.initial_grains) world.solids = *model.solids.initial_grains;
     // Grains of a checkpoint (a settled bed) and of the scene are placed in the tank at rest: shift them with it
     // when it starts displaced (zero for the seed's motion, which starts at x = 0).
     const Vec3 shift = world.tank_motion->displacement;

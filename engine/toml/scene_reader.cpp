@@ -91,9 +91,9 @@ std::optional<toml::table> parse_toml(const std::string& text, SceneProblems& pr
 
 void SceneKeyCatalogue::note(const std::string& key, const std::string& kind, const std::string& range,
                              const std::string& unit, const std::string& fallback, bool given) {
-  SceneKey& entry = keys_[key];
-  if (entry.key.empty()) {
-    entry.key = key;
+  const auto [found, inserted] = keys_.try_emplace(key);
+  SceneKey& entry = found->second;
+  if (inserted) {  // the first reading of a key describes it; later ones add their defaults
     entry.kind = kind;
     entry.range = range;
     entry.unit = unit;
@@ -102,7 +102,6 @@ void SceneKeyCatalogue::note(const std::string& key, const std::string& kind, co
   entry.given = entry.given || given;
 }
 
-std::string scene_spelling(double value) { return format_number(value); }
 std::string scene_spelling(const Vec3& value) {
   return "[" + format_number(value.x()) + ", " + format_number(value.y()) + ", " + format_number(value.z()) + "]";
 }
@@ -138,7 +137,7 @@ double TableReader::number(const std::string& key, std::optional<double> fallbac
                            Bounds bounds) {
   const toml::node* node = lookup(key);
   const std::string expected = bounds.describe() + " [" + unit + "]";
-  note(key, "number", bounds.describe(), unit, fallback ? scene_spelling(*fallback) : "required");
+  note(key, "number", bounds.describe(), unit, fallback ? format_number(*fallback) : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected " + expected);
     return fallback.value_or(0.0);
@@ -192,8 +191,12 @@ bool TableReader::boolean(const std::string& key, std::optional<bool> fallback) 
 }
 
 std::string TableReader::text(const std::string& key, std::optional<std::string> fallback) {
-  const toml::node* node = lookup(key);
   note(key, "string", "", "", fallback ? "\"" + *fallback + "\"" : "required");
+  return read_text(key, fallback);
+}
+
+std::string TableReader::read_text(const std::string& key, const std::optional<std::string>& fallback) {
+  const toml::node* node = lookup(key);
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected a string");
     return fallback.value_or("");
@@ -209,9 +212,8 @@ std::string TableReader::choice(const std::string& key, std::optional<std::strin
                                 const std::vector<std::string>& allowed) {
   const toml::node* node = table_->get(key);
   const bool present = node != nullptr;
-  // Noted before text() notes it as a plain string: the first note of a key sets its kind.
   note(key, "one of", "\"" + join(allowed, "\", \"") + "\"", "", fallback ? "\"" + *fallback + "\"" : "required");
-  const std::string value = text(key, fallback);
+  const std::string value = read_text(key, fallback);
   if (present && node->is_string() && std::find(allowed.begin(), allowed.end(), value) == allowed.end()) {
     problem(key, "expected one of \"" + join(allowed, "\", \"") + "\", got \"" + value + "\"");
     return fallback.value_or(allowed.front());

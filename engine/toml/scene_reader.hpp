@@ -47,7 +47,6 @@ struct Bounds {
 /// scene applies them. The reader records every key it asks for (SceneKeyCatalogue), so the scene's table of keys is
 /// the reading itself and cannot drift from it; `riffle keys` prints it and docs/SCENES.md is checked against it.
 struct SceneKey {
-  std::string key;    ///< dotted; an item of an array of tables as [] ("fluid.boxes[].low"), a named table as NAME
   std::string kind;   ///< "number", "integer", "boolean", "string", "one of", "list of", "3 numbers", "integers",
                       ///< "points", "table", "tables", "named tables"
   std::string range;  ///< bounds, or the allowed strings; empty if any value of the kind will do
@@ -58,7 +57,8 @@ struct SceneKey {
   bool given = false;  ///< the scene sets it (in some table where it was asked)
 };
 
-/// The keys one or more scenes' reading asked for, by key.
+/// The keys one or more scenes' reading asked for, by key: dotted, an item of an array of tables as []
+/// ("fluid.boxes[].low"), a named table as NAME ("materials.NAME.density").
 class SceneKeyCatalogue {
  public:
   void note(const std::string& key, const std::string& kind, const std::string& range, const std::string& unit,
@@ -125,6 +125,8 @@ class TableReader {
   TableReader(const toml::table& table, std::string key_prefix, std::string catalogue_prefix,
               SceneProblems& problems);
   const toml::node* lookup(const std::string& key);
+  /// text() without recording the key in the catalogue (choice() records it as a choice).
+  std::string read_text(const std::string& key, const std::optional<std::string>& fallback);
   /// Records `key` in problems_->catalogue, if one is kept.
   void note(const std::string& key, const char* kind, const std::string& range, const std::string& unit,
             const std::string& fallback);
@@ -155,7 +157,6 @@ Enum enum_choice(TableReader& reader, const std::string& key, Enum fallback,
 }
 
 /// A default as a scene would spell it.
-std::string scene_spelling(double value);
 std::string scene_spelling(const Vec3& value);
 
 /// A number as messages show it: the shortest form with 6 significant digits (0.005, 1e-07).
