@@ -6,8 +6,8 @@
 #   -> systems/{dem,mps,coupling} (2: the systems) -> engine/{core,output,toml} (3: scheduler, output, TOML reading)
 #   -> engine/setup (4: beds, layout, initial state, the budget) -> engine/scene (5: the scene read into the model)
 #   -> engine/run (6: registry, stepper, run loop, CLI)
-# Within floors 1 and 2 the dem and mps families stay apart: systems/dem and systems/physics/dem never include
-# systems/mps or systems/physics/mps, and the other way round; coupling may include both.
+# Within floors 1 and 2 the families stay apart: dem, mps and mean_flow (systems/<family> and
+# systems/physics/<family>) never include one another; coupling may include all of them.
 # Prints every offending include as file:line and exits 1 if there is one.
 #   tools/check_layers.sh [source-dir]
 set -u
@@ -16,7 +16,7 @@ rank() {
   case $1 in
     components/*) echo 0 ;;
     systems/physics/* | systems/system.hpp | systems/system.cpp) echo 1 ;;
-    systems/dem/* | systems/mps/* | systems/coupling/*) echo 2 ;;
+    systems/dem/* | systems/mps/* | systems/mean_flow/* | systems/coupling/*) echo 2 ;;
     engine/core/* | engine/output/* | engine/toml/*) echo 3 ;;
     engine/setup/*) echo 4 ;;
     engine/scene/*) echo 5 ;;
@@ -28,6 +28,7 @@ family() {
   case $1 in
     systems/dem/* | systems/physics/dem/*) echo dem ;;
     systems/mps/* | systems/physics/mps/*) echo mps ;;
+    systems/mean_flow/* | systems/physics/mean_flow/*) echo mean_flow ;;
     *) echo other ;;
   esac
 }
@@ -35,7 +36,7 @@ status=0
 for file in $(find components systems engine -name '*.hpp' -o -name '*.cpp' | sort); do
   own=$(rank "$file")
   if [ "$own" = x ]; then
-    echo "$file: outside every floor (components/, systems/{physics,dem,mps,coupling}/, engine/{core,output,toml,setup,scene,run}/)"
+    echo "$file: outside every floor (components/, systems/{physics,dem,mps,mean_flow,coupling}/, engine/{core,output,toml,setup,scene,run}/)"
     status=1
     continue
   fi
@@ -50,7 +51,7 @@ for file in $(find components systems engine -name '*.hpp' -o -name '*.cpp' | so
     elif [ "$own" -le 2 ] && [ "$other" -le 2 ]; then
       mine=$(family "$file") theirs=$(family "$target")
       if [ "$mine" != other ] && [ "$theirs" != other ] && [ "$mine" != "$theirs" ]; then
-        echo "$file:$line: includes $target: the dem and mps families stay apart (shared code goes to systems/physics)"
+        echo "$file:$line: includes $target: the dem, mps and mean_flow families stay apart (shared code goes to systems/physics)"
         status=1
       fi
     fi

@@ -1,0 +1,200 @@
+#include "systems/physics/mean_flow/column.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace riffle {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+/// The water's share of cell i.
+double water_share(const std::vector<double>& solid_fraction, std::size_t i) { return 1.0 - solid_fraction[i]; }
+
+/// The water's share at face j (0 the floor, cells the top): the mean of the two cells it separates, the cell's own
+/// at the floor and the top.
+double face_water_share(const std::vector<double>& solid_fraction, std::size_t j) {
+  const std::size_t cells = solid_fraction.size();
+  if (j == 0) return water_share(solid_fraction, 0);
+  if (j >= cells) return water_share(solid_fraction, cells - 1);
+  return 0.5 * (water_share(solid_fraction, j - 1) + water_share(solid_fraction, j));
+}
+
+/// [1/s] du/dz at face j as the eddy viscosity and the stress take it.
+double face_gradient(const ColumnGrid& grid, const std::vector<double>& velocity, const ColumnEnds& ends,
+                     std::size_t j) {
+  const std::size_t cells = grid.cells;
+  const double half = 0.5 * grid.cell_height;
+  if (j == 0) return (velocity[0] - ends.bottom_value) / half;
+  if (j >= cells) return ends.top_given ? (ends.top_value - velocity[cells - 1]) / half : 0.0;
+  return (velocity[j] - velocity[j - 1]) / grid.cell_height;
+}
+
+void check_sizes(const ColumnGrid& grid, std::size_t cell_values, std::size_t face_values, const char* what) {
+  if (grid.cells == 0 || !(grid.cell_height > 0.0)) throw std::invalid_argument(std::string(what) + ": empty grid");
+  if (cell_values != grid.cells || (face_values != 0 && face_values != grid.cells + 1))
+    throw std::invalid_argument(std::string(what) + ": profile sizes do not match the grid");
+}
+}  // namespace
+
+double sphere_slice_volume(double centre, double radius, double low, double high) {
+  const double a = std::clamp(low - centre, -radius, radius);
+  const double b = std::clamp(high - centre, -radius, radius);
+  if (b <= a) return 0.0;
+  return kPi * (radius * radius * (b - a) - (b * b * b - a * a * a) / 3.0);
+}
+
+double deposit_sphere(const ColumnGrid& grid, double centre, double radius, double weight,
+                      std::vector<double>& per_cell) {
+  const double from = (centre - radius - grid.bottom) / grid.cell_height;
+  const double to = (centre + radius - grid.bottom) / grid.cell_height;
+  if (to <= 0.0 || from >= static_cast<double>(grid.cells)) return 0.0;
+  const auto first = static_cast<std::size_t>(std::max(0.0, std::floor(from)));
+  const auto last = std::min(grid.cells - 1, static_cast<std::size_t>(std::floor(to)));
+  double inside = 0.0;
+  for (std::size_t i = first; i <= last; ++i) {
+    const double volume = sphere_slice_volume(centre, radius, grid.face(i), grid.face(i + 1));
+    per_cell[i] += weight * volume;
+    inside += volume;
+  }
+  return inside;
+}
+
+double profile_at(const ColumnGrid& grid, const std::vector<double>& values, double z, const ColumnEnds& ends) {
+  const std::size_t cells = grid.cells;
+  const double position = (std::clamp(z, grid.bottom, grid.top()) - grid.bottom) / grid.cell_height - 0.5;
+  if (position <= 0.0) {  // between the floor (position -1/2) and the first centre
+    const double t = (position + 0.5) / 0.5;
+    return ends.bottom_value + t * (values[0] - ends.bottom_value);
+  }
+  const double last = static_cast<double>(cells - 1);
+  if (position >= last) {
+    if (!ends.top_given) return values[cells - 1];
+    const double t = (position - last) / 0.5;
+    return values[cells - 1] + t * (ends.top_value - values[cells - 1]);
+  }
+  const auto i = static_cast<std::size_t>(position);
+  const double t = position - static_cast<double>(i);
+  return values[i] + t * (values[i + 1] - values[i]);
+}
+
+double bed_surface(const ColumnGrid& grid, const std::vector<double>& solid_fraction) {
+  const double largest = *std::max_element(solid_fraction.begin(), solid_fraction.end());
+  if (!(largest > 0.0)) return grid.bottom;
+  const double half = 0.5 * largest;
+  std::size_t i = grid.cells - 1;
+  while (solid_fraction[i] < half) --i;  // stops at the largest value at the latest
+  if (i + 1 == grid.cells) return grid.top();
+  const double above = solid_fraction[i + 1];
+  return grid.centre(i) + grid.cell_height * (solid_fraction[i] - half) / (solid_fraction[i] - above);
+}
+
+std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
+                                   const MixingLengthClosure& closure, double floor_friction_velocity,
+                                   double viscosity) {
+  check_sizes(grid, solid_fraction.size(), 0, "mixing_lengths");
+  const double packed = closure.max_solid_fraction;
+  // Every cell at or below the highest packed one counts as packed: no turbulence leaks into the bed's pores.
+  std::size_t packed_below = 0;  // cells [0, packed_below) count as packed
+  for (std::size_t i = grid.cells; i-- > 0;)
+    if (solid_fraction[i] >= packed) {
+      packed_below = i + 1;
+      break;
+    }
+  const bool rough = closure.floor == MixingLengthClosure::Floor::kRough;
+  const double floor_length =
+      rough ? closure.von_karman * closure.roughness * std::exp(-closure.von_karman * closure.rough_wall_constant)
+            : 0.0;
+  std::vector<double> lengths(grid.cells + 1, 0.0);
+  double integral = 0.0;
+  lengths[0] = floor_length;
+  for (std::size_t j = 1; j <= grid.cells; ++j) {
+    const double phi = j - 1 < packed_below ? packed : std::min(solid_fraction[j - 1], packed);
+    integral += closure.von_karman * grid.cell_height * (packed - phi) / packed;
+    lengths[j] = floor_length + integral;
+  }
+  if (!rough) {
+    const double scale = floor_friction_velocity / (viscosity * closure.van_driest);  // 1 / (nu A+ / u*)
+    for (std::size_t j = 0; j <= grid.cells; ++j)
+      lengths[j] *= 1.0 - std::exp(-(grid.face(j) - grid.bottom) * scale);
+  }
+  return lengths;
+}
+
+std::vector<double> eddy_viscosities(const ColumnGrid& grid, const std::vector<double>& velocity,
+                                     const std::vector<double>& velocity_y, const std::vector<double>& lengths,
+                                     const ColumnEnds& ends_x, const ColumnEnds& ends_y) {
+  check_sizes(grid, velocity.size(), lengths.size(), "eddy_viscosities");
+  const bool two = !velocity_y.empty();
+  if (two) check_sizes(grid, velocity_y.size(), 0, "eddy_viscosities");
+  std::vector<double> viscosity(grid.cells + 1, 0.0);
+  for (std::size_t j = 0; j <= grid.cells; ++j) {
+    const double gx = face_gradient(grid, velocity, ends_x, j);
+    const double gy = two ? face_gradient(grid, velocity_y, ends_y, j) : 0.0;
+    viscosity[j] = lengths[j] * lengths[j] * std::sqrt(gx * gx + gy * gy);
+  }
+  return viscosity;
+}
+
+ColumnStresses advance_column(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
+                              const std::vector<double>& eddy_viscosity, const std::vector<double>& impulse,
+                              const ColumnEnds& ends, const ColumnStep& step, std::vector<double>& velocity) {
+  const std::size_t cells = grid.cells;
+  check_sizes(grid, solid_fraction.size(), eddy_viscosity.size(), "advance_column");
+  check_sizes(grid, velocity.size(), 0, "advance_column");
+  check_sizes(grid, impulse.size(), 0, "advance_column");
+  const double h = grid.cell_height;
+  // Face conductances D_j = rho eps_j (nu + nu_t,j) / distance: h between centres, h/2 from the floor or the lid.
+  std::vector<double> conductance(cells + 1, 0.0);
+  for (std::size_t j = 0; j <= cells; ++j) {
+    const bool wall = j == 0 || (j == cells && ends.top_given);
+    if (j == cells && !ends.top_given) continue;  // a free top carries no stress
+    const double distance = wall ? 0.5 * h : h;
+    conductance[j] = step.density * face_water_share(solid_fraction, j) * (step.viscosity + eddy_viscosity[j]) /
+                     distance;
+  }
+  // a_i u_{i-1} + b_i u_i + c_i u_{i+1} = r_i, solved by the Thomas algorithm (diagonally dominant: b > |a| + |c|).
+  std::vector<double> upper(cells, 0.0), rhs(cells, 0.0);
+  double previous_upper = 0.0;
+  double previous_rhs = 0.0;
+  for (std::size_t i = 0; i < cells; ++i) {
+    const double mass = step.density * water_share(solid_fraction, i) * h;
+    const double lower = i > 0 ? -step.dt * conductance[i] : 0.0;
+    const double diagonal = mass + step.dt * (conductance[i] + conductance[i + 1]);
+    const double above = i + 1 < cells ? -step.dt * conductance[i + 1] : 0.0;
+    double right = mass * velocity[i] + step.dt * mass * step.body_force - impulse[i];
+    if (i == 0) right += step.dt * conductance[0] * ends.bottom_value;
+    if (i + 1 == cells && ends.top_given) right += step.dt * conductance[cells] * ends.top_value;
+    const double pivot = diagonal - lower * previous_upper;
+    upper[i] = above / pivot;
+    rhs[i] = (right - lower * previous_rhs) / pivot;
+    previous_upper = upper[i];
+    previous_rhs = rhs[i];
+  }
+  velocity[cells - 1] = rhs[cells - 1];
+  for (std::size_t i = cells - 1; i-- > 0;) velocity[i] = rhs[i] - upper[i] * velocity[i + 1];
+  ColumnStresses stresses;
+  stresses.floor = conductance[0] * (velocity[0] - ends.bottom_value);
+  if (ends.top_given) stresses.top = conductance[cells] * (ends.top_value - velocity[cells - 1]);
+  return stresses;
+}
+
+double column_momentum(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
+                       const std::vector<double>& velocity, double density) {
+  double momentum = 0.0;
+  for (std::size_t i = 0; i < grid.cells; ++i)
+    momentum += density * water_share(solid_fraction, i) * grid.cell_height * velocity[i];
+  return momentum;
+}
+
+double column_shear_stress(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
+                           const std::vector<double>& eddy_viscosity, const std::vector<double>& velocity,
+                           const ColumnEnds& ends, double density, double viscosity, double z) {
+  const double position = std::clamp((z - grid.bottom) / grid.cell_height, 0.0, static_cast<double>(grid.cells));
+  const auto j = static_cast<std::size_t>(std::lround(position));
+  return density * face_water_share(solid_fraction, j) * (viscosity + eddy_viscosity[j]) *
+         face_gradient(grid, velocity, ends, j);
+}
+
+}  // namespace riffle
