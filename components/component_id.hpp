@@ -42,11 +42,13 @@ struct Contacts;
 struct FluidNeighbours;
 struct FluidSummary;
 struct FluidSample;
+struct MeanFlowColumn;
 
 using ComponentList =
     TypeList<GrainState, GrainProperties, GrainTotalForce, GrainContactForce, GrainDrag, GrainSampledFluid,
              GrainVoidage, GrainAddedMass, GrainLubrication, Walls, TankMotion, StepStatus, SolidSummary, Contacts, ParticleState, ParticlePrediction,
-             ParticlePressure, ParticleDensity, ParticleDragReaction, FluidNeighbours, FluidSummary, FluidSample>;
+             ParticlePressure, ParticleDensity, ParticleDragReaction, FluidNeighbours, FluidSummary, FluidSample,
+             MeanFlowColumn>;
 
 /// A component's place in ComponentList (no enumerators: every value comes from the list).
 enum class ComponentId : std::uint8_t {};

@@ -7,6 +7,7 @@
 #include "components/component_id.hpp"
 #include "components/contacts.hpp"
 #include "components/fluid.hpp"
+#include "components/mean_flow.hpp"
 #include "components/solid_summary.hpp"
 #include "components/solids.hpp"
 #include "components/step_status.hpp"

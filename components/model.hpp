@@ -2,14 +2,18 @@
 // The immutable description of a run, parsed and validated from a scene file. Systems receive it as const; the
 // mutable state lives in the World. A checkpoint stores the scene text, so the model is rebuilt on resume.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <map>
 #include <memory>
+#include <numbers>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "components/mean_flow.hpp"
 #include "components/vec.hpp"
 
 namespace riffle {
@@ -162,6 +166,18 @@ struct BodyForceModel {
   /// MPS pressure does not hold); kFrame: plus m_p f (a frame acceleration or tilted gravity: it acts on all mass).
   enum class Grains { kNone, kPressureGradient, kFrame };
   Grains grains = Grains::kPressureGradient;
+
+  /// f(t) [m/s^2] of a constant or sinusoidal body force: f, or F sin(2 pi t / T + phase); 0 for kNone. A
+  /// bulk-velocity controller's force is its state (BulkVelocityController), not a function of time: refused here.
+  double prescribed(double time) const {
+    switch (kind) {
+      case Kind::kNone: return 0.0;
+      case Kind::kConstant: return acceleration;
+      case Kind::kSinusoidal: return acceleration * std::sin(2.0 * std::numbers::pi * time / period + phase);
+      case Kind::kBulkVelocity: break;
+    }
+    throw std::logic_error("prescribed body force: a bulk-velocity force is the controller's state");
+  }
 };
 
 /// [fluid.initial_velocity]: an initial velocity profile along x added to the fluid boxes' velocities
@@ -429,7 +445,9 @@ struct ProbeModel {
     kBedloadFlux,     ///< grain volume flux per unit width per class, and its running time mean
     kVelocityProfile, ///< horizontally averaged x velocity of water and grains and solid fraction per layer
     kBedShearStress,  ///< bed shear stress from the momentum balance (and a lid's force) and Shields numbers
-    kDrivenFlow  ///< the body force applied, the water's bulk velocity, each moving lid's force on the water
+    kDrivenFlow,  ///< the body force applied, the water's bulk velocity, each moving lid's force on the water
+    kMeanFlowProfile,   ///< the mean-flow column: velocity, solid fraction, eddy viscosity and stress per cell
+    kBedloadTransport   ///< Theta, u*, q, q*, the moving fraction, speed and height over the mean-flow fluid's bed
   };
   Kind kind = Kind::kGrains;
   std::string name;                 ///< unique among the probes
@@ -474,6 +492,48 @@ struct OutputModel {
   double bed_layer_thickness = 0.0;   ///< [m] sub-layer thickness; 0 = the smallest grain diameter (bed_layer_thickness())
 };
 
+/// [mean_flow]: the mean-flow fluid, a flow uniform along the bed held as its plane average over a column of cells
+/// in z (components/mean_flow.hpp, systems/physics/mean_flow/column.hpp; docs/cases/bedload.md). A fluid family beside
+/// the MPS water: a scene has one or the other. The tank must be periodic along x and y.
+struct MeanFlowModel {
+  bool enabled = false;
+  double density = 1000.0;              ///< [kg/m^3] rho of the water
+  double kinematic_viscosity = 1.0e-6;  ///< [m^2/s] nu
+  double bottom = 0.0;                  ///< [m] the column's floor (a no-slip wall), scene coordinates: the tank floor
+  double top = 0.0;                     ///< [m] the free surface or the lid (filled by the reader: the tank top)
+  double cell_size = 0.0;               ///< [m] the cells' height, as laid out (top - bottom) / cells
+  std::size_t cells = 0;                ///< cells in the column (filled by the reader)
+  /// The top: kFree a free surface without stress (an open channel), kLid a no-slip lid moving at lid_velocity
+  /// along x (plane Couette over the bed).
+  enum class Top { kFree, kLid };
+  static constexpr SceneNames<Top, 2> kTopNames{{{"free", Top::kFree}, {"lid", Top::kLid}}};
+  Top top_boundary = Top::kFree;
+  double lid_velocity = 0.0;            ///< [m/s]
+  /// kMixingLength: nu_t = l^2 |du/dz| with `closure`; kLaminar: nu alone.
+  enum class Turbulence { kLaminar, kMixingLength };
+  static constexpr SceneNames<Turbulence, 2> kTurbulenceNames{
+      {{"laminar", Turbulence::kLaminar}, {"mixing_length", Turbulence::kMixingLength}}};
+  Turbulence turbulence = Turbulence::kMixingLength;
+  MixingLengthClosure closure;
+  /// The water's drive along x (the same body force as the MPS water's: constant, sinusoidal; grains: how they feel
+  /// it). Set by shields_number when that is given.
+  BodyForceModel body_force;
+  /// [1] If > 0: the drive is the slope whose bed shear stress rho f (top - z_bed) is shields_number (rho_s - rho) g d
+  /// with d = shields_diameter and rho_s the density of shields_material, z_bed the column's bed surface at each step
+  /// (the body force follows the bed as it erodes); the grains feel it as a tilt of gravity (BodyForceModel kFrame).
+  double shields_number = 0.0;
+  double shields_diameter = 0.0;        ///< [m] d of the Shields number
+  double shields_density = 0.0;         ///< [kg/m^3] rho_s (from shields_material)
+  /// The start: kRest the water at rest; kLogLaw u = (u*/kappa) ln(1 + (z - z_bed) / z0) above the bed (z0 =
+  /// roughness_length), u* of the drive, so a turbulent channel need not spin up from rest.
+  enum class Initial { kRest, kLogLaw };
+  static constexpr SceneNames<Initial, 2> kInitialNames{{{"rest", Initial::kRest}, {"log_law", Initial::kLogLaw}}};
+  Initial initial = Initial::kLogLaw;
+  double initial_roughness_length = 0.0;  ///< [m] z0 of the initial log law; 0 = shields_diameter / 30
+
+  double column_height() const { return top - bottom; }
+};
+
 struct Model {
   std::string scene_file;   ///< path as given, for messages
   std::string scene_text;   ///< the full scene text (stored in checkpoints)
@@ -489,6 +549,7 @@ struct Model {
   SolidsModel solids;
   ContactModel contact;
   FluidModel fluid;
+  MeanFlowModel mean_flow;
   CouplingModel coupling;
   OutputModel output;
 
@@ -499,6 +560,12 @@ struct Model {
   double max_grains = 5e7;          ///< grains the scene may have in all (SceneLimits::max_grains)
 
   double solid_dt() const { return dt / static_cast<double>(solid_substeps); }
+  /// [kg/m^3] The water's density, whichever fluid family the scene has.
+  double water_density() const { return mean_flow.enabled ? mean_flow.density : fluid.density; }
+  /// [m^2/s] The water's kinematic viscosity, whichever fluid family the scene has.
+  double water_kinematic_viscosity() const {
+    return mean_flow.enabled ? mean_flow.kinematic_viscosity : fluid.kinematic_viscosity;
+  }
 };
 
 }  // namespace riffle

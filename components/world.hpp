@@ -48,14 +48,16 @@ class World {
   std::optional<SolidSummary> solid_summary;
   std::optional<FluidNeighbours> fluid_neighbours;  ///< rebuilt from `fluid`, never persistent
   std::optional<FluidSample> fluid_sample;          ///< coupled scenes: copied from `fluid` every step, never persistent
+  std::optional<MeanFlowColumn> mean_flow;          ///< the mean-flow fluid's column ([mean_flow])
   StepStatus step_status;  ///< always present: every run can fail
 
   /// Every stored part above, once. The checkpoint archives the persistent ones in this order (format 4: solids,
-  /// walls, tank_motion, contacts, fluid, fluid_summary); find and has look components up here.
+  /// walls, tank_motion, contacts, fluid, fluid_summary; format 9 adds mean_flow); find and has look components up
+  /// here.
   static constexpr auto kParts =
       std::make_tuple(&World::solids, &World::walls, &World::tank_motion, &World::contacts, &World::fluid,
                       &World::fluid_summary, &World::solid_summary, &World::fluid_neighbours, &World::fluid_sample,
-                      &World::step_status);
+                      &World::step_status, &World::mean_flow);
 
   /// Calls visit(part) for every stored part in kParts order (a std::optional, or the always present StepStatus).
   template <class Self, class Visit>

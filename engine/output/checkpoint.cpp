@@ -46,6 +46,8 @@ void archive_checkpoint(Archive& archive, CheckpointData& data) {
   // rebuilt from these.
   World::for_each_part(world, [&](auto& part) {
     using Stored = typename detail::unwrap_optional<std::decay_t<decltype(part)>>::type;
+    if constexpr (std::is_same_v<Stored, MeanFlowColumn> && requires { archive.format_version(); })
+      if (archive.format_version() < kFirstCheckpointVersionWithMeanFlow) return;  // older files have none
     if constexpr (Stored::kPersistent) archive(part);
   });
   archive(data.output);

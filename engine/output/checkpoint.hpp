@@ -24,8 +24,11 @@ namespace riffle {
 // holds the step length); 6: the grains' undisturbed fluid velocity, fluid acceleration, added-mass, history and
 // lubrication forces, and the history force's state (history_relative_velocity, history_mode_0..7) (FieldInfo::
 // since_format: an older file leaves them at their defaults); 7: the fluid's viscous_acceleration and the grains'
-// viscous_force ([coupling] viscous_stress); 8: the grains' `fixed` flag ([solids] fixed_below).
-inline constexpr std::uint32_t kCheckpointVersion = 8;
+// viscous_force ([coupling] viscous_stress); 8: the grains' `fixed` flag ([solids] fixed_below); 9: the mean-flow
+// fluid's column (World::mean_flow; absent in older files).
+inline constexpr std::uint32_t kCheckpointVersion = 9;
+/// The first format with the mean-flow column.
+inline constexpr std::uint32_t kFirstCheckpointVersionWithMeanFlow = 9;
 /// The oldest format still read: format 4 differs from 5 only by FluidSummary's last_dt (components/fluid.hpp), and
 /// users' settled beds and runs to resume are in it. Reading one gives the same data; writing it back gives format 5.
 inline constexpr std::uint32_t kOldestCheckpointVersionRead = 4;

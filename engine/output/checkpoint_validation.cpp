@@ -411,6 +411,30 @@ void validate_grains(const Solids& grains, std::size_t material_count, const std
   }
 }
 
+/// The mean-flow column is the scene's grid: every profile of its cells (faces for the eddy viscosity), finite, the
+/// solid fraction a fraction.
+void check_mean_flow(const Refusal& refusal, const MeanFlowColumn& column, const Model& model) {
+  const std::size_t cells = model.mean_flow.cells;
+  const auto sized = [&](const char* field, const std::vector<double>& values, std::size_t expected) {
+    if (values.size() != expected)
+      refusal.fail(std::string("mean_flow.") + field,
+                   std::to_string(values.size()) + " values, but the scene's column has " + std::to_string(expected));
+    refusal.finite_values(std::string("mean_flow.") + field, values);
+  };
+  sized("velocity_x", column.velocity_x, cells);
+  sized("velocity_y", column.velocity_y, cells);
+  sized("solid_fraction", column.solid_fraction, cells);
+  sized("impulse_x", column.impulse_x, cells);
+  sized("impulse_y", column.impulse_y, cells);
+  sized("eddy_viscosity", column.eddy_viscosity, cells + 1);
+  for (std::size_t i = 0; i < cells; ++i)
+    if (!(column.solid_fraction[i] >= 0.0 && column.solid_fraction[i] < 1.0))
+      refusal.fail(refusal.item("mean_flow.solid_fraction", i, column.solid_fraction[i]), "must be in [0, 1)");
+  for (const auto& [field, value] : {std::pair{"body_force", column.body_force}, {"bed_surface", column.bed_surface},
+                                     {"floor_stress", column.floor_stress}, {"top_stress", column.top_stress}})
+    refusal.finite_value(std::string("mean_flow.") + field, value);
+}
+
 void validate_checkpoint(const CheckpointData& data, const Model& model, const World& initial,
                          const std::string& name) {
   const Refusal refusal(name);
@@ -426,6 +450,7 @@ void validate_checkpoint(const CheckpointData& data, const Model& model, const W
   same_presence("contacts", world.contacts.has_value(), initial.contacts.has_value());
   same_presence("fluid", world.fluid.has_value(), initial.fluid.has_value());
   same_presence("fluid_summary", world.fluid_summary.has_value(), initial.fluid_summary.has_value());
+  same_presence("mean_flow", world.mean_flow.has_value(), initial.mean_flow.has_value());
 
   check_world_time(refusal, world, model);
   if (world.tank_motion) check_tank_motion(refusal, *world.tank_motion, model);
@@ -437,6 +462,7 @@ void validate_checkpoint(const CheckpointData& data, const Model& model, const W
   if (world.contacts)
     check_contacts(refusal, *world.contacts, *world.solids, world.walls ? world.walls->size() : 0, model);
   if (world.fluid) check_fluid(refusal, *world.fluid, *world.fluid_summary, *initial.fluid, model);
+  if (world.mean_flow) check_mean_flow(refusal, *world.mean_flow, model);
   check_output(refusal, data.output, world, model);
 }
 

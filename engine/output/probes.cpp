@@ -1,5 +1,8 @@
 #include "engine/output/probes.hpp"
 
+#include "systems/mean_flow/mean_flow_momentum.hpp"
+#include "systems/physics/mean_flow/column.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -79,6 +82,11 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
     header += ",lambda,top_layer_grains";
   } else if (probe.kind == ProbeModel::Kind::kVelocityProfile) {
     header += ",layer,z_low_m,z_high_m,fluid_particles,fluid_ux_m_s,grain_ux_m_s,solid_fraction";
+  } else if (probe.kind == ProbeModel::Kind::kMeanFlowProfile) {
+    header += ",cell,z_m,ux_m_s,uy_m_s,solid_fraction,eddy_viscosity_m2_s,shear_stress_Pa";
+  } else if (probe.kind == ProbeModel::Kind::kBedloadTransport) {
+    header += ",shields,u_star_m_s,tau_b_Pa,bed_surface_m,q_m2_s,q_star,moving_fraction,moving_ux_over_u_star,"
+              "moving_height_over_d,moving_grains,body_force_m_s2";
   } else if (probe.kind == ProbeModel::Kind::kDrivenFlow) {
     header += ",body_force_m_s2,bulk_velocity_m_s";
     for (std::size_t k = 0; k < probe.lid_areas.size(); ++k)
@@ -97,6 +105,9 @@ ProbeWriter::ProbeWriter(const Model& model, const ProbeModel& probe, const fs::
       classes_(world.solids ? grain_classes(*world.solids) : GrainClasses{}),
       shear_(probe.kind == ProbeModel::Kind::kBedShearStress && model.fluid.enabled ? shear_settings(model)
                                                                                    : ShearSettings{}),
+      shields_grain_(probe.kind == ProbeModel::Kind::kBedloadTransport && world.solids
+                         ? shields_grain(model, *world.solids)
+                         : ShieldsGrain{}),
       profile_layers_(probe.kind == ProbeModel::Kind::kVelocityProfile && probe.layer_thickness > 0.0
                           ? static_cast<std::size_t>(std::clamp(
                                 std::ceil(model.tank.size.z() / probe.layer_thickness * (1.0 - 1e-12)), 1.0, 1e5))
@@ -188,6 +199,57 @@ std::string ProbeWriter::bedload_fields(const World& world) {
                                    : std::string());
       break;
     }
+    case ProbeModel::Kind::kMeanFlowProfile: {
+      if (!world.mean_flow) break;
+      const MeanFlowColumn& column = *world.mean_flow;
+      const MeanFlowModel& flow = model_->mean_flow;
+      const ColumnGrid grid = column_grid(flow);
+      const ColumnEnds ends = column_ends(flow, true);
+      std::string start = format_exact(world.time);
+      append_field(start, std::to_string(world.step));
+      for (std::size_t k = 0; k < grid.cells; ++k) {
+        fields += start;
+        append_field(fields, std::to_string(k));
+        append_field(fields, format_value(grid.centre(k)));
+        append_field(fields, format_value(column.velocity_x[k]));
+        append_field(fields, format_value(column.velocity_y[k]));
+        append_field(fields, format_value(column.solid_fraction[k]));
+        // At the cell's centre: the mean of its two faces.
+        const double eddy = column.eddy_viscosity.size() == grid.cells + 1
+                                ? 0.5 * (column.eddy_viscosity[k] + column.eddy_viscosity[k + 1])
+                                : 0.0;
+        append_field(fields, format_value(eddy));
+        // The stress at the cell's top face (the floor's stress is floor_stress).
+        const double stress =
+            column.eddy_viscosity.size() == grid.cells + 1
+                ? column_shear_stress(grid, column.solid_fraction, column.eddy_viscosity, column.velocity_x, ends,
+                                      flow.density, flow.kinematic_viscosity, grid.face(k + 1))
+                : 0.0;
+        append_field(fields, format_value(stress));
+        fields += '\n';
+      }
+      break;
+    }
+    case ProbeModel::Kind::kBedloadTransport: {
+      if (!world.mean_flow || !solids) {
+        fields.append(11, ',');
+        break;
+      }
+      const BedloadTransport transport =
+          bedload_transport(*model_, *solids, *world.mean_flow, shields_grain_, probe_.threshold);
+      const double u_star = transport.friction_velocity;
+      const double moving_speed = transport.moving > 0 && u_star > 0.0 ? transport.moving_speed / u_star : kNaN;
+      const double moving_height =
+          transport.moving > 0 ? transport.moving_height / shields_grain_.diameter : kNaN;
+      for (double value : {transport.shields, u_star, transport.bed_stress, transport.bed_surface, transport.flux,
+                           transport.flux_star, transport.moving_fraction, moving_speed, moving_height})
+        append_field(fields, format_value(value));
+      append_field(fields, std::to_string(transport.moving));
+      append_field(fields, format_value(world.mean_flow->body_force));
+      // The means the run prints at its end: over the rows in the run's second half.
+      if (world.time >= 0.5 * model_->end_time) transport_mean_.add(transport, moving_speed, moving_height);
+      break;
+    }
     case ProbeModel::Kind::kVelocityProfile: {
       const std::vector<ProfileLayer> layers = velocity_profile(solids, world.fluid ? &*world.fluid : nullptr,
                                                                 frame, probe_.layer_thickness, profile_layers_);
@@ -213,8 +275,23 @@ std::string ProbeWriter::bedload_fields(const World& world) {
   return fields;
 }
 
+std::string ProbeWriter::summary() const {
+  if (probe_.kind != ProbeModel::Kind::kBedloadTransport || transport_mean_.rows == 0) return {};
+  const TransportMean& mean = transport_mean_;
+  const double rows = static_cast<double>(mean.rows);
+  const double moving_rows = static_cast<double>(mean.moving_rows);
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "%s, mean of %zu rows over the run's second half: Theta = %.4g, q* = %.4g, moving fraction = %.4g, "
+                "u_p/u* = %.4g, h_p/d = %.4g",
+                probe_.name.c_str(), mean.rows, mean.shields / rows, mean.flux_star / rows, mean.moving_fraction / rows,
+                mean.moving_rows > 0 ? mean.moving_speed / moving_rows : kNaN,
+                mean.moving_rows > 0 ? mean.moving_height / moving_rows : kNaN);
+  return line;
+}
+
 void ProbeWriter::write(const World& world) {
-  if (probe_.kind == ProbeModel::Kind::kVelocityProfile) {
+  if (probe_.kind == ProbeModel::Kind::kVelocityProfile || probe_.kind == ProbeModel::Kind::kMeanFlowProfile) {
     file_.write_rows(bedload_fields(world));  // long format: one line per layer
     return;
   }
@@ -315,6 +392,8 @@ void ProbeWriter::write(const World& world) {
     case ProbeModel::Kind::kBedloadFlux:
     case ProbeModel::Kind::kBedShearStress:
     case ProbeModel::Kind::kVelocityProfile:
+    case ProbeModel::Kind::kMeanFlowProfile:
+    case ProbeModel::Kind::kBedloadTransport:
       row += bedload_fields(world);
       break;
     case ProbeModel::Kind::kDrivenFlow:

@@ -22,6 +22,7 @@
 // slots change when grains are reordered, so the writer keeps an id -> slot map and rebuilds it when a slot no
 // longer holds its id.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <deque>
 #include <filesystem>
@@ -31,6 +32,7 @@
 
 #include "components/model.hpp"
 #include "systems/physics/measures/bedload_probes.hpp"
+#include "systems/physics/measures/bedload_transport.hpp"
 #include "systems/physics/measures/probe_measures.hpp"
 #include "engine/output/output_series.hpp"
 #include "components/world.hpp"
@@ -67,6 +69,26 @@ class GrainSlotMap {
 /// world.solids, ascending.
 std::string probe_header(const ProbeModel& probe, const World& world);
 
+/// The means of a bedload_transport probe's rows over the run's second half (the run prints them at its end).
+struct TransportMean {
+  std::size_t rows = 0;
+  double shields = 0.0, flux_star = 0.0, moving_fraction = 0.0;
+  double moving_speed = 0.0;    ///< sum of u_p / u* over rows with moving grains
+  double moving_height = 0.0;   ///< sum of h_p / d over rows with moving grains
+  std::size_t moving_rows = 0;  ///< rows with moving grains
+  void add(const BedloadTransport& row, double speed_over_u_star, double height_over_d) {
+    ++rows;
+    shields += row.shields;
+    flux_star += row.flux_star;
+    moving_fraction += row.moving_fraction;
+    if (row.moving > 0 && std::isfinite(speed_over_u_star)) {
+      ++moving_rows;
+      moving_speed += speed_over_u_star;
+      moving_height += height_over_d;
+    }
+  }
+};
+
 /// One probe's CSV file.
 class ProbeWriter {
  public:
@@ -81,6 +103,8 @@ class ProbeWriter {
     if (window_) take_reading(world);
     if (schedule_.take(world.time)) write(world);
   }
+  /// A line for the run's end, or empty: a bedload_transport probe's means over the rows of the run's second half.
+  std::string summary() const;
 
  private:
   /// The transducers' readings now, one per disc; empty without fluid particles.
@@ -96,6 +120,8 @@ class ProbeWriter {
   GrainClasses classes_;      ///< bed-load probes: the size classes at the start (none come or go)
   RunningMean flux_mean_;     ///< bedload_flux: the running time mean of its rows
   ShearSettings shear_;       ///< bed_shear_stress
+  ShieldsGrain shields_grain_;  ///< bedload_transport: the grain of its dimensionless numbers
+  TransportMean transport_mean_;  ///< bedload_transport: its rows' means over the run's second half
   std::size_t profile_layers_ = 0;  ///< velocity_profile: layers covering the tank height
   std::optional<WindowMean> window_;  ///< pressure_transducer with average_window > 0
   FluidProbeSettings fluid_;  ///< fluid probes only

@@ -77,6 +77,16 @@ void print_check(const std::string& scene_path, const Model& model) {
     std::printf("  fluid: %.0f MPS particles, %.0f of them fluid, spacing %g m, r_e = %g spacing\n",
                 budget.fluid_particles + budget.wall_particles + budget.dummy_particles, budget.fluid_particles,
                 model.fluid.spacing, model.fluid.effective_radius_ratio);
+  if (model.mean_flow.enabled) {
+    const MeanFlowModel& flow = model.mean_flow;
+    std::printf("  mean-flow fluid: %zu cells of %.4g m from z = %g to %g m (%s top), %s\n", flow.cells,
+                flow.cell_size, flow.bottom, flow.top, flow.top_boundary == MeanFlowModel::Top::kLid ? "lid" : "free",
+                flow.turbulence == MeanFlowModel::Turbulence::kMixingLength ? "mixing-length turbulence" : "laminar");
+    if (flow.shields_number > 0.0)
+      std::printf("  drive: Shields number %g of d = %g m, rho_s = %g kg/m^3 (a slope; the body force follows the "
+                  "bed surface)\n",
+                  flow.shields_number, flow.shields_diameter, flow.shields_density);
+  }
   std::printf("%s", describe_budget(budget, model).c_str());
 }
 

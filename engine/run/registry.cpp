@@ -5,6 +5,8 @@
 #include "systems/mps/fluid_correct.hpp"
 #include "systems/mps/fluid_escape.hpp"
 #include "systems/coupling/fluid_drag_reaction.hpp"
+#include "systems/coupling/mean_flow_grains.hpp"
+#include "systems/mean_flow/mean_flow_momentum.hpp"
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
 #include "systems/coupling/solid_lubrication.hpp"
@@ -70,6 +72,16 @@ Pipeline build_pipeline(const Model& model) {
       pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model));
     }
   }
+  if (model.mean_flow.enabled) {
+    // The mean-flow fluid (docs/cases/bedload.md): the column advances first, the grains read the water it leaves,
+    // and at the step's end their volume and drag impulse go back into the column for the next step.
+    pipeline.step.push_back(std::make_unique<MeanFlowMomentum>(model));
+    if (model.coupling.enabled) {
+      pipeline.solid_step.push_back(std::make_unique<SolidMeanFlowSampling>(model));
+      pipeline.end_of_step.push_back(std::make_unique<MeanFlowSolidFraction>(model));
+      pipeline.end_of_step.push_back(std::make_unique<MeanFlowDragReaction>(model));
+    }
+  }
   // Order matters only where systems share a component: the scheduler derives the edges from it.
   if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>(model));
   // The walls move once per sub-step when grains feel them, otherwise once per engine step.
@@ -86,7 +98,9 @@ Pipeline build_pipeline(const Model& model) {
       if (coupled && model.coupling.drag && phase == &pipeline.substep) phase->push_back(std::make_unique<SolidDrag>(model));
       // A new run's first sub-steps use the water as laid out (hydrostatic, engine/setup/initial_state.cpp): buoyancy
       // from the first sub-step on.
-      if (coupled && phase == &pipeline.initial_forces) {
+      if (coupled && phase == &pipeline.initial_forces && model.mean_flow.enabled) {
+        phase->push_back(std::make_unique<SolidMeanFlowSampling>(model));  // the column as set up
+      } else if (coupled && phase == &pipeline.initial_forces) {
         phase->push_back(std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress));
         phase->push_back(std::make_unique<SolidVoidage>(model));
         phase->push_back(std::make_unique<SolidFluidSampling>(model));

@@ -571,6 +571,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
       if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) checkpoints.save(*this, true);
       progress.tick(world_);
     }
+    for (const ProbeWriter& probe : probes)
+      if (const std::string line = probe.summary(); !line.empty()) spdlog::info("{}", line);
   } catch (const CheckpointError& error) {
     outcome = {kExitIoError, error.what(), checkpoints.last_written()};
   } catch (const std::bad_alloc&) {  // not an output problem: exit 3, like a failing step

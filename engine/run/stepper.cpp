@@ -67,7 +67,7 @@ void Stepper::step() {
   const double start = world_.time;
   // The water's relaxation under the grains' drag, from the grains as the last step left them (as the Courant
   // limit reads the water's speeds as they are).
-  const double drag_rate = world_.fluid && world_.solids ? water_drag_rate(model_, *world_.solids, *world_.solids,
+  const double drag_rate = (world_.fluid || world_.mean_flow) && world_.solids ? water_drag_rate(model_, *world_.solids, *world_.solids,
                                                                             *world_.solids, *world_.solids)
                                                          : 0.0;
   world_.last_step = decide_step_lengths(model_, world_.fluid ? &*world_.fluid : nullptr, drag_rate);

@@ -199,7 +199,52 @@ void check_period_fits_lattice(TableReader& fluid, const Model& model) {
   }
 }
 
-/// [fluid.body_force] (docs/SCENES.md): the body force along x on the water.
+
+// Particle shifting (docs/FLUID.md, "Particle shifting"): the law, its coefficient A and the cap per step.
+void read_shifting(TableReader& fluid, FluidModel& out) {
+  out.shifting = fluid.choice("shifting", "off", {"off", "fickian"}) == "fickian" ? FluidModel::Shifting::kFickian
+                                                                                 : FluidModel::Shifting::kOff;
+  const bool constant = fluid.choice("shifting_diffusivity", "velocity", {"velocity", "constant"}) == "constant";
+  out.shifting_diffusivity =
+      constant ? FluidModel::ShiftingDiffusivity::kConstant : FluidModel::ShiftingDiffusivity::kVelocity;
+  // A = 2 with D = A h |u| dt (Skillen et al. 2013); A = 0.25 with D = A h^2. The bounds are not a stability limit:
+  // the explicit step is stable for D < 0.67 l0^2 at r_e = 2.4 l0 (docs/FLUID.md, "Particle shifting"), which the
+  // defaults meet (0.36 l0^2 constant; 2 h |u| dt = 0.48 l0^2 at Courant 0.2) but A near the top of either range
+  // does not; the cap (shifting_max) bounds the displacement, not the instability. A check against r_e is to come.
+  out.shifting_coefficient = constant ? fluid.number("shifting_coefficient", 0.25, "1", Bounds{0.0, 1.0, false, true})
+                                      : fluid.number("shifting_coefficient", 2.0, "1", Bounds{0.0, 10.0, false, true});
+  out.shifting_max_ratio = fluid.number("shifting_max", out.shifting_max_ratio, "l0", Bounds{0.0, 0.25, false, true});
+  out.shifting_velocity_correction = fluid.boolean("shifting_velocity_correction", true);
+  if (out.shifting == FluidModel::Shifting::kOff)
+    for (const char* key : {"shifting_diffusivity", "shifting_coefficient", "shifting_max", "shifting_velocity_correction"})
+      if (fluid.has(key)) fluid.problem(key, "needs shifting = \"fickian\"");
+}
+
+/// [fluid.initial_velocity] (docs/SCENES.md): the water's initial velocity profile along x.
+void read_initial_velocity(TableReader& reader, InitialVelocityModel& out, const TankModel& tank) {
+  using Kind = InitialVelocityModel::Kind;
+  out.kind = reader.choice("kind", std::nullopt, {"linear", "power"}) == "power" ? Kind::kPower : Kind::kLinear;
+  // Heights in the tank's extent (scene coordinates); a profile outside it would touch no particle: a typo.
+  const Bounds height = tank.size.z() > 0.0 ? Bounds::closed(tank.origin.z(), tank.origin.z() + tank.size.z())
+                                            : Bounds::any();
+  const std::size_t problems_before = reader.problem_count();
+  out.bottom = reader.number("bottom", std::nullopt, "m", height);
+  out.top = reader.number("top", std::nullopt, "m", height);
+  if (reader.problem_count() == problems_before && !(out.top > out.bottom))
+    reader.problem("top", "must be above bottom (" + format_number(out.bottom) + " m)");
+  // The same bound as a body force's bulk velocity: beyond 100 m/s the key is a typo.
+  out.top_velocity = reader.number("velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
+  const bool exponent_given = reader.has("exponent");  // read in either case, so that it is not also "unknown"
+  const double exponent = reader.number("exponent", 1.0 / 7.0, "1", Bounds{0.0, 10.0, false, true});
+  if (out.kind == Kind::kPower)
+    out.exponent = exponent;
+  else if (exponent_given)
+    reader.problem("exponent", "needs kind = \"power\"");
+  reader.finish();
+}
+
+}  // namespace
+
 void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionModel& tank_motion) {
   using Kind = BodyForceModel::Kind;
   const std::string kind = reader.choice("kind", std::nullopt, {"constant", "sinusoidal", "bulk_velocity"});
@@ -246,51 +291,6 @@ void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionM
                                    : BodyForceModel::Grains::kPressureGradient;
   reader.finish();
 }
-
-// Particle shifting (docs/FLUID.md, "Particle shifting"): the law, its coefficient A and the cap per step.
-void read_shifting(TableReader& fluid, FluidModel& out) {
-  out.shifting = fluid.choice("shifting", "off", {"off", "fickian"}) == "fickian" ? FluidModel::Shifting::kFickian
-                                                                                 : FluidModel::Shifting::kOff;
-  const bool constant = fluid.choice("shifting_diffusivity", "velocity", {"velocity", "constant"}) == "constant";
-  out.shifting_diffusivity =
-      constant ? FluidModel::ShiftingDiffusivity::kConstant : FluidModel::ShiftingDiffusivity::kVelocity;
-  // A = 2 with D = A h |u| dt (Skillen et al. 2013); A = 0.25 with D = A h^2. The bounds are not a stability limit:
-  // the explicit step is stable for D < 0.67 l0^2 at r_e = 2.4 l0 (docs/FLUID.md, "Particle shifting"), which the
-  // defaults meet (0.36 l0^2 constant; 2 h |u| dt = 0.48 l0^2 at Courant 0.2) but A near the top of either range
-  // does not; the cap (shifting_max) bounds the displacement, not the instability. A check against r_e is to come.
-  out.shifting_coefficient = constant ? fluid.number("shifting_coefficient", 0.25, "1", Bounds{0.0, 1.0, false, true})
-                                      : fluid.number("shifting_coefficient", 2.0, "1", Bounds{0.0, 10.0, false, true});
-  out.shifting_max_ratio = fluid.number("shifting_max", out.shifting_max_ratio, "l0", Bounds{0.0, 0.25, false, true});
-  out.shifting_velocity_correction = fluid.boolean("shifting_velocity_correction", true);
-  if (out.shifting == FluidModel::Shifting::kOff)
-    for (const char* key : {"shifting_diffusivity", "shifting_coefficient", "shifting_max", "shifting_velocity_correction"})
-      if (fluid.has(key)) fluid.problem(key, "needs shifting = \"fickian\"");
-}
-
-/// [fluid.initial_velocity] (docs/SCENES.md): the water's initial velocity profile along x.
-void read_initial_velocity(TableReader& reader, InitialVelocityModel& out, const TankModel& tank) {
-  using Kind = InitialVelocityModel::Kind;
-  out.kind = reader.choice("kind", std::nullopt, {"linear", "power"}) == "power" ? Kind::kPower : Kind::kLinear;
-  // Heights in the tank's extent (scene coordinates); a profile outside it would touch no particle: a typo.
-  const Bounds height = tank.size.z() > 0.0 ? Bounds::closed(tank.origin.z(), tank.origin.z() + tank.size.z())
-                                            : Bounds::any();
-  const std::size_t problems_before = reader.problem_count();
-  out.bottom = reader.number("bottom", std::nullopt, "m", height);
-  out.top = reader.number("top", std::nullopt, "m", height);
-  if (reader.problem_count() == problems_before && !(out.top > out.bottom))
-    reader.problem("top", "must be above bottom (" + format_number(out.bottom) + " m)");
-  // The same bound as a body force's bulk velocity: beyond 100 m/s the key is a typo.
-  out.top_velocity = reader.number("velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
-  const bool exponent_given = reader.has("exponent");  // read in either case, so that it is not also "unknown"
-  const double exponent = reader.number("exponent", 1.0 / 7.0, "1", Bounds{0.0, 10.0, false, true});
-  if (out.kind == Kind::kPower)
-    out.exponent = exponent;
-  else if (exponent_given)
-    reader.problem("exponent", "needs kind = \"power\"");
-  reader.finish();
-}
-
-}  // namespace
 
 void read_fluid(TableReader& fluid, Model& model) {
   FluidModel& out = model.fluid;

@@ -10,4 +10,7 @@ namespace riffle {
 /// Fills model.fluid from the [fluid] table; needs model.tank read first. Problems go through the reader.
 void read_fluid(TableReader& fluid, Model& model);
 
+/// A body force along x on the water ([fluid.body_force], [mean_flow.body_force]; docs/SCENES.md).
+void read_body_force(TableReader& reader, BodyForceModel& out, const TankMotionModel& tank_motion);
+
 }  // namespace riffle

@@ -67,7 +67,9 @@ const std::vector<std::pair<std::string, ProbeModel::Kind>>& probe_kinds() {
       {"packing_density", ProbeModel::Kind::kPackingDensity},
       {"bedload_flux", ProbeModel::Kind::kBedloadFlux},
       {"velocity_profile", ProbeModel::Kind::kVelocityProfile},
-      {"bed_shear_stress", ProbeModel::Kind::kBedShearStress}};
+      {"bed_shear_stress", ProbeModel::Kind::kBedShearStress},
+      {"mean_flow_profile", ProbeModel::Kind::kMeanFlowProfile},
+      {"bedload_transport", ProbeModel::Kind::kBedloadTransport}};
   return kinds;
 }
 
@@ -378,6 +380,16 @@ void read_probes(TableReader& output, Model& model) {
       case ProbeModel::Kind::kVelocityProfile:
       case ProbeModel::Kind::kBedShearStress:
         read_bedload_probe(table, model, probe);
+        break;
+      case ProbeModel::Kind::kMeanFlowProfile:
+        if (!model.mean_flow.enabled) table.problem("kind", "\"mean_flow_profile\" needs a [mean_flow] table");
+        break;
+      case ProbeModel::Kind::kBedloadTransport:
+        if (!model.mean_flow.enabled)
+          table.problem("kind", "\"bedload_transport\" measures over the mean-flow fluid: the scene has no [mean_flow]");
+        if (!model.solids.enabled)
+          table.problem("kind", "this probe measures grains: the scene has no [solids]");
+        probe.threshold = table.number("threshold", probe.threshold, "m/s", Bounds::positive());
         break;
     }
     table.finish();

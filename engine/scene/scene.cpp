@@ -18,6 +18,7 @@
 #include "engine/setup/initial_state.hpp"
 #include "systems/physics/time/solid_step.hpp"
 #include "engine/scene/fluid_scene.hpp"
+#include "engine/scene/mean_flow_scene.hpp"
 #include "engine/scene/motion_table.hpp"
 #include "systems/physics/math/cubic_spline.hpp"
 #include "systems/physics/dem/contact_law.hpp"
@@ -701,7 +702,8 @@ void read_coupling(TableReader& coupling, Model& model) {
   if (out.self_induced_velocity && out.sampling_vertical_radius > 0.0)
     coupling.problem("sampling_vertical_radius", "self_induced_velocity assumes the isotropic sampling kernel; "
                                                  "leave sampling_vertical_radius at 0 with it");
-  if (!out.enabled) coupling.problem("drag", "[coupling] needs both [solids] and [fluid] in the scene");
+  if (!out.enabled)
+    coupling.problem("drag", "[coupling] needs [solids] and a fluid ([fluid] or [mean_flow]) in the scene");
   coupling.finish();
 }
 
@@ -730,8 +732,10 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   if (auto contact = scene.table("contact", false)) read_contact(*contact, model);
   if (auto solids = scene.table("solids", false)) read_solids(*solids, model);
   if (auto fluid = scene.table("fluid", false)) read_fluid(*fluid, model);  // engine/scene/fluid_scene.cpp
-  model.coupling.enabled = model.solids.enabled && model.fluid.enabled;
+  if (auto flow = scene.table("mean_flow", false)) read_mean_flow(*flow, model);  // engine/scene/mean_flow_scene.cpp
+  model.coupling.enabled = model.solids.enabled && (model.fluid.enabled || model.mean_flow.enabled);
   if (auto coupling = scene.table("coupling", false)) read_coupling(*coupling, model);
+  settle_mean_flow_coupling(scene, model);
   bool checkpoint_interval_given = false;
   if (auto output = scene.table("output", false)) {
     checkpoint_interval_given = output->has("checkpoint_interval");

@@ -1,4 +1,5 @@
 #include "engine/setup/initial_state.hpp"
+#include "engine/setup/mean_flow_column.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -168,6 +169,7 @@ World unlaid_world(const Model& model) {
     world.fluid_summary.emplace();
     if (model.coupling.enabled) world.fluid_sample.emplace();  // copied from `fluid` before every step
   }
+  if (model.mean_flow.enabled) world.mean_flow = initial_column(model, nullptr);
   return world;
 }
 
@@ -207,6 +209,7 @@ World initial_world(const Model& model) {
         std::count(world.fluid->kind.begin(), world.fluid->kind.end(), static_cast<std::int32_t>(FluidKind::kFluid)));
     world.fluid_summary->initial_fluid_count = world.fluid_summary->fluid_count;
   }
+  if (model.mean_flow.enabled) world.mean_flow = initial_column(model, world.solids ? &*world.solids : nullptr);
   return world;
 }
 

@@ -12,6 +12,8 @@ namespace riffle {
 SolidDrag::SolidDrag(const Model& model)
     : model_(model.coupling),
       fluid_(model.fluid),
+      density_(model.water_density()),
+      kinematic_viscosity_(model.water_kinematic_viscosity()),
       fluid_step_(model.dt),
       inverse_distance_(model.coupling.self_induced_velocity ? self_induced_inverse_distance() : 0.0) {}
 
@@ -21,8 +23,8 @@ void SolidDrag::run(SystemContext& context) {
   const GrainSampledFluid& sampled = context.read<GrainSampledFluid>();
   const GrainVoidage& voidages = context.read<GrainVoidage>();
   GrainDrag& drag = context.write<GrainDrag>();
-  const double density = fluid_.density;
-  const double viscosity = fluid_.kinematic_viscosity * density;
+  const double density = density_;
+  const double viscosity = kinematic_viscosity_ * density;
   const double dt = context.dt;
   // The exchange's delay is two fluid steps of the length this step has (a Courant- or drag-limited step is shorter
   // than run.dt).

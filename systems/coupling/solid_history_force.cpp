@@ -12,8 +12,8 @@ static_assert(BassetModes::kCount == GrainAddedMass::kHistoryModes, "one grain f
 
 SolidHistoryForce::SolidHistoryForce(const Model& model)
     : modes_(BassetModes::make(model.coupling.history_window, model.dt)),
-      density_(model.fluid.density),
-      viscosity_(model.fluid.kinematic_viscosity * model.fluid.density),
+      density_(model.water_density()),
+      viscosity_(model.water_kinematic_viscosity() * model.water_density()),
       fluid_velocity_(model.coupling.fluid_velocity) {}
 
 void SolidHistoryForce::run(SystemContext& context) {

@@ -116,7 +116,7 @@ void lubrication_first(const GrainState& grains, const GrainProperties& properti
 }  // namespace
 
 SolidLubrication::SolidLubrication(const Model& model)
-    : model_(model.coupling), viscosity_(model.fluid.kinematic_viscosity * model.fluid.density) {}
+    : model_(model.coupling), viscosity_(model.water_kinematic_viscosity() * model.water_density()) {}
 
 void SolidLubrication::run(SystemContext& context) {
   const GrainState& grains = context.read<GrainState>();

@@ -13,7 +13,7 @@ KickSettings KickSettings::from(const Model& model) {
   settings.added_mass = model.coupling.enabled && model.coupling.added_mass;
   settings.history = model.coupling.enabled && model.coupling.history_force;
   settings.fluid_velocity = model.coupling.fluid_velocity;
-  settings.fluid_density = model.fluid.density;
+  settings.fluid_density = model.water_density();
   return settings;
 }
 

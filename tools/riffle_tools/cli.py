@@ -38,6 +38,8 @@ COMMANDS = [
     # sheared beds (bed load)
     ("seed003-plots", "seed003_plots", "the sheared-bed figures (Shields, flux, packing) and summary of a set of "
                                        "runs"),
+    ("bedload-sweep", "bedload_sweep", "a Shields-number sweep of the bed-load channel (mean-flow fluid): q*, "
+                                       "moving fraction, u_p/u*, the threshold, beside the bed-load laws"),
     ("momentum-budget", "momentum_budget", "the water's x momentum budget of a sheared-bed run"),
     ("bed-force-profile", "bed_force_profile", "where a sheared bed takes the water's stress, per height band"),
     # verification and studies of the physics

@@ -10,6 +10,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "components/mean_flow.hpp"
+
 namespace riffle {
 
 /// A uniform grid of `cells` cells of height `cell_height` from `bottom` up. Cell i spans [face(i), face(i + 1)];
@@ -46,24 +48,6 @@ double profile_at(const ColumnGrid& grid, const std::vector<double>& values, dou
 /// [m] The bed surface: the highest height where the solid fraction falls through half its largest value in the
 /// column (Maurin et al. 2015's definition), linear between centres; `grid.bottom` without grains.
 double bed_surface(const ColumnGrid& grid, const std::vector<double>& solid_fraction);
-
-/// The mixing-length closure nu_t = l^2 |du/dz| (Prandtl) of the turbulent water above and inside a bed.
-struct MixingLengthClosure {
-  double von_karman = 0.41;  ///< [1] kappa
-  /// [1] phi_max of Li & Sawamoto (1995): the mixing length grows as kappa (phi_max - phi) / phi_max with height, so
-  /// it is kappa z in clear water and vanishes in a packed bed; everything below the highest cell at or above
-  /// phi_max counts as packed (turbulence fully damped inside the bed, as HydroForceEngine does).
-  double max_solid_fraction = 0.61;
-  /// Smooth floor: van Driest's damping 1 - exp(-z+ / A+) of the mixing length over the floor (z+ = z u*_floor / nu,
-  /// A+ = 26, van Driest 1956), which gives the viscous sublayer and the smooth-wall log law. Rough floor: the
-  /// mixing length starts at kappa z0 at the floor, z0 = k_s exp(-kappa B_r) (B_r = 8.5, Nikuradse's fully rough
-  /// wall), which gives u/u* = ln(z / k_s) / kappa + B_r above a few z0.
-  enum class Floor { kSmooth, kRough };
-  Floor floor = Floor::kSmooth;
-  double van_driest = 26.0;        ///< [1] A+
-  double roughness = 0.0;          ///< [m] k_s of a rough floor (Nikuradse's equivalent sand roughness)
-  double rough_wall_constant = 8.5;  ///< [1] B_r
-};
 
 /// [m] The mixing length at the grid's faces (grid.cells + 1 values, face 0 the floor) over the solid fraction
 /// `solid_fraction` (per cell), with the floor's friction velocity `floor_friction_velocity` [m/s] (van Driest's

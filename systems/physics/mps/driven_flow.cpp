@@ -10,16 +10,7 @@
 
 namespace riffle {
 
-double prescribed_body_force(const BodyForceModel& model, double time) {
-  switch (model.kind) {
-    case BodyForceModel::Kind::kNone: return 0.0;
-    case BodyForceModel::Kind::kConstant: return model.acceleration;
-    case BodyForceModel::Kind::kSinusoidal:
-      return model.acceleration * std::sin(2.0 * std::numbers::pi * time / model.period + model.phase);
-    case BodyForceModel::Kind::kBulkVelocity: break;
-  }
-  throw std::logic_error("prescribed_body_force: a bulk-velocity force is the controller's state");
-}
+double prescribed_body_force(const BodyForceModel& model, double time) { return model.prescribed(time); }
 
 double BulkVelocityController::step(const BodyForceModel& model, double bulk, double dt) {
   const double error = model.target_velocity - bulk;

@@ -38,8 +38,11 @@ double water_drag_rate(const Model& model, const GrainState& grains, const Grain
                        const GrainSampledFluid& sampled, const GrainVoidage& voidages) {
   const CouplingModel& coupling = model.coupling;
   if (!coupling.enabled || !coupling.drag) return 0.0;
-  const double density = model.fluid.density;
-  const double viscosity = model.fluid.kinematic_viscosity * density;
+  const double density = model.water_density();
+  const double viscosity = model.water_kinematic_viscosity() * density;
+  // The mean-flow water holds eps rho per volume and moves with its pore velocity: it relaxes at k (1 - eps) /
+  // (rho eps). The MPS water fills all space (rho per volume); the mixture reading's shares are the eps.
+  const bool mean_flow = model.mean_flow.enabled;
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, grains.size(), 1024), 0.0,
       [&](const tbb::blocked_range<std::size_t>& range, double found) {
@@ -49,7 +52,8 @@ double water_drag_rate(const Model& model, const GrainState& grains, const Grain
           const double share = flux_share(coupling.fluid_velocity, voidage);  // s and s_w (both eps in the mixture)
           const double slip = (sampled.fluid_velocity[grain] - grains.velocity[grain]).norm() / share;
           const double k = drag_per_volume(voidage, 2.0 * properties.radius[grain], slip, density, viscosity, coupling);
-          found = std::max(found, k * (1.0 - voidage) / (density * share * share));
+          found = std::max(found, mean_flow ? k * (1.0 - voidage) / (density * voidage)
+                                            : k * (1.0 - voidage) / (density * share * share));
         }
         return found;
       },
@@ -70,6 +74,10 @@ StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid, 
               StepLimit::kDiffusion);
     if (drag_rate > 0.0 && model.coupling.drag_number > 0.0)
       shorten(lengths, model.coupling.drag_number / drag_rate, StepLimit::kDrag);
+  } else if (model.mean_flow.enabled && drag_rate > 0.0 && model.coupling.drag_number > 0.0) {
+    // The mean-flow water takes the grains' drag a step late, as the MPS water does: the same limit. Its stress is
+    // implicit (no diffusion limit) and it does not move across the grid (no Courant limit).
+    shorten(lengths, model.coupling.drag_number / drag_rate, StepLimit::kDrag);
   }
   // Sub-steps no longer than the scene's solid_dt(); exactly solid_substeps of them at the full step.
   // (dt < run.dt otherwise, so the count stays within [1, solid_substeps]; clamped in floating point before the cast.)

@@ -1,0 +1,112 @@
+#include "systems/coupling/mean_flow_grains.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "systems/mean_flow/mean_flow_momentum.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/mean_flow/column.hpp"
+
+namespace riffle {
+
+double column_plan_area(const Model& model) { return model.tank.size.x() * model.tank.size.y(); }
+
+MeanFlowSolidFraction::MeanFlowSolidFraction(const Model& model) : model_(model) {}
+
+void fill_solid_fraction(const Model& model, const GrainState& grains, const GrainProperties& properties,
+                         MeanFlowColumn& column, std::vector<double>& scratch) {
+  const ColumnGrid grid = column_grid(model.mean_flow);
+  scratch.assign(grid.cells, 0.0);
+  for (std::size_t grain = 0; grain < grains.size(); ++grain)
+    deposit_sphere(grid, grains.position[grain].z(), properties.radius[grain], 1.0, scratch);
+  const double cell_volume = column_plan_area(model) * grid.cell_height;
+  // The water keeps at least min_voidage of a cell (the drag law's own bound): the overlaps of a compressed bed
+  // cannot leave a cell without water.
+  const double most = 1.0 - model.coupling.min_voidage;
+  column.solid_fraction.resize(grid.cells);
+  for (std::size_t i = 0; i < grid.cells; ++i) column.solid_fraction[i] = std::min(scratch[i] / cell_volume, most);
+  column.bed_surface = bed_surface(grid, column.solid_fraction);
+}
+
+void MeanFlowSolidFraction::run(SystemContext& context) {
+  const GrainState& grains = context.read<GrainState>();
+  fill_solid_fraction(model_, grains, context.read<GrainProperties>(), context.write<MeanFlowColumn>(), volume_);
+  context.count_items(grains.size());
+}
+
+MeanFlowDragReaction::MeanFlowDragReaction(const Model& model) : model_(model) {}
+
+void MeanFlowDragReaction::run(SystemContext& context) {
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  GrainDrag& drag = context.write<GrainDrag>();
+  MeanFlowColumn& column = context.write<MeanFlowColumn>();
+  const ColumnGrid grid = column_grid(model_.mean_flow);
+  const double area = column_plan_area(model_);
+  slices_.assign(grid.cells, 0.0);
+  for (std::size_t grain = 0; grain < grains.size(); ++grain) {
+    Vec3& impulse = drag.drag_impulse[grain];
+    if (impulse.isZero(0.0)) continue;  // no water reached it (above the surface)
+    // The grain's volume per cell, over the part of it inside the column: the shares sum to one, so the water
+    // loses exactly the impulse the grain received.
+    const double inside = deposit_sphere(grid, grains.position[grain].z(), properties.radius[grain], 1.0, slices_);
+    if (inside > 0.0) {
+      const double bottom_cell = (grains.position[grain].z() - properties.radius[grain] - grid.bottom) / grid.cell_height;
+      const double top_cell = (grains.position[grain].z() + properties.radius[grain] - grid.bottom) / grid.cell_height;
+      const auto first = static_cast<std::size_t>(std::max(0.0, std::floor(bottom_cell)));
+      const auto last = std::min(grid.cells - 1, static_cast<std::size_t>(std::max(0.0, std::floor(top_cell))));
+      for (std::size_t i = first; i <= last; ++i) {
+        const double share = slices_[i] / (inside * area);
+        column.impulse_x[i] += share * impulse.x();
+        column.impulse_y[i] += share * impulse.y();
+        slices_[i] = 0.0;
+      }
+    }
+    impulse = Vec3::Zero();
+  }
+  context.count_items(grains.size());
+}
+
+SolidMeanFlowSampling::SolidMeanFlowSampling(const Model& model) : model_(model) {}
+
+void SolidMeanFlowSampling::run(SystemContext& context) {
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  const MeanFlowColumn& column = context.read<MeanFlowColumn>();
+  GrainSampledFluid& sampled = context.write<GrainSampledFluid>();
+  GrainVoidage& voidages = context.write<GrainVoidage>();
+  const MeanFlowModel& flow = model_.mean_flow;
+  const ColumnGrid grid = column_grid(flow);
+  const ColumnEnds ends_x = column_ends(flow, true), ends_y = column_ends(flow, false);
+  const ColumnEnds fraction_ends;  // no grains below the floor; above the last centre the last value
+  const double density = flow.density;
+  const bool frame = flow.body_force.grains == BodyForceModel::Grains::kFrame || flow.shields_number > 0.0;
+  const bool pressure_gradient = !frame && flow.body_force.grains == BodyForceModel::Grains::kPressureGradient &&
+                                 model_.coupling.pressure_gradient;
+  for (std::size_t grain = 0; grain < grains.size(); ++grain) {
+    const double z = grains.position[grain].z();
+    if (z > grid.top() || z < grid.bottom) {  // out of the water (a free top) or below the floor: no fluid forces
+      sampled.fluid_weight[grain] = 0.0;
+      sampled.fluid_velocity[grain] = Vec3::Zero();
+      sampled.pressure_force[grain] = Vec3::Zero();
+      voidages.voidage[grain] = 1.0;
+      continue;
+    }
+    sampled.fluid_weight[grain] = 1.0;
+    sampled.fluid_velocity[grain] =
+        Vec3(profile_at(grid, column.velocity_x, z, ends_x), profile_at(grid, column.velocity_y, z, ends_y), 0.0);
+    const double solid = profile_at(grid, column.solid_fraction, z, fraction_ends);
+    voidages.voidage[grain] = std::clamp(1.0 - solid, model_.coupling.min_voidage, 1.0);
+    // -V grad p of the hydrostatic pressure, which holds the vertical gravity only (a slope's drive is a body force
+    // on the water, not a pressure gradient).
+    const double volume = grain_volume(properties.radius[grain]);
+    Vec3 force = model_.coupling.pressure_gradient ? Vec3(0.0, 0.0, -volume * density * model_.gravity.z())
+                                                   : Vec3::Zero();
+    if (frame) force.x() += properties.mass[grain] * column.body_force;
+    if (pressure_gradient) force.x() += volume * density * column.body_force;
+    sampled.pressure_force[grain] = force;
+  }
+  context.count_items(grains.size());
+}
+
+}  // namespace riffle

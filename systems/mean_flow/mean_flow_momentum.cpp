@@ -1,0 +1,64 @@
+#include "systems/mean_flow/mean_flow_momentum.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace riffle {
+
+ColumnGrid column_grid(const MeanFlowModel& model) { return {model.bottom, model.cell_size, model.cells}; }
+
+ColumnEnds column_ends(const MeanFlowModel& model, bool along_x) {
+  ColumnEnds ends;
+  ends.top_given = model.top_boundary == MeanFlowModel::Top::kLid;
+  ends.top_value = along_x ? model.lid_velocity : 0.0;
+  return ends;
+}
+
+double mean_flow_body_force(const MeanFlowModel& model, double gravity, double bed_surface, double time) {
+  if (model.shields_number > 0.0) {
+    // The slope whose weight, carried by the water above the bed, is the bed shear stress of the Shields number.
+    const double depth = std::max(model.top - bed_surface, model.cell_size);
+    const double stress = model.shields_number * (model.shields_density - model.density) * gravity *
+                          model.shields_diameter;
+    return stress / (model.density * depth);
+  }
+  return model.body_force.prescribed(time);
+}
+
+MeanFlowMomentum::MeanFlowMomentum(const Model& model)
+    : model_(model.mean_flow),
+      gravity_(std::abs(model.gravity.z())),
+      grid_(column_grid(model.mean_flow)),
+      ends_x_(column_ends(model.mean_flow, true)),
+      ends_y_(column_ends(model.mean_flow, false)) {}
+
+void MeanFlowMomentum::run(SystemContext& context) {
+  MeanFlowColumn& column = context.write<MeanFlowColumn>();
+  const double nu = model_.kinematic_viscosity;
+  if (model_.turbulence == MeanFlowModel::Turbulence::kMixingLength) {
+    // The floor's friction velocity of the last step (van Driest's z+): lagged like the eddy viscosity itself.
+    const double floor_friction_velocity = std::sqrt(std::abs(column.floor_stress) / model_.density);
+    const std::vector<double> lengths =
+        mixing_lengths(grid_, column.solid_fraction, model_.closure, floor_friction_velocity, nu);
+    column.eddy_viscosity =
+        eddy_viscosities(grid_, column.velocity_x, column.velocity_y, lengths, ends_x_, ends_y_);
+  } else {
+    column.eddy_viscosity.assign(grid_.cells + 1, 0.0);
+  }
+  column.body_force = mean_flow_body_force(model_, gravity_, column.bed_surface, context.time);
+  ColumnStep step{model_.density, nu, context.dt, column.body_force};
+  const ColumnStresses along_x =
+      advance_column(grid_, column.solid_fraction, column.eddy_viscosity, column.impulse_x, ends_x_, step,
+                     column.velocity_x);
+  step.body_force = 0.0;  // the drive is along x
+  advance_column(grid_, column.solid_fraction, column.eddy_viscosity, column.impulse_y, ends_y_, step,
+                 column.velocity_y);
+  column.floor_stress = along_x.floor;
+  column.top_stress = along_x.top;
+  // The grains' impulse is taken: the drag reaction of this step's sub-steps refills it at the step's end.
+  std::fill(column.impulse_x.begin(), column.impulse_x.end(), 0.0);
+  std::fill(column.impulse_y.begin(), column.impulse_y.end(), 0.0);
+  context.count_items(grid_.cells);
+}
+
+}  // namespace riffle

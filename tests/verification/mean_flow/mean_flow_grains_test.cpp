@@ -1,0 +1,149 @@
+// The grains and the mean-flow fluid together (docs/cases/bedload.md, "The mean-flow fluid"), through the real
+// pipeline: each grain's drag is the drag law's at the column's velocity at its centre height; the momentum the
+// grains take is the momentum the water loses, to rounding (the water's change is its walls' stresses and the grains'
+// impulse, nothing else); one and two threads, and a resumed run, give the same bytes.
+#include <doctest/doctest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <string>
+
+#include "engine/output/checkpoint.hpp"
+#include "engine/run/simulation.hpp"
+#include "engine/scene/scene.hpp"
+#include "systems/coupling/mean_flow_grains.hpp"
+#include "systems/mean_flow/mean_flow_momentum.hpp"
+#include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/mean_flow/column.hpp"
+#include "tests/support/scene_builder.hpp"
+#include "tests/support/test_support.hpp"
+
+using riffle::test::SceneBuilder;
+
+namespace riffle {
+namespace {
+
+/// A periodic box 2 cm x 2 cm x 2 cm of water under a lid at 0.2 m/s, grains of 2 mm in a block 5 to 12 mm above
+/// the floor (spacing 4 mm: no contacts), `gravity` along z, the water laminar or turbulent.
+std::string couette_scene(double gravity, bool fixed, const char* turbulence, int cells = 64) {
+  SceneBuilder scene;
+  scene.run({.name = "mean_flow_couette", .end_time = 1.0, .dt = 1.0e-3, .gravity = {0.0, 0.0, gravity}})
+      .material("quartz", {.density = 2650.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
+      .contact({.restitution = 0.5, .friction = 0.5, .max_impact_speed = 0.5})
+      .tank({.size = {0.02, 0.02, 0.02}, .periodic = {"x", "y"}, .wall_material = "quartz"})
+      .block({.min = {0.002, 0.002, 0.005}, .max = {0.018, 0.018, 0.012}, .spacing = 0.004, .radius = 0.001,
+              .material = "quartz"});
+  if (fixed) scene.set("fixed_below", 0.02);
+  scene.table("mean_flow")
+      .set("cells", cells)
+      .set("top", "lid")
+      .set("lid_velocity", 0.2)
+      .set("turbulence", turbulence)
+      .set("initial", "rest");
+  return scene.toml();
+}
+
+/// The water's momentum along x per plan area, sum rho eps h u, less the grains' impulse it has yet to lose
+/// (pending in the column: the next step takes it), times the plan area; and the grains' sum m v_x less the drag
+/// impulse they have received but not yet handed over.
+double booked_momentum(const World& world, const Model& model) {
+  const MeanFlowColumn& column = *world.mean_flow;
+  const ColumnGrid grid = column_grid(model.mean_flow);
+  const double area = column_plan_area(model);
+  long double sum = static_cast<long double>(
+      area * column_momentum(grid, column.solid_fraction, column.velocity_x, model.mean_flow.density));
+  for (double impulse : column.impulse_x) sum -= static_cast<long double>(area * impulse);
+  const Solids& grains = *world.solids;
+  for (std::size_t g = 0; g < grains.size(); ++g)
+    sum += static_cast<long double>(grains.mass[g] * grains.velocity[g].x()) -
+           static_cast<long double>(grains.drag_impulse[g].x());
+  return static_cast<double>(sum);
+}
+
+}  // namespace
+
+TEST_CASE("a grain's drag is the drag law's at the column's velocity at its centre height") {
+  auto simulation = Simulation::from_model(parse_scene(couette_scene(0.0, true, "laminar"), "couette.toml"));
+  for (int step = 0; step < 50; ++step) simulation->step();
+  REQUIRE(simulation->world().step_status.ok());
+  const World& world = simulation->world();
+  const Model& model = simulation->model();
+  const ColumnGrid grid = column_grid(model.mean_flow);
+  const ColumnEnds ends = column_ends(model.mean_flow, true);
+  const Solids& grains = *world.solids;
+  REQUIRE(grains.size() > 20);
+  const double density = model.mean_flow.density;
+  const double viscosity = model.mean_flow.kinematic_viscosity * density;
+  double worst = 0.0;
+  for (std::size_t g = 0; g < grains.size(); ++g) {
+    REQUIRE(grains.fixed[g] == 1);
+    const double z = grains.position[g].z();
+    const double u = profile_at(grid, world.mean_flow->velocity_x, z, ends);
+    const double solid = profile_at(grid, world.mean_flow->solid_fraction, z, ColumnEnds{});
+    const double voidage = std::clamp(1.0 - solid, model.coupling.min_voidage, 1.0);
+    CHECK(grains.voidage[g] == doctest::Approx(voidage).epsilon(1e-14));
+    const double diameter = 2.0 * grains.radius[g];
+    const double expected = drag_per_volume(voidage, diameter, std::abs(u), density, viscosity, model.coupling) *
+                            grain_volume(grains.radius[g]) * u;
+    REQUIRE(u > 0.0);
+    worst = std::max(worst, std::abs(grains.drag_force[g].x() - expected) / std::abs(expected));
+  }
+  MESSAGE("worst relative difference of the drag from the law at the centre's velocity: " << worst);
+  CHECK(worst < 1e-12);
+}
+
+TEST_CASE("the momentum the grains take is the momentum the water loses, to rounding") {
+  // No gravity: the grains keep their heights, so the solid fraction stays and nothing but the exchange and the
+  // walls' stresses moves the momentum.
+  auto simulation = Simulation::from_model(parse_scene(couette_scene(0.0, false, "mixing_length"), "couette.toml"));
+  const Model& model = simulation->model();
+  const double area = column_plan_area(model);
+  const double start = booked_momentum(simulation->world(), model);
+  double walls = 0.0;        // sum of dt A (tau_lid - tau_floor): what the walls put in
+  double largest_drag = 0.0;  // for the sub-steps' half kicks (bounded by one sub-step's drag impulse)
+  for (int step = 0; step < 100; ++step) {
+    simulation->step();
+    REQUIRE(simulation->world().step_status.ok());
+    const MeanFlowColumn& column = *simulation->world().mean_flow;
+    walls += simulation->world().last_step.dt * area * (column.top_stress - column.floor_stress);
+    for (const Vec3& force : simulation->world().solids->drag_force) largest_drag = std::max(largest_drag, force.norm());
+  }
+  const World& world = simulation->world();
+  const double change = booked_momentum(world, model) - start;
+  const double grains_momentum = [&] {
+    double sum = 0.0;
+    for (std::size_t g = 0; g < world.solids->size(); ++g) sum += world.solids->mass[g] * world.solids->velocity[g].x();
+    return sum;
+  }();
+  // Velocity Verlet kicks each sub-step's force in halves: the grains' momentum and the booked impulse differ by
+  // dt_s (F_first - F_last) / 2 per grain over the run.
+  const double half_kicks = static_cast<double>(world.solids->size()) * world.last_step.substep * largest_drag;
+  MESSAGE("momentum change " << change << " against the walls' " << walls << "; grains hold " << grains_momentum
+                             << "; half-kick bound " << half_kicks);
+  REQUIRE(grains_momentum > 0.0);
+  CHECK(std::abs(change - walls) <= half_kicks + 1e-12 * std::abs(walls));
+}
+
+TEST_CASE("a mean-flow run is byte-identical on one and two threads and after a resume") {
+  const std::string scene = couette_scene(-9.81, false, "mixing_length", 48);
+  const auto bytes_after = [&](int threads, int steps) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    auto simulation = Simulation::from_model(parse_scene(scene, "couette.toml"));
+    for (int step = 0; step < steps; ++step) simulation->step();
+    REQUIRE(simulation->world().step_status.ok());
+    return encode_checkpoint(simulation->checkpoint_data());
+  };
+  const std::string one = bytes_after(1, 40);
+  CHECK(one == bytes_after(2, 40));
+  const auto directory = test::scratch_dir("mean_flow_resume");
+  auto first = Simulation::from_model(parse_scene(scene, "couette.toml"));
+  for (int step = 0; step < 17; ++step) first->step();
+  const std::string path = (directory / "part.ckpt").string();
+  write_checkpoint(path, first->checkpoint_data());
+  first.reset();
+  auto resumed = Simulation::from_checkpoint(path);
+  for (int step = 17; step < 40; ++step) resumed->step();
+  CHECK(encode_checkpoint(resumed->checkpoint_data()) == one);
+}
+
+}  // namespace riffle
