@@ -18,9 +18,11 @@ struct MixingLengthClosure {
   /// phi_max counts as packed (turbulence fully damped inside the bed, as YADE's HydroForceEngine does).
   double max_solid_fraction = 0.61;
   /// Smooth floor: van Driest's damping 1 - exp(-z+ / A+) of the mixing length over the floor (z+ = z u*_floor / nu,
-  /// A+ = 26, van Driest 1956), which gives the viscous sublayer and the smooth-wall log law. Rough floor: the
-  /// mixing length starts at kappa z0 at the floor, z0 = k_s exp(-kappa B_r) (B_r = 8.5, Nikuradse's fully rough
-  /// wall), which gives u/u* = ln(z / k_s) / kappa + B_r above a few z0.
+  /// A+ = 26, van Driest 1956), which gives the viscous sublayer and the smooth-wall log law (B = 5.28 with kappa =
+  /// 0.41: the model's own constant). Rough floor: the mixing length starts at l0 at the floor and grows as kappa z,
+  /// l0 the length that gives u/u* = ln(z / k_s) / kappa + B_r (B_r = 8.5, Nikuradse's fully rough wall) far above
+  /// the floor with the molecular viscosity included; l0 -> kappa z0, z0 = k_s exp(-kappa B_r), when k_s u* / nu is
+  /// large, and l0 = 0 below k_s u* / nu ~ 55 (not fully rough). A floor under a packed bed adds nothing.
   enum class Floor { kSmooth, kRough };
   Floor floor = Floor::kSmooth;
   double van_driest = 26.0;          ///< [1] A+

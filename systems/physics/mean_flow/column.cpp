@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace riffle {
 
@@ -29,6 +30,39 @@ double face_gradient(const ColumnGrid& grid, const std::vector<double>& velocity
   if (j == 0) return (velocity[0] - ends.bottom_value) / half;
   if (j >= cells) return ends.top_given ? (ends.top_value - velocity[cells - 1]) / half : 0.0;
   return (velocity[j] - velocity[j - 1]) / grid.cell_height;
+}
+
+/// The constant-stress profile of the closure over a floor whose mixing length is l0: in wall units (y = l+ =
+/// kappa (z+ + l0+ / kappa)), du+/dy = (1 / kappa) 2 / (1 + sqrt(1 + 4 y^2)) (the root of (1 + y^2 du+/dz+) du+/dz+
+/// = 1), whose antiderivative is F(y) = asinh(2 y) - 2 y / (1 + sqrt(1 + 4 y^2)), F(y) -> ln(4 y) - 1 far above.
+double constant_stress_primitive(double y) {
+  const double root = std::sqrt(1.0 + 4.0 * y * y);
+  return std::asinh(2.0 * y) - 2.0 * y / (1.0 + root);
+}
+
+/// [m] The rough floor's mixing length l0: the one whose profile, with the molecular viscosity that the momentum
+/// step adds to l^2 |du/dz|, has Nikuradse's law u+ = ln(z / k_s) / kappa + B_r far above the floor. From F above,
+/// u+ -> (ln(4 kappa z+) - 1 - F(l0+)) / kappa, so F(l0+) = ln(4 kappa k_s+) - 1 - kappa B_r: l0 -> kappa z0
+/// (z0 = k_s exp(-kappa B_r)) when k_s+ is large, but at k_s+ = 100 the viscosity alone would lower B_r by 0.9 with
+/// l0 = kappa z0. Solved by Newton in s = ln l0+ (F(e^s) is convex and increasing in s, and the start kappa z0+
+/// lies above the root, so the iterates fall monotonically onto it). Below k_s+ ~ 55 no l0 >= 0 reaches B_r (the
+/// floor is no longer fully rough): l0 = 0. Without a friction velocity or a viscosity, kappa z0.
+double rough_floor_length(const MixingLengthClosure& closure, double friction_velocity, double viscosity) {
+  const double kappa = closure.von_karman;
+  const double inviscid = kappa * closure.roughness * std::exp(-kappa * closure.rough_wall_constant);
+  if (!(friction_velocity > 0.0) || !(viscosity > 0.0) || !(inviscid > 0.0)) return inviscid;
+  const double unit = viscosity / friction_velocity;  // [m] the viscous length
+  const double target = std::log(4.0 * kappa * closure.roughness / unit) - 1.0 - kappa * closure.rough_wall_constant;
+  if (!(target > 0.0)) return 0.0;
+  double s = std::log(inviscid / unit);
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    const double y = std::exp(s);
+    const double slope = 2.0 * y / (1.0 + std::sqrt(1.0 + 4.0 * y * y));  // dF/ds = y dF/dy
+    const double change = (constant_stress_primitive(y) - target) / slope;
+    s -= change;
+    if (std::abs(change) < 1e-14) break;
+  }
+  return std::exp(s) * unit;
 }
 
 void check_sizes(const ColumnGrid& grid, std::size_t cell_values, std::size_t face_values, const char* what) {
@@ -62,6 +96,7 @@ double deposit_sphere(const ColumnGrid& grid, double centre, double radius, doub
 }
 
 double profile_at(const ColumnGrid& grid, const std::vector<double>& values, double z, const ColumnEnds& ends) {
+  check_sizes(grid, values.size(), 0, "profile_at");
   const std::size_t cells = grid.cells;
   const double position = (std::clamp(z, grid.bottom, grid.top()) - grid.bottom) / grid.cell_height - 0.5;
   if (position <= 0.0) {  // between the floor (position -1/2) and the first centre
@@ -80,6 +115,7 @@ double profile_at(const ColumnGrid& grid, const std::vector<double>& values, dou
 }
 
 double bed_surface(const ColumnGrid& grid, const std::vector<double>& solid_fraction) {
+  check_sizes(grid, solid_fraction.size(), 0, "bed_surface");
   const double largest = *std::max_element(solid_fraction.begin(), solid_fraction.end());
   if (!(largest > 0.0)) return grid.bottom;
   const double half = 0.5 * largest;
@@ -103,9 +139,9 @@ std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<dou
       break;
     }
   const bool rough = closure.floor == MixingLengthClosure::Floor::kRough;
+  // A floor buried under a packed bed is no longer the water's wall: the bed is, and its mixing length starts at 0.
   const double floor_length =
-      rough ? closure.von_karman * closure.roughness * std::exp(-closure.von_karman * closure.rough_wall_constant)
-            : 0.0;
+      rough && packed_below == 0 ? rough_floor_length(closure, floor_friction_velocity, viscosity) : 0.0;
   std::vector<double> lengths(grid.cells + 1, 0.0);
   double integral = 0.0;
   lengths[0] = floor_length;

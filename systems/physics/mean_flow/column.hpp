@@ -51,7 +51,8 @@ double bed_surface(const ColumnGrid& grid, const std::vector<double>& solid_frac
 
 /// [m] The mixing length at the grid's faces (grid.cells + 1 values, face 0 the floor) over the solid fraction
 /// `solid_fraction` (per cell), with the floor's friction velocity `floor_friction_velocity` [m/s] (van Driest's
-/// z+) and kinematic viscosity `viscosity` [m^2/s].
+/// z+ on a smooth floor, k_s+ on a rough one; 0: the rough floor's l0 is kappa z0) and kinematic viscosity
+/// `viscosity` [m^2/s].
 std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
                                    const MixingLengthClosure& closure, double floor_friction_velocity,
                                    double viscosity);
