@@ -1,5 +1,7 @@
 #include "systems/physics/mean_flow/column.hpp"
 
+#include "systems/physics/measures/bedload.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -72,13 +74,6 @@ void check_sizes(const ColumnGrid& grid, std::size_t cell_values, std::size_t fa
 }
 }  // namespace
 
-double sphere_slice_volume(double centre, double radius, double low, double high) {
-  const double a = std::clamp(low - centre, -radius, radius);
-  const double b = std::clamp(high - centre, -radius, radius);
-  if (b <= a) return 0.0;
-  return kPi * (radius * radius * (b - a) - (b * b * b - a * a * a) / 3.0);
-}
-
 double deposit_sphere(const ColumnGrid& grid, double centre, double radius, double weight,
                       std::vector<double>& per_cell) {
   const double from = (centre - radius - grid.bottom) / grid.cell_height;
@@ -88,7 +83,7 @@ double deposit_sphere(const ColumnGrid& grid, double centre, double radius, doub
   const auto last = std::min(grid.cells - 1, static_cast<std::size_t>(std::floor(to)));
   double inside = 0.0;
   for (std::size_t i = first; i <= last; ++i) {
-    const double volume = sphere_slice_volume(centre, radius, grid.face(i), grid.face(i + 1));
+    const double volume = sphere_slab_volume(radius, centre, grid.face(i), grid.face(i + 1));
     per_cell[i] += weight * volume;
     inside += volume;
   }

@@ -26,10 +26,7 @@ struct ColumnGrid {
   double top() const { return face(cells); }
 };
 
-/// [m^3] The volume of a sphere of `radius` centred at height `centre` that lies between heights low < high.
-double sphere_slice_volume(double centre, double radius, double low, double high);
-
-/// Adds weight x (the sphere's volume in cell i) to per_cell[i] for every cell the sphere crosses (per_cell sized
+/// Adds weight x (the sphere's volume in cell i, sphere_slab_volume of systems/physics/measures/bedload.hpp) to per_cell[i] for every cell the sphere crosses (per_cell sized
 /// grid.cells); returns the sphere's volume inside the column (below the top, above the bottom).
 double deposit_sphere(const ColumnGrid& grid, double centre, double radius, double weight,
                       std::vector<double>& per_cell);

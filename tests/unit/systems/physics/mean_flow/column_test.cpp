@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "systems/physics/mean_flow/column.hpp"
+#include "systems/physics/measures/bedload.hpp"
 
 using namespace riffle;
 
@@ -35,14 +36,14 @@ TEST_CASE("mean-flow column: sphere slices match the cap formula and sum to the 
   for (const double c : {0.0, 0.1e-3, 0.7e-3, 1.3e-3, 2.0e-3, 2.6e-3}) {
     CAPTURE(c);
     // The cap below centre - r + c, and the one above centre + r - c.
-    CHECK(sphere_slice_volume(centre, r, centre - 5.0 * r, centre - r + c) ==
+    CHECK(sphere_slab_volume(r, centre, centre - 5.0 * r, centre - r + c) ==
           doctest::Approx(cap_volume(r, c)).epsilon(1e-13).scale(1e-12));
-    CHECK(sphere_slice_volume(centre, r, centre + r - c, centre + 5.0 * r) ==
+    CHECK(sphere_slab_volume(r, centre, centre + r - c, centre + 5.0 * r) ==
           doctest::Approx(cap_volume(r, c)).epsilon(1e-13).scale(1e-12));
   }
-  CHECK(sphere_slice_volume(centre, r, centre - r, centre + r) == doctest::Approx(sphere_volume(r)).epsilon(1e-14));
-  CHECK(sphere_slice_volume(centre, r, centre + r, centre + 2 * r) == 0.0);
-  CHECK(sphere_slice_volume(centre, r, centre, centre) == 0.0);
+  CHECK(sphere_slab_volume(r, centre, centre - r, centre + r) == doctest::Approx(sphere_volume(r)).epsilon(1e-14));
+  CHECK(sphere_slab_volume(r, centre, centre + r, centre + 2 * r) == 0.0);
+  CHECK(sphere_slab_volume(r, centre, centre, centre) == 0.0);
 
   // Over cells much thinner, as thin and thicker than the sphere, whatever its place: the cells' sum is the sphere.
   std::mt19937_64 random(7);
@@ -56,7 +57,7 @@ TEST_CASE("mean-flow column: sphere slices match the cap formula and sum to the 
       double sum = 0.0;
       for (std::size_t i = 0; i < grid.cells; ++i) {
         CHECK(per_cell[i] >= 0.0);
-        CHECK(per_cell[i] == doctest::Approx(sphere_slice_volume(z, r, grid.face(i), grid.face(i + 1))));
+        CHECK(per_cell[i] == doctest::Approx(sphere_slab_volume(r, z, grid.face(i), grid.face(i + 1))));
         sum += per_cell[i];
       }
       CHECK(sum == doctest::Approx(sphere_volume(r)).epsilon(1e-13));
@@ -95,7 +96,7 @@ TEST_CASE("mean-flow column: a sphere at the column's ends deposits and returns 
   const ColumnGrid thin = grid_of(3, 0.2e-3, 0.0);
   std::vector<double> per_cell(thin.cells, 0.0);
   CHECK(deposit_sphere(thin, 0.3e-3, r, 1.0, per_cell) ==
-        doctest::Approx(sphere_slice_volume(0.3e-3, r, 0.0, 0.6e-3)).epsilon(1e-14));
+        doctest::Approx(sphere_slab_volume(r, 0.3e-3, 0.0, 0.6e-3)).epsilon(1e-14));
 }
 
 TEST_CASE("mean-flow column: profile_at interpolates linearly and takes the floor, the lid or the free top") {
