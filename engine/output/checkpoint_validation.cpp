@@ -116,10 +116,13 @@ class Refusal {
 void check_world_time(const Refusal& refusal, const World& world, const Model& model) {
   if (!std::isfinite(world.time) || world.time < 0.0)
     refusal.fail("time = " + show(world.time), "must be finite and not negative");
-  // Each step advances the time by run.dt, or with a fluid by a Courant-limited step of at least fluid.min_dt.
+  // Each step advances the time by run.dt, or with a fluid by a Courant-limited step of at least fluid.min_dt; with
+  // the mean-flow fluid by a step the grains' drag may shorten without a floor (coupling.drag_number).
   const double steps = static_cast<double>(world.step);
   const double longest = steps * model.dt * (1.0 + 1e-6);
-  const double shortest_step = model.fluid.enabled ? std::min(model.fluid.min_dt, model.dt) : model.dt;
+  const double shortest_step = model.fluid.enabled      ? std::min(model.fluid.min_dt, model.dt)
+                               : model.mean_flow.enabled ? 0.0
+                                                         : model.dt;
   const double shortest = steps * shortest_step * (1.0 - 1e-6);
   if (world.time > longest || world.time < shortest)
     refusal.fail("time = " + show(world.time),

@@ -397,6 +397,7 @@ std::unique_ptr<Simulation> Simulation::from_checkpoint_data(CheckpointData data
   world.tank_motion = std::move(data.world.tank_motion);
   world.contacts = std::move(data.world.contacts);
   world.fluid = std::move(data.world.fluid);  // fluid_neighbours stays as initial_world made it: rebuilt
+  world.mean_flow = std::move(data.world.mean_flow);
   if (world.fluid_summary) {
     // The particles the scene lays out, which the removed count is measured from, are not stored: they are the scene's.
     const std::size_t initial_fluid_count = world.fluid_summary->initial_fluid_count;
@@ -412,12 +413,17 @@ CheckpointData Simulation::checkpoint_data() const {
   data.scene_text = model_->scene_text;
   data.world.time = world_.time;
   data.world.step = world_.step;
-  data.world.solids = world_.solids;
-  data.world.walls = world_.walls;
-  data.world.tank_motion = world_.tank_motion;
-  data.world.contacts = world_.contacts;
-  data.world.fluid = world_.fluid;
-  data.world.fluid_summary = world_.fluid_summary;
+  // Every persistent part (World::kParts), so a new component cannot be left out of the checkpoint.
+  std::apply(
+      [&](auto... members) {
+        (
+            [&] {
+              using Stored = typename detail::member_of<decltype(members)>::type;
+              if constexpr (Stored::kPersistent) data.world.*members = world_.*members;
+            }(),
+            ...);
+      },
+      World::kParts);
   data.output = output_;
   return data;
 }
