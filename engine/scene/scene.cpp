@@ -23,6 +23,7 @@
 #include "systems/physics/dem/contact_law.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -744,6 +745,9 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   if (problems.lines.empty()) check_periodic(scene, model);
   if (problems.lines.empty()) check_budget(scene, model);
   if (!problems.lines.empty()) throw SceneError(problems.lines);
+
+  // What the MPS operators derive from l0 and r_e / l0, once, for every system and probe that needs it.
+  if (model.fluid.enabled) fill_mps_constants(model.fluid);
 
   // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
   if (model.contact.enabled && model.solids.enabled &&

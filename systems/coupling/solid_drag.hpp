@@ -33,6 +33,7 @@ class SolidDrag final : public System {
 
   CouplingModel model_;
   FluidModel fluid_;
+  double effective_radius_;  ///< [m] r_e (FluidModel::constants)
   double fluid_step_;        ///< [s] run.dt, the fluid step before the first (SystemContext::fluid_step)
   double inverse_distance_;  ///< R <1/r> of the spreading and sampling kernels (self_induced.hpp)
 };
