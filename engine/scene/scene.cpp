@@ -433,7 +433,7 @@ void read_contact(TableReader& contact, Model& model) {
       std::vector<std::string> known;
       for (const Material& material : model.materials) known.push_back(material.name);
       return known;
-    }());
+    }(), "the material names");
     ContactPairParameters pair = defaults;
     pair.restitution = override_table.number("restitution", defaults.restitution, "1", Bounds::closed(0.0, 1.0));
     pair.friction = override_table.number("friction", defaults.friction, "1", Bounds::non_negative());
