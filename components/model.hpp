@@ -216,6 +216,18 @@ struct FluidSchemes {
   GrainGradient grain_gradient = GrainGradient::kApplied;
 };
 
+/// What the MPS operators derive from l0 and r_e / l0 (numerics.md 1.1), worked out once when the scene has been read
+/// (fill_mps_constants, systems/physics/mps/mps_common.hpp) and read by the fluid and coupling systems and the probes.
+/// It keeps the l0 and r_e / l0 it was derived from: mps_constants() refuses a model changed after (a stale copy).
+struct MpsConstants {
+  double spacing = 0.0;                 ///< [m] l0 they were derived from
+  double effective_radius_ratio = 0.0;  ///< [1] r_e / l0 they were derived from
+  double effective_radius = 0.0;        ///< [m] r_e = (r_e / l0) l0, one radius for every operator (amendment 6)
+  double reference_density = 0.0;       ///< [1] n0 of the interior of the initial cubic lattice
+  double laplacian_lambda = 0.0;        ///< [m^2] lambda0 (viscosity, and the classic Laplacian when HL is off)
+  double particle_volume = 0.0;         ///< [m^3] l0^3
+};
+
 /// The incompressible free-surface fluid (MPS, seed 000 Sec. 3.1; numerics.md with the prototype's amendments).
 struct FluidModel {
   bool enabled = false;
@@ -279,6 +291,9 @@ struct FluidModel {
   double shifting_coefficient = 2.0;  ///< [1] A (the scene's default: 2 for kVelocity, 0.25 for kConstant)
   double shifting_max_ratio = 0.1;    ///< [1] the largest shift per step / l0
   bool shifting_velocity_correction = true;  ///< u += (delta r . grad) u after the shift (Lind et al. 2012)
+  /// Derived from spacing and effective_radius_ratio by fill_mps_constants once they are final (the scene reader
+  /// calls it; so must code that builds a model by hand); zero while the fluid is off.
+  MpsConstants constants;
 
   bool has_lids() const {
     for (const ParticleBoxModel& box : wall_boxes)

@@ -91,8 +91,8 @@ void print_check(const std::string& scene_path, const Model& model) {
 }
 
 /// `riffle keys`: the union of the keys every scene's reading asks for (engine/toml/scene_reader.hpp, SceneKey),
-/// one tab-separated line each: key, kind, range, unit, its defaults (" | " between several), whether a scene sets
-/// it. Exits 2 after printing the keys if a scene is invalid (its problems on stderr).
+/// one tab-separated line each: key, kind, its ranges and unit, its defaults (" | " between several), whether a
+/// scene sets it. Exits 2 after printing the keys if a scene is invalid (its problems on stderr).
 int print_scene_keys(const std::vector<std::string>& scenes, const SceneLimits& limits,
                      const std::vector<std::string>& overrides) {
   SceneKeyCatalogue catalogue;
@@ -107,9 +107,10 @@ int print_scene_keys(const std::vector<std::string>& scenes, const SceneLimits& 
   }
   std::printf("key\tkind\trange\tunit\tdefault\tgiven\n");
   for (const auto& [name, key] : catalogue.keys()) {
-    std::string defaults;
+    std::string ranges, defaults;
+    for (const std::string& range : key.ranges) ranges += (ranges.empty() ? "" : " | ") + range;
     for (const std::string& fallback : key.defaults) defaults += (defaults.empty() ? "" : " | ") + fallback;
-    std::printf("%s\t%s\t%s\t%s\t%s\t%s\n", name.c_str(), key.kind.c_str(), key.range.c_str(), key.unit.c_str(),
+    std::printf("%s\t%s\t%s\t%s\t%s\t%s\n", name.c_str(), key.kind.c_str(), ranges.c_str(), key.unit.c_str(),
                 defaults.c_str(), key.given ? "yes" : "no");
   }
   return exit_code;

@@ -225,8 +225,9 @@ void read_initial_velocity(TableReader& reader, InitialVelocityModel& out, const
   using Kind = InitialVelocityModel::Kind;
   out.kind = reader.choice("kind", std::nullopt, {"linear", "power"}) == "power" ? Kind::kPower : Kind::kLinear;
   // Heights in the tank's extent (scene coordinates); a profile outside it would touch no particle: a typo.
-  const Bounds height = tank.size.z() > 0.0 ? Bounds::closed(tank.origin.z(), tank.origin.z() + tank.size.z())
-                                            : Bounds::any();
+  Bounds height = tank.size.z() > 0.0 ? Bounds::closed(tank.origin.z(), tank.origin.z() + tank.size.z())
+                                      : Bounds::any();
+  height.name = "the tank's z extent";
   const std::size_t problems_before = reader.problem_count();
   out.bottom = reader.number("bottom", std::nullopt, "m", height);
   out.top = reader.number("top", std::nullopt, "m", height);

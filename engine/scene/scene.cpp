@@ -24,6 +24,7 @@
 #include "systems/physics/dem/contact_law.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -433,7 +434,7 @@ void read_contact(TableReader& contact, Model& model) {
       std::vector<std::string> known;
       for (const Material& material : model.materials) known.push_back(material.name);
       return known;
-    }());
+    }(), "the material names");
     ContactPairParameters pair = defaults;
     pair.restitution = override_table.number("restitution", defaults.restitution, "1", Bounds::closed(0.0, 1.0));
     pair.friction = override_table.number("friction", defaults.friction, "1", Bounds::non_negative());
@@ -748,6 +749,9 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   if (problems.lines.empty()) check_periodic(scene, model);
   if (problems.lines.empty()) check_budget(scene, model);
   if (!problems.lines.empty()) throw SceneError(problems.lines);
+
+  // What the MPS operators derive from l0 and r_e / l0, once, for every system and probe that needs it.
+  if (model.fluid.enabled) fill_mps_constants(model.fluid);
 
   // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
   if (model.contact.enabled && model.solids.enabled &&

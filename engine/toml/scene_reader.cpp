@@ -55,6 +55,8 @@ std::string Bounds::describe() const {
          (max_inclusive ? "]" : ")");
 }
 
+std::string Bounds::catalogue_range() const { return name ? std::string("a number in ") + name : describe(); }
+
 void SceneProblems::add(const toml::source_region& where, const std::string& key, const std::string& message) {
   std::ostringstream line;
   // A value set on the command line (engine/scene/scene_overrides.hpp) carries its --set as its source: name that.
@@ -93,11 +95,11 @@ void SceneKeyCatalogue::note(const std::string& key, const std::string& kind, co
                              const std::string& unit, const std::string& fallback, bool given) {
   const auto [found, inserted] = keys_.try_emplace(key);
   SceneKey& entry = found->second;
-  if (inserted) {  // the first reading of a key describes it; later ones add their defaults
+  if (inserted) {  // the first reading of a key describes it; later ones add their ranges and defaults
     entry.kind = kind;
-    entry.range = range;
     entry.unit = unit;
   }
+  entry.ranges.insert(range);
   entry.defaults.insert(fallback);
   entry.given = entry.given || given;
 }
@@ -137,7 +139,7 @@ double TableReader::number(const std::string& key, std::optional<double> fallbac
                            Bounds bounds) {
   const toml::node* node = lookup(key);
   const std::string expected = bounds.describe() + " [" + unit + "]";
-  note(key, "number", bounds.describe(), unit, fallback ? format_number(*fallback) : "required");
+  note(key, "number", bounds.catalogue_range(), unit, fallback ? format_number(*fallback) : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected " + expected);
     return fallback.value_or(0.0);
@@ -221,10 +223,11 @@ std::string TableReader::choice(const std::string& key, std::optional<std::strin
   return value;
 }
 
-std::vector<std::string> TableReader::choices(const std::string& key, const std::vector<std::string>& allowed) {
+std::vector<std::string> TableReader::choices(const std::string& key, const std::vector<std::string>& allowed,
+                                              const char* allowed_name) {
   std::vector<std::string> values;
   const toml::node* node = lookup(key);
-  note(key, "list of", "\"" + join(allowed, "\", \"") + "\"", "", "[]");
+  note(key, "list of", allowed_name ? allowed_name : "\"" + join(allowed, "\", \"") + "\"", "", "[]");
   if (!node) return values;
   const toml::array* array = node->as_array();
   const std::string expected = "an array of strings from \"" + join(allowed, "\", \"") + "\"";
@@ -253,7 +256,8 @@ Vec3 TableReader::vec3(const std::string& key, std::optional<Vec3> fallback, con
   const toml::node* node = lookup(key);
   const std::string expected =
       std::string("an array of 3 numbers [") + unit + "], each " + component_bounds.describe();
-  note(key, "3 numbers", component_bounds.describe(), unit, fallback ? scene_spelling(*fallback) : "required");
+  note(key, "3 numbers", component_bounds.catalogue_range(), unit,
+       fallback ? scene_spelling(*fallback) : "required");
   if (!node) {
     if (!fallback) problem(key, "missing required key; expected " + expected);
     return fallback.value_or(Vec3::Zero());

@@ -34,6 +34,9 @@ struct Bounds {
   double max = std::numeric_limits<double>::infinity();
   bool min_inclusive = true;
   bool max_inclusive = true;
+  /// Where the bounds follow the scene (the tank's extent), what they are in words ("the tank's z extent"): the key
+  /// catalogue records this, so that it describes the reading and not one scene's numbers; messages give the numbers.
+  const char* name = nullptr;
 
   static Bounds any() { return {}; }
   static Bounds positive() { return {0.0, std::numeric_limits<double>::infinity(), false, true}; }
@@ -41,6 +44,8 @@ struct Bounds {
   static Bounds closed(double lo, double hi) { return {lo, hi, true, true}; }
   bool contains(double value) const;
   std::string describe() const;
+  /// describe(), or "a number in NAME" where the bounds have a name: the range the key catalogue records.
+  std::string catalogue_range() const;
 };
 
 /// One key as the scene reader asks for it: what it holds, its range, unit and default, as the code that reads the
@@ -49,7 +54,9 @@ struct Bounds {
 struct SceneKey {
   std::string kind;   ///< "number", "integer", "boolean", "string", "one of", "list of", "3 numbers", "integers",
                       ///< "points", "table", "tables", "named tables"
-  std::string range;  ///< bounds, or the allowed strings; empty if any value of the kind will do
+  /// Its bounds, or the allowed strings; empty if any value of the kind will do. More than one where the range
+  /// follows another key (shifting_coefficient's follows shifting_diffusivity).
+  std::set<std::string> ranges;
   std::string unit;   ///< SI unit, "1" for a pure number; empty where none applies
   /// Every default it was asked with, spelled as a scene would write it; "required" when asked without one. More
   /// than one when the default follows another key (gc = true unless conservative_gradient).
@@ -96,8 +103,10 @@ class TableReader {
   /// A string that must be one of `allowed`.
   std::string choice(const std::string& key, std::optional<std::string> fallback,
                      const std::vector<std::string>& allowed);
-  /// A list of strings, each one of `allowed`, no repeats.
-  std::vector<std::string> choices(const std::string& key, const std::vector<std::string>& allowed);
+  /// A list of strings, each one of `allowed`, no repeats. Where `allowed` follows the scene, `allowed_name` says
+  /// what it is in words ("the material names") for the key catalogue.
+  std::vector<std::string> choices(const std::string& key, const std::vector<std::string>& allowed,
+                                   const char* allowed_name = nullptr);
   Vec3 vec3(const std::string& key, std::optional<Vec3> fallback, const char* unit, Bounds component_bounds);
   /// An array of integers, each in [min, max]. Every bad item is reported at the item; then the result is empty,
   /// so a non-empty result has one value per item (item k is key[k] for item_problem).

@@ -34,7 +34,7 @@ void FluidDragReaction::run(SystemContext& context) {
   if (self_induced_velocity_) spread_with_sampling_kernel(context, true);
   // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
   // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
-  const double cell_size = 0.668 * (largest_radius + constants_.kernel.effective_radius);
+  const double cell_size = 0.668 * (largest_radius + constants_.effective_radius);
   volumes_.assign(grains.size(), 0.0);
   const DomainBox domain = domain_box(context.model);
   // A periodic box: the grid wraps along its periodic axes (whole cells per period), so a grain's stencil by the
@@ -134,7 +134,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
   const ParticleState& particles = context.read<ParticleState>();
   ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
   const std::size_t fluid_count = fluid_slot_count(particles);
-  const double effective_radius = constants_.kernel.effective_radius;
+  const double effective_radius = constants_.effective_radius;
   const PeriodicBox box = periodic_box(context.model);
   spread_slot_.clear();
   spread_centre_.clear();

@@ -24,7 +24,7 @@ namespace riffle {
 class FluidDragReaction final : public System {
  public:
   explicit FluidDragReaction(const Model& model)
-      : constants_(MpsConstants::from(model.fluid)),
+      : constants_(mps_constants(model.fluid)),
         fluid_velocity_(model.coupling.fluid_velocity),
         self_induced_velocity_(model.coupling.self_induced_velocity),
         kernel_reaction_(model.coupling.sampling_kernel_reaction),

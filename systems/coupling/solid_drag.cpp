@@ -12,8 +12,12 @@ namespace riffle {
 SolidDrag::SolidDrag(const Model& model)
     : model_(model.coupling),
       fluid_(model.fluid),
+<<<<<<< HEAD
       density_(model.water_density()),
       kinematic_viscosity_(model.water_kinematic_viscosity()),
+=======
+      effective_radius_(mps_constants(model.fluid).effective_radius),
+>>>>>>> house-derived
       fluid_step_(model.dt),
       inverse_distance_(model.coupling.self_induced_velocity ? self_induced_inverse_distance() : 0.0) {}
 
@@ -85,7 +89,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   const double viscosity = nu * density;
   const double diameter = 2.0 * properties.radius[grain];
   const double volume = kPi / 6.0 * diameter * diameter * diameter;
-  const double kernel_radius = properties.radius[grain] + fluid_.effective_radius();
+  const double kernel_radius = properties.radius[grain] + effective_radius_;
   const double mobility = inverse_distance_ / (6.0 * kPi * viscosity * kernel_radius);  // K [m/s per N]
   const Vec3& velocity = grains.velocity[grain];
   const Vec3& sampled_velocity = sampled.fluid_velocity[grain];

@@ -17,7 +17,7 @@
 namespace riffle {
 
 SolidFluidSampling::SolidFluidSampling(const Model& model)
-    : constants_(MpsConstants::from(model.fluid)),
+    : constants_(mps_constants(model.fluid)),
       pressure_gradient_(model.coupling.pressure_gradient),
       viscous_stress_(model.coupling.viscous_stress),
       fluid_acceleration_(model.coupling.added_mass || model.coupling.history_force),
@@ -44,7 +44,7 @@ void SolidFluidSampling::run(SystemContext& context) {
     body_force = prescribed_body_force(body_force_, context.time);
   const bool imposed_gradient = body_force_.grains == BodyForceModel::Grains::kPressureGradient && pressure_gradient_;
   const bool frame = body_force_.grains == BodyForceModel::Grains::kFrame;
-  const double effective_radius = constants_.kernel.effective_radius;
+  const double effective_radius = constants_.effective_radius;
   double smallest_radius = std::numeric_limits<double>::infinity();
   for (const double radius : properties.radius) smallest_radius = std::min(smallest_radius, radius);
   // Cells of half the smallest sampling radius: a query scans about 5^3 cells holding about twice the sphere's

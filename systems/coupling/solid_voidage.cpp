@@ -12,7 +12,7 @@
 namespace riffle {
 
 SolidVoidage::SolidVoidage(const Model& model)
-    : particle_volume_(MpsConstants::from(model.fluid).particle_volume),
+    : particle_volume_(mps_constants(model.fluid).particle_volume),
       spacing_(model.fluid.spacing),
       voidage_radius_(model.coupling.voidage_radius),
       min_voidage_(model.coupling.min_voidage),

@@ -12,7 +12,7 @@ namespace riffle {
 
 class FluidChecks final : public System {
  public:
-  explicit FluidChecks(const FluidModel& fluid) : constants_(MpsConstants::from(fluid)) {}
+  explicit FluidChecks(const FluidModel& fluid) : constants_(mps_constants(fluid)) {}
   std::string_view name() const override { return "fluid_checks"; }
   Access access() const override {
     return {component_ids<ParticleState, ParticleDensity>(), component_ids<FluidSummary, StepStatus>()};

@@ -22,7 +22,7 @@ void FluidCorrect::run(SystemContext& context) {
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const FluidSchemes& schemes = fluid_.schemes;
-  const WendlandKernel kernel = constants_.kernel;
+  const WendlandKernel kernel = kernel_;
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants_.reference_density;
   const double dt = context.dt;

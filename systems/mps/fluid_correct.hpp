@@ -13,7 +13,8 @@ namespace riffle {
 
 class FluidCorrect final : public System {
  public:
-  explicit FluidCorrect(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {
+  explicit FluidCorrect(const FluidModel& fluid)
+      : fluid_(fluid), constants_(mps_constants(fluid)), kernel_(constants_.effective_radius) {
     // The scene reader refuses both; a model built in code must not apply GC's C_i on top of the pair form.
     if (fluid.schemes.conservative_gradient && fluid.schemes.gradient_correction)
       throw std::logic_error("fluid_correct: conservative_gradient replaces the gradient correction: turn gc off");
@@ -31,6 +32,7 @@ class FluidCorrect final : public System {
  private:
   FluidModel fluid_;
   MpsConstants constants_;
+  WendlandKernel kernel_;
 };
 
 }  // namespace riffle

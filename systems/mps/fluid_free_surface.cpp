@@ -12,7 +12,7 @@ void FluidFreeSurface::run(SystemContext& context) {
   neighbours.near_count.resize(neighbours.particle_count());
   neighbours.near_slots.resize(neighbours.slots.size());
   const std::size_t fluid_count = fluid_slot_count(particles);
-  const WendlandKernel kernel = constants_.kernel;
+  const WendlandKernel kernel = kernel_;
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double surface_below = threshold_ * constants_.reference_density;
   // Slots beyond the reals are a periodic tank's ghosts (fluid_neighbours_predicted exchanged their r*).

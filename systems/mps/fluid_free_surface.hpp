@@ -13,7 +13,7 @@ namespace riffle {
 class FluidFreeSurface final : public System {
  public:
   explicit FluidFreeSurface(const FluidModel& fluid)
-      : constants_(MpsConstants::from(fluid)), threshold_(fluid.surface_threshold) {}
+      : constants_(mps_constants(fluid)), kernel_(constants_.effective_radius), threshold_(fluid.surface_threshold) {}
   std::string_view name() const override { return "fluid_free_surface"; }
   Access access() const override {
     return {component_ids<ParticleState, ParticlePrediction>(), component_ids<ParticleDensity, FluidNeighbours>()};
@@ -22,6 +22,7 @@ class FluidFreeSurface final : public System {
 
  private:
   MpsConstants constants_;
+  WendlandKernel kernel_;
   double threshold_;
 };
 

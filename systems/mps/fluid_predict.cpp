@@ -18,7 +18,7 @@ void FluidPredict::run(SystemContext& context) {
   ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   const std::size_t fluid_count = fluid_slot_count(particles);
-  const WendlandKernel kernel = constants_.kernel;
+  const WendlandKernel kernel = kernel_;
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants_.reference_density;
   // nu <lap u>_i = nu 2D / (lambda0 n0) sum_j (u_j - u_i) w_ij  (numerics 1.4, D = 3)
@@ -101,7 +101,7 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   ParticlePrediction& prediction = context.write<ParticlePrediction>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   const std::size_t fluid_count = fluid_slot_count(particles);
-  const WendlandKernel kernel = constants_.kernel;
+  const WendlandKernel kernel = kernel_;
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants_.reference_density;
   const bool error_compensation = fluid_.schemes.error_compensating_source;

@@ -19,7 +19,8 @@ namespace riffle {
 
 class FluidPredict final : public System {
  public:
-  explicit FluidPredict(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
+  explicit FluidPredict(const FluidModel& fluid)
+      : fluid_(fluid), constants_(mps_constants(fluid)), kernel_(constants_.effective_radius) {}
   std::string_view name() const override { return "fluid_predict"; }
   // A scene with a body force or a lid also writes FluidSummary (the force applied, the lids' traction, the bulk
   // velocity; the controller's integral), so only such scenes gain the edges.
@@ -40,6 +41,7 @@ class FluidPredict final : public System {
 
   FluidModel fluid_;
   MpsConstants constants_;
+  WendlandKernel kernel_;
   std::vector<Vec3> acceleration_;  ///< [m/s^2] scratch: the gather reads u^k while u* is formed
   std::vector<double> eddy_viscosity_;  ///< [m^2/s] nu_t per fluid slot (turbulence = sps)
   std::vector<std::int32_t> lid_of_;    ///< per slot: the lid (index among the lid boxes) or -1

@@ -17,7 +17,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   FluidSummary& summary = context.write<FluidSummary>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const FluidSchemes& schemes = fluid_.schemes;
-  const WendlandKernel kernel = constants_.kernel;
+  const WendlandKernel kernel = kernel_;
   const double n0 = constants_.reference_density;
   const double dt = context.dt;
   const double rho = fluid_.density;

@@ -19,7 +19,10 @@ class FluidPressureSolve final : public System {
   /// Whether the tank has a periodic axis comes from the model (periodic_box), as for the searches' halo and
   /// fluid_correct: the solve then exchanges the ghosts' pressures (FluidNeighbours), which fluid_correct reads.
   explicit FluidPressureSolve(const Model& model)
-      : fluid_(model.fluid), constants_(MpsConstants::from(model.fluid)), periodic_(periodic_box(model).any()) {}
+      : fluid_(model.fluid),
+        constants_(mps_constants(model.fluid)),
+        kernel_(constants_.effective_radius),
+        periodic_(periodic_box(model).any()) {}
   std::string_view name() const override { return "fluid_pressure"; }
   Access access() const override {
     if (periodic_)
@@ -33,6 +36,7 @@ class FluidPressureSolve final : public System {
  private:
   FluidModel fluid_;
   MpsConstants constants_;
+  WendlandKernel kernel_;
   bool periodic_ = false;
   std::vector<std::int32_t> row_of_;      ///< fluid slot -> unknown index, -1 on the surface
   std::vector<std::uint32_t> slot_of_;    ///< unknown index -> fluid slot

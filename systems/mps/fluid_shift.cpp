@@ -14,7 +14,7 @@ void FluidShift::run(SystemContext& context) {
   const ParticleDensity& densities = context.read<ParticleDensity>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
   const std::size_t fluid_count = fluid_slot_count(particles);
-  const WendlandKernel kernel = constants_.kernel;
+  const WendlandKernel kernel = kernel_;
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants_.reference_density;
   const double dt = context.dt;

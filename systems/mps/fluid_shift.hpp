@@ -15,7 +15,8 @@ namespace riffle {
 
 class FluidShift final : public System {
  public:
-  explicit FluidShift(const FluidModel& fluid) : fluid_(fluid), constants_(MpsConstants::from(fluid)) {}
+  explicit FluidShift(const FluidModel& fluid)
+      : fluid_(fluid), constants_(mps_constants(fluid)), kernel_(constants_.effective_radius) {}
   std::string_view name() const override { return "fluid_shift"; }
   Access access() const override {
     return {component_ids<FluidNeighbours, ParticlePrediction, ParticleDensity>(), component_ids<ParticleState>()};
@@ -25,6 +26,7 @@ class FluidShift final : public System {
  private:
   FluidModel fluid_;
   MpsConstants constants_;
+  WendlandKernel kernel_;
   std::vector<Vec3> shift_, velocity_;  // scratch: every shift is computed before any particle moves
 };
 

@@ -46,6 +46,9 @@ struct FluidRun {
   /// `edit` may change the initial world (velocities, added particles) before the pipeline is built.
   explicit FluidRun(Model fluid_scene, const std::function<void(World&)>& edit = {})
       : model(std::move(fluid_scene)), world(initial_world(model)) {
+    // The tests build or change their models in code: derive the MPS constants from the final l0 and r_e / l0, as
+    // the scene reader does once a scene is read.
+    if (model.fluid.enabled) fill_mps_constants(model.fluid);
     if (!world.fluid) {  // the initial state does not lay out the fluid yet: do it here
       world.fluid.emplace();
       for (const ParticleBoxModel& box : model.fluid.boxes) {

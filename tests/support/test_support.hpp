@@ -15,6 +15,7 @@
 #include "components/world.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/scene/scene.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 #include "tests/support/scene_builder.hpp"
 
 namespace riffle::test {
@@ -115,6 +116,7 @@ inline Model small_coupled_model(double spacing) {
   Model model = small_model();
   model.fluid.enabled = true;
   model.fluid.spacing = spacing;
+  fill_mps_constants(model.fluid);
   model.coupling.enabled = true;
   return model;
 }

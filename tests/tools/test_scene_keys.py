@@ -1,9 +1,10 @@
 #!/usr/bin/python3
 """Self-test of tools/riffle-tools scene-keys (riffle_tools.scene_keys) on a synthetic SCENES.md and a synthetic
-`riffle keys` output, no riffle needed: a correct doc passes; an undocumented key, a stale documented key and a wrong
-default are each caught, naming the doc's line; the normalisation of defaults (numbers to 6 digits, fractions,
-inf, none = required, probe-kind prefixes, defaults that follow another key); and the command end to end through a
-stand-in for riffle (exit 0 / 1 and the "N keys checked, M problems" line).
+`riffle keys` output, no riffle needed: a doc as the reading writes it is left as it is; the type and one-value
+default cells are written from the reading, the doc's own columns and the defaults the code does not state as one
+value are kept and checked; new keys are added (and flagged without a description), stale ones dropped, equal rows
+joined; the prose outside the markers is not touched; what is left for a person is named at the doc's line; and the
+command end to end through a stand-in for riffle (check and --write, exit 0 / 1, the command that rewrites).
 
 Usage: /usr/bin/python3 tests/tools/test_scene_keys.py [WORK_DIR]   (exit 0 = pass)
 """
@@ -32,186 +33,218 @@ KEYS = "\n".join("\t".join(fields) for fields in [
     ("run.dt", "number", "a number > 0", "s", "required", "yes"),
     ("run.gravity", "3 numbers", "a finite number", "m/s^2", "[0, 0, -9.81]", "no"),
     ("run.name", "string", "", "", '"riffle"', "no"),
-    ("run.tolerance", "number", "a number > 0", "1", "1e-08", "no"),
-    ("run.exponent", "number", "a number > 0", "1", "0.142857", "no"),
+    ("run.tolerance", "number", "a number in (0, 1)", "1", "1e-08", "no"),
     ("run.hold", "number", "a number >= 0", "s", "required", "yes"),
+    ("run.steps", "integer", "[1, 1000000]", "", "10", "no"),
     ("run.walls", "boolean", "", "", "true", "no"),
+    ("run.law", "one of", '"hertz", "linear"', "", '"hertz"', "no"),
+    ("run.faces", "list of", '"x", "y"', "", "[]", "no"),
+    ("run.ids", "integers", "[0, 9223372036854775807]", "", "required", "yes"),
+    ("run.coefficient", "number", "a number in (0, 1] | a number in (0, 10]", "1", "0.25 | 2", "no"),
+    ("solids", "table", "", "", "absent", "yes"),
+    ("solids.sort_every", "integer", "[0, 1000000000]", "", "0", "no"),
     ("materials", "table", "", "", "required", "yes"),
     ("materials.NAME.density", "number", "a number > 0", "kg/m^3", "required", "yes"),
-    ("materials.NAME.young_modulus", "number", "a number >= 0", "Pa", "0 | required", "yes"),
+    ("materials.NAME.young_modulus", "number", "a number > 0", "Pa", "0 | required", "yes"),
     ("boxes", "tables", "", "", "[]", "yes"),
     ("boxes[].low", "3 numbers", "a finite number", "m", "required", "yes"),
-    ("boxes[].velocity", "3 numbers", "a finite number", "m/s", "[0, 0, 0]", "no"),
-    ("walls", "tables", "", "", "[]", "yes"),
-    ("walls[].low", "3 numbers", "a finite number", "m", "required", "yes"),
-    ("walls[].velocity", "number", "a finite number", "m/s", "0", "no"),
-    ("probes", "tables", "", "", "[]", "yes"),
-    ("probes[].below", "number", "a number > 0", "m", "inf", "no"),
-    ("probes[].radius", "number", "a number > 0", "m", "0.005 | 0.01", "no"),
-    ("probes[].file", "string", "", "", '"probe_a.csv" | "probe_b.csv"', "no"),
-    ("probes[].classes", "tables", "", "", "[]", "yes"),
-    ("probes[].classes[].count", "integer", "[0, 50000000]", "", "required", "yes"),
+    ("boxes[].high", "3 numbers", "a finite number", "m", "required", "yes"),
+    ("boxes[].bottom", "number", "a number in the tank's z extent", "m", "required", "yes"),
+    ("boxes[].classes", "tables", "", "", "[]", "yes"),
+    ("boxes[].classes[].count", "integer", "[0, 50000000]", "", "required", "yes"),
 ]) + "\n"
 
 DOC = """# Scene files
 
-## `[run]` (required; not `[materials]`)
+Prose before, with a table that is not a key table:
 
+| key | seed | riffle |
+|---|---|---|
+| `box` | 2 cm | 4 cm |
+
+## `[run]`
+
+<!-- scene-keys run -->
 | key | type | default | meaning |
 |---|---|---|---|
 | `dt` | number > 0 [s] | required | the step |
-| `gravity` | 3 numbers [m/s²] | `[0, 0, -9.81]` | |
-| `name` | string | `"riffle"` | |
-| `tolerance` | number | 1e-8 | a tolerance |
-| `exponent` | number | 1/7 | n |
-| `hold` | number [s] | none | hold the grains until then |
-| `walls` | boolean | `true` | |
+| `gravity` | 3 numbers [m/s²] | `[0, 0, -9.81]` | g |
+| `name` | string | `"riffle"` | the run's name |
+| `tolerance` | number in (0, 1) [1] | 1e-8 | a tolerance |
+| `hold` | number ≥ 0 [s] | none | hold the grains until then |
+| `steps` | integer 1–1e6 | 10 | steps |
+| `walls` | boolean | `true` | walls |
+| `law` | `"hertz"` or `"linear"` | `"hertz"` | the law |
+| `faces` | strings from `"x"`, `"y"` | `[]` | open faces |
+| `ids` | integers ≥ 0 | required for `"grains"` | grain ids |
+| `coefficient` | number in (0, 1] or in (0, 10] [1] | 2 (`"velocity"`), 0.25 (`"constant"`) | A |
+<!-- /scene-keys -->
 
-## `[materials.NAME]` (at least one)
+## `[solids]`
 
-| key | type | default |
-|---|---|---|
-| `density` | number > 0 [kg/m³] | required |
-| `young_modulus` | number > 0 [Pa] | required with `[contact]`, else 0 |
-
-### `[[boxes]]` (at least one) and `[[walls]]` (any number)
-
+<!-- scene-keys solids -->
 | key | type | default | meaning |
 |---|---|---|---|
-| `low` | 3 numbers [m] | required | |
-| `velocity` | 3 numbers [m/s] | `[0, 0, 0]` | boxes only |
-| `velocity` | number [m/s] | 0 | walls only |
-
-### `[[probes]]`
-
-| key | type | default | meaning |
-|---|---|---|---|
-| `below` | number > 0 [m] | `"surge_front"`: ∞ (the whole depth) | |
-| `radius` | number > 0 [m] | `"wave_gauge"`: l0 (the fluid's spacing) | |
-| `file` | plain file name | `probe_<name>.csv` | |
+| `sort_every` | integer 0–1e9 | 0 | reorder grains |
+| `initial_state` | string (path) | none | a checkpoint's grains |
+<!-- /scene-keys -->
 
 ```toml
 [run]
 | `in_code` | not a table | row |
 ```
 
-`[[probes.classes]]`, one per class:
+## `[materials.NAME]`
 
+<!-- scene-keys materials.NAME -->
+| key | type | default | meaning | note |
+|---|---|---|---|---|
+| `density` | number > 0 [kg/m³] | required | ρ | |
+| `young_modulus` | number > 0 [Pa] | required with `[contact]`, else 0 | E | stiff |
+<!-- /scene-keys -->
+
+## `[[boxes]]`
+
+<!-- scene-keys boxes[] -->
 | key | type | default | meaning |
 |---|---|---|---|
-| `count` | integer | required | |
+| `low`, `high` | 3 numbers [m] | required | corners |
+| `bottom` | number in the tank's z extent [m] | required | z0 |
+<!-- /scene-keys -->
 
-| | seed | riffle |
-|---|---|---|
-| `box` | 2 cm | 4 cm |
+`[[boxes.classes]]`:
+
+<!-- scene-keys boxes[].classes[] -->
+| key | type | default | meaning |
+|---|---|---|---|
+| `count` | integer 0–5e7 | required | grains |
+<!-- /scene-keys -->
+
+Prose after.
 """
 
+KEY_COUNT = 23
 
-def run_check(doc, keys=KEYS):
-    problems, count = scene_keys.check(doc, keys, "SCENES.md")
-    return problems, count
+
+def generate(doc, keys=KEYS):
+    return scene_keys.generate(doc, keys, "SCENES.md")
 
 
 def line_of(doc, text):
-    return doc.splitlines().index(next(line for line in doc.splitlines() if text in line)) + 1
+    return next(number for number, line in enumerate(doc.splitlines(), 1) if text in line)
 
 
-def check_parse():
-    keys, tables, _ = scene_keys.parse_doc(DOC)
-    prefixes = [t.prefixes for t in tables]
-    check(prefixes == [["run"], ["materials.NAME"], ["boxes", "walls"], ["probes"], ["probes.classes"]],
-          f"key tables and their prefixes (headings, a paragraph naming its table; not the code block or a table "
-          f"whose first column is not `key`): {prefixes}")
-    check(not any(k.key[1] in ("in_code", "box") for k in keys), "a code block and a non-key table document nothing")
+def check_as_written():
+    written, problems = generate(DOC)
+    check(problems == [], f"a doc as the reading writes it has nothing left for a person: {problems}")
+    check(written == DOC, "... and is written back as it is (prose, a code block and a non-key table untouched)")
 
 
-def check_correct_doc():
-    problems, count = run_check(DOC)
-    check(problems == [], f"a correct doc passes: {problems}")
-    check(count == 23, f"every key of `riffle keys` counted: {count}")
-
-
-def check_undocumented():
-    doc = DOC.replace("| `walls` | boolean | `true` | |\n", "")
-    problems, _ = run_check(doc)
-    line = line_of(doc, "| key | type | default | meaning |")
-    check(len(problems) == 1 and problems[0].startswith(f"SCENES.md:{line}: run.walls: not documented"),
-          f"an undocumented key is caught at its table's line: {problems}")
-    keys = KEYS + "probes[].classes[].material\tstring\t\t\trequired\tyes\n"
-    problems, _ = run_check(DOC, keys)
-    line = line_of(DOC, "| `count` | integer | required | |") - 2
-    check(len(problems) == 1 and f"SCENES.md:{line}: probes[].classes[].material: not documented" in problems[0],
-          f"an undocumented key of a nested array of tables: {problems}")
-    keys = KEYS + "fluid\ttable\t\t\tabsent\tno\n"
-    problems, _ = run_check(DOC, keys)
-    check(len(problems) == 1 and "fluid: the reading asks this table but no key table documents it" in problems[0],
-          f"an undocumented table: {problems}")
-
-
-def check_stale():
-    doc = DOC.replace("| `walls` | boolean | `true` | |\n", "| `walls` | boolean | `true` | |\n"
-                                                          "| `old_key` | number | 1 | gone |\n")
-    problems, _ = run_check(doc)
-    line = line_of(doc, "`old_key`")
-    check(problems == [f"SCENES.md:{line}: run.old_key: documented but never asked by the samples' reading (stale "
-                       f"doc, or no sample sets it up)"], f"a stale documented key is caught: {problems}")
-    keys = "\n".join(line for line in KEYS.splitlines() if not line.startswith("walls")) + "\n"
-    check(run_check(DOC, keys)[0] == [], "a row of a heading naming two tables is not stale while one table asks it")
-    keys = "\n".join(line for line in KEYS.splitlines() if "[].low" not in line) + "\n"
-    problems, _ = run_check(DOC, keys)
-    check(len(problems) == 1 and ": boxes[].low, walls[].low: documented but never asked" in problems[0],
-          f"... and stale, once, where neither asks it: {problems}")
-    doc = DOC.replace("| `dt` |", "| `initial_state` | string | none | |\n| `dt` |")
-    problems, _ = run_check(doc)
-    check(any("run.initial_state" in p for p in problems), "only solids.initial_state is excused from coverage")
-
-
-def check_defaults():
+def check_written_cells():
     cases = [
-        ("| `tolerance` | number | 1e-8 |", "| `tolerance` | number | 1e-7 |",
-         "run.tolerance: the doc's default is 1e-7"),
-        ("| `gravity` | 3 numbers [m/s²] | `[0, 0, -9.81]` |", "| `gravity` | 3 numbers [m/s²] | `[0, 0, -9.8]` |",
-         "run.gravity"),
-        ('| `name` | string | `"riffle"` |', '| `name` | string | `"run"` |', "run.name"),
-        ("| `walls` | boolean | `true` |", "| `walls` | boolean | `false` |", "run.walls"),
-        ("| `dt` | number > 0 [s] | required |", "| `dt` | number > 0 [s] | 0.001 |", "run.dt"),
-        ("| `hold` | number [s] | none |", "| `hold` | number [s] | 0 |", "run.hold"),
-        ("| `exponent` | number | 1/7 |", "| `exponent` | number | 1/6 |", "run.exponent"),
-        ("| `young_modulus` | number > 0 [Pa] | required with `[contact]`, else 0 |",
-         "| `young_modulus` | number > 0 [Pa] | required |", "does not mention 0"),
-        ("| `below` | number > 0 [m] | `\"surge_front\"`: ∞ (the whole depth) |",
-         "| `below` | number > 0 [m] | `\"surge_front\"`: the whole depth |", "is not a value"),
-        ("| `velocity` | number [m/s] | 0 | walls only |", "| `velocity` | number [m/s] | 1 | walls only |",
-         "walls[].velocity"),
+        ("| `dt` | number > 0 [s] |", "| `dt` | number [s] |", "a wrong type"),
+        ("| `steps` | integer 1–1e6 | 10 |", "| `steps` | integer 1–1e6 | 12 |", "a wrong one-value default"),
+        ("| `tolerance` | number in (0, 1) [1] | 1e-8 |", "| `tolerance` | number in (0, 1) [1] | 1e-7 |",
+         "a wrong number default"),
+        ("| `walls` | boolean | `true` |", "| `walls` | boolean | false |", "a wrong boolean default"),
+        ("| `law` | `\"hertz\"` or `\"linear\"` |", "| `law` | `\"hertz\"` |", "a wrong choice list"),
+        ("| `low`, `high` | 3 numbers [m] | required | corners |",
+         "| `low` | 3 numbers [m] | required | corners |\n| `high` | 3 numbers [m] | required | corners |",
+         "two rows of equal cells (joined)"),
     ]
-    for old, new, expected in cases:
+    for old, new, what in cases:
         assert old in DOC, old
         doc = DOC.replace(old, new)
-        problems, _ = run_check(doc)
-        line = line_of(doc, new)
-        check(len(problems) == 1 and problems[0].startswith(f"SCENES.md:{line}: ") and expected in problems[0],
-              f"a wrong default is caught ({new.split('|')[1].strip()} -> {new.split('|')[3].strip()}): {problems}")
-    # A default that follows another key: a literal cell must mention each of the code's values.
-    doc = DOC.replace("`\"wave_gauge\"`: l0 (the fluid's spacing)", "0.005")
-    problems, _ = run_check(doc)
-    check(len(problems) == 1 and "probes[].radius" in problems[0] and "does not mention 0.01" in problems[0],
-          f"a literal default that misses one of the code's: {problems}")
-    doc = DOC.replace("`\"wave_gauge\"`: l0 (the fluid's spacing)", "0.005 at l0 = 5 mm, 0.01 at 10 mm")
-    check(run_check(doc)[0] == [], "a cell that mentions each of the code's defaults passes")
+        written, problems = generate(doc)
+        check(written == DOC and problems == [], f"{what} is written from the reading: {problems}")
+
+
+def check_new_and_stale():
+    doc = DOC.replace("| `walls` | boolean | `true` | walls |\n", "")
+    written, problems = generate(doc)
+    check(written.splitlines()[line_of(written, "| `coefficient` |")] == "| `walls` | boolean | `true` | |",
+          "a new key is added after the doc's rows, its description empty")
+    line = line_of(doc, "<!-- scene-keys run -->")
+    check(problems == [f"SCENES.md:{line}: run.walls: no description (write one in the `meaning` column)"],
+          f"... and flagged at its table: {problems}")
+    doc = DOC.replace("| `walls` | boolean | `true` | walls |\n",
+                      "| `walls` | boolean | `true` | walls |\n| `old_key` | number | 1 | gone |\n")
+    written, problems = generate(doc)
+    check(written == DOC and problems == [], f"a key the samples never ask is dropped: {problems}")
+    keys = "".join(line + "\n" for line in KEYS.splitlines() if not line.startswith("run.walls"))
+    written, _ = generate(DOC, keys)
+    check("`walls`" not in written and "| `initial_state` | string (path) | none | a checkpoint's grains |" in written,
+          "a key no longer asked goes; the row of solids.initial_state, which no sample can ask, stays as written")
+
+
+def check_kept_defaults():
+    doc = DOC.replace("| required with `[contact]`, else 0 |", "| required |")
+    problems = generate(doc)[1]
+    line = line_of(doc, "| `young_modulus` |")
+    check(len(problems) == 1 and problems[0].startswith(f"SCENES.md:{line}: materials.NAME.young_modulus: ")
+          and "does not mention 0" in problems[0], f"a kept default missing one of the code's values: {problems}")
+    doc = DOC.replace("| `hold` | number ≥ 0 [s] | none |", "| `hold` | number ≥ 0 [s] | 0 |")
+    problems = generate(doc)[1]
+    check(len(problems) == 1 and "run.hold: the doc's default is '0'" in problems[0],
+          f"a value where the code reads the key without a default: {problems}")
+    doc = DOC.replace("| 2 (`\"velocity\"`), 0.25 (`\"constant\"`) |", "| 2 |")
+    problems = generate(doc)[1]
+    check(len(problems) == 1 and "run.coefficient" in problems[0] and "does not mention 0.25" in problems[0],
+          f"a default that follows another key must mention each value: {problems}")
+    written, problems = generate(DOC.replace("| ρ | |", "| | |"))
+    check(any("materials.NAME.density: no description" in p for p in problems), "an emptied description is flagged")
+    check("| `young_modulus` | number > 0 [Pa] | required with `[contact]`, else 0 | E | stiff |" in written,
+          "the doc's own columns beyond the first are kept")
+
+
+def check_coverage():
+    keys = KEYS + "tank\ttable\t\t\trequired\tyes\ntank.size\t3 numbers\ta number > 0\tm\trequired\tyes\n"
+    problems = generate(DOC, keys)[1]
+    check(len(problems) == 2 and any("tank: the reading asks this table but no key table documents it" in p
+                                     for p in problems)
+          and any("tank.size: no key table for `tank`" in p for p in problems),
+          f"a key and a table no block covers: {problems}")
+    doc = DOC.replace("<!-- scene-keys boxes[].classes[] -->", "<!-- scene-keys boxes[].kinds[] -->")
+    problems = generate(doc)[1]
+    check(any("boxes[].kinds[]: the samples' reading asks no key in this table" in p for p in problems)
+          and any("boxes[].classes[].count: no key table for `boxes[].classes[]`" in p for p in problems),
+          f"a block with a wrong prefix: {problems}")
+    doc = DOC.replace("| `count` | integer 0–5e7 | required | grains |\n<!-- /scene-keys -->",
+                      "| `count` | integer 0–5e7 | required | grains |")
+    problems = generate(doc)[1]
+    check(any("start marker without <!-- /scene-keys -->" in p for p in problems), f"an unclosed block: {problems}")
+
+
+def check_cells():
+    code = scene_keys.CodeKey
+    cases = [
+        (code("a", "number", ["a finite number"], "m", ["0"]), "number [m]"),
+        (code("a", "number", ["a number >= 0"], "m^2/s", ["0"]), "number ≥ 0 [m²/s]"),
+        (code("a", "number", ["a number in [4, 1e+06]"], "1", ["0"]), "number in [4, 1e6] [1]"),
+        (code("a", "3 numbers", ["a number > 0"], "m", ["0"]), "3 numbers > 0 [m]"),
+        (code("a", "integer", ["[0, 1000000000]"], "", ["0"]), "integer 0–1e9"),
+        (code("a", "integers", ["[0, 9223372036854775807]"], "", ["0"]), "integers ≥ 0"),
+        (code("a", "one of", ['"a", "b", "c"'], "", ["0"]), '`"a"`, `"b"` or `"c"`'),
+        (code("a", "list of", ["the material names"], "", ["[]"]), "strings from the material names"),
+        (code("a", "points", ["3 numbers each"], "m", ["required"]), "array of points [m]"),
+    ]
+    for key, expected in cases:
+        check(scene_keys.type_cell(key) == expected, f"type cell {expected!r}: {scene_keys.type_cell(key)!r}")
+    for default, expected in (("1e-06", "1e-6"), ("inf", "∞"), ("0.142857", "0.142857"), ("true", "`true`"),
+                              ('"a"', '`"a"`'), ("[0, 0, 0]", "`[0, 0, 0]`")):
+        check(scene_keys.default_value(default) == expected, f"default {default} written {expected}")
 
 
 def check_normalisation():
     check(scene_keys.leading_value('`"surge_front"`: inf (the whole depth)') == ("inf", True), "probe-kind prefix")
-    check(scene_keys.leading_value("0 = half the smallest radius") == ("0", True), "a leading number")
     check(scene_keys.leading_value("`end_time` / 10") == ("end_time", False), "a key name is a description")
     check(scene_keys.leading_value("the table's `friction`")[1] is False, "a phrase is a description")
-    check(scene_keys.literal("[contact]") is None, "a backticked table name is not a list")
-    check(scene_keys.default_problem("1e-6", ["1e-06"]) is None, "1e-6 = 1e-06")
-    check(scene_keys.default_problem("0.142857", ["0.142857"]) is None, "same spelling")
-    check(scene_keys.default_problem("\u22121", ["-1"]) is None, "U+2212 minus")
     check(scene_keys.default_problem("—", ["required"]) is None, "— = no default")
-    check(scene_keys.default_problem("required", ["0"]) is not None, "required is not 0")
-    check(scene_keys.default_problem('`"a"`', ['"b"']) is not None, "strings compare exactly")
+    check(scene_keys.default_problem("0.005 at l0 = 5 mm, 0.01 at 10 mm", ["0.005", "0.01"]) is None,
+          "a cell that mentions each of the code's defaults")
+    check(scene_keys.default_problem("l0 (the fluid's spacing)", ["0.005", "0.01"]) is None,
+          "a cell that leads with a description need mention no value")
+    check(scene_keys.default_problem("l0", ["0.005", "required"]) is not None, "... but must mention required")
 
 
 def check_command(work):
@@ -219,30 +252,38 @@ def check_command(work):
     (work / "keys.tsv").write_text(KEYS)
     fake.write_text(f"#!/bin/sh\n[ \"$1\" = keys ] || exit 1\ncat '{work / 'keys.tsv'}'\n")
     os.chmod(fake, 0o755)
-    (work / "good.md").write_text(DOC)
-    (work / "bad.md").write_text(DOC.replace("| `tolerance` | number | 1e-8 |", "| `tolerance` | number | 1e-7 |"))
+    good, bad = work / "good.md", work / "bad.md"
+    good.write_text(DOC)
+    bad.write_text(DOC.replace("| `steps` | integer 1–1e6 | 10 |", "| `steps` | integer 1–1e6 | 12 |"))
     tool = [sys.executable, str(ROOT / "tools" / "riffle-tools"), "scene-keys", "--riffle", str(fake)]
-    good = subprocess.run([*tool, "--doc", str(work / "good.md"), "a.toml"], capture_output=True, text=True)
-    check(good.returncode == 0 and good.stdout.strip() == "23 keys checked, 0 problems",
-          f"the command passes a correct doc: {good.returncode} {good.stdout!r} {good.stderr!r}")
-    bad = subprocess.run([*tool, "--doc", str(work / "bad.md"), "a.toml"], capture_output=True, text=True)
-    lines = bad.stdout.strip().splitlines()
-    check(bad.returncode == 1 and len(lines) == 2 and "bad.md:" in lines[0] and "run.tolerance" in lines[0]
-          and lines[1] == "23 keys checked, 1 problems", f"the command fails a wrong doc: {bad.stdout!r}")
+    run = subprocess.run([*tool, "--doc", str(good), "a.toml"], capture_output=True, text=True)
+    check(run.returncode == 0 and run.stdout.strip() == f"{KEY_COUNT} keys read, 0 left for a person",
+          f"the check passes a doc as written: {run.returncode} {run.stdout!r} {run.stderr!r}")
+    run = subprocess.run([*tool, "--doc", str(bad), "a.toml"], capture_output=True, text=True)
+    check(run.returncode == 1 and "-| `steps` | integer 1–1e6 | 12 |" in run.stdout
+          and f"--doc {bad} --write a.toml" in run.stdout and "the tables differ" in run.stdout,
+          f"the check fails a doc that differs, with the diff and the command that rewrites it: {run.stdout!r}")
+    run = subprocess.run([*tool, "--doc", str(bad), "--write", "a.toml"], capture_output=True, text=True)
+    check(run.returncode == 0 and bad.read_text() == DOC, f"--write rewrites it: {run.stdout!r}")
+    bad.write_text(DOC.replace("| ρ | |", "| | |"))
+    run = subprocess.run([*tool, "--doc", str(bad), "--write", "a.toml"], capture_output=True, text=True)
+    check(run.returncode == 1 and "no description" in run.stdout, f"--write exits 1 while a person has work: "
+                                                                   f"{run.stdout!r}")
     fake.write_text("#!/bin/sh\necho 'error: a.toml:1:1: run: bad' >&2\nexit 2\n")
-    invalid = subprocess.run([*tool, "--doc", str(work / "good.md"), "a.toml"], capture_output=True, text=True)
-    check(invalid.returncode == 1 and "a.toml:1:1" in invalid.stderr, "an invalid sample fails the command")
+    run = subprocess.run([*tool, "--doc", str(good), "a.toml"], capture_output=True, text=True)
+    check(run.returncode == 1 and "a.toml:1:1" in run.stderr, "an invalid sample fails the command")
 
 
 def main():
     with tempfile.TemporaryDirectory() as scratch:
         work = pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else pathlib.Path(scratch)
         work.mkdir(parents=True, exist_ok=True)
-        check_parse()
-        check_correct_doc()
-        check_undocumented()
-        check_stale()
-        check_defaults()
+        check_as_written()
+        check_written_cells()
+        check_new_and_stale()
+        check_kept_defaults()
+        check_coverage()
+        check_cells()
         check_normalisation()
         check_command(work)
     print(f"{len(failures)} failures" if failures else "all passed")

@@ -59,8 +59,8 @@ COMMANDS = [
     ("ppe-preconditioner-study", "ppe_preconditioner_study", "PCG iterations of one dumped pressure system under "
                                                              "other preconditioners"),
     # the docs against the code
-    ("scene-keys", "scene_keys", "docs/SCENES.md's keys and defaults against what riffle's scene reading asks "
-                                 "(runs riffle keys)"),
+    ("scene-keys", "scene_keys", "docs/SCENES.md's key tables written from what riffle's scene reading asks, or "
+                                 "checked against it (runs riffle keys)"),
 ]
 
 # Modules that are libraries of the others, not commands.

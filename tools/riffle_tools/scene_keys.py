@@ -1,73 +1,73 @@
-"""docs/SCENES.md checked against the scene reading: runs `RIFFLE keys SCENE...` (every key the reading of the
-sample scenes asks for, with its default as the code applies it) and compares it with the key tables of the doc.
+"""docs/SCENES.md's key tables, written from the scene reading: runs `RIFFLE keys SCENE...` (every key the reading of
+the sample scenes asks for, with its kind, range, unit and default as the code applies them) and rewrites each key
+table of the doc from it.
 
   tools/riffle-tools scene-keys --riffle build/riffle [--doc docs/SCENES.md] tests/data/scene_keys/*.toml
+  tools/riffle-tools scene-keys --riffle build/riffle --write tests/data/scene_keys/*.toml
 
-A problem, one line each, naming the doc's line (exit 1 if any; then "N keys checked, M problems"):
-- a key the reading asks is not documented (the line is that of the table where it belongs, or 1);
-- a documented key is never asked by the samples: the doc is stale, or a sample is missing;
-- a documented default disagrees with the code's.
+Without --write it checks: the doc must be what --write would make it (else exit 1, with the differing lines and
+the command that rewrites it), and nothing may be left for a person to do (below). With --write it rewrites the
+tables in place and lists what is left for a person (exit 1 if anything is).
 
-The doc. A key table is a Markdown table whose header's first cell is `key`; its `default` column is found by name
-(a table without one documents its keys but not their defaults). Each key cell names one or more keys in backticks
-(`min`, `max`). The table prefix is named by the paragraph just above the table when that paragraph begins with
-backticked tables (`[[solids.spheres]]`, one table per grain:), else by the section heading above it; a heading or
-paragraph naming two tables covers both, and parenthesised text in a heading is a comment, not a table. TOML names
-become the reading's: an array of tables gets `[]` (`[[fluid.boxes]]` -> `fluid.boxes[].low`), a named table is
-`NAME` (`[materials.NAME]`). A key documented twice (one row of a heading covering two tables) agrees if one of
-its rows does. Tables (`kind` table or tables in `riffle keys`) count as documented when some key table's prefix
-lies in them.
+The doc. A key table lies between `<!-- scene-keys PREFIX -->` and `<!-- /scene-keys -->`, each alone on its line;
+PREFIX is the table as the reading names it: `run`, `materials.NAME`, `contact.pairs[]`,
+`solids.layered_beds[].classes[]`. Everything outside the markers is the doc's own and left as it is. A table's
+columns are `key`, `type`, `default`, then one or more columns of the doc's own (`meaning`): the first three are
+written from the reading, the others are kept, row by row, keyed by the key's name.
 
-The default cell, normalised simply:
-- a probe-kind prefix is dropped (`"surge_front"`: inf -> inf); U+2212 minus is `-`, ∞ is `inf`;
-- its leading value is a backticked literal at its start, else its first word (up to a space , ; : or an opening
-  parenthesis): a number (numbers compare to 6 significant digits, the code's spelling; `1/7` is a fraction), a
-  boolean, a quoted string or a list (`[0, 0, -9.81]`, elements compared as numbers where both are) compare
-  exactly; `required` matches required; `none`, `unset` and `—` (no default: the key is read only where a scene
-  gives it, which the reading records as required) match required too. Anything else (`l0`, `kind`,
-  `probe_<name>.csv`, `the tank's inner floor`) is a description of a default computed from other keys;
-- one code default: the leading value must be a literal equal to it;
-- several code defaults (the default follows another key: they differ between samples): the cell must mention
-  each of them (a number anywhere in the cell, a string or word as written); a cell that leads with a description
-  need mention only `required` among them, since its numbers and strings are computed from the samples' own keys.
+A table's rows are the keys the reading asks directly in PREFIX (not in its sub-tables), one row each, in the
+doc's order, new keys after them in name order; neighbouring rows whose cells after the key are equal are joined
+into one (`min`, `max`). A documented key the samples never ask is dropped, except the keys of UNCOVERED, whose
+rows are kept as written.
+
+Written from the reading:
+- `type`: the kind, its range (`number > 0`, `integer 1–1e6`, `"a"` or `"b"`) and its unit in brackets ([1]: a pure
+  number);
+- `default`: the code's default where it is one value (numbers as the code spells them, other values backticked).
+
+Kept as the doc writes them, and checked against the reading:
+- `default` where the code's is not one value: several (the default follows other keys: a probe's `radius` is the
+  fluid's spacing), or `required`, which the reading also records for a key it reads only where a scene gives it
+  (`none`, `unset` or `—` say so). Such a cell must say `required` (or `none`, `unset`, `—`) where that is among the
+  code's defaults; one that leads with a value must mention each of the code's values (numbers to 6 significant
+  digits, `1/7` a fraction; strings and lists as written), one that leads with a description (`l0`, `the table's
+  friction`) need mention only `required` among them;
+- the doc's own columns. An empty first one (`meaning`) is a key without a description.
+
+Left for a person (one line each, naming the doc's line): a key without a description; a kept default that
+disagrees with the code's; a key, or a table the reading asks, that no key table covers (add one with its markers
+where it belongs); a key table whose PREFIX the reading never asks.
 """
 import argparse
 import dataclasses
+import difflib
 import math
 import pathlib
 import re
+import shlex
 import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
-# Keys the samples cannot ask, left out of the coverage check ("a documented key is never asked") only.
+# Keys the samples cannot ask: their rows are kept as the doc writes them.
 UNCOVERED = {
     "solids.initial_state",  # needs a settled bed's checkpoint, which a sample scene cannot carry
 }
 
 TABLE_KINDS = ("table", "tables", "named tables")
+GENERATED = ("key", "type", "default")
+START = re.compile(r"^<!-- scene-keys (\S+) -->$")
+END = "<!-- /scene-keys -->"
 
 
 @dataclasses.dataclass
 class CodeKey:
     key: str
     kind: str
+    ranges: list   # one, or several where the range follows another key
+    unit: str
     defaults: list
-
-
-@dataclasses.dataclass
-class DocKey:
-    key: str
-    line: int
-    default: object  # the default cell's text, or None when the table has no default column
-    siblings: tuple = ()  # the same row's key in the other tables its heading names
-
-
-@dataclasses.dataclass
-class DocTable:
-    prefixes: list
-    line: int
 
 
 def read_keys(text):
@@ -82,30 +82,20 @@ def read_keys(text):
         fields = line.split("\t")
         if len(fields) != 6:
             raise ValueError(f"`riffle keys` line with {len(fields)} fields, not 6: {line!r}")
-        keys[fields[0]] = CodeKey(fields[0], fields[1], fields[4].split(" | "))
+        keys[fields[0]] = CodeKey(fields[0], fields[1], fields[2].split(" | ") if fields[2] else [], fields[3],
+                                  fields[4].split(" | "))
     return keys
 
 
-TABLE_NAME = re.compile(r"`(\[\[?)([A-Za-z0-9_.]+)\]\]?`")
+# --- the doc's tables -------------------------------------------------------------------------------------------
 
-
-def strip_parentheses(text):
-    while True:
-        stripped = re.sub(r"\([^()]*\)", "", text)
-        if stripped == text:
-            return text
-        text = stripped
-
-
-def table_names(text):
-    """[(toml path, is array of tables)] of the backticked `[a.b]` / `[[a.b]]` in text."""
-    return [(m.group(2), m.group(1) == "[[") for m in TABLE_NAME.finditer(text)]
-
-
-def leading_table_names(paragraph):
-    """The tables a paragraph begins with (`[[a]]`, `[[b]]` and `[[c]]`, ...), or []."""
-    found = re.match(r"\s*((`\[\[?[A-Za-z0-9_.]+\]\]?`)(\s*(,|and|,\s*and)\s*)?)+", paragraph)
-    return table_names(found.group(0)) if found else []
+@dataclasses.dataclass
+class Block:
+    prefix: str
+    start: int          # index of the start marker's line
+    end: int            # index of the end marker's line
+    header: list        # the table's column names as written ([] if the block holds no table yet)
+    rows: list          # [(line number, cells)]
 
 
 def split_row(line):
@@ -113,80 +103,120 @@ def split_row(line):
     return [cell.strip() for cell in cells[1:-1]]
 
 
-def parse_doc(text):
-    """The key tables of a SCENES.md: ([DocKey], [DocTable]); prefixes still TOML paths with array flags."""
-    lines = text.splitlines()
-    heading_names = []
-    keys, tables = [], []
-    arrays = set()
-    for line in lines:
-        for name, is_array in table_names(line):
-            if is_array:
-                arrays.add(name)
+def row_keys(cell):
+    return re.findall(r"`([A-Za-z0-9_]+)`", cell)
+
+
+def parse_blocks(lines):
+    """The marked key tables of the doc's lines: ([Block], [(line number, problem)])."""
+    blocks, problems = [], []
     i = 0
-    in_code = False
     while i < len(lines):
-        line = lines[i]
-        if line.startswith("```"):
-            in_code = not in_code
+        found = START.match(lines[i].strip())
+        if not found:
+            if lines[i].strip() == END:
+                problems.append((i + 1, f"{END} without a start marker above it"))
             i += 1
             continue
-        if in_code:
-            i += 1
+        start = i
+        j = i + 1
+        while j < len(lines) and lines[j].strip() != END and not START.match(lines[j].strip()):
+            j += 1
+        if j == len(lines) or lines[j].strip() != END:
+            problems.append((start + 1, f"a key table's start marker without {END} after it"))
+            i = j
             continue
-        if line.startswith("#"):
-            heading_names = table_names(strip_parentheses(line))
-            i += 1
-            continue
-        if line.startswith("|") and i + 1 < len(lines) and re.match(r"\s*\|[\s:|-]+\|\s*$", lines[i + 1]):
-            header = [cell.lower() for cell in split_row(line)]
-            start = i
-            i += 2
-            rows = []
-            while i < len(lines) and lines[i].startswith("|"):
-                rows.append((i + 1, split_row(lines[i])))
-                i += 1
-            if not header or header[0] != "key":
-                continue
-            # The paragraph just above the table.
-            j = start - 1
-            while j >= 0 and not lines[j].strip():
-                j -= 1
-            paragraph_end = j
-            while j >= 0 and lines[j].strip() and not lines[j].startswith(("#", "|", "```")):
-                j -= 1
-            paragraph = " ".join(lines[j + 1:paragraph_end + 1])
-            names = leading_table_names(paragraph) or heading_names
-            prefixes = [name for name, _ in names]
-            tables.append(DocTable(prefixes, start + 1))
-            default_column = header.index("default") if "default" in header else None
-            for number, cells in rows:
-                if not cells:
-                    continue
-                default = cells[default_column] if default_column is not None and default_column < len(cells) \
-                    else None
-                for key in re.findall(r"`([A-Za-z0-9_]+)`", cells[0]):
-                    row_keys = [(prefix, key) for prefix in prefixes]
-                    for row_key in row_keys:
-                        keys.append(DocKey(row_key, number, default, tuple(row_keys)))
-            continue
-        i += 1
-    return keys, tables, arrays
+        table = [(k + 1, lines[k]) for k in range(start + 1, j) if lines[k].startswith("|")]
+        header = [cell.lower() for cell in split_row(table[0][1])] if table else []
+        rows = [(number, split_row(line)) for number, line in table[2:]]
+        blocks.append(Block(found.group(1), start, j, header, rows))
+        i = j + 1
+    return blocks, problems
 
 
-def reading_name(path, arrays, code_keys):
-    """A TOML table path (solids.layered_beds.classes) as the reading names it (solids.layered_beds[].classes[])."""
-    out = ""
-    for part in path.split("."):
-        out = part if not out else out + "." + part
-        code = code_keys.get(out)
-        toml = re.sub(r"\[\]", "", out)
-        if (code is not None and code.kind == "tables") or toml in arrays:
-            out += "[]"
-    return out
+# --- the reading's cells ----------------------------------------------------------------------------------------
+
+SUPERSCRIPTS = {"2": "²", "3": "³"}
 
 
-# --- defaults ---------------------------------------------------------------------------------------------------
+def unit_text(unit):
+    """ [m/s²] of the unit m/s^2; "" without one."""
+    return " [" + re.sub(r"\^([23])", lambda m: SUPERSCRIPTS[m.group(1)], unit) + "]" if unit else ""
+
+
+def number_text(text):
+    """A number as the code spells it, exponents without + and leading zeros (1e+06 -> 1e6, 1e-06 -> 1e-6)."""
+    return re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("-" if m.group(1) == "-" else "") + m.group(2), text)
+
+
+def integer_text(value):
+    """An integer bound: 1000000 -> 1e6, 50000000 -> 5e7, small ones as they are."""
+    if value >= 10000:
+        digits = str(value)
+        if digits[1:] == "0" * (len(digits) - 1):
+            return f"{digits[0]}e{len(digits) - 1}"
+    return str(value)
+
+
+def range_text(text):
+    """A number's range as the reading describes it (Bounds::describe), for the type cell: "" for any finite
+    number, "> 0", "≥ 0", "in [0, 1]", "in the tank's z extent"."""
+    text = text.removeprefix("a finite number").removeprefix("a number").strip()
+    return number_text(text.replace(">=", "≥").replace("<=", "≤"))
+
+
+def integer_range_text(text):
+    found = re.match(r"^\[(-?\d+), (-?\d+)\]$", text)
+    if not found:
+        return text
+    low, high = int(found.group(1)), int(found.group(2))
+    if high >= 2**62:
+        return f"≥ {integer_text(low)}"
+    return f"{integer_text(low)}–{integer_text(high)}"
+
+
+def choices_text(text, last=" or "):
+    """'"a", "b", "c"' -> '`"a"`, `"b"` or `"c"`'; a description (the material names) as it is."""
+    names = re.findall(r'"[^"]*"', text)
+    if not names:
+        return text
+    quoted = [f"`{name}`" for name in names]
+    return quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + last + quoted[-1]
+
+
+def type_cell(code):
+    kind, ranges, unit = code.kind, code.ranges or [""], unit_text(code.unit)
+    if kind in ("number", "3 numbers"):
+        described = " or ".join(text for text in (range_text(r) for r in ranges) if text)
+        return kind + (" " + described if described else "") + unit
+    if kind in ("integer", "integers"):
+        return kind + " " + " or ".join(integer_range_text(r) for r in ranges) + unit
+    if kind == "one of":
+        return " or ".join(choices_text(r) for r in ranges)
+    if kind == "list of":
+        return "strings from " + " or ".join(choices_text(r, ", ") for r in ranges)
+    if kind == "points":
+        return "array of points" + unit
+    return kind + unit  # boolean, string
+
+
+def default_value(text):
+    """One code default as the default cell writes it: numbers plain (inf as ∞), other values backticked."""
+    if text == "inf":
+        return "∞"
+    if as_number(text) is not None:
+        return number_text(text)
+    return f"`{text}`"
+
+
+def written_default(code):
+    """The default cell the reading writes, or None where the doc keeps its own (not one value, or required)."""
+    if len(code.defaults) != 1 or code.defaults[0] == "required":
+        return None
+    return default_value(code.defaults[0])
+
+
+# --- kept defaults, checked -------------------------------------------------------------------------------------
 
 NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 NONE_WORDS = ("none", "unset", "—")
@@ -222,9 +252,7 @@ def literal(text):
     """(kind, value) of a scene literal, or None: ("number", float), ("required", None), ("bool", str),
     ("string", str), ("list", [items])."""
     text = text.strip()
-    if text == "required":
-        return ("required", None)
-    if text in NONE_WORDS:
+    if text == "required" or text in NONE_WORDS:
         return ("required", None)
     if text in ("true", "false"):
         return ("bool", text)
@@ -262,10 +290,7 @@ def leading_value(cell):
     literal."""
     cell = normalise_cell(cell)
     quoted = re.match(r"^`([^`]*)`", cell)
-    if quoted:
-        text = quoted.group(1)
-    else:
-        text = re.match(r"^[^\s,;:(]*", cell).group(0)
+    text = quoted.group(1) if quoted else re.match(r"^[^\s,;:(]*", cell).group(0)
     return text, literal(text) is not None
 
 
@@ -291,14 +316,13 @@ def mentions(cell, default):
 
 
 def default_problem(cell, defaults):
-    """Why a doc default cell disagrees with the code's defaults, or None."""
+    """Why a kept default cell disagrees with the code's defaults (not one value, or required), or None."""
+    if not cell:
+        return f"no default written; the code's is {' | '.join(defaults)}"
     text, is_literal = leading_value(cell)
-    if len(defaults) == 1:
-        code = literal(defaults[0])
-        if not is_literal:
-            return f"the doc's default {text!r} is not a value; the code's is {defaults[0]}"
-        if code is None or not same_literal(literal(text), code):
-            return f"the doc's default is {text}, the code's {defaults[0]}"
+    if len(defaults) == 1:  # required
+        if not (is_literal and literal(text)[0] == "required"):
+            return f"the doc's default is {text!r}; the code reads the key without one (required, none, unset or —)"
         return None
     missing = [d for d in defaults if not mentions(cell, d)]
     if not is_literal:
@@ -309,79 +333,104 @@ def default_problem(cell, defaults):
     return None
 
 
-# --- the check --------------------------------------------------------------------------------------------------
+# --- writing ----------------------------------------------------------------------------------------------------
 
-def table_line(name, prefixes):
-    """The line of the key table where an undocumented key belongs: that of its table, else of the nearest table
-    above it (contact.pairs[].friction -> [contact]), else 1."""
-    parent = name
-    while "." in parent:
-        parent = parent.rsplit(".", 1)[0]
-        for candidate in (parent, parent.removesuffix("[]")):
-            line = next((line for p, line in prefixes if p == candidate), None)
-            if line is not None:
-                return line
-    return 1
+def direct_keys(prefix, code_keys):
+    """The keys (not tables) the reading asks directly in the table PREFIX, by name."""
+    found = {}
+    for name, code in code_keys.items():
+        if name.startswith(prefix + ".") and "." not in name[len(prefix) + 1:] and code.kind not in TABLE_KINDS:
+            found[name[len(prefix) + 1:]] = code
+    return found
 
 
-def check(doc_text, keys_text, doc_name="docs/SCENES.md"):
-    """([problem lines], number of keys checked) of a SCENES.md text against a `riffle keys` output."""
-    code_keys = read_keys(keys_text)
-    raw_keys, raw_tables, arrays = parse_doc(doc_text)
-    tables = []
-    for table in raw_tables:
-        tables.append(DocTable([reading_name(p, arrays, code_keys) for p in table.prefixes], table.line))
-    def full_name(prefix_key):
-        return reading_name(prefix_key[0], arrays, code_keys) + "." + prefix_key[1]
+def table_lines(header, rows):
+    def line(cells):
+        return "|" + "|".join(f" {cell} " if cell else " " for cell in cells) + "|"
+    return [line(header), "|" + "---|" * len(header)] + [line(row) for row in rows]
 
-    documented = {}
-    for row in raw_keys:
-        full = full_name(row.key)
-        documented.setdefault(full, []).append(
-            DocKey(full, row.line, row.default, tuple(full_name(k) for k in row.siblings)))
-    prefixes = [(p, t.line) for t in tables for p in t.prefixes]
 
+def write_block(block, code_keys):
+    """(the block's table lines, [(line, problem)])."""
     problems = []
+    line = block.start + 1
+    header = block.header if block.header[:3] == list(GENERATED) and len(block.header) > 3 \
+        else [*GENERATED, *(block.header[3:] or ["meaning"])]
+    if block.header and block.header[:3] != list(GENERATED):
+        problems.append((line, f"{block.prefix}: the table's first columns are not key, type, default"))
+    asked = direct_keys(block.prefix, code_keys)
+    kept, order = {}, []
+    for number, cells in block.rows:
+        cells = (cells + [""] * len(header))[:len(header)]
+        for key in row_keys(cells[0]):
+            if key not in kept:
+                kept[key] = (number, cells)
+                order.append(key)
+    if not asked and not any(f"{block.prefix}.{key}" in UNCOVERED for key in order):
+        problems.append((line, f"{block.prefix}: the samples' reading asks no key in this table (a stale table, or "
+                               f"a wrong prefix)"))
+    names = [key for key in order if key in asked or f"{block.prefix}.{key}" in UNCOVERED]
+    names += sorted(key for key in asked if key not in kept)
+    rows = []
+    for key in names:
+        number, cells = kept.get(key, (line, [""] * len(header)))
+        full = f"{block.prefix}.{key}"
+        if full in UNCOVERED:
+            rows.append([f"`{key}`", *cells[1:]])
+            continue
+        code = asked[key]
+        default = written_default(code)
+        if default is None:
+            default = cells[2] if key in kept else " | ".join(default_value(d) for d in code.defaults)
+            reason = default_problem(default, code.defaults)
+            if reason:
+                problems.append((number, f"{full}: {reason}"))
+        if not cells[3]:
+            problems.append((number, f"{full}: no description (write one in the `{header[3]}` column)"))
+        rows.append([f"`{key}`", type_cell(code), default, *cells[3:]])
+    joined = []
+    for row in rows:
+        if joined and joined[-1][1:] == row[1:]:
+            joined[-1][0] += ", " + row[0]
+        else:
+            joined.append(list(row))
+    return table_lines(header, joined), problems
+
+
+def generate(doc_text, keys_text, doc_name="docs/SCENES.md"):
+    """(the doc as the reading writes it, [problem lines])."""
+    code_keys = read_keys(keys_text)
+    lines = doc_text.split("\n")
+    blocks, found = parse_blocks(lines)
+    problems = list(found)
+    out, position = [], 0
+    for block in blocks:
+        table, block_problems = write_block(block, code_keys)
+        problems += block_problems
+        out += lines[position:block.start + 1] + table + [lines[block.end]]
+        position = block.end + 1
+    out += lines[position:]
+    # What no key table covers: a key whose table has no block, or a table with no block at or below it.
+    prefixes = {block.prefix for block in blocks}
     for name, code in sorted(code_keys.items()):
         if code.kind in TABLE_KINDS:
-            if not any(p == name or p.startswith(name + ".") or p.startswith(name + "[]") for p, _ in prefixes):
-                line = table_line(name, prefixes)
-                problems.append((line, f"{doc_name}:{line}: {name}: the reading asks this {code.kind} but no key "
-                                       f"table documents it"))
+            if not any(p == name or p.startswith(name + ".") or p.startswith(name + "[]") for p in prefixes):
+                problems.append((1, f"{name}: the reading asks this {code.kind} but no key table documents it (add "
+                                    f"one between `<!-- scene-keys PREFIX -->` and `{END}`)"))
             continue
-        rows = documented.get(name)
-        if not rows:
-            line = table_line(name, prefixes)
-            problems.append((line, f"{doc_name}:{line}: {name}: not documented (the reading asks it: {code.kind}, "
-                                   f"default {' | '.join(code.defaults)})"))
-            continue
-        checked = [row for row in rows if row.default is not None]
-        if not checked:
-            continue
-        reasons = [default_problem(row.default, code.defaults) for row in checked]
-        if all(reasons):
-            # Of several rows (a heading naming two tables), the one whose value is of the code's kind.
-            code_kind = (literal(code.defaults[0]) or ("",))[0]
-            pick = min(range(len(checked)),
-                       key=lambda k: (literal(leading_value(checked[k].default)[0]) or ("",))[0] != code_kind)
-            problems.append((checked[pick].line, f"{doc_name}:{checked[pick].line}: {name}: {reasons[pick]}"))
-    # A row is stale when its key is asked in none of the tables its heading names.
-    rows = {}
-    for name, entries in documented.items():
-        for row in entries:
-            rows.setdefault((row.line, row.siblings or (name,)), row)
-    for (line, names), row in sorted(rows.items()):
-        if not any(name in code_keys or name in UNCOVERED for name in names):
-            problems.append((line, f"{doc_name}:{line}: {', '.join(names)}: documented but never asked by the "
-                                   f"samples' reading (stale doc, or no sample sets it up)"))
+        prefix = name.rsplit(".", 1)[0] if "." in name else ""
+        if prefix not in prefixes:
+            problems.append((1, f"{name}: no key table for `{prefix or '(root)'}` (add "
+                                f"`<!-- scene-keys {prefix} -->` and `{END}` where it belongs)"))
     problems.sort(key=lambda p: (p[0], p[1]))
-    return [text for _, text in problems], len(set(code_keys) | set(documented))
+    return "\n".join(out), [f"{doc_name}:{line}: {text}" for line, text in problems]
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--riffle", required=True, help="the riffle binary (it needs the keys subcommand)")
     parser.add_argument("--doc", default=str(ROOT / "docs" / "SCENES.md"), help="default: docs/SCENES.md")
+    parser.add_argument("--write", action="store_true", help="rewrite the doc's key tables in place")
     parser.add_argument("scenes", nargs="+", help="the sample scenes (e.g. tests/data/scene_keys/*.toml)")
     args = parser.parse_args(argv)
     run = subprocess.run([args.riffle, "keys", *args.scenes], capture_output=True, text=True)
@@ -394,11 +443,25 @@ def main(argv=None):
         doc_name = str(doc.resolve().relative_to(pathlib.Path.cwd().resolve()))
     except ValueError:
         doc_name = str(doc)
-    problems, count = check(doc.read_text(encoding="utf-8"), run.stdout, doc_name)
+    text = doc.read_text(encoding="utf-8")
+    written, problems = generate(text, run.stdout, doc_name)
+    if args.write:
+        if written != text:
+            doc.write_text(written, encoding="utf-8")
+            print(f"{doc_name}: key tables rewritten")
+    elif written != text:
+        diff = list(difflib.unified_diff(text.splitlines(), written.splitlines(), doc_name,
+                                         doc_name + " (as the reading writes it)", n=0, lineterm=""))
+        print("\n".join(diff[:60] + ([f"... {len(diff) - 60} more diff lines"] if len(diff) > 60 else [])))
+        command = ["tools/riffle-tools", "scene-keys", "--riffle", args.riffle,
+                   "--doc", args.doc, "--write", *args.scenes]
+        print(f"{doc_name}'s key tables are not what the scene reading gives; rewrite them with:\n  "
+              + " ".join(shlex.quote(part) for part in command))
     for problem in problems:
         print(problem)
-    print(f"{count} keys checked, {len(problems)} problems")
-    return 1 if problems else 0
+    print(f"{len(read_keys(run.stdout))} keys read, {len(problems)} left for a person"
+          + ("" if args.write or written == text else ", the tables differ"))
+    return 1 if problems or (not args.write and written != text) else 0
 
 
 if __name__ == "__main__":

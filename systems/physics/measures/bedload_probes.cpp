@@ -218,12 +218,12 @@ std::vector<ProfileLayer> velocity_profile(const Solids* solids, const FluidPart
 
 ShearSettings shear_settings(const Model& model) {
   ShearSettings settings;
-  settings.spacing = model.fluid.spacing;
-  settings.effective_radius = model.fluid.effective_radius();
   settings.density = model.fluid.density;
   settings.kinematic_viscosity = model.fluid.kinematic_viscosity;
-  if (settings.spacing > 0.0) {
-    const MpsConstants constants = MpsConstants::from(model.fluid);  // the constants fluid_predict uses
+  if (model.fluid.spacing > 0.0) {
+    const MpsConstants& constants = mps_constants(model.fluid);  // the constants fluid_predict uses
+    settings.spacing = constants.spacing;
+    settings.effective_radius = constants.effective_radius;
     settings.number_density = constants.reference_density;
     settings.laplacian_lambda = constants.laplacian_lambda;
   }

@@ -26,12 +26,12 @@ std::vector<Vec3> wall_reaction_forces(const Contacts& contacts, std::size_t wal
 
 FluidProbeSettings fluid_probe_settings(const Model& model) {
   FluidProbeSettings settings;
-  settings.spacing = model.fluid.spacing;
-  settings.effective_radius = model.fluid.effective_radius();
+  const MpsConstants& constants = mps_constants(model.fluid);
+  settings.spacing = constants.spacing;
+  settings.effective_radius = constants.effective_radius;
   settings.density = model.fluid.density;
   settings.gravity = model.gravity;
-  settings.reference_number_density =
-      lattice_constants(3, settings.spacing, settings.effective_radius).number_density;
+  settings.reference_number_density = constants.reference_density;
   settings.floor_height = model.tank.origin.z();
   settings.allow_tension = !model.fluid.clamp_negative_pressure;
   for (int axis = 0; axis < 3; ++axis)

@@ -24,7 +24,7 @@ struct FluidProbeSettings {
   double effective_radius = 0.0;          ///< [m] r_e: support of a pressure sensor
   double density = 0.0;                   ///< [kg/m^3] rho
   Vec3 gravity = Vec3::Zero();            ///< [m/s^2] g
-  double reference_number_density = 0.0; ///< [1] n0 of the initial lattice (lattice_constants(3, l0, r_e))
+  double reference_number_density = 0.0; ///< [1] n0 of the initial lattice (MpsConstants)
   double floor_height = 0.0;              ///< [m] z of the tank's inner floor at rest
   bool allow_tension = false;             ///< !fluid.clamp_negative_pressure: a sensor may read p < 0
   /// [m] per axis: the period of a periodic tank axis ([tank] periodic), 0 otherwise. The sensors, gauges and

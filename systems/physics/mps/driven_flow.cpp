@@ -43,7 +43,7 @@ double smagorinsky_viscosity(double constant, double filter_width, const Eigen::
 
 void sps_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& neighbours, std::size_t fluid_count,
                         const MpsConstants& constants, double smagorinsky_constant, std::vector<double>& out) {
-  const WendlandKernel kernel = constants.kernel;
+  const WendlandKernel kernel{constants.effective_radius};
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants.reference_density;
   out.resize(fluid_count);

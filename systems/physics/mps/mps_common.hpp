@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "components/fluid.hpp"
@@ -17,24 +18,29 @@
 
 namespace riffle {
 
-struct MpsConstants {
-  WendlandKernel kernel;           ///< one r_e for every operator (amendment 6)
-  double spacing = 0.0;            ///< [m] l0
-  double reference_density = 0.0;  ///< [1] n0 of the interior of the initial cubic lattice
-  double laplacian_lambda = 0.0;   ///< [m^2] lambda0 (viscosity, and the classic Laplacian when HL is off)
-  double particle_volume = 0.0;    ///< [m^3] l0^3
+/// Derives the model's MPS constants from its l0 and r_e / l0 (FluidModel::constants): the scene reader calls it once
+/// the scene is read, and code that builds or changes a model by hand calls it after its last change of either.
+inline void fill_mps_constants(FluidModel& fluid) {
+  MpsConstants constants;
+  constants.spacing = fluid.spacing;
+  constants.effective_radius_ratio = fluid.effective_radius_ratio;
+  constants.effective_radius = fluid.effective_radius();
+  const LatticeConstants lattice = lattice_constants(3, fluid.spacing, fluid.effective_radius());
+  constants.reference_density = lattice.number_density;
+  constants.laplacian_lambda = lattice.laplacian_lambda;
+  constants.particle_volume = fluid.spacing * fluid.spacing * fluid.spacing;
+  fluid.constants = constants;
+}
 
-  static MpsConstants from(const FluidModel& fluid) {
-    MpsConstants constants;
-    constants.kernel = WendlandKernel{fluid.effective_radius()};
-    constants.spacing = fluid.spacing;
-    const LatticeConstants lattice = lattice_constants(3, fluid.spacing, fluid.effective_radius());
-    constants.reference_density = lattice.number_density;
-    constants.laplacian_lambda = lattice.laplacian_lambda;
-    constants.particle_volume = fluid.spacing * fluid.spacing * fluid.spacing;
-    return constants;
-  }
-};
+/// The model's MPS constants; throws std::logic_error when they were not derived from its present l0 and r_e / l0
+/// (never filled, or either changed since), so that no system runs with stale constants.
+inline const MpsConstants& mps_constants(const FluidModel& fluid) {
+  const MpsConstants& constants = fluid.constants;
+  if (!(constants.spacing == fluid.spacing && constants.effective_radius_ratio == fluid.effective_radius_ratio))
+    throw std::logic_error("FluidModel::constants were not derived from the model's spacing and effective_radius_ratio: "
+                           "call fill_mps_constants after the last change of either");
+  return constants;
+}
 
 inline constexpr std::int32_t kFluidKind = static_cast<std::int32_t>(FluidKind::kFluid);
 

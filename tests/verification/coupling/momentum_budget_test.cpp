@@ -103,9 +103,10 @@ struct Ledger {
     const FluidParticles& fluid = *world->fluid;
     const FluidNeighbours& lists = *world->fluid_neighbours;
     const std::size_t fluid_count = fluid_slot_count(fluid);
-    const MpsConstants constants = MpsConstants::from(model->fluid);
+    const MpsConstants& constants = mps_constants(model->fluid);
+    const WendlandKernel kernel{constants.effective_radius};
     const double n0 = constants.reference_density;
-    const double radius_squared = constants.kernel.effective_radius * constants.kernel.effective_radius;
+    const double radius_squared = constants.effective_radius * constants.effective_radius;
     const double scale = -world->last_step.dt * constants.particle_volume;
     const double stabilisation_squared = model->fluid.stabilisation_distance() * model->fluid.stabilisation_distance();
     const Ghosted<Vec3> predicted_of = fluid_ghosted(fluid.predicted_position, lists.ghosts.predicted_position, lists);
@@ -130,9 +131,9 @@ struct Ledger {
         if (distance_squared == 0.0 || distance_squared >= radius_squared) continue;
         if (kind_of[j] != kFluidKind) walled = true;
         if (kind_of[j] != kFluidKind)
-          walls += gradient_term(2.0 * (reduced(i) - minimum), constants.kernel.weight(std::sqrt(distance_squared)) /
+          walls += gradient_term(2.0 * (reduced(i) - minimum), kernel.weight(std::sqrt(distance_squared)) /
                                                                   distance_squared, offset);
-        const double weight = constants.kernel.weight(std::sqrt(distance_squared));
+        const double weight = kernel.weight(std::sqrt(distance_squared));
         const double weight_over_squared = weight / distance_squared;
         if (distance_squared < stabilisation_squared) {
           // fluid_correct's DS term, as momentum: rho l0^3 (sum of the terms) / (n0 dt).
@@ -409,9 +410,10 @@ void print_still_water_form_errors(int steps) {
   const FluidParticles& fluid = *world.fluid;
   const FluidNeighbours& lists = *world.fluid_neighbours;
   const std::size_t fluid_count = fluid_slot_count(fluid);
-  const MpsConstants constants = MpsConstants::from(model.fluid);
+  const MpsConstants& constants = mps_constants(model.fluid);
+  const WendlandKernel kernel{constants.effective_radius};
   const double n0 = constants.reference_density;
-  const double radius_squared = constants.kernel.effective_radius * constants.kernel.effective_radius;
+  const double radius_squared = constants.effective_radius * constants.effective_radius;
   const double rho = model.fluid.density;
   const Vec3 exact = rho * model.gravity;
   const Vec3 wall_gradient = hydrostatic_gradient(rho, model.gravity, Vec3::Zero());
@@ -430,7 +432,7 @@ void print_still_water_form_errors(int steps) {
       const bool fluid_partner = kind_of[j] == kFluidKind;
       const double partner = fluid_partner ? pressure_of[j]
                                            : hydrostatic_extrapolation(fluid.pressure[i], wall_gradient, offset);
-      const double weight = constants.kernel.weight(std::sqrt(distance_squared));
+      const double weight = kernel.weight(std::sqrt(distance_squared));
       body(j, fluid_partner, offset, partner, weight, weight / distance_squared);
     }
   };
@@ -472,7 +474,7 @@ void print_still_water_form_errors(int steps) {
     sums[0] = fluid.pressure_gradient[i];
     sums[4] += exact;
     const double depth = top - fluid.predicted_position[i].z();
-    const int kind = fluid.free_surface[i] ? 0 : (depth < constants.kernel.effective_radius ? 1 : 2);
+    const int kind = fluid.free_surface[i] ? 0 : (depth < constants.effective_radius ? 1 : 2);
     ++counts[kind];
     for (int f = 0; f < kForms; ++f)
       worst[f][kind] = std::max(worst[f][kind], (sums[f] - exact).norm() / exact.norm());

@@ -95,7 +95,7 @@ void check_still_water(const Vec3& plan, const std::array<bool, 3>& periodic,
     it->second.first = std::min(it->second.first, n);
     it->second.second = std::max(it->second.second, n);
   }
-  const double n0 = MpsConstants::from(run.model.fluid).reference_density;
+  const double n0 = mps_constants(run.model.fluid).reference_density;
   double spread = 0.0;
   for (const auto& entry : layer_range) spread = std::max(spread, entry.second.second - entry.second.first);
   MESSAGE("periodic " << periodic[0] << periodic[1] << ": number density: largest spread along the periodic axes "

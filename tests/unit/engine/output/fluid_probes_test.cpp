@@ -200,6 +200,7 @@ Model fluid_model() {
   model.fluid.enabled = true;
   model.fluid.spacing = kSpacing;
   model.fluid.effective_radius_ratio = kRadiusRatio;
+  fill_mps_constants(model.fluid);
   return model;
 }
 

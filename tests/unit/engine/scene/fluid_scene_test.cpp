@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "engine/setup/initial_state.hpp"
 #include "engine/scene/scene.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/mps/mps_common.hpp"
 #include "tests/support/test_support.hpp"
 #include "tests/support/scene_builder.hpp"
 
@@ -104,6 +106,20 @@ TEST_CASE("every fluid key is read into the model") {
   const FluidModel fluid = parse_scene(text, "full.toml").fluid;
   CHECK(fluid.effective_radius_ratio == 3.1);
   CHECK(fluid.effective_radius() == doctest::Approx(0.0155).epsilon(1e-14));
+  // The MPS constants are derived once, from these l0 and r_e / l0, as the lattice sums give them.
+  const LatticeConstants lattice = lattice_constants(3, 0.005, fluid.effective_radius());
+  CHECK(mps_constants(fluid).effective_radius == fluid.effective_radius());
+  CHECK(mps_constants(fluid).reference_density == lattice.number_density);
+  CHECK(mps_constants(fluid).laplacian_lambda == lattice.laplacian_lambda);
+  CHECK(mps_constants(fluid).particle_volume == 0.005 * 0.005 * 0.005);
+  // A model changed after is refused rather than run with the constants of its old spacing.
+  FluidModel changed = fluid;
+  changed.spacing = 0.004;
+  CHECK_THROWS_AS(mps_constants(changed), std::logic_error);
+  fill_mps_constants(changed);
+  CHECK(mps_constants(changed).particle_volume == 0.004 * 0.004 * 0.004);
+  changed.effective_radius_ratio = 2.4;
+  CHECK_THROWS_AS(mps_constants(changed), std::logic_error);
   CHECK(fluid.density == 998.2);
   CHECK(fluid.kinematic_viscosity == 1.004e-6);
   CHECK_FALSE(fluid.tank_walls);

@@ -139,7 +139,8 @@ TEST_CASE("SPS eddy viscosity from the MPS gradient: exact on a lattice in linea
   const double l0 = 0.002, a = 5.0, constant = 0.12;
   FluidModel fluid;
   fluid.spacing = l0;
-  const MpsConstants constants = MpsConstants::from(fluid);
+  fill_mps_constants(fluid);
+  const MpsConstants& constants = mps_constants(fluid);
   ParticleState particles;
   const int n = 11;
   FluidParticles group;
