@@ -12,12 +12,9 @@ namespace riffle {
 SolidDrag::SolidDrag(const Model& model)
     : model_(model.coupling),
       fluid_(model.fluid),
-<<<<<<< HEAD
       density_(model.water_density()),
       kinematic_viscosity_(model.water_kinematic_viscosity()),
-=======
-      effective_radius_(mps_constants(model.fluid).effective_radius),
->>>>>>> house-derived
+      effective_radius_(model.fluid.enabled ? mps_constants(model.fluid).effective_radius : 0.0),
       fluid_step_(model.dt),
       inverse_distance_(model.coupling.self_induced_velocity ? self_induced_inverse_distance() : 0.0) {}
 

@@ -32,14 +32,10 @@ class SolidDrag final : public System {
                                     double fluid_step, GrainDrag& drag);
 
   CouplingModel model_;
-<<<<<<< HEAD
   FluidModel fluid_;         ///< the MPS water's model (the self-induced velocity's kernel)
   double density_;           ///< [kg/m^3] the water's, of either fluid family
   double kinematic_viscosity_;  ///< [m^2/s]
-=======
-  FluidModel fluid_;
-  double effective_radius_;  ///< [m] r_e (FluidModel::constants)
->>>>>>> house-derived
+  double effective_radius_;  ///< [m] r_e of the MPS water (FluidModel::constants); 0 with the mean-flow fluid
   double fluid_step_;        ///< [s] run.dt, the fluid step before the first (SystemContext::fluid_step)
   double inverse_distance_;  ///< R <1/r> of the spreading and sampling kernels (self_induced.hpp)
 };
