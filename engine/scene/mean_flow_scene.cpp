@@ -50,13 +50,12 @@ void read_mean_flow(TableReader& flow, Model& model) {
   out.shields_number = flow.number("shields_number", 0.0, "1", Bounds::closed(0.0, 10.0));
   if (out.shields_number > 0.0) {
     out.shields_diameter = flow.number("shields_diameter", std::nullopt, "m", Bounds::positive());
-    std::vector<std::string> names;
-    for (const Material& material : model.materials) names.push_back(material.name);
-    const std::optional<std::string> only =
-        names.size() == 1 ? std::optional<std::string>(names.front()) : std::nullopt;
-    const std::string name = flow.choice("shields_material", only, names);
+    // The grains' material, named: a scene may have several (the tank's walls, a rough floor of another).
+    const std::string name = flow.text("shields_material", std::nullopt);
     for (const Material& material : model.materials)
       if (material.name == name) out.shields_density = material.density;
+    if (!name.empty() && !(out.shields_density > 0.0))
+      flow.problem("shields_material", "no material named \"" + name + "\" in [materials]");
     if (out.shields_density > 0.0 && out.shields_density <= out.density)
       flow.problem("shields_material", "the grains must be denser than the water for a Shields number");
     out.body_force.grains = BodyForceModel::Grains::kFrame;  // a slope: gravity tilted for water and grains alike
