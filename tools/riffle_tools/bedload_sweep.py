@@ -104,7 +104,7 @@ def threshold_by_extrapolation(theta, flux_star):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="tools/riffle-tools bedload-sweep", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(prog="riffle-tools bedload-sweep", description=__doc__.split("\n\n")[0])
     parser.add_argument("--riffle", default="build/riffle")
     parser.add_argument("--diameters", type=float, nargs="+", default=[0.002, 0.001])
     parser.add_argument("--shields", type=float, nargs="+", default=DEFAULT_SHIELDS)
