@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "components/grain_specs.hpp"
 #include "components/mean_flow.hpp"
 #include "components/vec.hpp"
 
@@ -408,16 +409,6 @@ struct CouplingModel {
   double sampling_vertical_radius = 0.0;
 };
 
-struct SphereSpec {
-  Vec3 position = Vec3::Zero();          ///< [m]
-  Vec3 velocity = Vec3::Zero();          ///< [m/s]
-  Vec3 angular_velocity = Vec3::Zero();  ///< [rad/s]
-  double radius = 0.0;                   ///< [m]
-  std::int32_t material = 0;
-  std::int32_t size_class = 0;
-  bool fixed = false;  ///< held with the tank for the whole run (GrainProperties::fixed)
-};
-
 struct SolidsModel {
   bool enabled = false;
   std::string initial_state;           ///< checkpoint whose grains start this run (resolved path), or empty
@@ -425,7 +416,12 @@ struct SolidsModel {
   /// scene's materials and masses to its densities (engine/setup/initial_state.hpp read_initial_grains); null
   /// without initial_state or when it could not be read (a scene problem then).
   std::shared_ptr<const Solids> initial_grains;
-  std::vector<SphereSpec> spheres;     ///< initial spheres, explicit and generated from blocks, in scene order
+  std::vector<SphereSpec> spheres;     ///< [[solids.spheres]], in scene order
+  /// The generated grains, as the scene describes them; laid out once when a run starts (engine/setup), in this
+  /// order after the spheres: blocks, layered beds, fills, each in scene order.
+  std::vector<SphereBlockSpec> blocks;      ///< [[solids.blocks]]
+  std::vector<LayeredBedSpec> layered_beds; ///< [[solids.layered_beds]]
+  std::vector<FillSpec> fills;              ///< [[solids.fills]]
   std::int64_t sort_every = 0;         ///< [steps] reorder grains by grid cell this often; 0 = never
   /// Grains carried rigidly with the tank (a fixed bed: forces are still computed and written, the grains do not
   /// respond). For fixed-bed flows and for separating what the water does from what the bed does (docs/RESULTS.md).
@@ -444,6 +440,14 @@ struct SolidsModel {
   /// thousandth of a 1 microsecond sub-step, so it never moves the release by a whole sub-step.
   static constexpr double hold_release_slack = 1e-9;
 };
+
+/// The count and sizes of the grains `solids` starts a run with, from its descriptions and initial_state's grains
+/// alone, placing none (components/grain_specs.hpp): the numbers the laid-out grains give.
+GrainSizes scene_grain_sizes(const SolidsModel& solids);
+
+/// The spheres the scene's own tables make: [[solids.spheres]], blocks, layered beds and fills, initial_state's grains
+/// apart. Exact, from the descriptions (a bed or fill that generates at all has its classes' counts).
+std::int64_t scene_sphere_count(const SolidsModel& solids);
 
 /// One [[output.probes]] entry: a CSV written while the run goes (engine/output/probes.hpp).
 struct ProbeModel {

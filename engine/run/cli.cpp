@@ -48,12 +48,22 @@ int report_run(const RunOutcome& outcome) {
 /// `riffle check`'s answer for a valid scene, from the model and its budget alone: the counts a run would lay out,
 /// the DEM sub-step and what sets it, the tank's motion, the water, the budget.
 void print_check(const std::string& scene_path, const Model& model) {
-  const std::size_t grains = model.solids.spheres.size() +
-                             (model.solids.initial_grains ? model.solids.initial_grains->size() : 0);
-  std::printf("%s: valid scene '%s': %zu grains, %zu walls, t_end = %g s, dt = %g s, %lld solid sub-steps\n",
-              scene_path.c_str(), model.name.c_str(), model.solids.enabled ? grains : 0,
-              tank_walls(model.tank).size(), model.end_time, model.dt,
+  // Counted from the scene's descriptions: a bed or fill is generated only when a run starts, and then has exactly
+  // its classes' counts (or the run is refused, naming the table whose random grains jam).
+  const SolidsModel& solids = model.solids;
+  const long long grains = solids.enabled ? static_cast<long long>(scene_grain_sizes(solids).count) : 0;
+  std::printf("%s: valid scene '%s': %lld grains, %zu walls, t_end = %g s, dt = %g s, %lld solid sub-steps\n",
+              scene_path.c_str(), model.name.c_str(), grains, tank_walls(model.tank).size(), model.end_time, model.dt,
               static_cast<long long>(model.solid_substeps));
+  long long in_blocks = 0;
+  for (const SphereBlockSpec& block : solids.blocks) in_blocks += block.count;
+  const long long in_beds = static_cast<long long>(scene_sphere_count(solids)) -
+                            static_cast<long long>(solids.spheres.size()) - in_blocks;
+  if (grains > 0)
+    std::printf("  grains: %lld from initial_state, %zu listed, %lld in blocks, %lld in layered beds and fills "
+                "(blocks, beds and fills are generated when a run starts)\n",
+                solids.initial_grains ? static_cast<long long>(solids.initial_grains->size()) : 0LL,
+                solids.spheres.size(), in_blocks, in_beds);
   if (model.contact.enabled && model.contact.stable_solid_dt > 0.0)
     std::printf("  DEM sub-step %.4g s (%lld per step); stable estimate %.4g s, set by %s\n"
                 "  restitution at this sub-step, head-on at max_impact_speed = %g m/s: within %.3g of the requested "

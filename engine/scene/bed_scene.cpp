@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <string>
 
 #include "engine/setup/budget.hpp"
 #include "engine/scene/scene.hpp"
@@ -26,15 +28,28 @@ void report(const BedGenerationError& error, TableReader& table, std::vector<Tab
     table.problem(error.key(), error.what());
 }
 
-/// Whether the scene's grains, with these classes added, stay within the scene's grain cap and memory limit: asked
-/// before generating, which for millions of grains takes long (each class is capped alone; this is the total).
+/// Whether the scene's grains, with these classes added, stay within the scene's grain cap and memory limit (each
+/// class is capped alone; this is the total).
 template <class ClassSpec>
 bool scene_has_room(TableReader& table, const Model& model, const std::vector<ClassSpec>& classes) {
-  double total = static_cast<double>(model.solids.spheres.size());
+  double total = static_cast<double>(scene_sphere_count(model.solids));
   for (const ClassSpec& grains : classes) total += static_cast<double>(grains.count);
   const std::string problem = grain_count_problem(model, total);
   if (!problem.empty()) table.problem("classes", problem);
   return problem.empty();
+}
+
+/// Where the table's and its classes' keys were given, for a problem the generator finds at set-up.
+SceneTableSource table_source(const TableReader& table, std::initializer_list<const char*> keys,
+                              const std::vector<TableReader>& classes,
+                              std::initializer_list<const char*> class_keys) {
+  SceneTableSource source;
+  source.table_prefix = table.problem_prefix("");
+  for (const char* key : keys) source.key_prefix[key] = table.problem_prefix(key);
+  for (std::size_t k = 0; k < classes.size(); ++k)
+    for (const char* key : class_keys)
+      source.key_prefix["classes[" + std::to_string(k) + "]." + key] = classes[k].problem_prefix(key);
+  return source;
 }
 
 std::string span_text(double low, double high) { return format_number(low) + " to " + format_number(high); }
@@ -89,11 +104,16 @@ void read_layered_bed(TableReader& bed, Model& model, bool tank_known) {
 
   if (!scene_has_room(bed, model, spec.classes)) return;
   try {
-    const std::vector<SphereSpec> spheres = generate_layered_bed(spec);
-    model.solids.spheres.insert(model.solids.spheres.end(), spheres.begin(), spheres.end());
+    check_layered_bed(spec);  // all but a jam of the random classes, which only generating shows
   } catch (const BedGenerationError& error) {
     report(error, bed, classes);
+    return;
   }
+  spec.source = table_source(bed,
+                             {"x_min", "x_max", "y_min", "y_max", "base", "layers", "layer_thickness", "loose_factor",
+                              "seed", "classes"},
+                             classes, {"diameter", "count", "material", "size_class", "arrangement"});
+  model.solids.layered_beds.push_back(std::move(spec));
 }
 
 void read_fill(TableReader& fill, Model& model, bool tank_known) {
@@ -127,11 +147,14 @@ void read_fill(TableReader& fill, Model& model, bool tank_known) {
   spec.max = high;
   if (!scene_has_room(fill, model, spec.classes)) return;
   try {
-    const std::vector<SphereSpec> spheres = generate_fill(spec);
-    model.solids.spheres.insert(model.solids.spheres.end(), spheres.begin(), spheres.end());
+    check_fill(spec);  // all but a jam, which only generating shows
   } catch (const BedGenerationError& error) {
     report(error, fill, classes);
+    return;
   }
+  spec.source = table_source(fill, {"min", "max", "seed", "classes"}, classes,
+                             {"diameter", "count", "material", "size_class"});
+  model.solids.fills.push_back(std::move(spec));
 }
 
 }  // namespace

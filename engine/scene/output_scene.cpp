@@ -38,7 +38,7 @@ bool plain_name(const std::string& name) {
 /// and then the scene's own spheres, numbered on from there. nullopt if the initial state cannot be read (that is
 /// reported where [solids] is read).
 std::optional<std::uint64_t> grain_id_limit(const Model& model) {
-  std::uint64_t limit = model.solids.spheres.size();
+  std::uint64_t limit = static_cast<std::uint64_t>(scene_sphere_count(model.solids));
   if (!model.solids.initial_state.empty()) {
     if (!model.solids.initial_grains) return std::nullopt;
     limit += model.solids.initial_grains->next_id;
@@ -141,7 +141,7 @@ constexpr double kMaxProfileLayers = 100000.0;
 
 /// The keys of the bed-load probes (systems/physics/measures/bedload_probes.hpp).
 void read_bedload_probe(TableReader& table, const Model& model, ProbeModel& probe) {
-  const bool grains = !model.solids.spheres.empty() || !model.solids.initial_state.empty();
+  const bool grains = scene_sphere_count(model.solids) > 0 || !model.solids.initial_state.empty();
   if (needs_grains(probe.kind) && !grains)
     table.problem("kind", "this probe measures grains: the scene has none ([solids] with at least one grain)");
   switch (probe.kind) {
@@ -403,7 +403,7 @@ void read_bed_profile_keys(TableReader& output, Model& model) {
       output.number("bed_profile_interval", out.bed_profile_interval, "s", Bounds::non_negative());
   // 0 (the default) stands for the smallest grain diameter, resolved by bed_layer_thickness(model).
   out.bed_layer_thickness = output.number("bed_layer_thickness", out.bed_layer_thickness, "m", Bounds::positive());
-  if (out.bed_profile_interval > 0.0 && model.solids.spheres.empty() && model.solids.initial_state.empty())
+  if (out.bed_profile_interval > 0.0 && scene_sphere_count(model.solids) == 0 && model.solids.initial_state.empty())
     output.problem("bed_profile_interval", "the bed profile needs grains ([solids] with at least one grain)");
   else if (out.bed_layer_thickness > 0.0 && model.tank.size.z() / out.bed_layer_thickness > kMaxBedLayers)
     output.problem("bed_layer_thickness", "more than 1e6 layers over the tank height; use a thicker layer");

@@ -14,8 +14,9 @@ const std::vector<std::string>& reserved_output_files();
 
 /// Reads every [[output.probes]] table of the [output] reader into model.output.probes. The grains, the contact
 /// model, [tank] and [fluid] must be read already (ids are checked against the grains the run starts with: those of
-/// [solids] initial_state, then model.solids.spheres; wall forces need [contact], fluid probes [fluid] and take
-/// their default radius from its spacing; points must lie in the tank).
+/// [solids] initial_state, then the scene's spheres, blocks, beds and fills, counted by scene_sphere_count); wall
+/// forces need [contact], fluid probes [fluid] and take their default radius from its spacing; points must lie in
+/// the tank).
 /// Problems go through the reader (file:line:column: key: message).
 void read_probes(TableReader& output, Model& model);
 

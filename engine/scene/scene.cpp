@@ -14,6 +14,7 @@
 
 #include "engine/scene/bed_scene.hpp"
 #include "engine/scene/output_scene.hpp"
+#include "engine/setup/bed_generation.hpp"
 #include "engine/setup/budget.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "systems/physics/time/solid_step.hpp"
@@ -237,22 +238,6 @@ void read_tank(TableReader& tank, Model& model) {
   tank.finish();
 }
 
-bool inside_tank(const Model& model, const Vec3& centre, double radius, bool across_seam = true) {
-  // A sphere that touches a wall fits: the slack (a billionth of the radius) keeps lattice rounding from dropping a
-  // block's last row (0.0025 + 7 x 0.005 lands 1 ulp past 0.04 - 0.0025).
-  const double slack = 1e-9 * radius;
-  Vec3 low = model.tank.origin.array() + (radius - slack);
-  Vec3 high = (model.tank.origin + model.tank.size).array() - (radius - slack);
-  // Along a periodic axis there is no wall: the centre must lie in the period [origin, origin + size), and a sphere
-  // may reach across the seam.
-  for (int axis = 0; axis < 3; ++axis)
-    if (across_seam && model.tank.periodic[static_cast<std::size_t>(axis)]) {
-      low[axis] = model.tank.origin[axis];
-      high[axis] = std::nextafter(model.tank.origin[axis] + model.tank.size[axis], -1e308);
-    }
-  return (centre.array() >= low.array()).all() && (centre.array() <= high.array()).all();
-}
-
 std::string format_length(double value) {
   std::ostringstream stream;
   stream << value;  // not std::to_string: its fixed 6 decimals print a 1e-7 m diameter as 0.000000
@@ -301,55 +286,55 @@ void read_solids(TableReader& solids, Model& model) {
     spec.fixed = sphere.boolean("fixed", false);
     if (spec.fixed && model.solids.fixed_to_tank)
       sphere.problem("fixed", "fixed_to_tank already holds every grain for the whole run; give one or the other");
-    if (tank_known && position_known && spec.radius > 0.0 && !inside_tank(model, spec.position, spec.radius))
+    if (tank_known && position_known && spec.radius > 0.0 && !inside_tank(model.tank, spec.position, spec.radius))
       sphere.problem("position", "the sphere does not fit inside the tank at rest (tank spans origin to "
                                  "origin + size)");
     sphere.finish();
     model.solids.spheres.push_back(spec);
   }
   // Blocks in two passes: every block is read and counted first, and the scene's total checked (grain_count_problem)
-  // before any is generated, so that blocks each under the per-block cap cannot together exhaust memory.
+  // before any is kept, so that blocks each under the per-block cap cannot together exhaust memory. A block is laid
+  // out when the run starts (engine/setup/bed_generation.hpp generate_block); its count is exact here.
   struct PlannedBlock {
     TableReader* reader;
-    Vec3 low;
-    double spacing;
-    SphereSpec spec;
-    Eigen::Array3d counts;
+    SphereBlockSpec spec;
   };
   std::vector<TableReader> block_readers = solids.tables("blocks");
   std::vector<PlannedBlock> planned;
   double planned_grains = static_cast<double>(model.solids.spheres.size());
   for (TableReader& block : block_readers) {
     const std::size_t problems_before = block.problem_count();
-    const Vec3 low = block.vec3("min", std::nullopt, "m", Bounds::any());
+    SphereBlockSpec spec;
+    spec.low = block.vec3("min", std::nullopt, "m", Bounds::any());
     const Vec3 high = block.vec3("max", std::nullopt, "m", Bounds::any());
-    const double spacing = block.number("spacing", std::nullopt, "m", Bounds::positive());
-    SphereSpec spec;
-    spec.radius = block.number("radius", std::nullopt, "m", Bounds::positive());
-    spec.velocity = block.vec3("velocity", spec.velocity, "m/s", Bounds::any());
-    spec.material = read_material(model, block, "material");
-    spec.size_class = static_cast<std::int32_t>(block.integer("size_class", 0, 0, 1000));
+    spec.spacing = block.number("spacing", std::nullopt, "m", Bounds::positive());
+    spec.sphere.radius = block.number("radius", std::nullopt, "m", Bounds::positive());
+    spec.sphere.velocity = block.vec3("velocity", spec.sphere.velocity, "m/s", Bounds::any());
+    spec.sphere.material = read_material(model, block, "material");
+    spec.sphere.size_class = static_cast<std::int32_t>(block.integer("size_class", 0, 0, 1000));
     block.finish();
     // A block with a bad key cannot be laid out meaningfully; its problems are already reported.
     if (block.problem_count() != problems_before) continue;
-    if (spacing < 2.0 * spec.radius) {
-      block.problem("spacing", "spacing must be at least the sphere diameter (" + format_length(2 * spec.radius) +
-                                   " m) so that generated spheres do not overlap");
+    if (spec.spacing < 2.0 * spec.sphere.radius) {
+      block.problem("spacing", "spacing must be at least the sphere diameter (" +
+                                   format_length(2 * spec.sphere.radius) + " m) so that generated spheres do not overlap");
       continue;
     }
-    const Vec3 extent = high - low;
+    const Vec3 extent = high - spec.low;
     if ((extent.array() < 0.0).any()) {
       block.problem("max", "every component of max must be >= the one of min");
       continue;
     }
-    const Eigen::Array3d counts = (extent.array() / spacing + 1e-9).floor() + 1.0;
+    const Eigen::Array3d counts = (extent.array() / spec.spacing + 1e-9).floor() + 1.0;
     if (counts.prod() > 5e7) {
       block.problem("spacing", "the block would generate more than 5e7 spheres");
       continue;
     }
     if (!tank_known) continue;
+    for (int axis = 0; axis < 3; ++axis)
+      spec.counts[static_cast<std::size_t>(axis)] = static_cast<std::int64_t>(counts[axis]);
     planned_grains += counts.prod();
-    planned.push_back({&block, low, spacing, spec, counts});
+    planned.push_back({&block, spec});
   }
   if (!planned.empty()) {
     const std::string too_many = grain_count_problem(model, planned_grains);
@@ -359,18 +344,11 @@ void read_solids(TableReader& solids, Model& model) {
     }
   }
   for (PlannedBlock& block : planned) {
-    const std::size_t before = model.solids.spheres.size();
-    SphereSpec spec = block.spec;
-    for (int k = 0; k < static_cast<int>(block.counts[2]); ++k)
-      for (int j = 0; j < static_cast<int>(block.counts[1]); ++j)
-        for (int i = 0; i < static_cast<int>(block.counts[0]); ++i) {
-          spec.position = block.low + block.spacing * Vec3(i, j, k);
-          // Whole spheres only, also along a periodic axis: a lattice that does not divide the period would
-          // overlap its own first row across the seam.
-          if (inside_tank(model, spec.position, spec.radius, false)) model.solids.spheres.push_back(spec);
-        }
-    if (model.solids.spheres.size() == before)
+    block.spec.count = block_sphere_count(block.spec, model.tank);
+    if (block.spec.count == 0)
       block.reader->problem("min", "the block places no sphere inside the tank");
+    else
+      model.solids.blocks.push_back(block.spec);
   }
   read_bed_generators(solids, model);
   solids.finish();
@@ -520,16 +498,9 @@ void check_periodic(TableReader& scene, const Model& model) {
                               "into the box and their ghosts across the seam are built");
     return;
   }
-  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
-  for (const SphereSpec& sphere : model.solids.spheres) {
-    smallest = std::min(smallest, sphere.radius);
-    largest = std::max(largest, sphere.radius);
-  }
-  if (const Solids* grains = model.solids.initial_grains.get())  // a settled bed ([solids] initial_state) counts too
-    for (double radius : grains->radius) {
-      smallest = std::min(smallest, radius);
-      largest = std::max(largest, radius);
-    }
+  // Every grain the run starts with, generated beds and a settled bed ([solids] initial_state) included.
+  const GrainSizes sizes = scene_grain_sizes(model.solids);
+  const double smallest = sizes.smallest_radius, largest = sizes.largest_radius;
   if (!(largest > 0.0)) return;
   const double skin = model.contact.skin > 0.0 ? model.contact.skin : 0.5 * smallest;  // default_skin
   const double reach = 2.0 * largest + skin;
@@ -564,9 +535,9 @@ void check_periodic(TableReader& scene, const Model& model) {
 void check_budget(TableReader& scene, const Model& model) {
   const SceneBudget budget = estimate_budget(model);
   char text[512];
-  if (model.contact.enabled && model.contact.skin > 0.0 && !model.solids.spheres.empty()) {
-    double largest = 0.0;
-    for (const SphereSpec& sphere : model.solids.spheres) largest = std::max(largest, sphere.radius);
+  const GrainSizes sizes = scene_grain_sizes(model.solids);
+  if (model.contact.enabled && model.contact.skin > 0.0 && sizes.count > 0) {
+    const double largest = sizes.largest_radius;
     // Beyond a diameter the skin buys no fewer rebuilds worth having, and each grain lists ~(skin / r)^3 others.
     if (model.contact.skin > 4.0 * largest) {
       std::snprintf(text, sizeof text,
@@ -755,7 +726,7 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
 
   // The DEM sub-step: chosen from the stability estimates, or checked against them when the scene sets it.
   if (model.contact.enabled && model.solids.enabled &&
-      (!model.solids.spheres.empty() || !model.solids.initial_state.empty())) {
+      (scene_sphere_count(model.solids) > 0 || !model.solids.initial_state.empty())) {
     std::vector<DesignImpact> impacts;
     const StableStep stable = stable_solid_step(model, impacts);
     model.contact.stable_solid_dt = stable.solid_dt;

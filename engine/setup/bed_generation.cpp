@@ -3,9 +3,11 @@
 #include "engine/toml/scene_reader.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
 #include <sstream>
 
 namespace riffle {
@@ -130,8 +132,8 @@ struct RandomPlacement {
 RandomPlacement place_randomly(const GrainClassSpec& grains, std::int64_t count, const Vec3& low, const Vec3& high,
                                std::mt19937_64& random, OverlapGrid& grid, std::vector<SphereSpec>& spheres) {
   const double radius = 0.5 * grains.diameter;
-  // Computed as inside_tank in the scene reader does (low + r, high - r), so a sphere in a box equal to the tank
-  // passes that test exactly.
+  // Computed as inside_tank does (low + r, high - r), so a sphere in a box equal to the tank passes that test
+  // exactly.
   const Vec3 centre_low = low.array() + radius;
   const Vec3 centre_high = high.array() - radius;
   const Vec3 centre_span = centre_high - centre_low;
@@ -362,7 +364,11 @@ double nominal_solid_fraction(const LayeredBedSpec& spec) {
   return bed > 0.0 ? solid / bed : std::numeric_limits<double>::infinity();
 }
 
-std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec) {
+namespace {
+
+/// What generate_layered_bed checks before it places anything; returns the largest diameter of a class with spheres
+/// (0 if the bed has none).
+double check_bed_spec(const LayeredBedSpec& spec) {
   const auto finite = [](double value) { return std::isfinite(value); };
   if (!finite(spec.x_min) || !finite(spec.x_max) || !(spec.x_max > spec.x_min))
     throw BedGenerationError(std::nullopt, "x_max", "x_max must be greater than x_min");
@@ -382,10 +388,8 @@ std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec) {
   const double length = spec.y_max - spec.y_min;
   const double slab = spec.slab_thickness();
   double largest_diameter = 0.0;
-  std::int64_t total = 0;
   for (std::size_t k = 0; k < spec.classes.size(); ++k) {
     const BedClassSpec& grains = spec.classes[k];
-    total += grains.count;
     if (grains.count == 0) continue;
     largest_diameter = std::max(largest_diameter, grains.diameter);
     if (grains.diameter > slab)
@@ -397,37 +401,87 @@ std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec) {
                                "a " + format_number(grains.diameter) + " m sphere does not fit in the region (" +
                                    format_number(width) + " m x " + format_number(length) + " m)");
   }
+  return largest_diameter;
+}
+
+/// [m^3] solid volume of one layer's regular and random classes.
+struct LayerVolumes {
+  double regular = 0.0;
+  double random = 0.0;
+};
+
+LayerVolumes layer_volumes(const LayeredBedSpec& spec, std::int64_t layer) {
+  LayerVolumes volumes;
+  for (const BedClassSpec& grains : spec.classes)
+    (grains.arrangement == BedArrangement::kRegular ? volumes.regular : volumes.random) +=
+        static_cast<double>(count_in_layer(grains.count, spec.layers, layer)) * sphere_volume(grains.diameter);
+  return volumes;
+}
+
+/// Refuses a layer no random sequential addition can fill, before the attempt budget is spent on it.
+void refuse_hopeless_layer(const LayeredBedSpec& spec, std::int64_t layer, const LayerVolumes& volumes) {
+  const double slab_volume = (spec.x_max - spec.x_min) * (spec.y_max - spec.y_min) * spec.slab_thickness();
+  if (volumes.random > 0.0 && volumes.regular + volumes.random > kHopelessFraction * slab_volume)
+    throw BedGenerationError(
+        std::nullopt, "loose_factor",
+        "layer " + std::to_string(layer + 1) + " would have a solid fraction of " +
+            format_number((volumes.regular + volumes.random) / slab_volume) + " at loose_factor " +
+            format_number(spec.loose_factor) + ", beyond random sequential addition (it jams near " +
+            format_number(kJammingFraction) + "); raise loose_factor, e.g. to " +
+            format_number(suggested_loose_factor(spec)));
+}
+
+}  // namespace
+
+void check_layered_bed(const LayeredBedSpec& spec) {
+  const double largest_diameter = check_bed_spec(spec);
+  if (!(largest_diameter > 0.0)) return;  // no spheres
+  // Regular spheres of one layer meet only each other (each sphere lies inside its own slab), so a layer's lattice
+  // is laid out alone; layers with the same counts per class lay out alike, so each set of counts is tried once, at
+  // the first layer that has it, as the bed would lay it out.
+  std::set<std::vector<std::int64_t>> tried;
+  for (std::int64_t layer = 0; layer < spec.layers; ++layer) {
+    std::vector<std::int64_t> counts;
+    std::int64_t regular = 0;
+    for (const BedClassSpec& grains : spec.classes) {
+      counts.push_back(count_in_layer(grains.count, spec.layers, layer));
+      if (grains.arrangement == BedArrangement::kRegular) regular += counts.back();
+    }
+    if (!tried.insert(counts).second) continue;
+    if (regular > 0) {
+      OverlapGrid grid(Vec3(spec.x_min, spec.y_min, spec.slab_bottom(layer)),
+                       Vec3(spec.x_max, spec.y_max, spec.slab_bottom(layer + 1)), largest_diameter, regular);
+      std::vector<SphereSpec> spheres;
+      spheres.reserve(static_cast<std::size_t>(regular));
+      place_regular_layer(spec, layer, grid, spheres);
+    }
+    refuse_hopeless_layer(spec, layer, layer_volumes(spec, layer));
+  }
+}
+
+std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec) {
+  const double largest_diameter = check_bed_spec(spec);
+  std::int64_t total = 0;
+  for (const BedClassSpec& grains : spec.classes) total += grains.count;
   std::vector<SphereSpec> spheres;
   if (total == 0) return spheres;
 
   const std::vector<std::size_t> random_order = largest_first<BedClassSpec>(
       spec.classes, [](const BedClassSpec& c) { return c.arrangement == BedArrangement::kRandom; });
-  const double slab_volume = width * length * slab;
   spheres.reserve(static_cast<std::size_t>(total));
   OverlapGrid grid(Vec3(spec.x_min, spec.y_min, spec.base), Vec3(spec.x_max, spec.y_max, spec.slab_bottom(spec.layers)),
                    largest_diameter, total);
   std::mt19937_64 random(spec.seed);
   for (std::int64_t layer = 0; layer < spec.layers; ++layer) {
     place_regular_layer(spec, layer, grid, spheres);
-
-    double regular = 0.0, random_wanted = 0.0, random_placed = 0.0;  // [m^3] in this layer
-    for (const BedClassSpec& grains : spec.classes)
-      (grains.arrangement == BedArrangement::kRegular ? regular : random_wanted) +=
-          static_cast<double>(count_in_layer(grains.count, spec.layers, layer)) * sphere_volume(grains.diameter);
-    // Refuse a layer no random sequential addition can fill before spending the attempt budget on it.
-    if (random_wanted > 0.0 && regular + random_wanted > kHopelessFraction * slab_volume)
-      throw BedGenerationError(
-          std::nullopt, "loose_factor",
-          "layer " + std::to_string(layer + 1) + " would have a solid fraction of " +
-              format_number((regular + random_wanted) / slab_volume) + " at loose_factor " +
-              format_number(spec.loose_factor) + ", beyond random sequential addition (it jams near " +
-              format_number(kJammingFraction) + "); raise loose_factor, e.g. to " +
-              format_number(suggested_loose_factor(spec)));
+    const LayerVolumes volumes = layer_volumes(spec, layer);
+    refuse_hopeless_layer(spec, layer, volumes);
 
     // The slab's faces are computed like the neighbouring slabs' (slab_bottom), so adjacent layers share them
     // exactly and no sphere crosses into the next layer by rounding.
     const Vec3 low(spec.x_min, spec.y_min, spec.slab_bottom(layer));
     const Vec3 high(spec.x_max, spec.y_max, spec.slab_bottom(layer + 1));
+    double random_placed = 0.0;  // [m^3] in this layer
     for (std::size_t index : random_order) {
       const BedClassSpec& grains = spec.classes[index];
       const std::int64_t wanted = count_in_layer(grains.count, spec.layers, layer);
@@ -440,13 +494,13 @@ std::vector<SphereSpec> generate_layered_bed(const LayeredBedSpec& spec) {
                 "; the bed's solid fraction at its nominal thickness is " +
                 format_number(nominal_solid_fraction(spec)) + ", so raise loose_factor (now " +
                 format_number(spec.loose_factor) + "), e.g. to " +
-                format_number(suggested_loose_factor(spec, regular, random_placed, random_wanted)));
+                format_number(suggested_loose_factor(spec, volumes.regular, random_placed, volumes.random)));
     }
   }
   return spheres;
 }
 
-std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
+void check_fill(const FillSpec& spec) {
   for (int axis = 0; axis < 3; ++axis) {
     if (!std::isfinite(spec.min[axis]) || !std::isfinite(spec.max[axis]))
       throw BedGenerationError(std::nullopt, "max", "the box corners must be finite");
@@ -456,13 +510,10 @@ std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
   for (std::size_t k = 0; k < spec.classes.size(); ++k) check_class(spec.classes[k], k);
   check_total(spec.classes);
   const Vec3 extent = spec.max - spec.min;
-  double largest_diameter = 0.0, solid = 0.0;
-  std::int64_t total = 0;
+  double solid = 0.0;
   for (std::size_t k = 0; k < spec.classes.size(); ++k) {
     const GrainClassSpec& grains = spec.classes[k];
-    total += grains.count;
     if (grains.count == 0) continue;
-    largest_diameter = std::max(largest_diameter, grains.diameter);
     solid += static_cast<double>(grains.count) * sphere_volume(grains.diameter);
     if (grains.diameter > extent.minCoeff())
       throw BedGenerationError(k, "diameter",
@@ -470,14 +521,27 @@ std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
                                    format_number(extent.x()) + " m x " + format_number(extent.y()) + " m x " +
                                    format_number(extent.z()) + " m)");
   }
-  std::vector<SphereSpec> spheres;
-  if (total == 0) return spheres;
   if (solid > kHopelessFraction * extent.prod())
     throw BedGenerationError(std::nullopt, "classes",
                              "the classes would fill the box to a solid fraction of " +
                                  format_number(solid / extent.prod()) +
                                  ", beyond random sequential addition (it jams near " +
                                  format_number(kJammingFraction) + "); enlarge the box or lower the counts");
+}
+
+std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
+  check_fill(spec);
+  const Vec3 extent = spec.max - spec.min;
+  double largest_diameter = 0.0, solid = 0.0;
+  std::int64_t total = 0;
+  for (const GrainClassSpec& grains : spec.classes) {
+    total += grains.count;
+    if (grains.count == 0) continue;
+    largest_diameter = std::max(largest_diameter, grains.diameter);
+    solid += static_cast<double>(grains.count) * sphere_volume(grains.diameter);
+  }
+  std::vector<SphereSpec> spheres;
+  if (total == 0) return spheres;
   spheres.reserve(static_cast<std::size_t>(total));
   OverlapGrid grid(spec.min, spec.max, largest_diameter, total);
   std::mt19937_64 random(spec.seed);
@@ -491,6 +555,102 @@ std::vector<SphereSpec> generate_fill(const FillSpec& spec) {
                                    "; the box asks for a solid fraction of " +
                                    format_number(solid / extent.prod()) + ": enlarge the box or lower the counts");
   }
+  return spheres;
+}
+
+namespace {
+
+/// inside_tank along one axis: the coordinate of the centre against that axis's bounds.
+bool inside_tank_along(const TankModel& tank, int axis, double coordinate, double radius, bool across_seam) {
+  // Along a periodic axis there is no wall: the centre must lie in the period [origin, origin + size), and a sphere
+  // may reach across the seam.
+  if (across_seam && tank.periodic[static_cast<std::size_t>(axis)])
+    return coordinate >= tank.origin[axis] &&
+           coordinate <= std::nextafter(tank.origin[axis] + tank.size[axis], -1e308);
+  // A sphere that touches a wall fits: the slack (a billionth of the radius) keeps lattice rounding from dropping a
+  // block's last row (0.0025 + 7 x 0.005 lands 1 ulp past 0.04 - 0.0025).
+  const double slack = 1e-9 * radius;
+  return coordinate >= tank.origin[axis] + (radius - slack) &&
+         coordinate <= (tank.origin[axis] + tank.size[axis]) - (radius - slack);
+}
+
+Vec3 block_site(const SphereBlockSpec& block, std::int64_t i, std::int64_t j, std::int64_t k) {
+  return block.low + block.spacing * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
+}
+
+/// Per axis, the lattice indices whose coordinate keeps the block's sphere inside the tank: a site is inside exactly
+/// when each of its three indices is listed. Whole spheres only, also along a periodic axis: a lattice that does not
+/// divide the period would overlap its own first row across the seam.
+std::array<std::vector<std::int64_t>, 3> block_sites_inside(const SphereBlockSpec& block, const TankModel& tank) {
+  std::array<std::vector<std::int64_t>, 3> sites;
+  for (int axis = 0; axis < 3; ++axis)
+    for (std::int64_t n = 0; n < block.counts[static_cast<std::size_t>(axis)]; ++n) {
+      const Vec3 site = block_site(block, axis == 0 ? n : 0, axis == 1 ? n : 0, axis == 2 ? n : 0);
+      if (inside_tank_along(tank, axis, site[axis], block.sphere.radius, false))
+        sites[static_cast<std::size_t>(axis)].push_back(n);
+    }
+  return sites;
+}
+
+}  // namespace
+
+bool inside_tank(const TankModel& tank, const Vec3& centre, double radius, bool across_seam) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (!inside_tank_along(tank, axis, centre[axis], radius, across_seam)) return false;
+  return true;
+}
+
+std::int64_t block_sphere_count(const SphereBlockSpec& block, const TankModel& tank) {
+  const std::array<std::vector<std::int64_t>, 3> sites = block_sites_inside(block, tank);
+  return static_cast<std::int64_t>(sites[0].size() * sites[1].size() * sites[2].size());
+}
+
+std::vector<SphereSpec> generate_block(const SphereBlockSpec& block, const TankModel& tank) {
+  const std::array<std::vector<std::int64_t>, 3> sites = block_sites_inside(block, tank);
+  std::vector<SphereSpec> spheres;
+  spheres.reserve(sites[0].size() * sites[1].size() * sites[2].size());
+  SphereSpec sphere = block.sphere;
+  for (const std::int64_t k : sites[2])
+    for (const std::int64_t j : sites[1])
+      for (const std::int64_t i : sites[0]) {
+        sphere.position = block_site(block, i, j, k);
+        spheres.push_back(sphere);
+      }
+  return spheres;
+}
+
+namespace {
+
+/// A generator's spheres, or its BedGenerationError as the SceneError the scene reader would have raised at its key.
+template <class Spec, class Generate>
+std::vector<SphereSpec> generated(const Spec& spec, Generate generate) {
+  try {
+    return generate(spec);
+  } catch (const BedGenerationError& error) {
+    const std::string key =
+        error.class_index() ? "classes[" + std::to_string(*error.class_index()) + "]." + error.key() : error.key();
+    throw SceneError({spec.source.problem(key, std::string(error.what()) +
+                                                   " (found when the run laid the grains out; `riffle check` reads "
+                                                   "the table but does not generate it)")});
+  }
+}
+
+}  // namespace
+
+void for_each_scene_sphere(const Model& model, const std::function<void(const SphereSpec&)>& add) {
+  const SolidsModel& solids = model.solids;
+  for (const SphereSpec& sphere : solids.spheres) add(sphere);
+  for (const SphereBlockSpec& block : solids.blocks)
+    for (const SphereSpec& sphere : generate_block(block, model.tank)) add(sphere);
+  for (const LayeredBedSpec& bed : solids.layered_beds)
+    for (const SphereSpec& sphere : generated(bed, generate_layered_bed)) add(sphere);
+  for (const FillSpec& fill : solids.fills)
+    for (const SphereSpec& sphere : generated(fill, generate_fill)) add(sphere);
+}
+
+std::vector<SphereSpec> scene_spheres(const Model& model) {
+  std::vector<SphereSpec> spheres;
+  for_each_scene_sphere(model, [&](const SphereSpec& sphere) { spheres.push_back(sphere); });
   return spheres;
 }
 

@@ -85,36 +85,30 @@ double voidage_nodes(const Vec3& extent, const Vec3& cell) {
 }
 double voidage_nodes(const Vec3& extent, double cell) { return voidage_nodes(extent, Vec3::Constant(cell)); }
 
-struct GrainSizes {
+/// The grains' count and sizes as the budget uses them: from the scene's descriptions (scene_grain_sizes), the
+/// count in doubles.
+struct BudgetGrains {
   double count = 0.0;
   double smallest = 0.0, largest = 0.0;  ///< [m] radii
   double mean_cube = 0.0;                ///< [m^3] mean of r^3
 };
 
-GrainSizes grain_sizes(const Model& model) {
-  GrainSizes sizes;
-  double smallest = INFINITY, largest = 0.0, cubes = 0.0;
-  auto note = [&](double r) {
-    smallest = std::min(smallest, r);
-    largest = std::max(largest, r);
-    cubes += r * r * r;
-    sizes.count += 1.0;
-  };
-  for (const SphereSpec& sphere : model.solids.spheres) note(sphere.radius);
-  if (const Solids* grains = model.solids.initial_grains.get())  // validated when [solids] was read
-    for (double r : grains->radius) note(r);
-  if (sizes.count > 0.0) {
-    sizes.smallest = smallest;
-    sizes.largest = largest;
-    sizes.mean_cube = cubes / sizes.count;
+BudgetGrains budget_grains(const Model& model) {
+  const GrainSizes sizes = scene_grain_sizes(model.solids);
+  BudgetGrains grains;
+  grains.count = static_cast<double>(sizes.count);
+  if (sizes.count > 0) {
+    grains.smallest = sizes.smallest_radius;
+    grains.largest = sizes.largest_radius;
+    grains.mean_cube = sizes.radius_cubed_sum / grains.count;
   }
-  return sizes;
+  return grains;
 }
 
 /// Grain-grain list entries: each grain lists the grains within r_i + r_j + skin once per pair. With a typical
 /// grain of radius r (the cube root of the mean r^3), a grain sees at most the densest packing's share of the
 /// sphere of radius 2r + skin, and never more than all other grains.
-double grain_pairs(const GrainSizes& sizes, double skin) {
+double grain_pairs(const BudgetGrains& sizes, double skin) {
   if (sizes.count < 2.0) return 0.0;
   const double r = std::cbrt(sizes.mean_cube);
   const double reach = 2.0 * r + skin;
@@ -138,9 +132,9 @@ SceneBudget estimate_budget(const Model& model) {
   const DomainBox domain = domain_box(model);
   const Vec3 extent = domain.high - domain.low;
 
-  GrainSizes grains;
+  BudgetGrains grains;
   if (model.solids.enabled) {
-    grains = grain_sizes(model);
+    grains = budget_grains(model);
     budget.grains = grains.count;
     const double skin = model.contact.skin > 0.0 ? model.contact.skin : 0.5 * grains.smallest;
     if (model.contact.enabled) {

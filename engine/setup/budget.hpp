@@ -38,7 +38,8 @@ struct SceneBudget {
   double grid_bytes = 0.0;        ///< [bytes] of which grids
 };
 
-/// The estimate for a validated model (grains already generated as SphereSpecs, fluid not yet laid out).
+/// The estimate for a validated model, from its descriptions alone: grains from their specs (scene_grain_sizes: the
+/// exact count and sizes a run lays out), MPS particles from their boxes.
 SceneBudget estimate_budget(const Model& model);
 
 /// [bytes] the limit when neither the scene nor the command line sets one: 3/4 of physical memory (at least
@@ -50,7 +51,7 @@ double default_memory_limit();
 double effective_memory_limit(const Model& model);
 
 /// [bytes] an estimated upper bound on the memory of `grains` grains alone (with their pairs at a dense packing):
-/// what the scene reader checks before it generates blocks, beds and fills.
+/// what the scene reader checks as it reads blocks, beds and fills.
 double grain_bytes_lower_bound(double grains);
 
 /// Grains never exceed this per scene (the neighbour-list indices are 32 bits; the per-generator cap of 5e7 spheres
@@ -60,7 +61,7 @@ inline constexpr double kMaxSceneGrains = 5e7;
 inline constexpr double kMaxSceneFluidParticles = 5e7;
 
 /// Empty if a scene with `grains` grains in all can be generated; else why not (more than kMaxSceneGrains, or more
-/// than model.memory_limit for the grains alone). The scene reader asks before it generates each block, bed or fill.
+/// than model.memory_limit for the grains alone). The scene reader asks as it reads each block, bed or fill.
 std::string grain_count_problem(const Model& model, double grains);
 
 /// The advice that ends every memory refusal: how to raise the limit.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/output/checkpoint.hpp"
+#include "engine/setup/bed_generation.hpp"
 #include "engine/output/checkpoint_validation.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/toml/scene_reader.hpp"
@@ -183,13 +184,15 @@ World initial_world(const Model& model) {
     // when it starts displaced (zero for the seed's motion, which starts at x = 0).
     const Vec3 shift = world.tank_motion->displacement;
     for (std::size_t i = 0; i < world.solids->size(); ++i) world.solids->position[i] += shift;
-    for (const SphereSpec& sphere : model.solids.spheres) {
-      const std::size_t slot = world.solids->add(Vec3(sphere.position + shift), sphere.velocity, sphere.radius,
-                                                 model.materials[static_cast<std::size_t>(sphere.material)].density,
-                                                 sphere.material, sphere.size_class);
-      world.solids->angular_velocity[slot] = sphere.angular_velocity;
-      world.solids->fixed[slot] = sphere.fixed ? 1 : 0;
-    }
+    // The scene's spheres, blocks, beds and fills, generated here, once (a bed whose grains jam throws SceneError).
+    Solids& solids = *world.solids;
+    for_each_scene_sphere(model, [&](const SphereSpec& sphere) {
+      const std::size_t slot = solids.add(Vec3(sphere.position + shift), sphere.velocity, sphere.radius,
+                                          model.materials[static_cast<std::size_t>(sphere.material)].density,
+                                          sphere.material, sphere.size_class);
+      solids.angular_velocity[slot] = sphere.angular_velocity;
+      solids.fixed[slot] = sphere.fixed ? 1 : 0;
+    });
     // A rough floor: the grains below fixed_below at the start (in the tank at rest), those of initial_state too;
     // a grain fixed in initial_state's checkpoint stays fixed. A fixed grain moves with the tank from the start:
     // the first forces, the t = 0 output and the history force's first slip see it as it will be (a velocity given

@@ -58,13 +58,17 @@ std::string Bounds::describe() const {
 std::string Bounds::catalogue_range() const { return name ? std::string("a number in ") + name : describe(); }
 
 void SceneProblems::add(const toml::source_region& where, const std::string& key, const std::string& message) {
+  lines.push_back(prefix(where, key) + message);
+}
+
+std::string SceneProblems::prefix(const toml::source_region& where, const std::string& key) const {
   std::ostringstream line;
   // A value set on the command line (engine/scene/scene_overrides.hpp) carries its --set as its source: name that.
   if (where.path && !where.path->empty() && *where.path != file && where.path->rfind("--set ", 0) == 0)
-    line << *where.path << ": " << key << ": " << message;
+    line << *where.path << ": " << key << ": ";
   else
-    line << file << ':' << where.begin.line << ':' << where.begin.column << ": " << key << ": " << message;
-  lines.push_back(line.str());
+    line << file << ':' << where.begin.line << ':' << where.begin.column << ": " << key << ": ";
+  return line.str();
 }
 
 std::string toml_type_name(const toml::node& node) {
@@ -131,8 +135,13 @@ const toml::node* TableReader::lookup(const std::string& key) {
 }
 
 void TableReader::problem(const std::string& key, const std::string& message) {
-  const toml::node* node = table_->get(key);
-  problems_->add(node ? node->source() : table_->source(), full_key(key), message);
+  problems_->lines.push_back(problem_prefix(key) + message);
+}
+
+std::string TableReader::problem_prefix(const std::string& key) const {
+  const toml::node* node = key.empty() ? nullptr : table_->get(key);
+  // A problem of the table as a whole ("") is named by the table's own key, not with a trailing dot.
+  return problems_->prefix(node ? node->source() : table_->source(), key.empty() ? prefix_ : full_key(key));
 }
 
 double TableReader::number(const std::string& key, std::optional<double> fallback, const char* unit,

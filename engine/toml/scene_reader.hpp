@@ -82,6 +82,8 @@ struct SceneProblems {
   std::vector<std::string> lines;
   SceneKeyCatalogue* catalogue = nullptr;
   void add(const toml::source_region& where, const std::string& key, const std::string& message);
+  /// What add() writes before the message: "file:line:column: key: " (or "--set ...: key: ").
+  std::string prefix(const toml::source_region& where, const std::string& key) const;
 };
 
 /// Reads one TOML table. Every key asked for is remembered; finish() reports the keys nobody asked for.
@@ -125,8 +127,10 @@ class TableReader {
   /// Every sub-table of this table, keyed by its name (for named entries such as [materials.sand]).
   std::vector<std::pair<std::string, TableReader>> named_tables();
 
-  /// Reports a problem at `key` (or at the table if the key is absent).
+  /// Reports a problem at `key` (or at the table if the key is absent or "", the table itself).
   void problem(const std::string& key, const std::string& message);
+  /// What problem(key, message) writes before the message, for a problem found after the scene is read (at set-up).
+  std::string problem_prefix(const std::string& key) const;
   /// Reports keys that were never asked for.
   void finish();
 

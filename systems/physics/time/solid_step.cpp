@@ -25,14 +25,8 @@ double restitution_error(ContactLaw law, const DesignImpact& impact, double spee
 
 StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impacts) {
   const ContactModel& contact = model.contact;
-  std::map<std::int32_t, double> smallest_radius;
-  auto note_grain = [&](std::int32_t material, double radius) {
-    auto [it, inserted] = smallest_radius.emplace(material, radius);
-    if (!inserted) it->second = std::min(it->second, radius);
-  };
-  for (const SphereSpec& sphere : model.solids.spheres) note_grain(sphere.material, sphere.radius);
-  if (const Solids* grains = model.solids.initial_grains.get())
-    for (std::size_t i = 0; i < grains->size(); ++i) note_grain(grains->material[i], grains->radius[i]);
+  // From the scene's descriptions (its beds' size classes, not generated spheres), so check and run agree.
+  const std::map<std::int32_t, double> smallest_radius = scene_grain_sizes(model.solids).smallest_radius_by_material;
   StableStep best{std::numeric_limits<double>::infinity(), ""};
   auto consider = [&](double candidate, const std::string& reason) {
     if (candidate < best.solid_dt) best = {candidate, reason};

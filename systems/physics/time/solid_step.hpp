@@ -28,8 +28,9 @@ struct DesignImpact {
   std::string name;
 };
 
-/// The stable sub-step of `model`'s grains (its spheres and the grains of [solids] initial_state); `impacts`
-/// receives the design impacts it was judged on.
+/// The stable sub-step of `model`'s grains (scene_grain_sizes: its spheres, the size classes of its blocks, beds and
+/// fills, and the grains of [solids] initial_state; nothing generated); `impacts` receives the design impacts it was
+/// judged on.
 StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impacts);
 
 /// The worst |achieved - requested| restitution over `impacts` at sub-step `dt`, and which impact gives it.

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "engine/scene/scene.hpp"
+#include "engine/setup/bed_generation.hpp"
 #include "tests/support/test_support.hpp"
 
 namespace {
@@ -122,7 +123,8 @@ std::optional<ProblemLine> split_problem(const std::string& text, const std::str
 
 TEST_CASE("the base scene of these tests is valid") {
   const riffle::Model model = riffle::parse_scene(std::string(kBaseScene), "base.toml");
-  CHECK(model.solids.spheres.size() == kBaseGrains);
+  CHECK(riffle::scene_spheres(model).size() == kBaseGrains);
+  CHECK(riffle::scene_sphere_count(model.solids) == static_cast<std::int64_t>(kBaseGrains));
   CHECK(model.dt == 1.0e-3);
   CHECK(model.solid_substeps == 4);
   CHECK(model.tank.motion.kind == riffle::TankMotionModel::Kind::kSinusoidal);
@@ -316,7 +318,7 @@ TEST_CASE("valid edge values are accepted") {
         "[[solids.spheres]]\nposition = [0.1, 0.05, 0.05]\nvelocity = [0.0, 0.0, 1.0]\n"
         "angular_velocity = [0.0, 5.0, 0.0]\nradius = 0.005\nmaterial = \"sand\"\nsize_class = 1\n",
         "spheres = []\n");
-    CHECK(riffle::parse_scene(text, "edge.toml").solids.spheres.size() == kBaseGrains - 1);
+    CHECK(riffle::scene_spheres(riffle::parse_scene(text, "edge.toml")).size() == kBaseGrains - 1);
   }
   SUBCASE("integers where numbers are expected, also beyond 2^53") {
     std::string text = replace_once(kBaseScene, "size = [0.2, 0.1, 0.1]", "size = [1, 9007199254740993, 1]");
@@ -344,11 +346,15 @@ TEST_CASE("valid edge values are accepted") {
     touching = replace_once(touching, block,
                             "min = [0.0825, 0.0025, 0.0025]\nmax = [0.1575, 0.0375, 0.0375]\nspacing = 0.005\n"
                             "radius = 0.0025\n");
-    CHECK(riffle::parse_scene(touching, "edge.toml").solids.spheres.size() == 16 * 8 * 8 + 1);
+    const riffle::Model touching_model = riffle::parse_scene(touching, "edge.toml");
+    CHECK(riffle::scene_spheres(touching_model).size() == 16 * 8 * 8 + 1);
+    CHECK(riffle::scene_sphere_count(touching_model.solids) == 16 * 8 * 8 + 1);  // counted as generated
     // Shifted by 10 nm across y, the last row overlaps the wall by far more than rounding.
     std::string overlapping = replace_once(touching, "min = [0.0825, 0.0025,", "min = [0.0825, 0.00250001,");
     overlapping = replace_once(overlapping, "max = [0.1575, 0.0375,", "max = [0.1575, 0.03750001,");
-    CHECK(riffle::parse_scene(overlapping, "edge.toml").solids.spheres.size() == 16 * 7 * 8 + 1);
+    const riffle::Model overlapping_model = riffle::parse_scene(overlapping, "edge.toml");
+    CHECK(riffle::scene_spheres(overlapping_model).size() == 16 * 7 * 8 + 1);
+    CHECK(riffle::scene_sphere_count(overlapping_model.solids) == 16 * 7 * 8 + 1);
   }
   SUBCASE("kind = \"none\" needs no amplitude or frequency") {
     const std::string text = replace_once(kBaseScene,
@@ -474,12 +480,13 @@ TEST_CASE("free_fall_box.toml is read as written") {
   // The block spans [0.02, 0.22] x [0.02, 0.14] x [0.02, 0.06] with spacing 0.01: 21 x 13 x 5 grains, all inside
   // the 0.24 x 0.16 x 0.20 tank with room for their 2.5 mm radius; plus the one explicit sphere.
   constexpr std::size_t kBlockGrains = 21 * 13 * 5;
-  REQUIRE(model.solids.spheres.size() == kBlockGrains + 1);
+  const std::vector<riffle::SphereSpec> spheres = riffle::scene_spheres(model);
+  REQUIRE(spheres.size() == kBlockGrains + 1);
   std::size_t block_grains = 0;
   std::size_t explicit_spheres = 0;
   riffle::Vec3 low = riffle::Vec3::Constant(1e9);
   riffle::Vec3 high = riffle::Vec3::Constant(-1e9);
-  for (const riffle::SphereSpec& sphere : model.solids.spheres) {
+  for (const riffle::SphereSpec& sphere : spheres) {
     CHECK(sphere.material == grain);
     if (sphere.radius == 0.0025) {
       ++block_grains;
@@ -529,7 +536,7 @@ std::string insane(const riffle::Model& model) {
     if (!(std::abs(tank.motion.phase) <= 2.0 * 3.14159265358979323846 + 1e-12)) return "tank.motion.phase";
     if (!(tank.motion.start_time >= 0.0) || !std::isfinite(tank.motion.start_time)) return "tank.motion.start_time";
   }
-  for (const riffle::SphereSpec& sphere : model.solids.spheres) {
+  for (const riffle::SphereSpec& sphere : riffle::scene_spheres(model)) {
     if (!(sphere.radius > 0.0) || !std::isfinite(sphere.radius)) return "sphere radius";
     if (!finite(sphere.position) || !finite(sphere.velocity) || !finite(sphere.angular_velocity))
       return "sphere state";

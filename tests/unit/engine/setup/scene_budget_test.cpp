@@ -1,23 +1,30 @@
 // Budgets before allocation: scenes too big for the memory limit are refused with a file:line:column:
 // key: message before any particle is generated; the limit can be raised by run.memory_limit and --memory-limit;
 // the grain grid stays small whatever the empty space or the smallest grain; scene files must be regular files.
+// A generated bed is counted and sized from its classes, as the run then generates it.
 // Each case here ended in std::bad_alloc, a hang or a read until memory ran out before (main 25b9940).
 #include <doctest/doctest.h>
 
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
+#include "engine/setup/bed_generation.hpp"
 #include "engine/setup/budget.hpp"
+#include "engine/setup/initial_state.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/run/simulation.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/dem/solid_neighbours.hpp"
 #include "systems/physics/coupling/voidage_grid.hpp"
+#include "systems/physics/dem/neighbour_range.hpp"
+#include "systems/physics/time/solid_step.hpp"
 
 namespace {
 
@@ -206,4 +213,39 @@ TEST_CASE("scene file input: only regular files, at most 16 MiB") {
     }
     CHECK(contains(refusal(big), "more than the 16777216 (16 MiB) a scene may have"));
   }
+}
+
+TEST_CASE("scene budget: the seed bed is counted and sized from its classes, as the run generates it") {
+  // scenes/dry_bed_settle.toml: the seed's three-layer bed, 135 + 537 + 7490 grains of 15, 10 and 5 mm.
+  const riffle::Model model = riffle::load_scene_file(RIFFLE_SOURCE_DIR "/scenes/dry_bed_settle.toml");
+  REQUIRE(model.solids.layered_beds.size() == 1);
+  CHECK(model.solids.spheres.empty());  // the model keeps the bed's table, not its spheres
+  const riffle::SceneBudget budget = riffle::estimate_budget(model);
+  const riffle::World world = riffle::initial_world(model);  // generated here, once
+  const double generated = static_cast<double>(world.solids->size());
+  CHECK(generated == 8162.0);
+  // Within a few per cent is what the budget needs; a bed that generates at all has exactly its classes' counts.
+  CHECK(budget.grains == doctest::Approx(generated).epsilon(0.03));
+  CHECK(budget.grains == generated);
+
+  // The same scene with the generated spheres listed one by one: the same budget, the same DEM sub-step (set by the
+  // smallest grains), the same sizes; and the neighbour skin the run takes from its grains is the classes' one.
+  riffle::Model listed = model;
+  listed.solids.layered_beds.clear();
+  listed.solids.spheres = riffle::scene_spheres(model);
+  const riffle::SceneBudget listed_budget = riffle::estimate_budget(listed);
+  CHECK(listed_budget.grains == budget.grains);
+  CHECK(listed_budget.grain_pairs == doctest::Approx(budget.grain_pairs).epsilon(1e-12));
+  CHECK(listed_budget.bytes == doctest::Approx(budget.bytes).epsilon(1e-12));
+  std::vector<riffle::DesignImpact> from_classes, from_spheres;
+  const riffle::StableStep step = riffle::stable_solid_step(model, from_classes);
+  CHECK(step.solid_dt == riffle::stable_solid_step(listed, from_spheres).solid_dt);
+  CHECK(step.solid_dt == model.contact.stable_solid_dt);
+  CHECK(step.reason == model.contact.stable_solid_dt_reason);
+  CHECK(from_classes.size() == from_spheres.size());
+  const riffle::GrainSizes sizes = riffle::scene_grain_sizes(model.solids);
+  const auto [smallest, largest] = std::minmax_element(world.solids->radius.begin(), world.solids->radius.end());
+  CHECK(sizes.smallest_radius == *smallest);
+  CHECK(sizes.largest_radius == *largest);
+  CHECK(riffle::default_skin(*world.solids) == 0.5 * sizes.smallest_radius);
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/scene/scene.hpp"
+#include "engine/setup/bed_generation.hpp"
 #include "systems/mps/fluid_pressure.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "tests/support/test_support.hpp"
@@ -260,7 +261,7 @@ TEST_CASE("a layered bed generated in a periodic box overlaps nowhere, across th
       .array_table("solids.layered_beds.classes").set("diameter", 0.002).set("count", 200).set("material", "grain")
       .toml()),
                                   "bed.toml");
-  const std::vector<SphereSpec>& spheres = model.solids.spheres;
+  const std::vector<SphereSpec> spheres = scene_spheres(model);
   REQUIRE(spheres.size() == 231);
   const Vec3 period = model.tank.size;
   double closest = 1e300;  // smallest gap over all pairs, by the nearest image
