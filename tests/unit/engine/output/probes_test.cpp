@@ -110,7 +110,7 @@ TEST_CASE("bad probes are reported as file:line:column: key: message") {
       {"kind = \"grain\"\n", "kind = ^\"grain\"", "output.probes[0].kind",
        "expected one of \"grains\", \"wall_forces\", \"fluid_pressure\", \"wave_gauge\", \"surge_front\", "
        "\"fluid_totals\", \"pressure_transducer\", \"driven_flow\", \"moving_fraction\", \"packing_density\", "
-       "\"bedload_flux\", \"velocity_profile\", \"bed_shear_stress\", got \"grain\""},
+       "\"bedload_flux\", \"velocity_profile\", \"bed_shear_stress\", \"mean_flow_profile\", \"bedload_transport\", got \"grain\""},
       {"ids = [1]\n", "^[[output.probes]]", "output.probes[0].kind", "missing required key"},
       {"kind = \"wall_forces\"\nids = [1]\n", "^ids = [1]", "output.probes[0].ids", "unknown key"},
       {"kind = \"grains\"\nids = [1]\nfile = \"../x.csv\"\n", "file = ^\"../x.csv\"", "output.probes[0].file",

@@ -305,7 +305,7 @@ TEST_CASE("a fluid without boxes is refused, and tank_walls = false lifts the wh
 TEST_CASE("the top-level key list names the fluid table") {
   const std::vector<std::string> problems = problems_of(test::fluid_scene_text("[fluidd]\n"));
   REQUIRE(problems.size() == 1);
-  CHECK(problems[0].find("fluidd: unknown key (known keys here: contact, coupling, fluid, materials, output, run, solids, tank)") !=
+  CHECK(problems[0].find("fluidd: unknown key (known keys here: contact, coupling, fluid, materials, mean_flow, output, run, solids, tank)") !=
         std::string::npos);
 }
 

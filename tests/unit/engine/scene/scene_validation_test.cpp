@@ -183,7 +183,7 @@ TEST_CASE("bad scenes are rejected with file, line, column, key and a useful mes
       {"size_class = 1", "size_class = 1001", "size_class = ^1001", "solids.spheres[0].size_class", "got 1001", 1},
       // Unknown keys: top level, misspelt table, nested, in an array of tables.
       {"[run]", "colour = \"red\"\n[run]", "^colour", "colour",
-       "unknown key (known keys here: contact, coupling, fluid, materials, output, run, solids, tank)", 1},
+       "unknown key (known keys here: contact, coupling, fluid, materials, mean_flow, output, run, solids, tank)", 1},
       {"[output]", "[outptu]", "[^outptu]", "outptu", "unknown key", 1},
       {"end_time = 0.1", "end_tme = 0.1", "^end_tme", "run.end_tme", "unknown key (known keys here: dt, end_time", 2},
       {"end_time = 0.1", "end_tme = 0.1", "^[run]", "run.end_time", "missing required key; expected a number > 0", 2},
