@@ -1,6 +1,6 @@
 #include "engine/output/probes.hpp"
 
-#include "systems/mean_flow/mean_flow_momentum.hpp"
+#include "systems/physics/mean_flow/column_model.hpp"
 #include "systems/physics/mean_flow/column.hpp"
 
 #include <algorithm>

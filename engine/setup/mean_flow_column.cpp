@@ -2,8 +2,7 @@
 
 #include <cmath>
 
-#include "systems/coupling/mean_flow_grains.hpp"
-#include "systems/mean_flow/mean_flow_momentum.hpp"
+#include "systems/physics/mean_flow/column_model.hpp"
 
 namespace riffle {
 

@@ -3,30 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "systems/mean_flow/mean_flow_momentum.hpp"
+#include "systems/physics/mean_flow/column_model.hpp"
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/mean_flow/column.hpp"
 
 namespace riffle {
 
-double column_plan_area(const Model& model) { return model.tank.size.x() * model.tank.size.y(); }
-
 MeanFlowSolidFraction::MeanFlowSolidFraction(const Model& model) : model_(model) {}
-
-void fill_solid_fraction(const Model& model, const GrainState& grains, const GrainProperties& properties,
-                         MeanFlowColumn& column, std::vector<double>& scratch) {
-  const ColumnGrid grid = column_grid(model.mean_flow);
-  scratch.assign(grid.cells, 0.0);
-  for (std::size_t grain = 0; grain < grains.size(); ++grain)
-    deposit_sphere(grid, grains.position[grain].z(), properties.radius[grain], 1.0, scratch);
-  const double cell_volume = column_plan_area(model) * grid.cell_height;
-  // The water keeps at least min_voidage of a cell (the drag law's own bound): the overlaps of a compressed bed
-  // cannot leave a cell without water.
-  const double most = 1.0 - model.coupling.min_voidage;
-  column.solid_fraction.resize(grid.cells);
-  for (std::size_t i = 0; i < grid.cells; ++i) column.solid_fraction[i] = std::min(scratch[i] / cell_volume, most);
-  column.bed_surface = bed_surface(grid, column.solid_fraction);
-}
 
 void MeanFlowSolidFraction::run(SystemContext& context) {
   const GrainState& grains = context.read<GrainState>();

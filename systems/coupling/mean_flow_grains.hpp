@@ -55,13 +55,4 @@ class SolidMeanFlowSampling final : public System {
   const Model& model_;
 };
 
-/// [m^2] The plan area the column stands for: the periodic box's x by y.
-double column_plan_area(const Model& model);
-
-/// The grains' solid fraction per cell (each sphere's exact volume between the cells' faces over the cell's volume,
-/// at most 1 - coupling.min_voidage) and the bed surface, into `column`; `scratch` is reused. Grains in slot order:
-/// the sums do not depend on the thread count.
-void fill_solid_fraction(const Model& model, const GrainState& grains, const GrainProperties& properties,
-                         MeanFlowColumn& column, std::vector<double>& scratch);
-
 }  // namespace riffle

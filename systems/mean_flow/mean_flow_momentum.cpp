@@ -5,26 +5,6 @@
 
 namespace riffle {
 
-ColumnGrid column_grid(const MeanFlowModel& model) { return {model.bottom, model.cell_size, model.cells}; }
-
-ColumnEnds column_ends(const MeanFlowModel& model, bool along_x) {
-  ColumnEnds ends;
-  ends.top_given = model.top_boundary == MeanFlowModel::Top::kLid;
-  ends.top_value = along_x ? model.lid_velocity : 0.0;
-  return ends;
-}
-
-double mean_flow_body_force(const MeanFlowModel& model, double gravity, double bed_surface, double time) {
-  if (model.shields_number > 0.0) {
-    // The slope whose weight, carried by the water above the bed, is the bed shear stress of the Shields number.
-    const double depth = std::max(model.top - bed_surface, model.cell_size);
-    const double stress = model.shields_number * (model.shields_density - model.density) * gravity *
-                          model.shields_diameter;
-    return stress / (model.density * depth);
-  }
-  return model.body_force.prescribed(time);
-}
-
 MeanFlowMomentum::MeanFlowMomentum(const Model& model)
     : model_(model.mean_flow),
       gravity_(std::abs(model.gravity.z())),
