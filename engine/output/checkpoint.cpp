@@ -38,6 +38,15 @@ T get(const std::string& in, std::size_t offset) {
   return value;
 }
 
+/// Whether the archive's format has the mean-flow column (every archive written now does).
+template <class Archive>
+bool holds_mean_flow(Archive& archive) {
+  if constexpr (requires { archive.format_version(); })
+    return archive.format_version() >= kFirstCheckpointVersionWithMeanFlow;
+  else
+    return true;
+}
+
 template <class Archive>
 void archive_checkpoint(Archive& archive, CheckpointData& data) {
   World& world = data.world;
@@ -46,8 +55,8 @@ void archive_checkpoint(Archive& archive, CheckpointData& data) {
   // rebuilt from these.
   World::for_each_part(world, [&](auto& part) {
     using Stored = typename detail::unwrap_optional<std::decay_t<decltype(part)>>::type;
-    if constexpr (std::is_same_v<Stored, MeanFlowColumn> && requires { archive.format_version(); })
-      if (archive.format_version() < kFirstCheckpointVersionWithMeanFlow) return;  // older files have none
+    if constexpr (std::is_same_v<Stored, MeanFlowColumn>)
+      if (!holds_mean_flow(archive)) return;  // older files have none
     if constexpr (Stored::kPersistent) archive(part);
   });
   archive(data.output);
