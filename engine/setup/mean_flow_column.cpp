@@ -6,12 +6,13 @@
 
 namespace riffle {
 
-double initial_friction_velocity(const Model& model, double bed_surface) {
-  const MeanFlowModel& flow = model.mean_flow;
+namespace {
+/// [m/s] The friction velocity of a steady drive along +x, sqrt(f (top - z_bed)); 0 for a sinusoidal one or none.
+double drive_friction_velocity(const MeanFlowModel& flow, double body_force, double bed_surface) {
   if (flow.body_force.kind == BodyForceModel::Kind::kSinusoidal) return 0.0;
-  const double force = mean_flow_body_force(flow, std::abs(model.gravity.z()), bed_surface, 0.0);
-  return force > 0.0 ? std::sqrt(force * (flow.top - bed_surface)) : 0.0;
+  return body_force > 0.0 ? std::sqrt(body_force * (flow.top - bed_surface)) : 0.0;
 }
+}  // namespace
 
 MeanFlowColumn initial_column(const Model& model, const Solids* grains) {
   const MeanFlowModel& flow = model.mean_flow;
@@ -38,7 +39,7 @@ MeanFlowColumn initial_column(const Model& model, const Solids* grains) {
     }
     return column;
   }
-  const double friction = initial_friction_velocity(model, bed);
+  const double friction = drive_friction_velocity(flow, column.body_force, bed);
   if (!(friction > 0.0)) return column;
   double z0 = flow.initial_roughness_length;
   if (!(z0 > 0.0) && flow.shields_diameter > 0.0) z0 = 2.5 * flow.shields_diameter / 30.0;

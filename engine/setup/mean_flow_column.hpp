@@ -14,7 +14,4 @@ namespace riffle {
 /// from the bed surface to the lid. At rest otherwise.
 MeanFlowColumn initial_column(const Model& model, const Solids* grains);
 
-/// [m/s] The drive's friction velocity at the start, sqrt(f (top - z_bed)) for a drive along +x, else 0.
-double initial_friction_velocity(const Model& model, double bed_surface);
-
 }  // namespace riffle

@@ -32,13 +32,11 @@ void MeanFlowDragReaction::run(SystemContext& context) {
     if (impulse.isZero(0.0)) continue;  // no water reached it (above the surface)
     // The grain's volume per cell, over the part of it inside the column: the shares sum to one, so the water
     // loses exactly the impulse the grain received.
-    const double inside = deposit_sphere(grid, grains.position[grain].z(), properties.radius[grain], 1.0, slices_);
+    const double centre = grains.position[grain].z(), radius = properties.radius[grain];
+    const double inside = deposit_sphere(grid, centre, radius, 1.0, slices_);
     if (inside > 0.0) {
-      const double bottom_cell = (grains.position[grain].z() - properties.radius[grain] - grid.bottom) / grid.cell_height;
-      const double top_cell = (grains.position[grain].z() + properties.radius[grain] - grid.bottom) / grid.cell_height;
-      const auto first = static_cast<std::size_t>(std::max(0.0, std::floor(bottom_cell)));
-      const auto last = std::min(grid.cells - 1, static_cast<std::size_t>(std::max(0.0, std::floor(top_cell))));
-      for (std::size_t i = first; i <= last; ++i) {
+      const CellSpan span = sphere_cells(grid, centre, radius);
+      for (std::size_t i = span.first; i <= span.last; ++i) {
         const double share = slices_[i] / (inside * area);
         column.impulse_x[i] += share * impulse.x();
         column.impulse_y[i] += share * impulse.y();
@@ -63,7 +61,7 @@ void SolidMeanFlowSampling::run(SystemContext& context) {
   const ColumnEnds ends_x = column_ends(flow, true), ends_y = column_ends(flow, false);
   const ColumnEnds fraction_ends;  // no grains below the floor; above the last centre the last value
   const double density = flow.density;
-  const bool frame = flow.body_force.grains == BodyForceModel::Grains::kFrame || flow.shields_number > 0.0;
+  const bool frame = flow.body_force.grains == BodyForceModel::Grains::kFrame;  // a Shields drive's slope too
   const bool pressure_gradient = !frame && flow.body_force.grains == BodyForceModel::Grains::kPressureGradient &&
                                  model_.coupling.pressure_gradient;
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {

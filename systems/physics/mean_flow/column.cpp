@@ -74,15 +74,20 @@ void check_sizes(const ColumnGrid& grid, std::size_t cell_values, std::size_t fa
 }
 }  // namespace
 
-double deposit_sphere(const ColumnGrid& grid, double centre, double radius, double weight,
-                      std::vector<double>& per_cell) {
+CellSpan sphere_cells(const ColumnGrid& grid, double centre, double radius) {
   const double from = (centre - radius - grid.bottom) / grid.cell_height;
   const double to = (centre + radius - grid.bottom) / grid.cell_height;
-  if (to <= 0.0 || from >= static_cast<double>(grid.cells)) return 0.0;
-  const auto first = static_cast<std::size_t>(std::max(0.0, std::floor(from)));
-  const auto last = std::min(grid.cells - 1, static_cast<std::size_t>(std::floor(to)));
+  if (to <= 0.0 || from >= static_cast<double>(grid.cells)) return {};
+  return {static_cast<std::size_t>(std::max(0.0, std::floor(from))),
+          std::min(grid.cells - 1, static_cast<std::size_t>(std::floor(to))), false};
+}
+
+double deposit_sphere(const ColumnGrid& grid, double centre, double radius, double weight,
+                      std::vector<double>& per_cell) {
+  const CellSpan span = sphere_cells(grid, centre, radius);
+  if (span.empty) return 0.0;
   double inside = 0.0;
-  for (std::size_t i = first; i <= last; ++i) {
+  for (std::size_t i = span.first; i <= span.last; ++i) {
     const double volume = sphere_slab_volume(radius, centre, grid.face(i), grid.face(i + 1));
     per_cell[i] += weight * volume;
     inside += volume;

@@ -26,6 +26,13 @@ struct ColumnGrid {
   double top() const { return face(cells); }
 };
 
+/// The cells a sphere crosses, [first, last]; empty when it lies wholly below the floor or above the top.
+struct CellSpan {
+  std::size_t first = 0, last = 0;
+  bool empty = true;
+};
+CellSpan sphere_cells(const ColumnGrid& grid, double centre, double radius);
+
 /// Adds weight x (the sphere's volume in cell i, sphere_slab_volume of systems/physics/measures/bedload.hpp) to per_cell[i] for every cell the sphere crosses (per_cell sized
 /// grid.cells); returns the sphere's volume inside the column (below the top, above the bottom).
 double deposit_sphere(const ColumnGrid& grid, double centre, double radius, double weight,

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/measures/bedload.hpp"
 
 namespace riffle {
@@ -14,7 +15,7 @@ ShieldsGrain shields_grain(const Model& model, const Solids& grains) {
   for (std::size_t i = 0; i < grains.size(); ++i) {
     if (grains.fixed[i]) continue;
     diameters += 2.0 * grains.radius[i];
-    volume += 4.0 / 3.0 * 3.14159265358979323846 * std::pow(grains.radius[i], 3);
+    volume += grain_volume(grains.radius[i]);
     mass += grains.mass[i];
     ++count;
   }
@@ -38,8 +39,7 @@ BedloadTransport bedload_transport(const Model& model, const Solids& grains, con
   for (std::size_t i = 0; i < grains.size(); ++i) {
     if (grains.fixed[i]) continue;
     ++mobile;
-    const double volume = 4.0 / 3.0 * 3.14159265358979323846 * std::pow(grains.radius[i], 3);
-    out.flux += volume * grains.velocity[i].x();
+    out.flux += grain_volume(grains.radius[i]) * grains.velocity[i].x();
     if (grains.velocity[i].norm() > threshold) {
       ++out.moving;
       speed += grains.velocity[i].x();

@@ -219,6 +219,20 @@ TEST_CASE("mean-flow column verification: the start-up of Couette flow converges
   CHECK(errors[3] < 5e-3);
 }
 
+namespace {
+/// The grid convergence of a turbulent channel over three grids: second order against the closure's own profile,
+/// and the log law's error at the two finest grids differing by less than a tenth of the 2 % tolerance.
+void check_grid_convergence(const char* name, const std::vector<double>& model_errors,
+                            const std::vector<double>& law_errors) {
+  const double order_coarse = observed_order(model_errors[0], model_errors[1]);
+  const double order_fine = observed_order(model_errors[1], model_errors[2]);
+  std::printf("%s: observed order against the closure's own profile %.3f %.3f\n", name, order_coarse, order_fine);
+  CHECK(order_coarse == doctest::Approx(2.0).epsilon(0.1));
+  CHECK(order_fine == doctest::Approx(2.0).epsilon(0.1));
+  CHECK(std::abs(law_errors[1] - law_errors[2]) < 0.002);
+}
+}  // namespace
+
 TEST_CASE("mean-flow column verification: smooth-floor turbulent open channel, van Driest's log law") {
   // Re_tau = u* H / nu = 1000 (H = 5 cm, u* = 2 cm/s), h+ = 2, 1, 0.5.
   const double depth = 0.05, nu = 1e-6, u_star = 0.02;
@@ -280,14 +294,7 @@ TEST_CASE("mean-flow column verification: smooth-floor turbulent open channel, v
                 100.0 * buffer_error);
     CHECK(law_error < 0.02);
   }
-  const double order_coarse = observed_order(model_errors[0], model_errors[1]);
-  const double order_fine = observed_order(model_errors[1], model_errors[2]);
-  std::printf("smooth channel: observed order against the closure's own profile %.3f %.3f\n", order_coarse,
-              order_fine);
-  CHECK(order_coarse == doctest::Approx(2.0).epsilon(0.1));
-  CHECK(order_fine == doctest::Approx(2.0).epsilon(0.1));
-  // Converged in the grid: the log law's error at the two finest grids differs by less than a tenth of the 2 %.
-  CHECK(std::abs(law_errors[1] - law_errors[2]) < 0.002);
+  check_grid_convergence("smooth channel", model_errors, law_errors);
 }
 
 TEST_CASE("mean-flow column verification: rough-floor turbulent open channel, Nikuradse's rough log law") {
@@ -342,13 +349,7 @@ TEST_CASE("mean-flow column verification: rough-floor turbulent open channel, Ni
                 cells, grid.cell_height * u_star / nu, steady.iterations, model_error, 100.0 * law_error);
     CHECK(law_error < 0.02);
   }
-  const double order_coarse = observed_order(model_errors[0], model_errors[1]);
-  const double order_fine = observed_order(model_errors[1], model_errors[2]);
-  std::printf("rough channel: observed order against the closure's own profile %.3f %.3f\n", order_coarse,
-              order_fine);
-  CHECK(order_coarse == doctest::Approx(2.0).epsilon(0.1));
-  CHECK(order_fine == doctest::Approx(2.0).epsilon(0.1));
-  CHECK(std::abs(law_errors[1] - law_errors[2]) < 0.002);
+  check_grid_convergence("rough channel", model_errors, law_errors);
 }
 
 TEST_CASE("mean-flow column verification: a packed bed with linear drag reaches Darcy's velocity inside") {
