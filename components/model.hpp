@@ -407,6 +407,11 @@ struct CouplingModel {
   /// sampling"). Each grain reads (and, with sampling_kernel_reaction, pushes) the water with the ellipsoidal
   /// Wendland kernel w(s R_h), s^2 = (dx^2 + dy^2) / R_h^2 + dz^2 / min(R_v, R_h)^2, R_h = r + r_e as before.
   double sampling_vertical_radius = 0.0;
+  /// The shear lift on each grain from the velocity difference across it (Wiberg & Smith 1985; systems/physics/
+  /// mean_flow/grain_forces.hpp shear_lift), with the mean-flow fluid only (docs/cases/bedload.md, "Lift and velocity
+  /// fluctuations").
+  bool lift = false;
+  double lift_coefficient = 0.2;  ///< [1] C_L (Wiberg & Smith 1987 after Chepil 1958)
 };
 
 struct SolidsModel {
@@ -549,6 +554,16 @@ struct MeanFlowModel {
   static constexpr SceneNames<Initial, 2> kInitialNames{{{"rest", Initial::kRest}, {"log_law", Initial::kLogLaw}}};
   Initial initial = Initial::kLogLaw;
   double initial_roughness_length = 0.0;  ///< [m] z0 of the initial log law; 0 = shields_diameter / 30
+  /// What the grains read beyond the mean velocity: kNone the plane average alone; kLangevin a velocity fluctuation
+  /// per grain, a Langevin (Ornstein-Uhlenbeck) process with the log layer's intensities over the local friction
+  /// velocity and the Lagrangian time 2 sigma_w^2 / (C0 eps) (systems/physics/mean_flow/grain_forces.hpp; its state
+  /// is GrainSampledFluid::fluctuation_state).
+  enum class Fluctuations { kNone, kLangevin };
+  static constexpr SceneNames<Fluctuations, 2> kFluctuationsNames{
+      {{"none", Fluctuations::kNone}, {"langevin", Fluctuations::kLangevin}}};
+  Fluctuations fluctuations = Fluctuations::kNone;
+  double langevin_c0 = 4.0;             ///< [1] C0, the Lagrangian structure-function constant (3 to 7: Wilson & Sawford 1996)
+  std::uint64_t fluctuation_seed = 1;   ///< names the fluctuations' random draws (systems/physics/math/counter_random.hpp)
 
   double column_height() const { return top - bottom; }
 };

@@ -137,6 +137,9 @@ struct GrainSampledFluid {
   std::vector<double> fluid_weight;  ///< [1] sum of the sampling weights of the fluid around the grain; 0 = dry
   std::vector<Vec3> fluid_acceleration;  ///< [m/s^2] the water's acceleration Du/Dt around the grain
   std::vector<Vec3> viscous_force;  ///< [N] V rho <nu lap u> ([coupling] viscous_stress; else 0)
+  /// [1] the Langevin state of the velocity fluctuation a grain reads in the mean-flow fluid ([mean_flow]
+  /// fluctuations = "langevin"; else 0): unit-variance components along the shear, across it and vertical
+  std::vector<Vec3> fluctuation_state;
 
   std::size_t size() const { return pressure_force.size(); }
 
@@ -147,6 +150,7 @@ struct GrainSampledFluid {
     visit(FieldInfo{"fluid_weight", "1", true}, self.fluid_weight);
     visit(FieldInfo{"fluid_acceleration", "m/s^2", true, 0.0, 6}, self.fluid_acceleration);
     visit(FieldInfo{"viscous_force", "N", true, 0.0, 7}, self.viscous_force);
+    visit(FieldInfo{"fluctuation_state", "1", false, 0.0, 10}, self.fluctuation_state);
   }
 };
 
@@ -220,7 +224,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
-  static constexpr std::array<const char*, 38> kFieldOrder = {
+  static constexpr std::array<const char*, 39> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
@@ -228,7 +232,8 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
       "undisturbed_velocity", "fluid_acceleration", "added_mass_force", "history_force", "lubrication_force",
       "history_relative_velocity", "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
       "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7",
-      "self_induced_fast", "self_induced_middle", "self_induced_slow", "viscous_force", "fixed"};
+      "self_induced_fast", "self_induced_middle", "self_induced_slow", "viscous_force", "fixed",
+      "fluctuation_state"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 

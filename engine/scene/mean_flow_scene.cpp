@@ -1,6 +1,8 @@
 #include "engine/scene/mean_flow_scene.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "engine/scene/fluid_scene.hpp"
 
@@ -70,6 +72,12 @@ void read_mean_flow(TableReader& flow, Model& model) {
   out.initial = enum_choice(flow, "initial", out.initial, MeanFlowModel::kInitialNames);
   out.initial_roughness_length =
       flow.number("initial_roughness_length", out.initial_roughness_length, "m", Bounds::non_negative());
+  out.fluctuations = enum_choice(flow, "fluctuations", out.fluctuations, MeanFlowModel::kFluctuationsNames);
+  if (out.fluctuations == MeanFlowModel::Fluctuations::kLangevin) {
+    out.langevin_c0 = flow.number("langevin_c0", out.langevin_c0, "1", Bounds::closed(1.0, 20.0));
+    out.fluctuation_seed = static_cast<std::uint64_t>(
+        flow.integer("fluctuation_seed", 1, 0, std::numeric_limits<std::int64_t>::max()));
+  }
   flow.finish();
 }
 
@@ -89,6 +97,8 @@ void settle_mean_flow_coupling(TableReader& scene, Model& model) {
   if (coupling.self_induced_velocity) refuse("self_induced_velocity", "not with the mean-flow fluid: a grain does "
                                                                       "not disturb the plane average it reads");
   if (coupling.viscous_stress) refuse("viscous_stress", "not with the mean-flow fluid (the MPS water's)");
+  if (model.mean_flow.fluctuations != MeanFlowModel::Fluctuations::kNone && !coupling.drag && table)
+    refuse("drag", "[mean_flow] fluctuations act through the drag: turn drag on or the fluctuations off");
 }
 
 }  // namespace riffle

@@ -662,6 +662,13 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.dense_drag = enum_choice(coupling, "dense_drag", out.dense_drag, CouplingModel::kDenseDragNames);
   out.fluid_velocity = enum_choice(coupling, "fluid_velocity", out.fluid_velocity, CouplingModel::kFluidVelocityNames);
   out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
+  out.lift = coupling.boolean("lift", false);
+  if (out.lift) {
+    out.lift_coefficient = coupling.number("lift_coefficient", out.lift_coefficient, "1", Bounds::closed(0.0, 10.0));
+    if (!model.mean_flow.enabled)
+      coupling.problem("lift", "the shear lift reads the velocity across a grain from the mean-flow fluid's column: "
+                               "it needs [mean_flow] (the MPS water's sampling kernel is wider than a grain)");
+  }
   out.sampling_kernel_reaction =
       coupling.choice("drag_reaction", "grid", {"grid", "sampling_kernel"}) == "sampling_kernel";
   out.sampling_vertical_radius =

@@ -6,6 +6,8 @@
 #include "systems/physics/mean_flow/column_model.hpp"
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/mean_flow/column.hpp"
+#include "systems/physics/mean_flow/grain_forces.hpp"
+#include "systems/physics/math/counter_random.hpp"
 
 namespace riffle {
 
@@ -64,6 +66,11 @@ void SolidMeanFlowSampling::run(SystemContext& context) {
   const bool frame = flow.body_force.grains == BodyForceModel::Grains::kFrame;  // a Shields drive's slope too
   const bool pressure_gradient = !frame && flow.body_force.grains == BodyForceModel::Grains::kPressureGradient &&
                                  model_.coupling.pressure_gradient;
+  const bool fluctuations = flow.fluctuations == MeanFlowModel::Fluctuations::kLangevin;
+  const TurbulenceIntensities intensities;
+  const auto mean_velocity = [&](double z) {
+    return Vec3(profile_at(grid, column.velocity_x, z, ends_x), profile_at(grid, column.velocity_y, z, ends_y), 0.0);
+  };
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
     const double z = grains.position[grain].z();
     if (z > grid.top() || z < grid.bottom) {  // out of the water (a free top) or below the floor: no fluid forces
@@ -74,8 +81,16 @@ void SolidMeanFlowSampling::run(SystemContext& context) {
       continue;
     }
     sampled.fluid_weight[grain] = 1.0;
-    sampled.fluid_velocity[grain] =
-        Vec3(profile_at(grid, column.velocity_x, z, ends_x), profile_at(grid, column.velocity_y, z, ends_y), 0.0);
+    sampled.fluid_velocity[grain] = mean_velocity(z);
+    if (fluctuations) {
+      // The Langevin state advances over the step that starts here (context.dt; 0 in the initial forces, which
+      // leaves it), with draws named by the grain's id and the step: the same on any thread count and after a resume.
+      const TurbulentShear shear = turbulent_shear_at(grid, column, ends_x, ends_y, z);
+      Vec3& state = sampled.fluctuation_state[grain];
+      state = advance_langevin(state, context.dt, lagrangian_time_scale(shear.shear_rate, flow.langevin_c0, intensities),
+                               counter_normals(flow.fluctuation_seed, context.step(), grains.id[grain]));
+      sampled.fluid_velocity[grain] += fluctuation_velocity(state, shear, intensities);
+    }
     const double solid = profile_at(grid, column.solid_fraction, z, fraction_ends);
     voidages.voidage[grain] = std::clamp(1.0 - solid, model_.coupling.min_voidage, 1.0);
     // -V grad p of the hydrostatic pressure, which holds the vertical gravity only (a slope's drive is a body force
@@ -85,6 +100,13 @@ void SolidMeanFlowSampling::run(SystemContext& context) {
                                                    : Vec3::Zero();
     if (frame) force.x() += properties.mass[grain] * column.body_force;
     if (pressure_gradient) force.x() += volume * density * column.body_force;
+    if (model_.coupling.lift) {
+      // The mean flow's velocity at the grain's top and bottom (clamped to the column: a free top's last value).
+      const double radius = properties.radius[grain];
+      const Vec3& velocity = grains.velocity[grain];
+      force.z() += shear_lift(density, model_.coupling.lift_coefficient, radius, mean_velocity(z + radius) - velocity,
+                              mean_velocity(z - radius) - velocity);
+    }
     sampled.pressure_force[grain] = force;
   }
   context.count_items(grains.size());

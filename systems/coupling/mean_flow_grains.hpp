@@ -8,7 +8,9 @@
 //     in proportion to the grain's volume in each, taken from the water at the next step.
 //   solid_mean_flow_sampling (first in the grains' branch, and in the initial forces): each grain reads the water's
 //     velocity and voidage at its centre height, and the water's pressure force on it: buoyancy from the hydrostatic
-//     pressure and the drive (a pressure gradient on its volume, or a tilt of gravity on its mass).
+//     pressure and the drive (a pressure gradient on its volume, or a tilt of gravity on its mass); with [coupling]
+//     lift the shear lift of the velocity across it, and with [mean_flow] fluctuations a Langevin velocity
+//     fluctuation added to the velocity its drag reads (systems/physics/mean_flow/grain_forces.hpp).
 #include "systems/system.hpp"
 
 namespace riffle {

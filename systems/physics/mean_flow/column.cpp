@@ -24,16 +24,6 @@ double face_water_share(const std::vector<double>& solid_fraction, std::size_t j
   return 0.5 * (water_share(solid_fraction, j - 1) + water_share(solid_fraction, j));
 }
 
-/// [1/s] du/dz at face j as the eddy viscosity and the stress take it.
-double face_gradient(const ColumnGrid& grid, const std::vector<double>& velocity, const ColumnEnds& ends,
-                     std::size_t j) {
-  const std::size_t cells = grid.cells;
-  const double half = 0.5 * grid.cell_height;
-  if (j == 0) return (velocity[0] - ends.bottom_value) / half;
-  if (j >= cells) return ends.top_given ? (ends.top_value - velocity[cells - 1]) / half : 0.0;
-  return (velocity[j] - velocity[j - 1]) / grid.cell_height;
-}
-
 /// The constant-stress profile of the closure over a floor whose mixing length is l0: in wall units (y = l+ =
 /// kappa (z+ + l0+ / kappa)), du+/dy = (1 / kappa) 2 / (1 + sqrt(1 + 4 y^2)) (the root of (1 + y^2 du+/dz+) du+/dz+
 /// = 1), whose antiderivative is F(y) = asinh(2 y) - 2 y / (1 + sqrt(1 + 4 y^2)), F(y) -> ln(4 y) - 1 far above.
@@ -156,6 +146,15 @@ std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<dou
       lengths[j] *= 1.0 - std::exp(-(grid.face(j) - grid.bottom) * scale);
   }
   return lengths;
+}
+
+double face_gradient(const ColumnGrid& grid, const std::vector<double>& velocity, const ColumnEnds& ends,
+                     std::size_t j) {
+  const std::size_t cells = grid.cells;
+  const double half = 0.5 * grid.cell_height;
+  if (j == 0) return (velocity[0] - ends.bottom_value) / half;
+  if (j >= cells) return ends.top_given ? (ends.top_value - velocity[cells - 1]) / half : 0.0;
+  return (velocity[j] - velocity[j - 1]) / grid.cell_height;
 }
 
 std::vector<double> eddy_viscosities(const ColumnGrid& grid, const std::vector<double>& velocity,

@@ -61,6 +61,11 @@ std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<dou
                                    const MixingLengthClosure& closure, double floor_friction_velocity,
                                    double viscosity);
 
+/// [1/s] du/dz at face j (0 the floor, cells the top) of the cell-centred profile `velocity`, as the eddy viscosity
+/// and the stress take it: (u_0 - floor) / (h / 2) at the floor, (lid - u_last) / (h / 2) at a lid, 0 at a free top.
+double face_gradient(const ColumnGrid& grid, const std::vector<double>& velocity, const ColumnEnds& ends,
+                     std::size_t j);
+
 /// [m^2/s] The eddy viscosity l^2 |du/dz| at the faces of the profile `velocity` (cell centres) with mixing lengths
 /// `lengths` (faces); at the floor du/dz = u_0 / (h / 2), at a lid (ends.top_given) (top_value - u_last) / (h / 2),
 /// at a free top 0. `velocity_y`, if not empty, is the second horizontal component: |du/dz| is the magnitude of

@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <map>
 #include <string>
 
 #include "engine/output/checkpoint.hpp"
@@ -14,6 +15,8 @@
 #include "systems/physics/mean_flow/column_model.hpp"
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/mean_flow/column.hpp"
+#include "systems/physics/mean_flow/grain_forces.hpp"
+#include "systems/physics/math/counter_random.hpp"
 #include "tests/support/scene_builder.hpp"
 #include "tests/support/test_support.hpp"
 
@@ -25,7 +28,9 @@ namespace {
 /// A periodic box 2 cm x 2 cm x 2 cm of a viscous liquid (nu = 1e-3 m^2/s: the lid's shear reaches the grains within
 /// 0.1 s) under a lid at 0.2 m/s, grains of 2 mm in a block 5 to 12 mm above the floor (spacing 4 mm: no contacts),
 /// `gravity` along z, the liquid laminar or turbulent.
-std::string couette_scene(double gravity, bool fixed, const char* turbulence, int cells = 64) {
+/// `read_more`: the grains also read the shear lift ([coupling] lift) and Langevin velocity fluctuations ([mean_flow]
+/// fluctuations = "langevin").
+std::string couette_scene(double gravity, bool fixed, const char* turbulence, int cells = 64, bool read_more = false) {
   SceneBuilder scene;
   scene.run({.name = "mean_flow_couette", .end_time = 1.0, .dt = 1.0e-3, .gravity = {0.0, 0.0, gravity}})
       .material("quartz", {.density = 2650.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
@@ -42,6 +47,7 @@ std::string couette_scene(double gravity, bool fixed, const char* turbulence, in
       .set("lid_velocity", 0.2)
       .set("turbulence", turbulence)
       .set("initial", "rest");
+  if (read_more) scene.set("fluctuations", "langevin").coupling().set("lift", true);
   return scene.toml();
 }
 
@@ -126,8 +132,82 @@ TEST_CASE("the momentum the grains take is the momentum the water loses, to roun
   CHECK(std::abs(change - walls) <= half_kicks + 1e-12 * std::abs(walls));
 }
 
+TEST_CASE("a grain's shear lift is Wiberg & Smith's at the column's velocities over its top and under its bottom") {
+  // Held grains in the laminar Couette column: the vertical fluid force less the buoyancy is the lift alone.
+  auto simulation =
+      Simulation::from_model(parse_scene(couette_scene(-9.81, true, "laminar", 64, true), "couette.toml"));
+  for (int step = 0; step < 200; ++step) simulation->step();
+  REQUIRE(simulation->world().step_status.ok());
+  const World& world = simulation->world();
+  const Model& model = simulation->model();
+  const ColumnGrid grid = column_grid(model.mean_flow);
+  const ColumnEnds ends = column_ends(model.mean_flow, true);
+  const Solids& grains = *world.solids;
+  const double density = model.mean_flow.density, kPi = 3.14159265358979323846;
+  double worst = 0.0, largest = 0.0;
+  for (std::size_t g = 0; g < grains.size(); ++g) {
+    const double z = grains.position[g].z(), r = grains.radius[g];
+    const double top = profile_at(grid, world.mean_flow->velocity_x, z + r, ends);
+    const double bottom = profile_at(grid, world.mean_flow->velocity_x, z - r, ends);
+    const double expected = 0.5 * density * 0.2 * kPi * r * r * (top * top - bottom * bottom);
+    const double buoyancy = grain_volume(r) * density * 9.81;
+    REQUIRE(expected > 0.0);
+    largest = std::max(largest, expected);
+    worst = std::max(worst, std::abs(grains.pressure_force[g].z() - buoyancy - expected) / expected);
+  }
+  MESSAGE("largest lift " << largest << " N; worst relative difference from the formula " << worst);
+  CHECK(worst < 1e-9);  // the buoyancy's rounding over a lift ~1e-4 of it
+}
+
+TEST_CASE("each grain's velocity fluctuation is its Langevin state's, advanced over the step at its own height") {
+  // Held grains in the turbulent Couette column, through the real pipeline: after every step each grain's state is
+  // the exact Ornstein-Uhlenbeck step of its state before, with the Lagrangian time of the shear at its centre and
+  // the draws named by (seed, step, id), and the velocity its drag read is the mean at its centre plus that state's
+  // fluctuation. The statistics of the process (unit variance, exp(-t/T_L) memory, Nezu & Nakagawa's intensities,
+  // -<u'w'> = the closure's stress) are the unit tests' (tests/unit/systems/physics/mean_flow/grain_forces_test.cpp).
+  auto simulation =
+      Simulation::from_model(parse_scene(couette_scene(0.0, true, "mixing_length", 64, true), "couette.toml"));
+  const Model& model = simulation->model();
+  const ColumnGrid grid = column_grid(model.mean_flow);
+  const ColumnEnds ends_x = column_ends(model.mean_flow, true), ends_y = column_ends(model.mean_flow, false);
+  const TurbulenceIntensities intensities;
+  std::map<EntityId, Vec3> before;
+  double largest = 0.0, worst_state = 0.0, worst_velocity = 0.0;
+  for (int step = 0; step < 150; ++step) {
+    for (std::size_t g = 0; g < simulation->world().solids->size(); ++g)
+      before[simulation->world().solids->id[g]] = simulation->world().solids->fluctuation_state[g];
+    simulation->step();
+    REQUIRE(simulation->world().step_status.ok());
+    // The grains read the column the step's momentum balance left (its velocities and eddy viscosity; the step's
+    // end changes only the solid fraction and the impulse).
+    const World& world = simulation->world();
+    const MeanFlowColumn& column = *world.mean_flow;
+    const Solids& grains = *world.solids;
+    for (std::size_t g = 0; g < grains.size(); ++g) {
+      const double z = grains.position[g].z();
+      const TurbulentShear shear = turbulent_shear_at(grid, column, ends_x, ends_y, z);
+      const Vec3 state = advance_langevin(
+          before.at(grains.id[g]), world.last_step.dt,
+          lagrangian_time_scale(shear.shear_rate, model.mean_flow.langevin_c0, intensities),
+          counter_normals(model.mean_flow.fluctuation_seed, world.step - 1, grains.id[g]));
+      worst_state = std::max(worst_state, (grains.fluctuation_state[g] - state).norm());
+      const Vec3 mean(profile_at(grid, column.velocity_x, z, ends_x), profile_at(grid, column.velocity_y, z, ends_y), 0);
+      const Vec3 fluctuation = fluctuation_velocity(state, shear, intensities);
+      largest = std::max(largest, fluctuation.norm() / std::max(shear.friction_velocity(), 1e-300));
+      worst_velocity = std::max(worst_velocity, (grains.fluid_velocity[g] - mean - fluctuation).norm() /
+                                                    std::max(mean.norm(), 1e-300));
+    }
+  }
+  MESSAGE("largest |u'| / u* " << largest << "; worst state difference " << worst_state
+                               << "; worst velocity difference over the mean " << worst_velocity);
+  CHECK(largest > 1.0);  // the fluctuations are there, of the local friction velocity's size
+  CHECK(worst_state < 1e-12);
+  CHECK(worst_velocity < 1e-12);
+}
+
 TEST_CASE("a mean-flow run is byte-identical on one and two threads and after a resume") {
-  const std::string scene = couette_scene(-9.81, false, "mixing_length", 48);
+  // With the lift and the velocity fluctuations on: their draws are named by grain and step, not by the thread.
+  const std::string scene = couette_scene(-9.81, false, "mixing_length", 48, true);
   const auto bytes_after = [&](int threads, int steps) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     auto simulation = Simulation::from_model(parse_scene(scene, "couette.toml"));
