@@ -18,8 +18,10 @@ void MeanFlowMomentum::run(SystemContext& context) {
   if (model_.turbulence == MeanFlowModel::Turbulence::kMixingLength) {
     // The floor's friction velocity of the last step (van Driest's z+): lagged like the eddy viscosity itself.
     const double floor_friction_velocity = std::sqrt(std::abs(column.floor_stress) / model_.density);
+    const TopWall lid{model_.top_boundary == MeanFlowModel::Top::kLid,
+                      std::sqrt(std::abs(column.top_stress) / model_.density)};
     const std::vector<double> lengths =
-        mixing_lengths(grid_, column.solid_fraction, model_.closure, floor_friction_velocity, nu);
+        mixing_lengths(grid_, column.solid_fraction, model_.closure, floor_friction_velocity, nu, lid);
     column.eddy_viscosity =
         eddy_viscosities(grid_, column.velocity_x, column.velocity_y, lengths, ends_x_, ends_y_);
   } else {

@@ -118,7 +118,7 @@ double bed_surface(const ColumnGrid& grid, const std::vector<double>& solid_frac
 
 std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
                                    const MixingLengthClosure& closure, double floor_friction_velocity,
-                                   double viscosity) {
+                                   double viscosity, const TopWall& top) {
   check_sizes(grid, solid_fraction.size(), 0, "mixing_lengths");
   const double packed = closure.max_solid_fraction;
   // Every cell at or below the highest packed one counts as packed: no turbulence leaks into the bed's pores.
@@ -140,10 +140,17 @@ std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<dou
     integral += closure.von_karman * grid.cell_height * (packed - phi) / packed;
     lengths[j] = floor_length + integral;
   }
-  if (!rough) {
+  if (!rough && packed_below == 0) {
     const double scale = floor_friction_velocity / (viscosity * closure.van_driest);  // 1 / (nu A+ / u*)
     for (std::size_t j = 0; j <= grid.cells; ++j)
       lengths[j] *= 1.0 - std::exp(-(grid.face(j) - grid.bottom) * scale);
+  }
+  if (top.wall) {
+    const double scale = top.friction_velocity / (viscosity * closure.van_driest);
+    for (std::size_t j = 0; j <= grid.cells; ++j) {
+      const double below_lid = grid.top() - grid.face(j);
+      lengths[j] = std::min(lengths[j], closure.von_karman * below_lid) * (1.0 - std::exp(-below_lid * scale));
+    }
   }
   return lengths;
 }

@@ -57,9 +57,17 @@ double bed_surface(const ColumnGrid& grid, const std::vector<double>& solid_frac
 /// `solid_fraction` (per cell), with the floor's friction velocity `floor_friction_velocity` [m/s] (van Driest's
 /// z+ on a smooth floor, k_s+ on a rough one; 0: the rough floor's l0 is kappa z0) and kinematic viscosity
 /// `viscosity` [m^2/s].
+/// `top`: a lid is a smooth no-slip wall too: the mixing length is at most kappa (top - z), damped by van Driest's
+/// factor with the lid's friction velocity (the pipe-flow form of Li & Sawamoto's length, YADE's ilm = 6); a free
+/// top is no wall. A smooth floor buried under a packed bed damps nothing: the bed is the water's wall, and its
+/// mixing length starts at 0 at the bed's packed top.
+struct TopWall {
+  bool wall = false;               ///< true: a lid
+  double friction_velocity = 0.0;  ///< [m/s] sqrt(|tau_lid| / rho) of the last step
+};
 std::vector<double> mixing_lengths(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
                                    const MixingLengthClosure& closure, double floor_friction_velocity,
-                                   double viscosity);
+                                   double viscosity, const TopWall& top = {});
 
 /// [1/s] du/dz at face j (0 the floor, cells the top) of the cell-centred profile `velocity`, as the eddy viscosity
 /// and the stress take it: (u_0 - floor) / (h / 2) at the floor, (lid - u_last) / (h / 2) at a lid, 0 at a free top.

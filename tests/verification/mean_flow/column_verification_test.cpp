@@ -54,9 +54,14 @@ struct TurbulentSteady {
   int iterations = 0;
   double change = 0.0;  // [1] the last step's largest change over the largest velocity
 };
+/// `lid_velocity` (if not 0): a no-slip lid moving at it instead of the free top (plane Couette flow), its friction
+/// velocity the closure's too.
 TurbulentSteady turbulent_steady(const ColumnGrid& grid, const MixingLengthClosure& closure, const ColumnStep& base,
-                                 double friction_velocity) {
-  const ColumnEnds ends;  // floor at rest, free top
+                                 double friction_velocity, double lid_velocity = 0.0) {
+  ColumnEnds ends;  // floor at rest, free top or a lid
+  ends.top_given = lid_velocity != 0.0;
+  ends.top_value = lid_velocity;
+  TopWall lid{ends.top_given, friction_velocity};
   const std::vector<double> clear(grid.cells, 0.0);
   ColumnStep step = base;
   step.dt = 100.0;  // [s] many times the turbulent diffusion time H / (kappa u*) of these channels
@@ -65,13 +70,14 @@ TurbulentSteady turbulent_steady(const ColumnGrid& grid, const MixingLengthClosu
   std::vector<double> eddy(grid.cells + 1, 0.0);
   double floor_friction = friction_velocity;
   for (result.iterations = 1; result.iterations <= 400; ++result.iterations) {
-    const std::vector<double> lengths = mixing_lengths(grid, clear, closure, floor_friction, step.viscosity);
+    const std::vector<double> lengths = mixing_lengths(grid, clear, closure, floor_friction, step.viscosity, lid);
     const std::vector<double> fresh = eddy_viscosities(grid, result.velocity, {}, lengths, ends, ends);
     for (std::size_t j = 0; j <= grid.cells; ++j)
       eddy[j] = result.iterations == 1 ? fresh[j] : 0.5 * (eddy[j] + fresh[j]);
     const std::vector<double> before = result.velocity;
     result.stresses = advance_column(grid, clear, eddy, clear, ends, step, result.velocity);
     floor_friction = std::sqrt(std::max(0.0, result.stresses.floor) / step.density);
+    lid.friction_velocity = std::sqrt(std::abs(result.stresses.top) / step.density);
     double change = 0.0, largest = 0.0;
     for (std::size_t i = 0; i < grid.cells; ++i) {
       change = std::max(change, std::abs(result.velocity[i] - before[i]));
@@ -295,6 +301,47 @@ TEST_CASE("mean-flow column verification: smooth-floor turbulent open channel, v
     CHECK(law_error < 0.02);
   }
   check_grid_convergence("smooth channel", model_errors, law_errors);
+}
+
+TEST_CASE("mean-flow column verification: smooth-walled turbulent plane Couette flow, the log law at both walls") {
+  // A lid at 1 m/s over a smooth floor, H = 5 cm: the stress is the same at every height, so each wall's layer is
+  // the constant-stress layer of the log law, u+ = ln z+ / 0.41 + 5.2 from the floor and (U - u)+ from the lid
+  // (the mixing length is kappa times the distance to the nearer wall, damped by van Driest's factor of that wall).
+  const double depth = 0.05, nu = 1e-6, lid = 1.0;
+  ColumnStep step;
+  step.viscosity = nu;
+  MixingLengthClosure closure;
+  std::vector<double> law_errors;
+  for (const std::size_t cells : {500u, 1000u, 2000u}) {
+    CAPTURE(cells);
+    const ColumnGrid grid = grid_of(cells, depth);
+    const TurbulentSteady steady = turbulent_steady(grid, closure, step, 0.04, lid);
+    CAPTURE(steady.iterations);
+    REQUIRE(steady.change < 1e-9);
+    // Steady Couette flow: the lid's stress is the floor's.
+    CHECK(steady.stresses.top / steady.stresses.floor == doctest::Approx(1.0).epsilon(1e-6));
+    const double u_star = std::sqrt(steady.stresses.floor / step.density);
+    double floor_error = 0.0, lid_error = 0.0, symmetry = 0.0;
+    for (std::size_t i = 0; i < cells; ++i) {
+      const double z = grid.centre(i);
+      const double z_plus = z * u_star / nu, lid_plus = (depth - z) * u_star / nu;
+      const double law_floor = std::log(z_plus) / kKappa + 5.2, law_lid = std::log(lid_plus) / kKappa + 5.2;
+      if (z_plus >= 50.0 && z < 0.1 * depth)
+        floor_error = std::max(floor_error, std::abs(steady.velocity[i] / u_star / law_floor - 1.0));
+      if (lid_plus >= 50.0 && depth - z < 0.1 * depth)
+        lid_error = std::max(lid_error, std::abs((lid - steady.velocity[i]) / u_star / law_lid - 1.0));
+      // Point symmetry about the centre: u(z) + u(H - z) = U.
+      symmetry = std::max(symmetry, std::abs(steady.velocity[i] + steady.velocity[cells - 1 - i] - lid) / lid);
+    }
+    std::printf("Couette, %zu cells: u* = %.5f m/s (Re_tau %.0f); log law within %.3f %% at the floor, %.3f %% at "
+                "the lid (50 <= z+, z < 0.1 H); symmetry %.1e\n",
+                cells, u_star, u_star * depth / nu, 100.0 * floor_error, 100.0 * lid_error, symmetry);
+    CHECK(floor_error < 0.02);
+    CHECK(lid_error < 0.02);
+    CHECK(symmetry < 1e-6);
+    law_errors.push_back(std::max(floor_error, lid_error));
+  }
+  CHECK(std::abs(law_errors[1] - law_errors[2]) < 0.002);
 }
 
 TEST_CASE("mean-flow column verification: rough-floor turbulent open channel, Nikuradse's rough log law") {

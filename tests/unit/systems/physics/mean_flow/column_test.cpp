@@ -216,6 +216,29 @@ TEST_CASE("mean-flow column: no mixing length in a packed bed, below its highest
   }
 }
 
+TEST_CASE("mean-flow column: a smooth floor under a packed bed damps nothing; a lid caps and damps the length") {
+  const ColumnGrid grid = grid_of(8, 1e-3);
+  const double h = 1e-3, nu = 1e-6;
+  const std::vector<double> phi = {0.61, 0.61, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  MixingLengthClosure closure;  // smooth floor
+  // The floor carries no stress under the bed (u* = 0): the bed's mixing length is Li & Sawamoto's all the same.
+  const std::vector<double> buried = mixing_lengths(grid, phi, closure, 0.0, nu);
+  for (std::size_t j = 0; j <= 2; ++j) CHECK(buried[j] == 0.0);
+  for (std::size_t j = 3; j <= 8; ++j) CHECK(buried[j] == doctest::Approx(0.41 * h * static_cast<double>(j - 2)));
+  // A lid with a large friction velocity: min(kappa z, kappa (H - z)) in clear water; with none, no length at all.
+  const std::vector<double> clear(8, 0.0);
+  const std::vector<double> capped = mixing_lengths(grid, clear, closure, 10.0, nu, TopWall{true, 10.0});
+  for (std::size_t j = 0; j <= 8; ++j)
+    CHECK(capped[j] == doctest::Approx(0.41 * h * static_cast<double>(std::min<std::size_t>(j, 8 - j))));
+  for (double l : mixing_lengths(grid, clear, closure, 10.0, nu, TopWall{true, 0.0})) CHECK(l == 0.0);
+  // Van Driest's factor of the lid: 1 - exp(-(H - z) u* / (26 nu)) one cell below it.
+  const double u_star = 26.0 * nu / h;  // the factor is 1 - 1/e one cell below
+  const std::vector<double> damped = mixing_lengths(grid, clear, closure, 10.0, nu, TopWall{true, u_star});
+  CHECK(damped[7] == doctest::Approx(0.41 * h * (1.0 - std::exp(-1.0))).epsilon(1e-12));
+  // A free top is no wall.
+  CHECK(mixing_lengths(grid, clear, closure, 10.0, nu).back() == doctest::Approx(0.41 * 8.0 * h));
+}
+
 TEST_CASE("mean-flow column: the eddy viscosity l^2 times the shear at the faces, with the floor's, the lid's and the free top's gradients") {
   const ColumnGrid grid = grid_of(3, 0.1);
   const std::vector<double> u = {1.0, 2.0, 4.0}, v = {0.0, 1.0, 1.0}, lengths = {0.5, 1.0, 2.0, 3.0};
