@@ -40,6 +40,8 @@ COMMANDS = [
                                        "runs"),
     ("bedload-sweep", "bedload_sweep", "a Shields-number sweep of the bed-load channel (mean-flow fluid): q*, "
                                        "moving fraction, u_p/u*, the threshold, beside the bed-load laws"),
+    ("single-grain", "single_grain", "one grain over a fixed bed (seed 004): its regime at each Galileo number "
+                                     "from its path"),
     ("momentum-budget", "momentum_budget", "the water's x momentum budget of a sheared-bed run"),
     ("bed-force-profile", "bed_force_profile", "where a sheared bed takes the water's stress, per height band"),
     # verification and studies of the physics
