@@ -73,6 +73,10 @@ void read_mean_flow(TableReader& flow, Model& model) {
   out.initial_roughness_length =
       flow.number("initial_roughness_length", out.initial_roughness_length, "m", Bounds::non_negative());
   out.fluctuations = enum_choice(flow, "fluctuations", out.fluctuations, MeanFlowModel::kFluctuationsNames);
+  if (out.fluctuations == MeanFlowModel::Fluctuations::kLangevin &&
+      out.turbulence != MeanFlowModel::Turbulence::kMixingLength)
+    flow.problem("fluctuations", "the Langevin fluctuations scale with the mixing-length closure's stress: with "
+                                 "turbulence = \"laminar\" there is none (set turbulence = \"mixing_length\")");
   if (out.fluctuations == MeanFlowModel::Fluctuations::kLangevin) {
     out.langevin_c0 = flow.number("langevin_c0", out.langevin_c0, "1", Bounds::closed(1.0, 20.0));
     out.fluctuation_seed = static_cast<std::uint64_t>(

@@ -37,6 +37,10 @@ MeanFlowColumn initial_column(const Model& model, const Solids* grains) {
       const double above = grid.centre(i) - bed;
       if (above > 0.0) column.velocity_x[i] = flow.lid_velocity * above / (flow.top - bed);
     }
+    // The linear profile's stress, so that the first step's closure sees walls that carry one (van Driest's damping
+    // of a wall without stress would leave the first step laminar).
+    column.top_stress = flow.density * flow.kinematic_viscosity * flow.lid_velocity / (flow.top - bed);
+    column.floor_stress = column.top_stress;
     return column;
   }
   const double friction = drive_friction_velocity(flow, column.body_force, bed);

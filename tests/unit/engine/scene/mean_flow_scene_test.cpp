@@ -48,7 +48,7 @@ TEST_CASE("mean-flow grains: the mean velocity alone by default; the Langevin fl
   CHECK(defaults.coupling.lift_coefficient == 0.2);
 }
 
-TEST_CASE("mean-flow grains: a lift without the mean-flow fluid, fluctuations without drag, a bad constant are refused") {
+TEST_CASE("mean-flow grains: a lift without the mean-flow fluid, fluctuations without drag or turbulence, a bad constant are refused") {
   // The MPS water's grains: the lift is refused on its line.
   const std::vector<std::string> mps = test::problems_of(test::coupled_scene_text() + "[coupling]\nlift = true\n",
                                                          "coupled.toml");
@@ -63,6 +63,11 @@ TEST_CASE("mean-flow grains: a lift without the mean-flow fluid, fluctuations wi
                                                          "channel.toml");
   REQUIRE(bad.size() == 1);
   CHECK(bad[0].rfind("channel.toml:25:15: mean_flow.langevin_c0: ", 0) == 0);
+  const std::vector<std::string> laminar =
+      test::problems_of(channel("turbulence = \"laminar\"\nfluctuations = \"langevin\"\n"), "channel.toml");
+  REQUIRE(laminar.size() == 1);
+  CHECK(laminar[0].find("mean_flow.fluctuations: the Langevin fluctuations scale with the mixing-length") !=
+        std::string::npos);
   const std::vector<std::string> kind = test::problems_of(channel("fluctuations = \"random\"\n"), "channel.toml");
   REQUIRE(kind.size() == 1);
   CHECK(kind[0].find("expected one of \"none\", \"langevin\", got \"random\"") != std::string::npos);
