@@ -160,20 +160,20 @@ TEST_CASE("a grain's shear lift is Wiberg & Smith's at the column's velocities o
   CHECK(worst < 1e-9);  // the buoyancy's rounding over a lift ~1e-4 of it
 
   // Free grains without gravity, moving with the water: the lift is of the velocities relative to the grain's own at
-  // the step's start (its sampling), horizontal parts only.
+  // the step's start (its sampling), horizontal parts only, at the heights of its top and bottom then.
   auto free = Simulation::from_model(parse_scene(couette_scene(0.0, false, "laminar", 64, true), "couette.toml"));
   for (int step = 0; step < 100; ++step) free->step();
-  std::map<EntityId, Vec3> start;
+  std::map<EntityId, std::pair<Vec3, Vec3>> start;  // the grain's position and velocity as its sampling reads them
   for (std::size_t g = 0; g < free->world().solids->size(); ++g)
-    start[free->world().solids->id[g]] = free->world().solids->velocity[g];
+    start[free->world().solids->id[g]] = {free->world().solids->position[g], free->world().solids->velocity[g]};
   free->step();
   REQUIRE(free->world().step_status.ok());
   const Solids& moving = *free->world().solids;
   const MeanFlowColumn& column = *free->world().mean_flow;
   double worst_moving = 0.0, fastest = 0.0, largest_moving = 0.0;
   for (std::size_t g = 0; g < moving.size(); ++g) {
-    const double z = moving.position[g].z(), r = moving.radius[g];
-    const Vec3 v = start.at(moving.id[g]);
+    const double z = start.at(moving.id[g]).first.z(), r = moving.radius[g];
+    const Vec3 v = start.at(moving.id[g]).second;
     fastest = std::max(fastest, std::hypot(v.x(), v.y()));
     const double top = profile_at(grid, column.velocity_x, z + r, ends) - v.x();
     const double bottom = profile_at(grid, column.velocity_x, z - r, ends) - v.x();
