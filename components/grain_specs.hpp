@@ -41,11 +41,23 @@ struct SceneTableSource {
   }
 };
 
-/// [[solids.blocks]]: spheres alike on a cubic lattice from `low`, `counts` sites along x, y, z; the sites whose
-/// sphere lies wholly inside the tank at rest are kept (engine/setup/bed_generation.hpp generate_block).
+/// [[solids.blocks]]: spheres alike on a cubic or a hexagonal close-packed lattice from `low`, `counts` sites along
+/// x, y, z; the sites whose sphere lies wholly inside the tank at rest are kept (engine/setup/bed_generation.hpp
+/// generate_block).
 struct SphereBlockSpec {
+  /// kCubic: sites `spacing` apart along x, y and z. kHexagonal: hexagonal close packing (ABAB): in each layer rows
+  /// `spacing` apart along x, every other row shifted by spacing / 2, rows spacing sqrt(3)/2 apart along y; every
+  /// other layer shifted by (spacing / 2, spacing sqrt(3)/6) over the hollows of the one below, layers spacing
+  /// sqrt(2/3) apart along z: every sphere touches its 12 neighbours when spacing is the diameter.
+  enum class Lattice { kCubic, kHexagonal };
+  Lattice lattice = Lattice::kCubic;
   Vec3 low = Vec3::Zero();                 ///< [m] the first site
-  double spacing = 0.0;                    ///< [m] between sites, at least the diameter
+  double spacing = 0.0;                    ///< [m] between neighbouring sites, at least the diameter
+  /// [m] the distance between sites along x, y and z (rows and layers of the hexagonal lattice)
+  Vec3 pitch() const {
+    if (lattice == Lattice::kCubic) return Vec3::Constant(spacing);
+    return Vec3(spacing, spacing * 0.86602540378443865, spacing * 0.81649658092772604);  // sqrt(3)/2, sqrt(2/3)
+  }
   std::array<std::int64_t, 3> counts{};    ///< sites along x, y, z (their product at most 5e7)
   SphereSpec sphere;                       ///< radius, velocity, material and size class of every sphere
   std::int64_t count = 0;                  ///< spheres inside the tank: exactly what the block generates

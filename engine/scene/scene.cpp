@@ -308,6 +308,9 @@ void read_solids(TableReader& solids, Model& model) {
     spec.low = block.vec3("min", std::nullopt, "m", Bounds::any());
     const Vec3 high = block.vec3("max", std::nullopt, "m", Bounds::any());
     spec.spacing = block.number("spacing", std::nullopt, "m", Bounds::positive());
+    spec.lattice = block.choice("lattice", "cubic", {"cubic", "hexagonal"}) == "hexagonal"
+                       ? SphereBlockSpec::Lattice::kHexagonal
+                       : SphereBlockSpec::Lattice::kCubic;
     spec.sphere.radius = block.number("radius", std::nullopt, "m", Bounds::positive());
     spec.sphere.velocity = block.vec3("velocity", spec.sphere.velocity, "m/s", Bounds::any());
     spec.sphere.material = read_material(model, block, "material");
@@ -325,7 +328,7 @@ void read_solids(TableReader& solids, Model& model) {
       block.problem("max", "every component of max must be >= the one of min");
       continue;
     }
-    const Eigen::Array3d counts = (extent.array() / spec.spacing + 1e-9).floor() + 1.0;
+    const Eigen::Array3d counts = (extent.array() / spec.pitch().array() + 1e-9).floor() + 1.0;
     if (counts.prod() > 5e7) {
       block.problem("spacing", "the block would generate more than 5e7 spheres");
       continue;

@@ -575,7 +575,30 @@ bool inside_tank_along(const TankModel& tank, int axis, double coordinate, doubl
 }
 
 Vec3 block_site(const SphereBlockSpec& block, std::int64_t i, std::int64_t j, std::int64_t k) {
-  return block.low + block.spacing * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
+  const Vec3 index(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
+  if (block.lattice == SphereBlockSpec::Lattice::kCubic) return block.low + block.spacing * index;
+  // Hexagonal close packing: odd rows (counted across layers) shifted half a spacing along x, odd layers a third of
+  // a row along y, so each upper sphere sits over the centroid of a triangle of the layer below.
+  const Vec3 pitch = block.pitch();
+  const double row_shift = ((j + k) % 2 == 0) ? 0.0 : 0.5;
+  const double layer_shift = (k % 2 == 0) ? 0.0 : 1.0 / 3.0;
+  return block.low + Vec3(pitch.x() * (index.x() + row_shift), pitch.y() * (index.y() + layer_shift),
+                          pitch.z() * index.z());
+}
+
+/// The hexagonal lattice's sites inside the tank, in generation order (its shifts make the axes depend on each
+/// other, so each site is tested whole).
+template <class Visit>
+void for_each_hexagonal_site_inside(const SphereBlockSpec& block, const TankModel& tank, Visit&& visit) {
+  for (std::int64_t k = 0; k < block.counts[2]; ++k)
+    for (std::int64_t j = 0; j < block.counts[1]; ++j)
+      for (std::int64_t i = 0; i < block.counts[0]; ++i) {
+        const Vec3 site = block_site(block, i, j, k);
+        bool inside = true;
+        for (int axis = 0; axis < 3 && inside; ++axis)
+          inside = inside_tank_along(tank, axis, site[axis], block.sphere.radius, false);
+        if (inside) visit(site);
+      }
 }
 
 /// Per axis, the lattice indices whose coordinate keeps the block's sphere inside the tank: a site is inside exactly
@@ -601,13 +624,26 @@ bool inside_tank(const TankModel& tank, const Vec3& centre, double radius, bool 
 }
 
 std::int64_t block_sphere_count(const SphereBlockSpec& block, const TankModel& tank) {
+  if (block.lattice == SphereBlockSpec::Lattice::kHexagonal) {
+    std::int64_t count = 0;
+    for_each_hexagonal_site_inside(block, tank, [&](const Vec3&) { ++count; });
+    return count;
+  }
   const std::array<std::vector<std::int64_t>, 3> sites = block_sites_inside(block, tank);
   return static_cast<std::int64_t>(sites[0].size() * sites[1].size() * sites[2].size());
 }
 
 std::vector<SphereSpec> generate_block(const SphereBlockSpec& block, const TankModel& tank) {
-  const std::array<std::vector<std::int64_t>, 3> sites = block_sites_inside(block, tank);
   std::vector<SphereSpec> spheres;
+  if (block.lattice == SphereBlockSpec::Lattice::kHexagonal) {
+    SphereSpec sphere = block.sphere;
+    for_each_hexagonal_site_inside(block, tank, [&](const Vec3& site) {
+      sphere.position = site;
+      spheres.push_back(sphere);
+    });
+    return spheres;
+  }
+  const std::array<std::vector<std::int64_t>, 3> sites = block_sites_inside(block, tank);
   spheres.reserve(sites[0].size() * sites[1].size() * sites[2].size());
   SphereSpec sphere = block.sphere;
   for (const std::int64_t k : sites[2])

@@ -5,8 +5,8 @@ each run's grain from its path (probe_grains.csv, the grain id 0), beside the se
 
 Per run: the distance travelled along x over the run in diameters (the path unwrapped across the periodic seam),
 the mean streamwise speed over u_tau, the highest rise of the centre above its resting height and the share of
-the time it spends more than a quarter diameter above it (rolling over a cubic bed's saddles lifts a grain 0.16 D at
-most), and the regime: rest (travelled below half a diameter), rolling (moves, never clear of the bed for more than
+the time it spends more than a quarter diameter above it (rolling over a close-packed bed lifts a grain 0.05 D at a
+saddle, 0.18 D over a sphere's top), and the regime: rest (travelled below half a diameter), rolling (moves, never clear of the bed for more than
 5 % of the time), saltation (hops: clear of the bed part of the time), resuspension (clear more than half the time
 and rising above one diameter). The seed's regimes: Ga 25 resuspension, 150 saltation, 250 and 310 rolling (32 D and
 10.5 D by t U_b / D = 83), at rest between the turbulent sweeps that move them.

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "engine/scene/bed_scene.hpp"
+#include "engine/scene/scene.hpp"
 #include "engine/setup/bed_generation.hpp"
 #include "engine/toml/scene_reader.hpp"
 #include "tests/support/test_support.hpp"
@@ -558,4 +559,44 @@ TEST_CASE("bed and fill lists that are not arrays of tables are reported") {
   CHECK(problems[0] == "beds.toml:2:16: solids.layered_beds: expected an array of tables ([[solids.layered_beds]]), "
                        "got an integer");
   CHECK(problems[1].rfind("beds.toml:3:9: solids.fills: expected an array of tables ([[solids.fills]])", 0) == 0);
+}
+
+TEST_CASE("a hexagonal close-packed block: every sphere touches its neighbours at the spacing, none nearer; 12 inside") {
+  // 6 x 6 rows x 4 layers of 2 mm spheres touching, in a closed 2 cm box: the scene's counts come from the lattice's
+  // pitches (spacing, spacing sqrt(3)/2, spacing sqrt(2/3)).
+  const std::string scene =
+      "[run]\nname = \"hexagonal\"\nend_time = 0.01\ndt = 1.0e-3\n"
+      "[materials.grain]\ndensity = 2650.0\nyoung_modulus = 1.0e7\npoisson_ratio = 0.3\n"
+      "[tank]\nsize = [0.02, 0.02, 0.02]\nwall_material = \"grain\"\n"
+      "[[solids.blocks]]\nmin = [0.001, 0.001, 0.001]\nmax = [0.0115, 0.0095, 0.0060]\n"
+      "spacing = 0.002\nradius = 0.001\nmaterial = \"grain\"\nlattice = \"hexagonal\"\n";
+  const riffle::Model model = riffle::parse_scene(scene, "hexagonal.toml");
+  REQUIRE(model.solids.blocks.size() == 1);
+  const riffle::SphereBlockSpec& block = model.solids.blocks[0];
+  CHECK(block.counts == std::array<std::int64_t, 3>{6, 5, 4});
+  const std::vector<SphereSpec> spheres = riffle::generate_block(block, model.tank);
+  CHECK(static_cast<std::int64_t>(spheres.size()) == block.count);
+  // Odd rows, shifted half a spacing, lose their last sphere only where it would leave the box (it does not here).
+  CHECK(spheres.size() == 6u * 5u * 4u);
+  double nearest = 1.0;
+  std::size_t full = 0;
+  for (std::size_t a = 0; a < spheres.size(); ++a) {
+    std::size_t touching = 0;
+    for (std::size_t b = 0; b < spheres.size(); ++b) {
+      if (a == b) continue;
+      const double distance = (spheres[a].position - spheres[b].position).norm();
+      nearest = std::min(nearest, distance);
+      if (std::abs(distance - 0.002) < 1e-12) ++touching;
+    }
+    CHECK(touching <= 12u);
+    if (touching == 12) ++full;  // an interior sphere of close packing
+  }
+  CHECK(nearest == doctest::Approx(0.002).epsilon(1e-12));
+  CHECK(full > 0u);
+  // Each sphere of the second layer sits over three of the first, touching them.
+  const Vec3 upper = spheres[6 * 5].position;  // the first of layer 1
+  int below = 0;
+  for (std::size_t b = 0; b < 6u * 5u; ++b)
+    if (std::abs((upper - spheres[b].position).norm() - 0.002) < 1e-12) ++below;
+  CHECK(below == 3);
 }
