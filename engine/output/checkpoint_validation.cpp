@@ -411,6 +411,12 @@ void validate_grains(const Solids& grains, std::size_t material_count, const std
       refusal.fail(refusal.item("solids.voidage", i, grains.voidage[i]), "must be in (0, 1]");
     if (grains.fluid_weight[i] < 0.0)
       refusal.fail(refusal.item("solids.fluid_weight", i, grains.fluid_weight[i]), "must not be negative");
+    // A unit-variance Langevin state: a component past 100 standard deviations never comes from a run, and a huge
+    // one would put an unbounded velocity into the drag.
+    if (grains.fluctuation_state[i].cwiseAbs().maxCoeff() > kLargestFluctuationState)
+      refusal.fail(refusal.item("solids.fluctuation_state", i, grains.fluctuation_state[i]),
+                   "each component must lie within +-" + std::to_string(static_cast<int>(kLargestFluctuationState)) +
+                       " (a unit-variance Langevin state)");
   }
 }
 

@@ -15,6 +15,9 @@ namespace riffle {
 
 /// Size classes are 0..kMaxSizeClass, as the scene reader accepts them ([solids] spheres and blocks).
 inline constexpr std::int32_t kMaxSizeClass = 1000;
+/// The largest component of a grain's Langevin state (GrainSampledFluid::fluctuation_state, unit variance) a
+/// checkpoint may hold.
+inline constexpr double kLargestFluctuationState = 100.0;
 
 /// Grains on their own (a [solids] initial_state, or a resumed run's): every real finite; radius, mass and moment of
 /// inertia positive; voidage in (0, 1]; material in [0, material_count); size class in [0, kMaxSizeClass]; ids

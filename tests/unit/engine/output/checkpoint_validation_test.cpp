@@ -253,6 +253,12 @@ TEST_CASE("material, size class, wall and id indices outside the scene are refus
     refused(resume(data, [](CheckpointData& d) { d.world.solids->size_class[2] = -4; }),
             "solids.size_class[2] = -4: must be in 0..1000");
   }
+  SUBCASE("a Langevin state far beyond a unit variance's reach") {
+    refused(resume(data, [](CheckpointData& d) { d.world.solids->fluctuation_state[2] = Vec3(0.0, 1e300, 0.0); }),
+            "solids.fluctuation_state[2] = ");
+    refused(resume(data, [](CheckpointData& d) { d.world.solids->fluctuation_state[2] = Vec3(0.0, 0.0, -101.0); }),
+            "each component must lie within +-100");
+  }
   SUBCASE("a fixed flag other than 0 or 1") {
     refused(resume(data, [](CheckpointData& d) { d.world.solids->fixed[1] = 2; }),
             "solids.fixed[1] = 2: must be 0 or 1");
