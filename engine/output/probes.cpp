@@ -86,7 +86,7 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
     header += ",cell,z_m,ux_m_s,uy_m_s,solid_fraction,eddy_viscosity_m2_s,shear_stress_Pa";
   } else if (probe.kind == ProbeModel::Kind::kBedloadTransport) {
     header += ",shields,u_star_m_s,tau_b_Pa,bed_surface_m,q_m2_s,q_star,moving_fraction,moving_ux_over_u_star,"
-              "moving_height_over_d,moving_grains,body_force_m_s2";
+              "moving_height_over_d,moving_grains,body_force_m_s2,moving_above_bed_ux_over_u_star,moving_above_bed_grains";
   } else if (probe.kind == ProbeModel::Kind::kDrivenFlow) {
     header += ",body_force_m_s2,bulk_velocity_m_s";
     for (std::size_t k = 0; k < probe.lid_areas.size(); ++k)
@@ -232,7 +232,7 @@ std::string ProbeWriter::bedload_fields(const World& world) {
     }
     case ProbeModel::Kind::kBedloadTransport: {
       if (!world.mean_flow || !solids) {
-        fields.append(11, ',');
+        fields.append(13, ',');
         break;
       }
       const BedloadTransport transport =
@@ -246,8 +246,13 @@ std::string ProbeWriter::bedload_fields(const World& world) {
         append_field(fields, format_value(value));
       append_field(fields, std::to_string(transport.moving));
       append_field(fields, format_value(world.mean_flow->body_force));
+      const double above_speed =
+          transport.moving_above_bed > 0 && u_star > 0.0 ? transport.moving_above_bed_speed / u_star : kNaN;
+      append_field(fields, format_value(above_speed));
+      append_field(fields, std::to_string(transport.moving_above_bed));
       // The means the run prints at its end: over the rows in the run's second half.
-      if (world.time >= 0.5 * model_->end_time) transport_mean_.add(transport, moving_speed, moving_height);
+      if (world.time >= 0.5 * model_->end_time)
+        transport_mean_.add(transport, moving_speed, moving_height, above_speed);
       break;
     }
     case ProbeModel::Kind::kVelocityProfile: {
@@ -283,9 +288,10 @@ std::string ProbeWriter::summary() const {
   char line[512];
   std::snprintf(line, sizeof line,
                 "%s, mean of %zu rows over the run's second half: Theta = %.4g, q* = %.4g, moving fraction = %.4g, "
-                "u_p/u* = %.4g, h_p/d = %.4g",
+                "u_p/u* = %.4g (above the bed %.4g), h_p/d = %.4g",
                 probe_.name.c_str(), mean.rows, mean.shields / rows, mean.flux_star / rows, mean.moving_fraction / rows,
                 mean.moving_rows > 0 ? mean.moving_speed / moving_rows : kNaN,
+                mean.above_rows > 0 ? mean.above_speed / static_cast<double>(mean.above_rows) : kNaN,
                 mean.moving_rows > 0 ? mean.moving_height / moving_rows : kNaN);
   return line;
 }

@@ -76,8 +76,14 @@ struct TransportMean {
   double moving_speed = 0.0;    ///< sum of u_p / u* over rows with moving grains
   double moving_height = 0.0;   ///< sum of h_p / d over rows with moving grains
   std::size_t moving_rows = 0;  ///< rows with moving grains
-  void add(const BedloadTransport& row, double speed_over_u_star, double height_over_d) {
+  double above_speed = 0.0;     ///< sum of u_p / u* of the moving grains above the bed, over rows with any
+  std::size_t above_rows = 0;   ///< rows with moving grains above the bed
+  void add(const BedloadTransport& row, double speed_over_u_star, double height_over_d, double above_over_u_star) {
     ++rows;
+    if (row.moving_above_bed > 0 && std::isfinite(above_over_u_star)) {
+      ++above_rows;
+      above_speed += above_over_u_star;
+    }
     shields += row.shields;
     flux_star += row.flux_star;
     moving_fraction += row.moving_fraction;

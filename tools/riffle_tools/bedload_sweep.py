@@ -76,9 +76,11 @@ def probe_means(run_dir):
     if time.size < 4:
         return None
     keep = time >= 0.5 * time[-1]
-    mean = {name: float(np.nanmean(columns[name][keep])) if np.any(np.isfinite(columns[name][keep])) else math.nan
-            for name in ("shields", "u_star_m_s", "q_star", "moving_fraction", "moving_ux_over_u_star",
-                         "moving_height_over_d")}
+    names = ("shields", "u_star_m_s", "q_star", "moving_fraction", "moving_ux_over_u_star", "moving_height_over_d",
+             "moving_above_bed_ux_over_u_star")
+    # (runs written before the probe had the above-bed column read NaN there)
+    mean = {name: float(np.nanmean(columns[name][keep]))
+            if name in columns and np.any(np.isfinite(columns[name][keep])) else math.nan for name in names}
     mean["end_s"] = float(time[-1])
     return mean
 
@@ -187,6 +189,10 @@ def main(argv=None):
         u_c = np.array([math.sqrt(soulsby_whitehouse(diameter) / r["shields"]) if r["shields"] > 0 else math.nan
                         for r in mine])
         speed_axes.plot(u_c, [r["moving_ux_over_u_star"] for r in mine], marker, label=f"riffle, d = {diameter * 1e3:g} mm")
+        above = [r.get("moving_above_bed_ux_over_u_star", math.nan) for r in mine]
+        if any(math.isfinite(value) for value in above):
+            speed_axes.plot(u_c, above, marker, mfc="none",
+                            label=f"riffle, d = {diameter * 1e3:g} mm, above the bed surface")
     ratio = np.linspace(0.0, 1.0, 50)
     speed_axes.plot(ratio, 4.4 * (1.0 - ratio), "k-", label="Lajeunesse et al. 2010: 4.4 (1 - u*_c/u*)")
     flux_axes.set_xscale("log")
@@ -196,7 +202,7 @@ def main(argv=None):
     flux_axes.set_ylabel("q* = q / sqrt((s - 1) g d^3)")
     flux_axes.legend(fontsize=8)
     speed_axes.set_xlabel("u*_c / u* (u*_c of Soulsby & Whitehouse)")
-    speed_axes.set_ylabel("moving grains' mean u_p / u*")
+    speed_axes.set_ylabel("moving grains' mean u_p / u* (filled: all; open: above the bed)")
     speed_axes.legend(fontsize=8)
     plotting.write(figure, os.path.join(args.out, "bedload_sweep.png"), "bedload_sweep")
     return 0

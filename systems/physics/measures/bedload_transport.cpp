@@ -35,7 +35,7 @@ BedloadTransport bedload_transport(const Model& model, const Solids& grains, con
   out.friction_velocity = std::sqrt(std::abs(out.bed_stress) / flow.density);
   const double area = model.tank.size.x() * model.tank.size.y();
   std::size_t mobile = 0;
-  double speed = 0.0, height = 0.0;
+  double speed = 0.0, height = 0.0, speed_above = 0.0;
   for (std::size_t i = 0; i < grains.size(); ++i) {
     if (grains.fixed[i]) continue;
     ++mobile;
@@ -44,6 +44,10 @@ BedloadTransport bedload_transport(const Model& model, const Solids& grains, con
       ++out.moving;
       speed += grains.velocity[i].x();
       height += grains.position[i].z() - column.bed_surface;
+      if (grains.position[i].z() > column.bed_surface) {
+        ++out.moving_above_bed;
+        speed_above += grains.velocity[i].x();
+      }
     }
   }
   out.flux /= area;
@@ -53,6 +57,7 @@ BedloadTransport bedload_transport(const Model& model, const Solids& grains, con
     out.moving_speed = speed / static_cast<double>(out.moving);
     out.moving_height = height / static_cast<double>(out.moving);
   }
+  if (out.moving_above_bed > 0) out.moving_above_bed_speed = speed_above / static_cast<double>(out.moving_above_bed);
   return out;
 }
 

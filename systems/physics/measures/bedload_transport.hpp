@@ -2,7 +2,7 @@
 // The bed-load measures a user of the mean-flow fluid reads without a script ([[output.probes]] kind =
 // "bedload_transport", docs/cases/bedload.md): the Shields number of the bed shear stress, the friction velocity,
 // the dimensionless flux q* = q / sqrt((s - 1) g d^3), the fraction of the mobile grains that move, the moving
-// grains' mean speed over u* and their mean height over the bed. Pure: the tests set grains and a column directly.
+// grains' mean speed over u* (all of them, and those above the bed surface) and their mean height over the bed. Pure: the tests set grains and a column directly.
 #include <cstddef>
 
 #include "components/mean_flow.hpp"
@@ -30,6 +30,10 @@ struct BedloadTransport {
   double moving_speed = 0.0;      ///< [m/s] the moving grains' mean u_x (0 without any)
   double moving_height = 0.0;     ///< [m] the moving grains' mean centre height above z_bed (0 without any)
   std::size_t moving = 0;         ///< grains moving
+  /// [m/s] the mean u_x of the moving grains whose centres lie above z_bed: the bed-load layer, as a camera over a
+  /// flume sees it (Lajeunesse et al. 2010), without the bed's creeping top layer (0 without any)
+  double moving_above_bed_speed = 0.0;
+  std::size_t moving_above_bed = 0;  ///< grains moving with their centres above z_bed
 };
 
 /// The measures of `grains` over `column` now; `threshold` [m/s] (seed 003's 0.01 m/s) decides which grains move.
