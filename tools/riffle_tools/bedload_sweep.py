@@ -116,6 +116,9 @@ def main(argv=None):
     parser.add_argument("--cells", type=int, default=None, help="mean_flow.cells (default: the scene's)")
     parser.add_argument("--set", action="append", default=[], help="a further override of the channel scene")
     parser.add_argument("--collect-only", action="store_true")
+    parser.add_argument("--fit-up-to", type=float, default=math.inf,
+                        help="fit the zero-flux line only to the points with Theta at most this (default: all that "
+                             "move); the extrapolation leans on its range where q*^(2/3) bends")
     args = parser.parse_args(argv)
 
     rows = []
@@ -166,10 +169,12 @@ def main(argv=None):
     thresholds = []
     for diameter in args.diameters:
         mine = [row for row in rows if row["diameter_m"] == diameter]
-        theta_c, error = threshold_by_extrapolation([r["shields"] for r in mine], [r["q_star"] for r in mine])
+        fitted = [r for r in mine if r["shields_set"] <= args.fit_up_to]  # the Theta asked for, not the measured
+        theta_c, error = threshold_by_extrapolation([r["shields"] for r in fitted], [r["q_star"] for r in fitted])
         reference = soulsby_whitehouse(diameter)
         thresholds.append({"diameter_m": diameter, "theta_c": theta_c, "theta_c_error": error,
-                           "soulsby_whitehouse": reference, "ratio": theta_c / reference})
+                           "soulsby_whitehouse": reference, "ratio": theta_c / reference,
+                           "fit_up_to": max(r["shields_set"] for r in fitted) if fitted else math.nan})
         print(f"d = {diameter * 1e3:g} mm: Theta_c = {theta_c:.4f} +- {error:.4f} by zero-flux extrapolation; "
               f"Soulsby & Whitehouse {reference:.4f} (ratio {theta_c / reference:.2f})")
     with open(os.path.join(args.out, "threshold.csv"), "w", newline="") as handle:
