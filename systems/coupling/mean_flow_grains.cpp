@@ -73,7 +73,8 @@ void SolidMeanFlowSampling::run(SystemContext& context) {
   };
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
     const double z = grains.position[grain].z();
-    if (z > grid.top() || z < grid.bottom) {  // out of the water (a free top) or below the floor: no fluid forces
+    // Out of the water (a free top), below the floor, or not a number (a grain blown up): no fluid forces.
+    if (!(z >= grid.bottom && z <= grid.top())) {
       sampled.fluid_weight[grain] = 0.0;
       sampled.fluid_velocity[grain] = Vec3::Zero();
       sampled.pressure_force[grain] = Vec3::Zero();

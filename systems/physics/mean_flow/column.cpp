@@ -67,7 +67,8 @@ void check_sizes(const ColumnGrid& grid, std::size_t cell_values, std::size_t fa
 CellSpan sphere_cells(const ColumnGrid& grid, double centre, double radius) {
   const double from = (centre - radius - grid.bottom) / grid.cell_height;
   const double to = (centre + radius - grid.bottom) / grid.cell_height;
-  if (to <= 0.0 || from >= static_cast<double>(grid.cells)) return {};
+  // (written so that a centre that is not a number, a grain blown up, gives no cells)
+  if (!(to > 0.0) || !(from < static_cast<double>(grid.cells))) return {};
   return {static_cast<std::size_t>(std::max(0.0, std::floor(from))),
           std::min(grid.cells - 1, static_cast<std::size_t>(std::floor(to))), false};
 }
@@ -88,6 +89,7 @@ double deposit_sphere(const ColumnGrid& grid, double centre, double radius, doub
 double profile_at(const ColumnGrid& grid, const std::vector<double>& values, double z, const ColumnEnds& ends) {
   check_sizes(grid, values.size(), 0, "profile_at");
   const std::size_t cells = grid.cells;
+  if (std::isnan(z)) return z;  // a height that is not a number reads none (and indexes nothing)
   const double position = (std::clamp(z, grid.bottom, grid.top()) - grid.bottom) / grid.cell_height - 0.5;
   if (position <= 0.0) {  // between the floor (position -1/2) and the first centre
     const double t = (position + 0.5) / 0.5;
@@ -233,6 +235,7 @@ double column_momentum(const ColumnGrid& grid, const std::vector<double>& solid_
 double column_shear_stress(const ColumnGrid& grid, const std::vector<double>& solid_fraction,
                            const std::vector<double>& eddy_viscosity, const std::vector<double>& velocity,
                            const ColumnEnds& ends, double density, double viscosity, double z) {
+  if (std::isnan(z)) return z;
   const double position = std::clamp((z - grid.bottom) / grid.cell_height, 0.0, static_cast<double>(grid.cells));
   const auto j = static_cast<std::size_t>(std::lround(position));
   return density * face_water_share(solid_fraction, j) * (viscosity + eddy_viscosity[j]) *

@@ -32,6 +32,7 @@ TurbulentShear turbulent_shear_at(const ColumnGrid& grid, const MeanFlowColumn& 
     face.shear_rate = std::hypot(gx, gy);
     return face;
   };
+  if (std::isnan(z)) return {};  // a height that is not a number: no turbulence read (and no index made of it)
   const double position = std::clamp((z - grid.bottom) / grid.cell_height, 0.0, static_cast<double>(grid.cells));
   const auto below = std::min(static_cast<std::size_t>(position), grid.cells - 1);
   const double weight = position - static_cast<double>(below);

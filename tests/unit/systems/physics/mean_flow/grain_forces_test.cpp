@@ -134,3 +134,21 @@ TEST_CASE("Langevin fluctuations: Nezu & Nakagawa's intensities and the closure'
   }
   CHECK(fluctuation_velocity(Vec3(1, 1, 1), TurbulentShear{}, intensities) == Vec3::Zero());
 }
+
+TEST_CASE("a height that is not a number reads no cells, no velocity and no turbulence") {
+  ColumnGrid grid;
+  grid.cells = 4;
+  grid.cell_height = 0.001;
+  MeanFlowColumn column;
+  column.velocity_x.assign(4, 0.1);
+  column.velocity_y.assign(4, 0.0);
+  column.eddy_viscosity.assign(5, 1e-5);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK(sphere_cells(grid, nan, 0.001).empty);
+  std::vector<double> per_cell(4, 0.0);
+  CHECK(deposit_sphere(grid, nan, 0.001, 1.0, per_cell) == 0.0);
+  CHECK(std::isnan(profile_at(grid, column.velocity_x, nan, ColumnEnds{})));
+  const TurbulentShear shear = turbulent_shear_at(grid, column, ColumnEnds{}, ColumnEnds{}, nan);
+  CHECK(shear.stress_x == 0.0);
+  CHECK(shear.shear_rate == 0.0);
+}
