@@ -594,10 +594,7 @@ void for_each_hexagonal_site_inside(const SphereBlockSpec& block, const TankMode
     for (std::int64_t j = 0; j < block.counts[1]; ++j)
       for (std::int64_t i = 0; i < block.counts[0]; ++i) {
         const Vec3 site = block_site(block, i, j, k);
-        bool inside = true;
-        for (int axis = 0; axis < 3 && inside; ++axis)
-          inside = inside_tank_along(tank, axis, site[axis], block.sphere.radius, false);
-        if (inside) visit(site);
+        if (inside_tank(tank, site, block.sphere.radius, false)) visit(site);
       }
 }
 

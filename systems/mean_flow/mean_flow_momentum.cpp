@@ -20,10 +20,8 @@ void MeanFlowMomentum::run(SystemContext& context) {
     // at least the friction velocity of the stress the water above the bed carries (the drive's and the lid's): under
     // a bed the floor carries almost none, and its viscous length nu A+ / u* would otherwise reach up through the bed
     // and damp the water above it.
-    const double carried = std::abs(column.body_force) * std::max(0.0, grid_.top() - column.bed_surface) +
-                           std::abs(column.top_stress) / model_.density;
     const double floor_friction_velocity =
-        std::max(std::sqrt(std::abs(column.floor_stress) / model_.density), std::sqrt(carried));
+        std::sqrt(std::max(std::abs(column.floor_stress), std::abs(column_bed_stress(model_, column))) / model_.density);
     const TopWall lid{model_.top_boundary == MeanFlowModel::Top::kLid,
                       std::sqrt(std::abs(column.top_stress) / model_.density)};
     const std::vector<double> lengths =

@@ -42,4 +42,8 @@ void fill_solid_fraction(const Model& model, const GrainState& grains, const Gra
   column.bed_surface = bed_surface(grid, column.solid_fraction);
 }
 
+double column_bed_stress(const MeanFlowModel& model, const MeanFlowColumn& column) {
+  return model.density * column.body_force * (model.top - column.bed_surface) + column.top_stress;
+}
+
 }  // namespace riffle

@@ -20,6 +20,10 @@ ColumnEnds column_ends(const MeanFlowModel& model, bool along_x);
 double mean_flow_body_force(const MeanFlowModel& model, double gravity, double bed_surface, double time);
 /// [m^2] The plan area the column stands for: the periodic box's x by y.
 double column_plan_area(const Model& model);
+
+/// [Pa] The stress the water above the bed carries into it: its drive over the depth above the bed surface and the
+/// lid's traction, rho f (top - z_bed) + tau_lid (the momentum balance of the water above the bed).
+double column_bed_stress(const MeanFlowModel& model, const MeanFlowColumn& column);
 /// The grains' solid fraction per cell (each sphere's exact volume between the cells' faces over the cell's volume,
 /// at most 1 - coupling.min_voidage) and the bed surface, into `column`; `scratch` is reused. Grains in slot order:
 /// the sums do not depend on the thread count.

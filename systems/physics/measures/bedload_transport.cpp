@@ -4,6 +4,7 @@
 
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/measures/bedload.hpp"
+#include "systems/physics/mean_flow/column_model.hpp"
 
 namespace riffle {
 
@@ -29,8 +30,7 @@ BedloadTransport bedload_transport(const Model& model, const Solids& grains, con
   const double gravity = std::abs(model.gravity.z());
   BedloadTransport out;
   out.bed_surface = column.bed_surface;
-  // The momentum balance of the water above the bed: its drive over the depth above the bed and the lid's traction.
-  out.bed_stress = flow.density * column.body_force * (flow.top - column.bed_surface) + column.top_stress;
+  out.bed_stress = column_bed_stress(flow, column);
   out.shields = shields_number(out.bed_stress, grain.density, flow.density, gravity, grain.diameter);
   out.friction_velocity = std::sqrt(std::abs(out.bed_stress) / flow.density);
   const double area = model.tank.size.x() * model.tank.size.y();
