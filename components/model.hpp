@@ -394,8 +394,10 @@ struct CouplingModel {
   double history_window = 0.1;  ///< [s] the kernel is t^(-1/2) up to about window/30 and decays as exp(-t/window)
   /// Drag and pressure force from the water the grain would see without its own disturbance (docs/COUPLING.md,
   /// "The undisturbed fluid velocity"): the drag reaction is spread with the sampling kernel, and the grain's own
-  /// regularised Stokes/Oseen disturbance (Balachandar et al. 2019), built up over time, is taken out of the sampled
-  /// velocity and pressure gradient. Dilute grains only (voidage above 0.8, Wen & Yu's branch).
+  /// regularised Stokes/Oseen disturbance (Balachandar et al. 2019), built up over time and held back by the tank's
+  /// walls (Blake's image system), is taken out of the sampled velocity and pressure gradient. Dilute grains only
+  /// (voidage above 0.8, Wen & Yu's branch). A scene turns it on unless it says otherwise wherever it holds (the MPS
+  /// water with the isotropic sampling kernel: engine/scene/scene.cpp); a Model built in code starts with it off.
   bool self_induced_velocity = false;
   /// How each grain's drag impulse goes back to the water (docs/COUPLING.md, "Where the drag reaction lands").
   /// false ("grid", the calibrated default): through a cloud-in-cell grid of cells 0.668 (r_max + r_e). true

@@ -112,6 +112,9 @@ struct GrainDrag {
   /// middle, slow: systems/physics/coupling/self_induced.hpp); their sum is fluid_velocity - undisturbed_velocity. Grain
   /// fields, so a resumed run continues each build-up where it was.
   std::vector<Vec3> self_induced_fast, self_induced_middle, self_induced_slow;
+  /// [m/s] what the tank's walls take off that disturbance (they hold the water: Blake's image system), one lag per
+  /// pair of walls across x, y and z, each as slow as the disturbance's way to its nearer wall and back.
+  std::vector<Vec3> self_induced_wall_x, self_induced_wall_y, self_induced_wall_z;
 
   std::size_t size() const { return drag_force.size(); }
 
@@ -123,6 +126,9 @@ struct GrainDrag {
     visit(FieldInfo{"self_induced_fast", "m/s", false, 0.0, 6}, self.self_induced_fast);
     visit(FieldInfo{"self_induced_middle", "m/s", false, 0.0, 6}, self.self_induced_middle);
     visit(FieldInfo{"self_induced_slow", "m/s", false, 0.0, 6}, self.self_induced_slow);
+    visit(FieldInfo{"self_induced_wall_x", "m/s", false, 0.0, 11}, self.self_induced_wall_x);
+    visit(FieldInfo{"self_induced_wall_y", "m/s", false, 0.0, 11}, self.self_induced_wall_y);
+    visit(FieldInfo{"self_induced_wall_z", "m/s", false, 0.0, 11}, self.self_induced_wall_z);
   }
 };
 
@@ -224,7 +230,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
-  static constexpr std::array<const char*, 39> kFieldOrder = {
+  static constexpr std::array<const char*, 42> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
@@ -233,7 +239,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
       "history_relative_velocity", "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
       "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7",
       "self_induced_fast", "self_induced_middle", "self_induced_slow", "viscous_force", "fixed",
-      "fluctuation_state"};
+      "fluctuation_state", "self_induced_wall_x", "self_induced_wall_y", "self_induced_wall_z"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 

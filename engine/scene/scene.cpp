@@ -664,7 +664,6 @@ void read_coupling(TableReader& coupling, Model& model) {
     coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
   out.dense_drag = enum_choice(coupling, "dense_drag", out.dense_drag, CouplingModel::kDenseDragNames);
   out.fluid_velocity = enum_choice(coupling, "fluid_velocity", out.fluid_velocity, CouplingModel::kFluidVelocityNames);
-  out.self_induced_velocity = coupling.boolean("self_induced_velocity", false);
   out.lift = coupling.boolean("lift", false);
   if (out.lift) {
     out.lift_coefficient = coupling.number("lift_coefficient", out.lift_coefficient, "1", Bounds::closed(0.0, 10.0));
@@ -676,6 +675,11 @@ void read_coupling(TableReader& coupling, Model& model) {
       coupling.choice("drag_reaction", "grid", {"grid", "sampling_kernel"}) == "sampling_kernel";
   out.sampling_vertical_radius =
       coupling.number("sampling_vertical_radius", out.sampling_vertical_radius, "m", Bounds::non_negative());
+  // On wherever it holds: the MPS water (a grain there reads the water its own drag set moving, more so as l0
+  // shrinks) with the isotropic kernel its integrals are for. The mean-flow fluid's plane average holds no grain's
+  // own disturbance.
+  out.self_induced_velocity = coupling.boolean("self_induced_velocity",
+                                               model.fluid.enabled && out.sampling_vertical_radius == 0.0);
   // Fewer than one layer of water across the kernel leaves a grain reading one or two particles.
   if (model.fluid.enabled && out.sampling_vertical_radius > 0.0 && out.sampling_vertical_radius < model.fluid.spacing)
     coupling.problem("sampling_vertical_radius", "below l0 (" + std::to_string(model.fluid.spacing) +

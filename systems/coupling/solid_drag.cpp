@@ -2,21 +2,42 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/coupling/lubrication.hpp"
 #include "systems/physics/mps/mps_common.hpp"
 #include "systems/physics/coupling/self_induced.hpp"
+#include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
 
 SolidDrag::SolidDrag(const Model& model)
     : model_(model.coupling),
+      tank_(model.tank),
+      faces_(tank_faces(model)),
       fluid_(model.fluid),
       density_(model.water_density()),
       kinematic_viscosity_(model.water_kinematic_viscosity()),
       effective_radius_(model.fluid.enabled ? mps_constants(model.fluid).effective_radius : 0.0),
       fluid_step_(model.dt),
       inverse_distance_(model.coupling.self_induced_velocity ? self_induced_inverse_distance() : 0.0) {}
+
+SolidDrag::TankFaces SolidDrag::tank_faces(const Model& model) {
+  TankFaces faces;
+  static constexpr std::array<std::array<const char*, 2>, 3> kNames = {
+      {{"x_min", "x_max"}, {"y_min", "y_max"}, {"z_min", "z_max"}}};
+  const auto& open = model.tank.open_faces;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      const bool is_open = std::find(open.begin(), open.end(), kNames[axis][side]) != open.end();
+      faces.wall[axis][side] = !model.tank.periodic[axis] && !is_open;
+    }
+  }
+  faces.low = model.tank.origin;
+  faces.high = model.tank.origin + model.tank.size;
+  return faces;
+}
 
 void SolidDrag::run(SystemContext& context) {
   const GrainState& grains = context.read<GrainState>();
@@ -30,6 +51,8 @@ void SolidDrag::run(SystemContext& context) {
   // The exchange's delay is two fluid steps of the length this step has (a Courant- or drag-limited step is shorter
   // than run.dt).
   const double fluid_step = context.fluid_step(fluid_step_);
+  const Vec3 tank_shift = model_.self_induced_velocity ? tank_kinematics(tank_.motion, context.time).displacement
+                                                       : Vec3::Zero();
   const double kPi = 3.14159265358979323846;
   for_each_particle(grains.size(), [&](std::size_t grain) {
     if (sampled.fluid_weight[grain] <= 0.0) {
@@ -44,7 +67,8 @@ void SolidDrag::run(SystemContext& context) {
     // passes the grain at (u - u_s) / eps; the seed's reading takes u as the pore velocity itself.
     const double share = flux_share(model_.fluid_velocity, voidage);
     if (model_.self_induced_velocity && voidage > kSelfInducedMinVoidage) {
-      drag_without_own_disturbance(grain, grains, properties, sampled, voidage, share, dt, fluid_step, drag);
+      drag_without_own_disturbance(grain, grains, properties, sampled, voidage, share, dt, fluid_step, tank_shift,
+                                   drag);
     } else {
       const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
       const Vec3 slip = relative / share;
@@ -62,6 +86,7 @@ void SolidDrag::run(SystemContext& context) {
 
 void SolidDrag::clear_disturbance(GrainDrag& drag, std::size_t grain) {
   drag.self_induced_fast[grain] = drag.self_induced_middle[grain] = drag.self_induced_slow[grain] = Vec3::Zero();
+  drag.self_induced_wall_x[grain] = drag.self_induced_wall_y[grain] = drag.self_induced_wall_z[grain] = Vec3::Zero();
   drag.undisturbed_velocity[grain] = Vec3::Zero();
 }
 
@@ -79,7 +104,7 @@ void SolidDrag::clear_disturbance(GrainDrag& drag, std::size_t grain) {
 void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState& grains,
                                              const GrainProperties& properties, const GrainSampledFluid& sampled,
                                              double voidage, double flux_share, double dt, double fluid_step,
-                                             GrainDrag& drag) {
+                                             const Vec3& tank_shift, GrainDrag& drag) {
   const double kPi = 3.14159265358979323846;
   const double density = fluid_.density;
   const double nu = fluid_.kinematic_viscosity;
@@ -91,8 +116,17 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   const Vec3& velocity = grains.velocity[grain];
   const Vec3& sampled_velocity = sampled.fluid_velocity[grain];
 
-  const double reynolds_r = (sampled_velocity - velocity).norm() * kernel_radius / nu;
-  const double phi = self_induced_oseen_factor(reynolds_r);
+  const double relative_speed = (sampled_velocity - velocity).norm();
+  const double reynolds_r = relative_speed * kernel_radius / nu;
+  // The other grains around screen the disturbance (Brinkman): the water between them is resisted by
+  // (1 - eps) times the drag per grain volume, mu / l_B^2, at the sub-step's known slip. A lone grain reads eps = 1
+  // (the self-corrected voidage) and is not screened.
+  const double solid_fraction = std::max(0.0, 1.0 - voidage);
+  const double resistance_per_volume =
+      solid_fraction * drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_) /
+      flux_share;
+  const double kernel_over_screening = kernel_radius * std::sqrt(resistance_per_volume / viscosity);
+  const double phi = self_induced_oseen_factor(reynolds_r) * self_induced_brinkman_factor(kernel_over_screening);
   // The water shows a sub-step's drag about two fluid steps later (spread at the step's end, applied in the next
   // step's prediction, sampled at the start of the one after, used over it): each lag also waits that long (a
   // delay d ahead of a lag tau is a lag tau + d to first order).
@@ -101,23 +135,80 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
                                                        &drag.self_induced_slow[grain]};
   std::array<double, SelfInducedModes::kCount> keep{};
   Vec3 carried = Vec3::Zero();
-  double alpha = 0.0;
+  double alpha = 0.0, slow_time = 0.0;
   for (int m = 0; m < SelfInducedModes::kCount; ++m) {
     const double tau = SelfInducedModes::time[m] * kernel_radius * kernel_radius /
                            (nu * (1.0 + SelfInducedModes::time[m] * reynolds_r)) +
                        exchange_delay;
+    slow_time = std::max(slow_time, tau);
     keep[m] = std::exp(-dt / tau);
     carried += keep[m] * *modes[m];
     alpha += SelfInducedModes::amplitude[m] * (1.0 - keep[m]);
   }
+  // The tank's walls hold the water, so the disturbance next to them is smaller (self_induced_wall_factors), along
+  // a wall's normal most: each wall takes off (1 - f) of the free disturbance, per component. And the drag law is the
+  // unbounded one: with the grain's own disturbance and its images taken out, the wall's resistance on the grain
+  // itself, at the grain's scale (which the water does not resolve), is put back: Brenner's (1961) lambda along
+  // the normal, Faxen's along the plane, as the slip the grain would read from its own image, (1 - 1/lambda) of
+  // the slip, so that a steady slip is lambda times the undisturbed one. Both are the same reflection, so each pair
+  // of walls across an axis feeds one lag as slow as the disturbance's way to the nearer wall and back, with the
+  // Oseen reduction at that distance (the water's inertia screens a far wall). The walls add (reflections to first
+  // order). Below the lubrication cut-off the normal resistance is the lubrication's (solid_lubrication); below
+  // 0.1 a both are held (the explicit drag stays stable; contact is the lubrication's and the contact law's).
+  std::array<Vec3*, 3> walls = {&drag.self_induced_wall_x[grain], &drag.self_induced_wall_y[grain],
+                                &drag.self_induced_wall_z[grain]};
+  // Per axis: the share of phi K F / flux_share each component loses, and the share of the slip added (the sum of
+  // 1 - 1/lambda). Eigen's vectors start unset: zeroed here for the axes without walls.
+  std::array<Vec3, 3> wall_reduction = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  std::array<Vec3, 3> wall_resistance_share = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  std::array<double, 3> wall_keep{};
+  const Vec3& position = grains.position[grain];
+  const double radius = properties.radius[grain];
+  const double lubricated_gap = model_.lubrication ? model_.lubrication_cutoff_gap(radius) : 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    Vec3 reduction = Vec3::Zero(), resistance = Vec3::Zero();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int side = 0; side < 2; ++side) {
+      if (!faces_.wall[axis][side]) continue;
+      const double plane = (side == 0 ? faces_.low[axis] : faces_.high[axis]) + tank_shift[axis];
+      const double height = std::max(side == 0 ? position[axis] - plane : plane - position[axis], 0.0);
+      const SelfInducedWallFactors factors = self_induced_wall_factors(height / kernel_radius);
+      const double gap_over_radius = std::max(height - radius, kFaxenSmallestGap * radius) / radius;
+      const double normal = height - radius < lubricated_gap ? 1.0 : wall_resistance(gap_over_radius);
+      const double tangential = faxen_wall_resistance_tangential(gap_over_radius);
+      for (int component = 0; component < 3; ++component) {
+        reduction[component] += 1.0 - (component == axis ? factors.normal : factors.tangential);
+        resistance[component] += 1.0 - 1.0 / (component == axis ? normal : tangential);
+      }
+      nearest = std::min(nearest, height);
+    }
+    if (!std::isfinite(nearest)) {
+      wall_keep[axis] = 1.0;
+      continue;
+    }
+    const double reach = 2.0 * nearest;
+    const double reynolds_reach = relative_speed * reach / nu;
+    const double tau = slow_time;
+    const double screening = self_induced_oseen_factor(reynolds_reach);
+    wall_keep[axis] = std::exp(-dt / tau);
+    wall_reduction[axis] = screening * reduction;
+    wall_resistance_share[axis] = screening * resistance;
+    carried += wall_keep[axis] * *walls[axis];
+  }
+  // u_self,new = carried - K diag(m) F / flux_share - diag(rho) w, with m_i = alpha phi - the walls' reductions
+  // (at least 0) and rho_i the walls' resistance shares, each through its lag's step (1 - keep).
+  Vec3 gain_share = Vec3::Constant(alpha * phi), resistance_gain = Vec3::Zero();
+  for (int axis = 0; axis < 3; ++axis) {
+    gain_share -= (1.0 - wall_keep[axis]) * wall_reduction[axis];
+    resistance_gain += (1.0 - wall_keep[axis]) * wall_resistance_share[axis];
+  }
+  gain_share = gain_share.cwiseMax(0.0);
   const Vec3 rhs = sampled_velocity - velocity - carried;
-  const double rhs_length = rhs.norm();
-  const auto gain = [&](double slip_length) {
+  const auto gains = [&](double slip_length) {
     const double coefficient = drag_per_volume(voidage, diameter, slip_length / flux_share, density, viscosity, model_);
-    return alpha * mobility * phi * coefficient * volume / (flux_share * flux_share);
+    return Vec3((mobility * coefficient * volume / (flux_share * flux_share)) * gain_share + resistance_gain);
   };
-  const double slip_length = solve_self_induced_slip(rhs_length, gain);
-  const Vec3 relative = rhs_length > 0.0 ? Vec3(rhs * (slip_length / rhs_length)) : Vec3::Zero();
+  const Vec3 relative = solve_self_induced_slip(rhs, gains);
   const Vec3 slip = relative / flux_share;
   const double coefficient = drag_per_volume(voidage, diameter, slip.norm(), density, viscosity, model_);
   const Vec3 force = coefficient * volume * slip;
@@ -126,6 +217,12 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
     *modes[m] = keep[m] * *modes[m] -
                 (SelfInducedModes::amplitude[m] * (1.0 - keep[m]) * mobility * phi / flux_share) * force;
     disturbance += *modes[m];
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    const Vec3 target = (mobility / flux_share) * Vec3(wall_reduction[axis].cwiseProduct(force)) -
+                        Vec3(wall_resistance_share[axis].cwiseProduct(relative));
+    *walls[axis] = wall_keep[axis] * *walls[axis] + (1.0 - wall_keep[axis]) * target;
+    disturbance += *walls[axis];
   }
   drag.drag_force[grain] = force;
   drag.undisturbed_velocity[grain] = sampled_velocity - disturbance;

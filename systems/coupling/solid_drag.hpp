@@ -29,9 +29,19 @@ class SolidDrag final : public System {
   void clear_disturbance(GrainDrag& drag, std::size_t grain);
   void drag_without_own_disturbance(std::size_t grain, const GrainState& grains, const GrainProperties& properties,
                                     const GrainSampledFluid& sampled, double voidage, double flux_share, double dt,
-                                    double fluid_step, GrainDrag& drag);
+                                    double fluid_step, const Vec3& tank_shift, GrainDrag& drag);
+
+  /// The walls' part of the disturbance: the tank's faces that hold the water (not open, not periodic) along each
+  /// axis, and where they stand at rest.
+  struct TankFaces {
+    std::array<std::array<bool, 2>, 3> wall{};  ///< [axis][0 low, 1 high]
+    Vec3 low = Vec3::Zero(), high = Vec3::Zero();
+  };
+  static TankFaces tank_faces(const Model& model);
 
   CouplingModel model_;
+  TankModel tank_;
+  TankFaces faces_;
   FluidModel fluid_;         ///< the MPS water's model (the self-induced velocity's kernel)
   double density_;           ///< [kg/m^3] the water's, of either fluid family
   double kinematic_viscosity_;  ///< [m^2/s]

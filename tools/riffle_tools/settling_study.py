@@ -21,6 +21,7 @@ import argparse
 import csv
 import math
 import pathlib
+import shutil
 import subprocess
 import sys
 
@@ -56,6 +57,52 @@ def viscosity_for(reynolds, d, ratio=RHO_S / RHO):
     return math.sqrt((ratio - 1.0) * GRAVITY * d ** 3 / archimedes)
 
 
+def wall_resistance(gap_over_radius):
+    """Brenner's (1961) resistance of a sphere moving towards a no-slip plane, F / (6 pi mu a V), at gap h/a: Cox &
+    Brenner (1967) near contact, Schaffer, Norrelykke & Howard (2007) beyond h/a = 0.0756 (within 0.15 % of
+    Brenner's series; the same forms as systems/physics/coupling/lubrication.hpp)."""
+    x = max(gap_over_radius, 1e-6)
+    if x < 0.07555570638673673:
+        return 1.0 / x + 0.2 * math.log(1.0 / x) + 0.9713
+    s = 1.0 / (1.0 + x)
+    return 1.0 / (1.0 - 9.0 / 8.0 * s + 0.5 * s ** 3 - 0.57 * s ** 4 + 0.2 * s ** 5 + 0.035 * s ** 11 - 0.04 * s ** 12)
+
+
+def approach_reference(d, nu, added_mass, start_gap, end_gap):
+    """(gap, v) of a sphere approaching a no-slip floor: (m + C_a m_f) dv/dt = (m - m_f) g - F_SN(v) lambda(h/a),
+    from `start_gap` at its quasi-steady speed there, Brenner's lambda (a Stokes-flow result: the reference holds at
+    Re <~ 1, where the wall effect is not yet screened by inertia). RK4 in time, speeds positive downwards."""
+    a = d / 2.0
+    volume = math.pi / 6.0 * d ** 3
+    mass, fluid = RHO_S * volume, RHO * volume
+    mu = nu * RHO
+
+    def accel(gap, v):
+        re = abs(v) * d / nu
+        drag = 3.0 * math.pi * mu * d * v * (1.0 + 0.15 * re ** 0.687) * wall_resistance(gap / a)
+        return ((mass - fluid) * GRAVITY - drag) / (mass + added_mass * fluid)
+
+    v = 0.0  # quasi-steady start: bisection on accel(start_gap, v) = 0
+    low, high = 0.0, schiller_naumann_speed(d, nu) * 2.0
+    for _ in range(100):
+        v = 0.5 * (low + high)
+        low, high = (v, high) if accel(start_gap, v) > 0.0 else (low, v)
+    gap, out = start_gap, [(start_gap, v)]
+    dt = 1e-3 * a / max(v, 1e-12)
+    while gap > end_gap:
+        def f(state):
+            return (-state[1], accel(state[0], state[1]))
+        k1 = f((gap, v))
+        k2 = f((gap + 0.5 * dt * k1[0], v + 0.5 * dt * k1[1]))
+        k3 = f((gap + 0.5 * dt * k2[0], v + 0.5 * dt * k2[1]))
+        k4 = f((gap + dt * k3[0], v + dt * k3[1]))
+        gap += dt / 6.0 * (k1[0] + 2 * k2[0] + 2 * k3[0] + k4[0])
+        v += dt / 6.0 * (k1[1] + 2 * k2[1] + 2 * k3[1] + k4[1])
+        dt = 1e-3 * a / max(v, 1e-12) if v > 0 else dt
+        out.append((gap, v))
+    return out
+
+
 def point_particle(d, nu, wall, added_mass, t_end, dt):
     """v(t) of (m + C_a m_f) dv/dt = (m - m_f) g - F_SN(v) / wall, from rest (speeds positive downwards)."""
     volume = math.pi / 6.0 * d ** 3
@@ -80,8 +127,14 @@ def point_particle(d, nu, wall, added_mass, t_end, dt):
     return times, speeds
 
 
-def case_geometry(reynolds, d_over_l0, box_over_d):
-    """Scene numbers for one case: d = 10 mm, l0 = d / (d/l0), the box's side D = box_over_d d (rounded to l0)."""
+APPROACH_START = 8.0    # the approach's reference starts this many diameters of gap above the floor
+APPROACH_WINDOW = (1.0, 6.0)  # the approach is compared over these gaps [diameters]
+
+
+def case_geometry(reynolds, d_over_l0, box_over_d, approach=False):
+    """Scene numbers for one case: d = 10 mm, l0 = d / (d/l0), the box's side D = box_over_d d (rounded to l0).
+    With `approach` the run goes on until the sphere has come down to the floor: released so that it is still
+    APPROACH_START + 2 diameters of gap above it after the terminal window, the run long enough to land."""
     d = 0.01
     l0 = d / d_over_l0
     nu = viscosity_for(reynolds, d)
@@ -97,28 +150,43 @@ def case_geometry(reynolds, d_over_l0, box_over_d):
     # box of 3 R the walls already confine the spread force's immediate, solenoidal answer).
     t_end = 12.0 * relax
     side = max(side, math.ceil(max(KERNEL_BOX * kernel, 2.0 * math.sqrt(4.0 * nu * t_end) * 2.0) / l0) * l0)
-    fall = u * t_end
-    clearance = max(side / 2.0, 2.0 * kernel)  # the window ends this far above the floor
+    extra = 0.0
+    if approach:  # from the terminal window's end to the floor at the law's speed, and as long again to slow down
+        # (the box as for the terminal speed: its side walls join the floor in the approach's last part)
+        extra = (APPROACH_START + 2.0) * d
+        t_end += 2.0 * extra / u
+    fall = u * 12.0 * relax
+    clearance = max(side / 2.0, 2.0 * kernel, extra + d / 2.0)  # the window ends this far above the floor
     height = (math.ceil((fall * 1.1 + clearance + kernel) / l0) + 3) * l0
     return dict(d=d, l0=l0, nu=nu, side=side, u=u, relax=relax, t_end=t_end, height=height, kernel=kernel,
-                clearance=clearance)
+                clearance=clearance, approach=approach)
 
 
-def scene_text(g, correction, added_mass, voidage_radius):
+def scene_text(g, correction, added_mass, voidage_radius, extra=()):
+    """The scene; `correction` is "on", "off" or "default" (no `self_induced_velocity` key: what a user gets);
+    `extra` holds more `[coupling]` lines ("key = value")."""
     d, l0, nu, side, height = g["d"], g["l0"], g["nu"], g["side"], g["height"]
     dt = min(0.2 * l0 * l0 / nu, 0.2 * l0 / max(g["u"], 1e-9), 2e-3)
     release = height - g["kernel"] - l0  # the sampling sphere under the surface
     lines = [
         "[run]", f"end_time = {g['t_end']:.15g}", f"dt = {dt:.15g}", "solid_substeps = 20", "",
-        "[materials.grain]", f"density = {RHO_S}", "", "[materials.glass]", "density = 2500.0", "",
+        "[materials.grain]", f"density = {RHO_S}", "young_modulus = 1.0e6", "poisson_ratio = 0.3", "",
+        "[materials.glass]", "density = 2500.0", "young_modulus = 1.0e6", "poisson_ratio = 0.3", "",
         "[tank]", f"size = [{side:.15g}, {side:.15g}, {height + l0:.15g}]", 'open_faces = ["z_max"]',
         'wall_material = "glass"', "",
         "[solids]", "[[solids.spheres]]", f"position = [{side / 2:.15g}, {side / 2:.15g}, {release:.15g}]",
         f"radius = {d / 2:.15g}", 'material = "grain"', "",
         "[fluid]", f"spacing = {l0:.15g}", f"kinematic_viscosity = {nu:.15g}", f"density = {RHO}",
         "[[fluid.boxes]]", "low = [0.0, 0.0, 0.0]", f"high = [{side:.15g}, {side:.15g}, {height:.15g}]", "",
-        "[coupling]", f"self_induced_velocity = {'true' if correction else 'false'}",
     ]
+    if g["approach"]:  # the floor stops the sphere (the window ends a diameter above it)
+        lines += ["[contact]", "restitution = 0.5", "friction = 0.3", "max_impact_speed = 1.0", ""]
+    lines += [
+        "[coupling]",
+    ]
+    if correction != "default":
+        lines.append(f"self_induced_velocity = {'true' if correction == 'on' else 'false'}")
+    lines += list(extra)
     if voidage_radius > 0.0:
         lines.append(f"voidage_radius = {voidage_radius:.15g}")
     if added_mass > 0.0:
@@ -146,7 +214,7 @@ def analyse(g, times, heights, speeds, added_mass):
     # The window: the last third of the run above one box half-width (plus the kernel) from the floor, where the
     # floor's own correction (Brenner 1961: 1 + 9/8 (d/2)/h) is below 1.5 % at h >= D/2 >= 4 d... keep h >= D/2.
     floor_clear = g["clearance"]
-    usable = [k for k, z in enumerate(heights) if z > floor_clear]
+    usable = [k for k, z in enumerate(heights) if z > floor_clear and times[k] <= 12.0 * g["relax"] * (1 + 1e-9)]
     end = usable[-1] if usable else len(times) - 1
     start = next(k for k in range(end + 1) if times[k] >= 0.5 * times[end])
     window = speeds[start:end + 1]
@@ -166,19 +234,66 @@ def analyse(g, times, heights, speeds, added_mass):
         squares += (speeds[k] - v) ** 2
         count += 1
     rms = math.sqrt(squares / max(count, 1)) / expected
-    return dict(reynolds=reynolds, wall=wall, terminal=terminal, expected=expected,
-                error=terminal / expected - 1.0, rms=rms, window=(times[start], times[end]))
+    result = dict(reynolds=reynolds, wall=wall, terminal=terminal, expected=expected,
+                  error=terminal / expected - 1.0, rms=rms, window=(times[start], times[end]))
+    if g["approach"]:
+        result.update(analyse_approach(g, heights, speeds, added_mass))
+    return result
 
 
-def run_case(riffle, out, reynolds, d_over_l0, box_over_d, correction, added_mass, voidage_radius, threads):
-    g = case_geometry(reynolds, d_over_l0, box_over_d)
-    name = f"re{reynolds:g}_dl{d_over_l0:g}_{'on' if correction else 'off'}"
+def analyse_approach(g, heights, speeds, added_mass):
+    """The approach to the floor. `arrival`: the mean speed over gaps of APPROACH_START to APPROACH_START + 2
+    diameters over the law's (the speed after the long fall, before the floor matters: a drift of the terminal speed
+    shows here). Over gaps APPROACH_WINDOW (in diameters): the RMS of v / v(APPROACH_START) of the run minus the
+    same ratio of the reference (approach_reference), and the mean of both ratios from 6 to 2 diameters."""
+    d = g["d"]
+    arrival_speeds = [v for z, v in zip(heights, speeds)
+                      if APPROACH_START * d <= z - d / 2.0 <= (APPROACH_START + 2.0) * d]
+    arrival = sum(arrival_speeds) / len(arrival_speeds) if arrival_speeds else float("nan")
+    start_speeds = [v for z, v in zip(heights, speeds)
+                    if APPROACH_START * d <= z - d / 2.0 <= (APPROACH_START + 0.5) * d]
+    terminal = sum(start_speeds) / len(start_speeds) if start_speeds else float("nan")
+    reference = approach_reference(d, g["nu"], added_mass, APPROACH_START * d, 0.5 * APPROACH_WINDOW[0] * d)
+    reference.reverse()  # increasing gap
+
+    def reference_speed(gap):
+        low, high = 0, len(reference) - 1
+        while high - low > 1:
+            mid = (low + high) // 2
+            low, high = (mid, high) if reference[mid][0] <= gap else (low, mid)
+        (g0, v0), (g1, v1) = reference[low], reference[high]
+        return v0 + (v1 - v0) * (gap - g0) / (g1 - g0) if g1 > g0 else v0
+
+    squares, count, sim_mean, ref_mean, mean_count = 0.0, 0, 0.0, 0.0, 0
+    for z, v in zip(heights, speeds):
+        gap = z - d / 2.0
+        if APPROACH_WINDOW[0] * d <= gap <= APPROACH_WINDOW[1] * d:
+            v_ref = reference_speed(gap) / reference[-1][1]
+            squares += (v / terminal - v_ref) ** 2
+            count += 1
+            if gap >= 2.0 * d:
+                sim_mean += v / terminal
+                ref_mean += v_ref
+                mean_count += 1
+    arrival /= g["u"]
+    if count == 0:
+        return dict(approach_rms=float("nan"), approach_mean=float("nan"), approach_reference_mean=float("nan"),
+                    arrival=arrival)
+    return dict(approach_rms=math.sqrt(squares / count), approach_mean=sim_mean / max(mean_count, 1),
+                approach_reference_mean=ref_mean / max(mean_count, 1), arrival=arrival)
+
+
+def run_case(riffle, out, reynolds, d_over_l0, box_over_d, correction, added_mass, voidage_radius, threads,
+             approach=False, extra=()):
+    g = case_geometry(reynolds, d_over_l0, box_over_d, approach)
+    name = f"re{reynolds:g}_dl{d_over_l0:g}_{correction}{'_approach' if approach else ''}"
     case_dir = pathlib.Path(out) / name
     case_dir.mkdir(parents=True, exist_ok=True)
-    text, _ = scene_text(g, correction, added_mass, voidage_radius)
+    text, _ = scene_text(g, correction, added_mass, voidage_radius, extra)
     scene = case_dir / "scene.toml"
     scene.write_text(text)
     run_dir = case_dir / "run"
+    shutil.rmtree(run_dir, ignore_errors=True)
     subprocess.run([riffle, "run", str(scene), "--out", str(run_dir), "--threads", str(threads)],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     times, heights, speeds = read_probe(run_dir / "probe_grains.csv")
@@ -199,32 +314,50 @@ def main(argv=None):
     parser.add_argument("--out", default="out/settling")
     parser.add_argument("--cases", default="quick", help="quick, matrix, or RE:D/L0[,RE:D/L0...]")
     parser.add_argument("--box", type=float, default=8.0, help="box side over the diameter")
-    parser.add_argument("--correction", default="both", choices=["on", "off", "both"])
+    parser.add_argument("--correction", default="both", choices=["on", "off", "default", "both", "all"],
+                        help="self_induced_velocity on, off, unset (the default), off and on, or all three")
+    parser.add_argument("--approach", action="store_true",
+                        help="run on to the floor and compare the approach (gaps of 1-6 diameters) with a sphere "
+                             "approaching a no-slip plane (Brenner 1961's resistance)")
+    parser.add_argument("--coupling", action="append", default=[], metavar="'KEY = VALUE'",
+                        help="another [coupling] line for every case (repeatable)")
     parser.add_argument("--added-mass", type=float, default=0.0, help="C_a of the reference ODE (and the scene)")
     parser.add_argument("--voidage-radius", type=float, default=0.0,
                         help="[coupling] voidage_radius (m); a huge one makes a lone grain read eps = 1")
     parser.add_argument("--threads", type=int, default=1)
-    parser.add_argument("--check", nargs=2, type=float, metavar=("TERMINAL", "RMS"))
+    parser.add_argument("--check", nargs="+", type=float, metavar="TOL",
+                        help="TERMINAL RMS [APPROACH_RMS]: exit 1 when a case (not off) misses them")
     args = parser.parse_args(argv)
     if args.cases in CASES:
         cases = CASES[args.cases]
     else:
         cases = [tuple(float(x) for x in item.split(":")) for item in args.cases.split(",")]
-    switches = {"on": [True], "off": [False], "both": [False, True]}[args.correction]
-    print("| Re | d/l0 | D/d | correction | terminal / law (walls) | error | approach RMS | window [s] |")
-    print("|---|---|---|---|---|---|---|---|")
+    switches = {"on": ["on"], "off": ["off"], "default": ["default"], "both": ["off", "on"],
+                "all": ["off", "on", "default"]}[args.correction]
+    header = "| Re | d/l0 | D/d | correction | terminal / law (walls) | error | approach RMS | window [s] |"
+    if args.approach:
+        header += " speed at 8-10 d / law | floor approach RMS (1-6 d) | mean v/v(8 d) 2-6 d (reference) |"
+    print(header)
+    print("|---" * header.count(" |") + "|")
     failed = False
     for reynolds, d_over_l0 in cases:
         for correction in switches:
             r = run_case(args.riffle, args.out, reynolds, d_over_l0, args.box, correction, args.added_mass,
-                         args.voidage_radius, args.threads)
+                         args.voidage_radius, args.threads, args.approach, args.coupling)
             g = r["geometry"]
-            print(f"| {reynolds:g} | {d_over_l0:g} | {g['side'] / g['d']:.1f} | {'on' if correction else 'off'} | "
-                  f"{r['terminal'] * 1e3:.3f} / {r['expected'] * 1e3:.3f} mm/s (x{r['wall']:.3f}) | "
-                  f"{100 * r['error']:+.1f} % | {100 * r['rms']:.1f} % | {r['window'][0]:.3g}-{r['window'][1]:.3g} |",
-                  flush=True)
-            if args.check and correction and (abs(r["error"]) > args.check[0] or r["rms"] > args.check[1]):
-                failed = True
+            row = (f"| {reynolds:g} | {d_over_l0:g} | {g['side'] / g['d']:.1f} | {correction} | "
+                   f"{r['terminal'] * 1e3:.3f} / {r['expected'] * 1e3:.3f} mm/s (x{r['wall']:.3f}) | "
+                   f"{100 * r['error']:+.1f} % | {100 * r['rms']:.1f} % | {r['window'][0]:.3g}-{r['window'][1]:.3g} |")
+            if args.approach:
+                row += (f" {r['arrival']:.3f} | {100 * r['approach_rms']:.1f} % | {r['approach_mean']:.3f} "
+                        f"({r['approach_reference_mean']:.3f}) |")
+            print(row, flush=True)
+            if args.check and correction != "off":
+                missed = abs(r["error"]) > args.check[0] or r["rms"] > args.check[1]
+                if len(args.check) > 2 and args.approach:  # the arrival speed within the terminal tolerance too
+                    missed = missed or not (r["approach_rms"] <= args.check[2])
+                    missed = missed or not (abs(r["arrival"] - 1.0) <= args.check[0])
+                failed = failed or missed
     return 1 if failed else 0
 
 

@@ -60,6 +60,12 @@ double wall_resistance(double gap_over_radius) {
                                            : reflection_wall_resistance(gap_over_radius);
 }
 
+double faxen_wall_resistance_tangential(double gap_over_radius) {
+  const double s = 1.0 / (1.0 + std::max(gap_over_radius, kFaxenSmallestGap));
+  const double s3 = s * s * s, s4 = s3 * s, s5 = s4 * s;
+  return 1.0 / (1.0 - 9.0 / 16.0 * s + 1.0 / 8.0 * s3 - 45.0 / 256.0 * s4 - 1.0 / 16.0 * s5);
+}
+
 double wall_lubrication_coefficient(double radius, double gap, double viscosity, double roughness, double cutoff) {
   if (!(gap < cutoff) || !(gap > 0.0)) return 0.0;
   const double film = std::max(gap, roughness);

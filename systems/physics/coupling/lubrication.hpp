@@ -36,6 +36,13 @@ double reflection_wall_resistance(double gap_over_radius);
 double wall_resistance(double gap_over_radius);
 inline constexpr double kWallFormSwitch = 0.07555570638673673;  ///< [1] h/a where the two forms are equal
 
+/// [1] The resistance of a sphere moving along a no-slip plane, F / (6 pi mu a V), at gap h/a: Faxen's reflection
+/// series 1 / (1 - 9/16 s + 1/8 s^3 - 45/256 s^4 - 1/16 s^5), s = a / (a + h) (Faxen 1923; Happel & Brenner 1965),
+/// a far-field series: near contact the resistance grows as (8/15) ln(a/h) (Goldman, Cox & Brenner 1967), which the
+/// series misses, so it is held at its value at h/a = kFaxenSmallestGap below.
+double faxen_wall_resistance_tangential(double gap_over_radius);
+inline constexpr double kFaxenSmallestGap = 0.1;  ///< [1] h/a
+
 /// [kg/s] c of the wall: 6 pi mu a (lambda(max(h, h_r)/a) - 1), 0 at h >= cutoff and in contact (h <= 0).
 double wall_lubrication_coefficient(double radius, double gap, double viscosity, double roughness, double cutoff);
 

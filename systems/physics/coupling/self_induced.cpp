@@ -1,7 +1,11 @@
 #include "systems/physics/coupling/self_induced.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
+
+#include "components/vec.hpp"
 
 namespace riffle {
 
@@ -20,6 +24,7 @@ struct KernelTransform {
   std::vector<double> squared;  ///< W(kappa)^2
   double integral = 0.0;        ///< int_0^inf W^2 d kappa
   std::vector<double> oseen;    ///< phi at the table's Re_R
+  std::vector<double> brinkman; ///< the Brinkman screening at the table's R / l_B (same log grid, -3 to 4)
 
   KernelTransform() {
     constexpr int kIntervals = 1000;  // Simpson in q
@@ -42,6 +47,22 @@ struct KernelTransform {
       squared[static_cast<std::size_t>(i)] = transform * transform;
     }
     integral = integrate([](double) { return 1.0; });
+    // 1 - s = int W^2 b^2 / (kappa^2 + b^2) / int W^2, b = R / l_B: a peak of width b at kappa = 0, narrower than
+    // the grid for small b, so W^2(0) = 1 is taken out and its part integrated exactly (b atan(kappa_max / b)).
+    brinkman.resize(kTable);
+    const double kappa_max = (kPoints - 1) * kStep;
+    for (int n = 0; n < kTable; ++n) {
+      const double b = std::pow(10.0, kLogLow + (kLogHigh - kLogLow) * n / (kTable - 1));
+      std::size_t i = 0;
+      double smooth = 0.0;
+      for (int j = 0; j < kPoints; ++j, ++i) {
+        const double simpson = (j == 0 || j == kPoints - 1) ? 1.0 : (j % 2 == 1 ? 4.0 : 2.0);
+        const double kappa = j * kStep;
+        smooth += simpson * (squared[i] - 1.0) * b * b / (kappa * kappa + b * b);
+      }
+      const double screened = smooth * kStep / 3.0 + b * std::atan(kappa_max / b);
+      brinkman[static_cast<std::size_t>(n)] = std::max(0.0, 1.0 - screened / integral);
+    }
     oseen.resize(kTable);
     for (int n = 0; n < kTable; ++n) {
       const double reynolds = std::pow(10.0, kLogLow + (kLogHigh - kLogLow) * n / (kTable - 1));
@@ -111,6 +132,152 @@ double self_induced_oseen_factor(double reynolds_r) {
   const auto n = static_cast<std::size_t>(position);
   const double t = position - static_cast<double>(n);
   return (1.0 - t) * table.oseen[n] + t * table.oseen[n + 1];
+}
+
+namespace {
+
+/// The radical inverse of `index` in base `base` (Halton's sequence).
+double radical_inverse(std::uint64_t index, std::uint64_t base) {
+  double inverse = 1.0 / static_cast<double>(base), factor = inverse, value = 0.0;
+  for (; index > 0; index /= base, factor *= inverse) value += static_cast<double>(index % base) * factor;
+  return value;
+}
+
+/// q = r / R of the normalised Wendland kernel's radial distribution (density 4 pi q^2 w(q) / norm) at cumulative
+/// probability `u`: the inverse of its cumulative, tabulated on a fine grid in q and interpolated.
+double wendland_radius_at(double u) {
+  static const std::vector<double> cumulative = [] {
+    constexpr int kIntervals = 4096;
+    std::vector<double> c(kIntervals + 1, 0.0);
+    const auto density = [](double q) {
+      const double m = 1.0 - q;
+      return q * q * m * m * m * m * (1.0 + 4.0 * q);
+    };
+    for (int j = 1; j <= kIntervals; ++j) {  // Simpson on each interval (midpoint rule's error is visible)
+      const double a = static_cast<double>(j - 1) / kIntervals, b = static_cast<double>(j) / kIntervals;
+      c[static_cast<std::size_t>(j)] = c[static_cast<std::size_t>(j - 1)] +
+                                       (b - a) / 6.0 * (density(a) + 4.0 * density(0.5 * (a + b)) + density(b));
+    }
+    for (double& value : c) value /= c.back();
+    return c;
+  }();
+  const auto upper = std::upper_bound(cumulative.begin(), cumulative.end(), u);
+  if (upper == cumulative.begin()) return 0.0;
+  if (upper == cumulative.end()) return 1.0;
+  const auto j = static_cast<std::size_t>(upper - cumulative.begin());
+  const double t = (u - cumulative[j - 1]) / (cumulative[j] - cumulative[j - 1]);
+  return (static_cast<double>(j - 1) + t) / static_cast<double>(cumulative.size() - 1);
+}
+
+/// A point of the kernel on R = 1 centred at height h, from three numbers in [0, 1).
+Vec3 kernel_point(double u_radius, double u_cosine, double u_angle, double height) {
+  const double q = wendland_radius_at(u_radius);
+  const double cosine = 2.0 * u_cosine - 1.0;
+  const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
+  const double angle = 2.0 * kPi * u_angle;
+  return {q * sine * std::cos(angle), q * sine * std::sin(angle), height + q * cosine};
+}
+
+/// 8 pi mu G_ii (i = z along the normal, x along the plane) at x for a unit force at y, the no-slip plane z = 0:
+/// the Stokeslet, less its mirror image, plus Blake's (1971) Stokes doublet and source dipole at the image point.
+/// With `free` false only the image system.
+std::array<double, 2> blake_diagonal(const Vec3& x, const Vec3& y, bool free) {
+  const double h = y.z();
+  const Vec3 r = x - y;
+  const Vec3 image(x.x() - y.x(), x.y() - y.y(), x.z() + h);
+  const double n = image.norm(), n3 = n * n * n, n5 = n3 * n * n;
+  std::array<double, 2> g{};  // {zz, xx}
+  if (free) {
+    const double m = r.norm(), m3 = m * m * m;
+    g[0] += 1.0 / m + r.z() * r.z() / m3;
+    g[1] += 1.0 / m + r.x() * r.x() / m3;
+  }
+  g[0] -= 1.0 / n + image.z() * image.z() / n3;
+  g[1] -= 1.0 / n + image.x() * image.x() / n3;
+  // 2 h D_jj d/dR_j [h R_i / |R|^3 - delta_i3 / |R| - R_i R_3 / |R|^3], D = diag(1, 1, -1), at i = j.
+  const auto derivative = [&](int i) {
+    const double ri = image[i], r3 = image.z();
+    const double di3 = i == 2 ? 1.0 : 0.0;
+    return h * (1.0 / n3 - 3.0 * ri * ri / n5) + di3 * ri / n3 - (r3 + ri * di3) / n3 + 3.0 * ri * r3 * ri / n5;
+  };
+  g[0] += -2.0 * h * derivative(2);
+  g[1] += 2.0 * h * derivative(0);
+  return g;
+}
+
+/// The wall factors' table: log-spaced in h / R from kLow to kHigh.
+struct WallFactorTable {
+  static constexpr double kLow = 0.05, kHigh = 6.0;
+  static constexpr int kPoints = 40;
+  // Where the plane cuts the kernels the integrand has the free Stokeslet's 1/r: 8192 points leave about 1 %;
+  // beyond, the image part alone is smooth and 2048 points give four digits.
+  static constexpr int kSamplesCut = 8192, kSamplesWhole = 2048;
+  std::array<SelfInducedWallFactors, kPoints> factors{};
+  WallFactorTable() {
+    for (int n = 0; n < kPoints; ++n) {
+      const double height = height_at(n);
+      factors[static_cast<std::size_t>(n)] =
+          self_induced_wall_quadrature(height, height < 1.0 ? kSamplesCut : kSamplesWhole);
+    }
+  }
+  static double height_at(int n) {
+    return kLow * std::pow(kHigh / kLow, static_cast<double>(n) / (kPoints - 1));
+  }
+};
+
+}  // namespace
+
+SelfInducedWallFactors self_induced_wall_quadrature(double height_over_radius, int samples) {
+  const double h = height_over_radius;
+  // Far from the plane (h >= 1) neither kernel is cut, so the free part is the exact <S_ii> = 4/3 <1/r> and only
+  // the smooth image part is integrated; nearer, both parts over the kernels' halves in the water.
+  const double free = 4.0 / 3.0 * self_induced_inverse_distance();
+  const bool cut = h < 1.0;
+  std::array<double, 2> sum{};
+  int kept = 0;
+  for (int k = 1; k <= samples; ++k) {
+    const auto index = static_cast<std::uint64_t>(k);
+    const Vec3 x = kernel_point(radical_inverse(index, 2), radical_inverse(index, 3), radical_inverse(index, 5), h);
+    const Vec3 y = kernel_point(radical_inverse(index, 7), radical_inverse(index, 11), radical_inverse(index, 13), h);
+    if (x.z() <= 0.0 || y.z() <= 0.0 || (x - y).squaredNorm() == 0.0) continue;
+    const std::array<double, 2> g = blake_diagonal(x, y, cut);
+    sum[0] += g[0];
+    sum[1] += g[1];
+    ++kept;
+  }
+  if (kept == 0) return {};
+  const double normal = sum[0] / kept + (cut ? 0.0 : free);
+  const double tangential = sum[1] / kept + (cut ? 0.0 : free);
+  return {normal / free, tangential / free};
+}
+
+SelfInducedWallFactors self_induced_wall_factors(double height_over_radius) {
+  static const WallFactorTable table;
+  using T = WallFactorTable;
+  if (!(height_over_radius > T::kLow)) return table.factors.front();
+  if (height_over_radius >= T::kHigh) {  // the reflection's tail: 1 - f falls as 1 / h
+    const SelfInducedWallFactors& end = table.factors.back();
+    const double ratio = T::kHigh / height_over_radius;
+    return {1.0 - (1.0 - end.normal) * ratio, 1.0 - (1.0 - end.tangential) * ratio};
+  }
+  const double position = std::log(height_over_radius / T::kLow) / std::log(T::kHigh / T::kLow) * (T::kPoints - 1);
+  const auto n = std::min(static_cast<std::size_t>(position), static_cast<std::size_t>(T::kPoints - 2));
+  const double t = position - static_cast<double>(n);
+  const SelfInducedWallFactors& a = table.factors[n];
+  const SelfInducedWallFactors& b = table.factors[n + 1];
+  return {(1.0 - t) * a.normal + t * b.normal, (1.0 - t) * a.tangential + t * b.tangential};
+}
+
+double self_induced_brinkman_factor(double kernel_over_screening) {
+  const KernelTransform& table = kernel_transform();
+  if (!(kernel_over_screening > 0.0)) return 1.0;
+  const double position = (std::log10(kernel_over_screening) - KernelTransform::kLogLow) /
+                          (KernelTransform::kLogHigh - KernelTransform::kLogLow) * (KernelTransform::kTable - 1);
+  if (position <= 0.0) return table.brinkman.front();  // 1 - O(R / l_B): within 1e-3 of 1 there
+  if (position >= KernelTransform::kTable - 1) return 0.0;
+  const auto n = static_cast<std::size_t>(position);
+  const double t = position - static_cast<double>(n);
+  return (1.0 - t) * table.brinkman[n] + t * table.brinkman[n + 1];
 }
 
 double self_induced_buildup(double time) {

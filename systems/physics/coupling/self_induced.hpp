@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <array>
 
+#include "components/vec.hpp"
+
 namespace riffle {
 
 /// R <1/|x - y|> for x and y drawn from two normalised Wendland kernels on radius R: the steady Stokes self-induced
@@ -27,6 +29,13 @@ double self_induced_overlap();
 /// (1 at Re_R = 0, about 3.5 / Re_R for Re_R >> 1). Interpolated in a table built on first use.
 double self_induced_oseen_factor(double reynolds_r);
 
+/// s(R / l_B): the steady self-induced velocity in a suspension over the one in clear water. The other grains resist
+/// the water's motion (Brinkman 1947: mu lap u - (mu / l_B^2) u, l_B^2 the suspension's permeability), which
+/// screens the Stokeslet beyond l_B: the Stokes symbol 1 / (mu k^2) becomes 1 / (mu (k^2 + l_B^-2)), so
+/// s = int W^2 kappa^2 / (kappa^2 + (R / l_B)^2) d kappa / int W^2 d kappa (1 for a lone grain, falling as the
+/// suspension thickens or the kernel widens). Interpolated in a table built with the Oseen one.
+double self_induced_brinkman_factor(double kernel_over_screening);
+
 /// The build-up of the Stokes disturbance after a force switched on at t = 0, psi(nu t / R^2), fitted by
 /// 1 - sum_m a_m exp(-nu t / (T_m R^2)) (within 0.04 of the exact integral for every t). A force that varies feeds
 /// one first-order lag per mode; the Oseen reduction shortens every T_m by phi (the early growth is Stokes').
@@ -39,19 +48,33 @@ struct SelfInducedModes {
 /// psi(T), T = nu t / R^2, by quadrature of the kernel's transform (for the tests of the mode fit).
 double self_induced_buildup(double time);
 
-/// The drag and its self-induced velocity solved together along one grain's slip, for one sub-step.
-/// Unknown w = u_sampled - u_self - v (the slip the drag sees); the modes' lags make
-/// u_self = carried - gain(|w|) w, so w (1 - gain(|w|)) = u_sampled - v - carried: w lies along the right-hand
-/// side and its length solves a scalar equation, bracketed and solved by safeguarded secant (Illinois) steps.
-/// `gain(x)` is dimensionless, below 1 for every physical grain (d <1/r> / 2 < 1), and is clipped at 0.95.
-/// Returns the slip length x.
-template <class Gain>
-double solve_self_induced_slip(double rhs_length, Gain&& gain) {
-  if (!(rhs_length > 0.0)) return 0.0;
-  const auto residual = [&](double x) { return x * (1.0 - std::min(gain(x), 0.95)) - rhs_length; };
-  double low = rhs_length, f_low = residual(low);  // <= 0: gain >= 0
+/// The steady self-induced velocity next to one no-slip plane over the free one, along the plane's normal and
+/// along the plane, for a grain whose centre is `height_over_radius` = h / R from it. The kernel-spread force's
+/// Stokeslet with Blake's (1971, Proc. Camb. Phil. Soc. 70) image system, sampled by the same kernel; both kernels
+/// lose the part behind the plane (the grain reads and pushes only the water) and are renormalised. Far from the
+/// plane it tends to the reflection of Lorentz (1907) and Faxen: 1 - (9/8 along the normal, 9/16 along the plane)
+/// (4/3 <1/r> R)^-1 (R/h) (sphere mobilities 1 - 9a/8h, 1 - 9a/16h, a -> R<1/r>). Tabulated on first use by
+/// quasi-random quadrature (Halton points) over the two kernels; beyond the table the reflection's 1/h tail.
+struct SelfInducedWallFactors {
+  double normal = 1.0;
+  double tangential = 1.0;
+};
+SelfInducedWallFactors self_induced_wall_factors(double height_over_radius);
+
+/// The same integral evaluated directly with `samples` Halton pairs (the table's entries; for the tests).
+SelfInducedWallFactors self_induced_wall_quadrature(double height_over_radius, int samples);
+
+/// The time of the wall's answer, a first-order lag of T_wall (2h)^2 / nu: the disturbance diffuses to the plane
+/// and back (2h). The unsteady Stokeslet's 1/r part at distance r builds up as erfc(r / (2 sqrt(nu t))), which
+/// reaches one half at nu t / r^2 = 1.10; a lag reaches one half at 0.69 of its time, so T_wall = 1.6.
+inline constexpr double kSelfInducedWallTime = 1.6;
+
+/// The root of `residual` between `low` (residual <= 0) and `high` (>= 0) by safeguarded secant (Illinois) steps.
+template <class Residual>
+double illinois_root(double low, double high, Residual&& residual) {
+  double f_low = residual(low);
   if (f_low >= 0.0) return low;
-  double high = rhs_length / 0.05, f_high = residual(high);  // >= 0: the gain is clipped at 0.95
+  double f_high = residual(high);
   int side = 0;
   for (int iteration = 0; iteration < 60; ++iteration) {
     const double x = (low * f_high - high * f_low) / (f_high - f_low);
@@ -70,6 +93,36 @@ double solve_self_induced_slip(double rhs_length, Gain&& gain) {
     }
   }
   return 0.5 * (low + high);
+}
+
+/// The drag and its self-induced velocity solved together along one grain's slip, for one sub-step.
+/// Unknown w = u_sampled - u_self - v (the slip the drag sees); the modes' lags make
+/// u_self = carried - gain(|w|) w, so w (1 - gain(|w|)) = u_sampled - v - carried: w lies along the right-hand
+/// side and its length solves a scalar equation, bracketed and solved by safeguarded secant (Illinois) steps.
+/// `gain(x)` is dimensionless, below 1 for every physical grain (d <1/r> / 2 < 1), and is clipped at 0.95.
+/// Returns the slip length x.
+template <class Gain>
+double solve_self_induced_slip(double rhs_length, Gain&& gain) {
+  if (!(rhs_length > 0.0)) return 0.0;
+  // At x = rhs the residual is <= 0 (gain >= 0); at rhs / 0.05 it is >= 0 (the gain is clipped at 0.95).
+  return illinois_root(rhs_length, rhs_length / 0.05,
+                       [&](double x) { return x * (1.0 - std::min(gain(x), 0.95)) - rhs_length; });
+}
+
+/// The same with a gain per component (next to walls the disturbance differs along and across them):
+/// w_i (1 - gain_i(|w|)) = rhs_i, each gain clipped at 0.95. Returns w. With equal gains it is the solve above.
+template <class Gains>
+Vec3 solve_self_induced_slip(const Vec3& rhs, Gains&& gains) {
+  const double rhs_length = rhs.norm();
+  if (!(rhs_length > 0.0)) return Vec3::Zero();
+  const auto slip_at = [&](double x) {
+    const Vec3 gain = gains(x);
+    return Vec3(rhs.x() / (1.0 - std::min(gain.x(), 0.95)), rhs.y() / (1.0 - std::min(gain.y(), 0.95)),
+                rhs.z() / (1.0 - std::min(gain.z(), 0.95)));
+  };
+  // |w(x)| lies between |rhs| and |rhs| / 0.05, so x - |w(x)| changes sign over that bracket.
+  const double length = illinois_root(rhs_length, rhs_length / 0.05, [&](double x) { return x - slip_at(x).norm(); });
+  return slip_at(length);
 }
 
 }  // namespace riffle

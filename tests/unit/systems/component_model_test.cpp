@@ -174,7 +174,8 @@ TEST_CASE("each role's table lists every field of its struct, and the group's wr
                                             "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
                                             "history_mode_4", "history_mode_5", "history_mode_6",
                                             "history_mode_7", "self_induced_fast",
-                                            "self_induced_middle", "self_induced_slow", "viscous_force", "fixed", "fluctuation_state"});
+                                            "self_induced_middle", "self_induced_slow", "viscous_force", "fixed", "fluctuation_state",
+                                            "self_induced_wall_x", "self_induced_wall_y", "self_induced_wall_z"});
 }
 
 TEST_CASE("a new entity's fields start at their table defaults") {

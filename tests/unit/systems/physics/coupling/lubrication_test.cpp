@@ -125,3 +125,19 @@ TEST_CASE("[coupling] lubrication keys: off by default, lengths in reduced radii
         std::string::npos);
   CHECK(problems("lubrication = 1\n").find("lubrication") != std::string::npos);
 }
+
+TEST_CASE("Faxen's resistance along a plane tends to 1 + 9a/(16h), below the normal one, and is held near contact") {
+  for (double x : {50.0, 200.0}) {  // h = a + gap: Faxen's leading reflection, half the normal one's 9/8
+    CAPTURE(x);
+    CHECK(faxen_wall_resistance_tangential(x) - 1.0 == doctest::Approx(9.0 / 16.0 / (1.0 + x)).epsilon(0.02));
+  }
+  double last = 1.0;
+  for (double x = 20.0; x > kFaxenSmallestGap; x *= 0.8) {  // grows towards the plane, less than along the normal
+    CAPTURE(x);
+    const double tangential = faxen_wall_resistance_tangential(x);
+    CHECK(tangential > last);
+    CHECK(tangential < wall_resistance(x));
+    last = tangential;
+  }
+  CHECK(faxen_wall_resistance_tangential(0.01) == faxen_wall_resistance_tangential(kFaxenSmallestGap));
+}

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "systems/physics/coupling/self_induced.hpp"
+#include "systems/physics/math/counter_random.hpp"
 
 using namespace riffle;
 
@@ -95,4 +96,108 @@ TEST_CASE("the drag and its disturbance solve to the fixed point along the slip"
   CHECK(solve_self_induced_slip(0.0, [](double) { return 0.5; }) == 0.0);
   // A gain past 1 (no physical grain) is clipped at 0.95: finite, 20 times the right-hand side.
   CHECK(solve_self_induced_slip(1.0, [](double) { return 3.0; }) == doctest::Approx(20.0).epsilon(1e-9));
+}
+
+TEST_CASE("next to a no-slip plane the regularised disturbance tends to Lorentz's reflection and falls towards it") {
+  // Far from the plane the image system at the grain is Lorentz's (1907) reflection: the mobilities of a sphere
+  // 1 - 9a/(8h) along the normal and 1 - 9a/(16h) along the plane, with the blob's 4/3 <1/r> R in place of 1/a.
+  const double free = 4.0 / 3.0 * self_induced_inverse_distance();
+  for (double h : {3.0, 5.0, 8.0, 20.0}) {
+    const SelfInducedWallFactors f = self_induced_wall_factors(h);
+    // The blob's finite size adds O((R/h)^3) (the reflection's next term is (a/h)^3 / 2 along the normal).
+    CHECK(1.0 - f.normal == doctest::Approx(1.5 / (h * free)).epsilon(0.03 + 0.5 / (h * h)));
+    CHECK(1.0 - f.tangential == doctest::Approx(0.75 / (h * free)).epsilon(0.03 + 0.5 / (h * h)));
+  }
+  // The wall holds the water: the disturbance along the normal is smaller than along the plane, both fall as the
+  // grain nears the plane and stay positive.
+  double last_normal = 1.0, last_tangential = 1.0;
+  for (double h = 8.0; h > 0.06; h *= 0.8) {
+    const SelfInducedWallFactors f = self_induced_wall_factors(h);
+    CHECK(f.normal < f.tangential);
+    CHECK(f.normal <= last_normal + 0.01);
+    CHECK(f.tangential <= last_tangential + 0.01);
+    CHECK(f.normal > 0.0);
+    last_normal = f.normal;
+    last_tangential = f.tangential;
+  }
+  CHECK(self_induced_wall_factors(1e9).normal == doctest::Approx(1.0).epsilon(1e-6));
+}
+
+namespace {
+
+/// A point of the Wendland kernel on R = 1 at height h by rejection from its radial density q^2 w(q) (below 0.06),
+/// pseudo-random numbers named by (sample, lane).
+Vec3 rejected_kernel_point(std::uint64_t sample, std::uint32_t& lane, double h) {
+  for (;;) {
+    const double q = counter_uniform(7, sample, 0, lane++);
+    const double m = 1.0 - q;
+    if (0.06 * counter_uniform(7, sample, 0, lane++) > q * q * m * m * m * m * (1.0 + 4.0 * q)) continue;
+    const double cosine = 2.0 * counter_uniform(7, sample, 0, lane++) - 1.0;
+    const double angle = 2.0 * 3.14159265358979323846 * counter_uniform(7, sample, 0, lane++);
+    const double sine = std::sqrt(1.0 - cosine * cosine);
+    return {q * sine * std::cos(angle), q * sine * std::sin(angle), h + q * cosine};
+  }
+}
+
+/// 8 pi mu times the velocity along the normal at x for a unit normal force at y above the no-slip plane z = 0:
+/// Blake's (1971) Green's function written out for its zz component, R = x - y* with y* = y mirrored, h = y_z:
+/// G_zz = 1/r + r_z^2/r^3 - 1/R - R_z^2/R^3 - 2 h (h (1/R^3 - 3 R_z^2/R^5) - R_z/R^3 + 3 R_z^3/R^5).
+double blake_normal(const Vec3& x, const Vec3& y) {
+  const Vec3 r = x - y;
+  const Vec3 big(x.x() - y.x(), x.y() - y.y(), x.z() + y.z());
+  const double h = y.z(), m = r.norm(), n = big.norm();
+  const double rz = big.z();
+  return 1.0 / m + r.z() * r.z() / (m * m * m) - 1.0 / n - rz * rz / (n * n * n) -
+         2.0 * h * (h * (1.0 / (n * n * n) - 3.0 * rz * rz / std::pow(n, 5)) - rz / (n * n * n) +
+                    3.0 * rz * rz * rz / std::pow(n, 5));
+}
+
+}  // namespace
+
+TEST_CASE("Blake's image system stops the water on the plane, and the table agrees with a pseudo-random estimate") {
+  // No slip: the normal velocity of a normal force vanishes on z = 0, wherever the force is.
+  for (const Vec3& y : {Vec3(0.0, 0.0, 1.0), Vec3(0.3, -0.2, 0.4)})
+    for (const Vec3& x : {Vec3(1.0, 0.5, 0.0), Vec3(-2.0, 1.0, 0.0), Vec3(0.1, 0.0, 0.0)})
+      CHECK(std::abs(blake_normal(x, y)) < 1e-12);
+  // The table's normal factor against plain Monte Carlo over pairs of kernel points (the standard error from the
+  // samples; the table's own quadrature is Halton's, through the kernel's inverse cumulative).
+  const double free = 4.0 / 3.0 * self_induced_inverse_distance();
+  for (double h : {0.5, 1.5}) {
+    double sum = 0.0, squares = 0.0;
+    int count = 0;
+    for (std::uint64_t k = 0; k < 100000; ++k) {
+      std::uint32_t lane = 0;
+      const Vec3 x = rejected_kernel_point(2 * k, lane, h);
+      const Vec3 y = rejected_kernel_point(2 * k + 1, lane, h);
+      if (x.z() <= 0.0 || y.z() <= 0.0) continue;
+      const double g = blake_normal(x, y) / free;
+      sum += g;
+      squares += g * g;
+      ++count;
+    }
+    const double mean = sum / count;
+    const double error = std::sqrt((squares / count - mean * mean) / count);
+    CHECK(std::abs(self_induced_wall_factors(h).normal - mean) < 4.0 * error + 0.01);
+  }
+}
+
+TEST_CASE("the Brinkman screening is the kernels' mean of exp(-r / l_B) / r over their mean of 1 / r") {
+  // The screened symbol 1 / (k^2 + l_B^-2) is the Yukawa potential exp(-r / l_B) / (4 pi r) in real space: pairs of
+  // kernel points by plain Monte Carlo (an independent route to the Fourier-space table).
+  CHECK(self_induced_brinkman_factor(0.0) == 1.0);
+  CHECK(self_induced_brinkman_factor(1e-3) == doctest::Approx(1.0).epsilon(2e-3));
+  for (double beta : {0.5, 2.0, 5.0}) {
+    double screened = 0.0, plain = 0.0;
+    for (std::uint64_t k = 0; k < 200000; ++k) {
+      std::uint32_t lane = 0;
+      const Vec3 x = rejected_kernel_point(2 * k, lane, 10.0);
+      const Vec3 y = rejected_kernel_point(2 * k + 1, lane, 10.0);
+      const double r = (x - y).norm();
+      screened += std::exp(-beta * r) / r;
+      plain += 1.0 / r;
+    }
+    CAPTURE(beta);
+    CHECK(self_induced_brinkman_factor(beta) == doctest::Approx(screened / plain).epsilon(0.02));
+  }
+  CHECK(self_induced_brinkman_factor(2.0) < self_induced_brinkman_factor(0.5));
 }
