@@ -109,11 +109,12 @@ struct GrainDrag {
   /// [m/s] the fluid velocity the drag used: the sampled one less the grain's own disturbance (docs/COUPLING.md)
   std::vector<Vec3> undisturbed_velocity;
   /// [m/s] the grain's own disturbance of the sampled velocity, one first-order lag per mode of its build-up (fast,
-  /// middle, slow: systems/physics/coupling/self_induced.hpp); their sum is fluid_velocity - undisturbed_velocity. Grain
-  /// fields, so a resumed run continues each build-up where it was.
+  /// middle, slow: systems/physics/coupling/self_induced.hpp); with the walls' lags below, their sum is
+  /// fluid_velocity - undisturbed_velocity. Grain fields, so a resumed run continues each build-up where it was.
   std::vector<Vec3> self_induced_fast, self_induced_middle, self_induced_slow;
   /// [m/s] what the tank's walls take off that disturbance (they hold the water: Blake's image system), one lag per
-  /// pair of walls across x, y and z, each as slow as the disturbance's way to its nearer wall and back.
+  /// pair of walls across x, y and z (with the walls' resistance at the grain's scale), as slow as the disturbance's
+  /// slowest mode.
   std::vector<Vec3> self_induced_wall_x, self_induced_wall_y, self_induced_wall_z;
 
   std::size_t size() const { return drag_force.size(); }

@@ -151,10 +151,11 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // itself, at the grain's scale (which the water does not resolve), is put back: Brenner's (1961) lambda along
   // the normal, Faxen's along the plane, as the slip the grain would read from its own image, (1 - 1/lambda) of
   // the slip, so that a steady slip is lambda times the undisturbed one. Both are the same reflection, so each pair
-  // of walls across an axis feeds one lag as slow as the disturbance's way to the nearer wall and back, with the
-  // Oseen reduction at that distance (the water's inertia screens a far wall). The walls add (reflections to first
-  // order). Below the lubrication cut-off the normal resistance is the lubrication's (solid_lubrication); below
-  // 0.1 a both are held (the explicit drag stays stable; contact is the lubrication's and the contact law's).
+  // of walls across an axis feeds one lag, as slow as the disturbance's slowest mode (the walls cut its far field,
+  // which that mode builds), with the Oseen reduction at the distance to the nearer wall and back (the water's
+  // inertia screens a far wall). The walls add (reflections to first order). Below the lubrication cut-off the
+  // normal resistance is the lubrication's (solid_lubrication); below 0.1 a both are held (the explicit drag stays
+  // stable; contact is the lubrication's and the contact law's).
   std::array<Vec3*, 3> walls = {&drag.self_induced_wall_x[grain], &drag.self_induced_wall_y[grain],
                                 &drag.self_induced_wall_z[grain]};
   // Per axis: the share of phi K F / flux_share each component loses, and the share of the slip added (the sum of
@@ -186,11 +187,8 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
       wall_keep[axis] = 1.0;
       continue;
     }
-    const double reach = 2.0 * nearest;
-    const double reynolds_reach = relative_speed * reach / nu;
-    const double tau = slow_time;
-    const double screening = self_induced_oseen_factor(reynolds_reach);
-    wall_keep[axis] = std::exp(-dt / tau);
+    const double screening = self_induced_oseen_factor(relative_speed * 2.0 * nearest / nu);
+    wall_keep[axis] = std::exp(-dt / slow_time);
     wall_reduction[axis] = screening * reduction;
     wall_resistance_share[axis] = screening * resistance;
     carried += wall_keep[axis] * *walls[axis];

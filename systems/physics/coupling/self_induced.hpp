@@ -64,10 +64,6 @@ SelfInducedWallFactors self_induced_wall_factors(double height_over_radius);
 /// The same integral evaluated directly with `samples` Halton pairs (the table's entries; for the tests).
 SelfInducedWallFactors self_induced_wall_quadrature(double height_over_radius, int samples);
 
-/// The time of the wall's answer, a first-order lag of T_wall (2h)^2 / nu: the disturbance diffuses to the plane
-/// and back (2h). The unsteady Stokeslet's 1/r part at distance r builds up as erfc(r / (2 sqrt(nu t))), which
-/// reaches one half at nu t / r^2 = 1.10; a lag reaches one half at 0.69 of its time, so T_wall = 1.6.
-inline constexpr double kSelfInducedWallTime = 1.6;
 
 /// The root of `residual` between `low` (residual <= 0) and `high` (>= 0) by safeguarded secant (Illinois) steps.
 template <class Residual>
