@@ -121,7 +121,10 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // The other grains around screen the disturbance (Brinkman): the water between them is resisted by
   // (1 - eps) times the drag per grain volume, mu / l_B^2, at the sub-step's known slip. A lone grain reads eps = 1
   // (the self-corrected voidage) and is not screened.
-  const double solid_fraction = std::max(0.0, 1.0 - voidage);
+  // Only with the self-corrected voidage estimate: the cloud-in-cell reading counts the grain's own volume, so a lone
+  // grain would screen itself.
+  const bool screened = model_.voidage_estimate == CouplingModel::VoidageEstimate::kSelfCorrected;
+  const double solid_fraction = screened ? std::max(0.0, 1.0 - voidage) : 0.0;
   const double resistance_per_volume =
       solid_fraction * drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_) /
       flux_share;
@@ -183,8 +186,9 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
       }
       nearest = std::min(nearest, height);
     }
-    if (!std::isfinite(nearest)) {
+    if (!std::isfinite(nearest)) {  // no wall across this axis (periodic or open): nothing held back
       wall_keep[axis] = 1.0;
+      *walls[axis] = Vec3::Zero();
       continue;
     }
     const double screening = self_induced_oseen_factor(relative_speed * 2.0 * nearest / nu);
@@ -193,8 +197,30 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
     wall_resistance_share[axis] = screening * resistance;
     carried += wall_keep[axis] * *walls[axis];
   }
+  // Bounds, so that the walls added to first order cannot overturn what they correct (in a corner, at contact):
+  // together they take off at most the free disturbance (phi), and their resistance shares stay below
+  // 0.9 - g_i, g_i = K phi c V / flux_share^2 the steady gain of the grain's own disturbance, the bound under which
+  // the lags of the solve below cannot grow (a lag of keep k on a share rho, with the solve's gain g, multiplies its
+  // state by k (1 - g) / (1 - g - (1 - k) rho) per sub-step).
+  const double steady_gain =
+      mobility * phi *
+      drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_) * volume /
+      (flux_share * flux_share);
+  for (int component = 0; component < 3; ++component) {
+    double reduction = 0.0, share = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      reduction += wall_reduction[axis][component];
+      share += wall_resistance_share[axis][component];
+    }
+    const double share_bound = std::max(0.0, 0.9 - steady_gain);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (reduction > phi) wall_reduction[axis][component] *= phi / reduction;
+      if (share > share_bound) wall_resistance_share[axis][component] *= share_bound / share;
+    }
+  }
   // u_self,new = carried - K diag(m) F / flux_share - diag(rho) w, with m_i = alpha phi - the walls' reductions
-  // (at least 0) and rho_i the walls' resistance shares, each through its lag's step (1 - keep).
+  // (at least 0: the walls' lag is the slowest mode's, so (1 - keep) <= alpha) and rho_i the walls' resistance
+  // shares, each through its lag's step (1 - keep).
   Vec3 gain_share = Vec3::Constant(alpha * phi), resistance_gain = Vec3::Zero();
   for (int axis = 0; axis < 3; ++axis) {
     gain_share -= (1.0 - wall_keep[axis]) * wall_reduction[axis];

@@ -328,6 +328,8 @@ def main(argv=None):
     parser.add_argument("--check", nargs="+", type=float, metavar="TOL",
                         help="TERMINAL RMS [APPROACH_RMS]: exit 1 when a case (not off) misses them")
     args = parser.parse_args(argv)
+    if args.check and len(args.check) not in (2, 3) or (args.check and len(args.check) == 3 and not args.approach):
+        parser.error("--check takes TERMINAL RMS, and APPROACH_RMS only with --approach")
     if args.cases in CASES:
         cases = CASES[args.cases]
     else:
