@@ -125,9 +125,10 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // grain would screen itself.
   const bool screened = model_.voidage_estimate == CouplingModel::VoidageEstimate::kSelfCorrected;
   const double solid_fraction = screened ? std::max(0.0, 1.0 - voidage) : 0.0;
-  const double resistance_per_volume =
-      solid_fraction * drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_) /
-      flux_share;
+  // The drag per grain volume at the sub-step's known slip: the suspension's resistance here, the walls' bound below.
+  const double known_drag_per_volume =
+      drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_);
+  const double resistance_per_volume = solid_fraction * known_drag_per_volume / flux_share;
   const double kernel_over_screening = kernel_radius * std::sqrt(resistance_per_volume / viscosity);
   const double phi = self_induced_oseen_factor(reynolds_r) * self_induced_brinkman_factor(kernel_over_screening);
   // The water shows a sub-step's drag about two fluid steps later (spread at the step's end, applied in the next
@@ -202,10 +203,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // 0.9 - g_i, g_i = K phi c V / flux_share^2 the steady gain of the grain's own disturbance, the bound under which
   // the lags of the solve below cannot grow (a lag of keep k on a share rho, with the solve's gain g, multiplies its
   // state by k (1 - g) / (1 - g - (1 - k) rho) per sub-step).
-  const double steady_gain =
-      mobility * phi *
-      drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_) * volume /
-      (flux_share * flux_share);
+  const double steady_gain = mobility * phi * known_drag_per_volume * volume / (flux_share * flux_share);
   for (int component = 0; component < 3; ++component) {
     double reduction = 0.0, share = 0.0;
     for (int axis = 0; axis < 3; ++axis) {
