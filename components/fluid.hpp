@@ -208,6 +208,10 @@ struct FluidSummary {
   std::size_t solver_unknowns = 0;    ///< PPE rows of the last solve
   bool solver_converged = true;
   double courant = 0.0;               ///< [1] max |u| dt / l0 of the last step
+  /// Fluid particles fluid_escape removed so far, by reason (from format 12; an older file leaves both at 0, so
+  /// their sum is then below the removed count by the removals before the resume).
+  std::size_t removed_left_domain = 0;   ///< their centre left the domain box
+  std::size_t removed_lone_droplet = 0;  ///< no MPS neighbour within r_e, beyond fluid.escape_distance from the tank
 
   // Not persistent, and so not in for_each_member: rebuilt from the scene on resume (Simulation::from_checkpoint_data).
   /// Fluid particles the scene laid out (initial_world). Particles are only ever removed (fluid_escape), never
@@ -218,8 +222,8 @@ struct FluidSummary {
   // Driven flows (fluid_predict; docs/FLUID.md), set at every step by scenes that have them:
   double body_force = 0.0;            ///< [m/s^2] the body force along x applied in the last step
   double bulk_velocity = 0.0;         ///< [m/s] kind bulk_velocity: the mean u_x of the fluid at the last step's start
-  /// [m] kind bulk_velocity: the controller's integral of (U - U_bulk) dt. Not persistent yet: a resumed run starts
-  /// it again from 0 (docs/FLUID.md says so; a checkpoint format bump will keep it).
+  /// [m] kind bulk_velocity: the controller's integral of (U - U_bulk) dt (persistent from format 12; a run from
+  /// an older file is not resumed: Simulation::from_checkpoint_data).
   double body_force_integral = 0.0;
   std::vector<Vec3> lid_force;        ///< [N] per moving lid (scene order): its viscous force on the water
 
@@ -240,6 +244,15 @@ struct FluidSummary {
     visit("solver_unknowns", true, self.solver_unknowns);
     visit("solver_converged", true, self.solver_converged);
     visit("courant", true, self.courant);
+    visit("removed_left_domain", true, self.removed_left_domain);
+    visit("removed_lone_droplet", true, self.removed_lone_droplet);
+    visit("body_force_integral", true, self.body_force_integral);
+  }
+
+  /// The first format with the removals by reason and the controller's integral (the last three members).
+  static constexpr std::uint32_t kFirstFormatWithRemovalReasons = 12;
+  static bool since_removal_reasons(std::string_view name) {
+    return name == "removed_left_domain" || name == "removed_lone_droplet" || name == "body_force_integral";
   }
 
   /// Checkpoint format 4 also stored `last_dt` [s], the length of the last step, right after solver_converged. The
@@ -253,6 +266,8 @@ struct FluidSummary {
   template <class Archive>
   void serialize(Archive& archive) {
     for_each_member(*this, [&](const char* name, bool persistent, auto& member) {
+      if constexpr (requires { archive.format_version(); })
+        if (archive.format_version() < kFirstFormatWithRemovalReasons && since_removal_reasons(name)) return;
       if (persistent) archive(member);
       if constexpr (requires { archive.format_version(); })
         if (archive.format_version() <= kLastFormatWithLastDt && std::string_view(name) == "solver_converged")

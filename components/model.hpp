@@ -131,6 +131,8 @@ struct ParticleBoxModel {
   Vec3 low = Vec3::Zero();       ///< [m] min corner
   Vec3 high = Vec3::Zero();      ///< [m] max corner
   Vec3 velocity = Vec3::Zero();  ///< [m/s] initial velocity (fluid boxes only)
+  /// Wall boxes only: an optional name (unique among them) by which a pressure transducer is put on the box's face.
+  std::string name;
   /// false: the lattice points of the tank's lattice inside [low, high] (snapped, the default); true ("extent"):
   /// a lattice of its own at spacing l0 that fills the given extent (engine/setup/fluid_layout.hpp box_grid).
   bool fit_extent = false;
@@ -465,7 +467,7 @@ struct ProbeModel {
     kWaveGauge,      ///< height of the free surface above horizontal points of the tank
     kSurgeFront,     ///< furthest reach of the connected fluid along a horizontal direction
     kFluidTotals,    ///< the fluid's per-step summary (FluidSummary): count, volume, energy, PPE report
-    kPressureTransducer,  ///< pressure averaged over discs on the tank's walls, optionally over a time window
+    kPressureTransducer,  ///< pressure averaged over discs on the tank's walls or a wall box's faces, optionally over a time window
     kMovingFraction,  ///< fraction of grains moving faster than `threshold` relative to the tank, all and per class
     kPackingDensity,  ///< planar packing density lambda of the bed's top layer of resting grains
     kBedloadFlux,     ///< grain volume flux per unit width per class, and its running time mean
@@ -485,7 +487,8 @@ struct ProbeModel {
   /// sensor on a wall moves with it.
   std::vector<Vec3> points;
   /// [1] pressure_transducer: for each disc, the unit normal of its wall pointing out of the water into the wall
-  /// (x_min: -x); the disc lies in the plane through its point normal to it.
+  /// (the tank's x_min: -x; a wall box's x_min face: +x); the disc lies in the plane through its point normal to
+  /// it. On a wall box the point is moved onto the face of the box's particle cells, the surface the water meets.
   std::vector<Vec3> normals;
   double diameter = 0.0;            ///< [m] pressure_transducer: the discs' diameter
   /// [s] pressure_transducer: each row is the time-weighted mean of the readings of the steps that ended in

@@ -16,7 +16,9 @@
 # GOLDEN_DROP="name ..." leaves out further diagnostics and fluid-totals columns by name (for a documented change of
 # one column, e.g. solid_dt_s once it prints the sub-step actually used): state it beside the hashes. Against a build
 # that kept escaped particles (no escaped-particle columns): GOLDEN_DROP="fluid_removed_particles fluid_removed_mass_kg
-# removed_particles removed_mass_kg removed_volume_m3". Against a build before the drag's step limit
+# removed_particles removed_mass_kg removed_volume_m3"; against one without the removals by reason:
+# GOLDEN_DROP="fluid_removed_left_domain fluid_removed_lone_droplets removed_left_domain removed_lone_droplets".
+# Against a build before the drag's step limit
 # (the drag_rate_1_s column): GOLDEN_DROP="drag_rate_1_s".
 # final.ckpt holds no timestamp (scene file name and text, world, output schedule), so it is hashed whole; the file
 # name stored in it is the relative one given on the command line, which is why every run starts in <work-dir> with

@@ -107,6 +107,7 @@ CheckpointData decode_checkpoint(const std::string& bytes, const std::string& na
   if (fnv1a64(std::string_view(payload, found)) != checksum)
     throw CheckpointError(name + ": checkpoint is corrupted (checksum mismatch)");
   CheckpointData data;
+  data.format = version;
   try {
     // Bounded: no length prefix may claim more than the bytes left (engine/output/checkpoint_archive.hpp).
     BoundedInputArchive archive(payload, found, version);

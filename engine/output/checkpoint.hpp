@@ -26,8 +26,9 @@ namespace riffle {
 // since_format: an older file leaves them at their defaults); 7: the fluid's viscous_acceleration and the grains'
 // viscous_force ([coupling] viscous_stress); 8: the grains' `fixed` flag ([solids] fixed_below); 9: the mean-flow
 // fluid's column (World::mean_flow; absent in older files); 10: the grains' fluctuation_state ([mean_flow]
-// fluctuations); 11: the walls' part of the grains' own disturbance (self_induced_wall_x, _y, _z).
-inline constexpr std::uint32_t kCheckpointVersion = 11;
+// fluctuations); 11: the walls' part of the grains' own disturbance (self_induced_wall_x, _y, _z); 12: the fluid
+// particles removed by reason and the bulk-velocity controller's integral (FluidSummary).
+inline constexpr std::uint32_t kCheckpointVersion = 12;
 /// The first format with the mean-flow column.
 inline constexpr std::uint32_t kFirstCheckpointVersionWithMeanFlow = 9;
 /// The oldest format still read: format 4 differs from 5 only by FluidSummary's last_dt (components/fluid.hpp), and
@@ -51,6 +52,7 @@ struct CheckpointData {
   std::string scene_text;  ///< the full scene; the model is rebuilt from it
   World world;
   OutputState output;
+  std::uint32_t format = kCheckpointVersion;  ///< the format of the file read (a write always gives the current one)
 };
 
 class CheckpointError : public std::runtime_error {

@@ -284,7 +284,7 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
 /// tank's wall and dummy particles after them (the cell sort reorders each group only within itself), each particle
 /// of the kind the scene gave its id, walls and dummies at the scene's rest positions.
 void check_fluid(const Refusal& refusal, const FluidParticles& fluid, const FluidSummary& summary,
-                 const FluidParticles& scene, const Model& model) {
+                 const FluidParticles& scene, const Model& model, std::uint32_t format) {
   const std::size_t scene_fluid_count = fluid_slot_count(scene);
   const std::size_t boundary_count = scene.size() - scene_fluid_count;
   const bool removes = model.fluid.escape == FluidModel::EscapePolicy::kRemove;
@@ -342,6 +342,15 @@ void check_fluid(const Refusal& refusal, const FluidParticles& fluid, const Flui
   if (summary.fluid_count != fluid_count)
     refusal.fail("fluid_summary.fluid_count = " + show(summary.fluid_count),
                  "must equal the fluid particles, " + std::to_string(fluid_count));
+  // The removals by reason add up to the removed count; a file older than the reasons counts none of its own.
+  const std::size_t by_reason = summary.removed_left_domain + summary.removed_lone_droplet;
+  const bool reasons_stored = format >= FluidSummary::kFirstFormatWithRemovalReasons;
+  if (by_reason < summary.removed_left_domain || (reasons_stored ? by_reason != removed : by_reason != 0))
+    refusal.fail("fluid_summary.removed_left_domain + removed_lone_droplet = " + show(summary.removed_left_domain) +
+                     " + " + show(summary.removed_lone_droplet),
+                 "must equal the fluid particles removed, " + std::to_string(reasons_stored ? removed : 0));
+  if (!std::isfinite(summary.body_force_integral))
+    refusal.fail("fluid_summary.body_force_integral = " + show(summary.body_force_integral), "must be finite");
   if (summary.surface_count > fluid_count)
     refusal.fail("fluid_summary.surface_count = " + show(summary.surface_count),
                  "must not exceed the fluid particles, " + std::to_string(fluid_count));
@@ -470,7 +479,7 @@ void validate_checkpoint(const CheckpointData& data, const Model& model, const W
   }
   if (world.contacts)
     check_contacts(refusal, *world.contacts, *world.solids, world.walls ? world.walls->size() : 0, model);
-  if (world.fluid) check_fluid(refusal, *world.fluid, *world.fluid_summary, *initial.fluid, model);
+  if (world.fluid) check_fluid(refusal, *world.fluid, *world.fluid_summary, *initial.fluid, model, data.format);
   if (world.mean_flow) check_mean_flow(refusal, *world.mean_flow, model);
   check_output(refusal, data.output, world, model);
 }

@@ -93,7 +93,8 @@ std::string probe_header(const ProbeModel& probe, const World& world) {
       for (const char* column : {"fx_N", "fy_N", "fz_N", "shear_Pa"}) header += ",lid" + std::to_string(k) + "_" + column;
   } else {
     header += ",fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,surface_particles,"
-              "ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3";
+              "ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,removed_volume_m3,removed_left_domain,"
+              "removed_lone_droplets";
   }
   return header;
 }
@@ -389,8 +390,11 @@ void ProbeWriter::write(const World& world) {
         append_field(row, std::to_string(summary->removed_count()));
         append_field(row, format_value(removed_volume * fluid_.density));
         append_field(row, format_value(removed_volume));
+        // By reason (systems/physics/geometry/domain.hpp, FluidEscapeKind).
+        append_field(row, std::to_string(summary->removed_left_domain));
+        append_field(row, std::to_string(summary->removed_lone_droplet));
       } else {
-        append_empty(11);
+        append_empty(13);
       }
       break;
     case ProbeModel::Kind::kMovingFraction:

@@ -80,18 +80,22 @@ void log_escaped(const World& world, const Model& model) {
   }
   if (escaped.size() > kMaxLines)
     spdlog::warn("step {}: {} more fluid particles removed as escaped", world.step, escaped.size() - kMaxLines);
-  spdlog::info("removed as escaped so far: {} of {} fluid particles ({} kg)", fluid.removed_count(),
-               fluid.initial_fluid_count, removed_mass(fluid, model));
+  spdlog::info("removed as escaped so far: {} of {} fluid particles ({} kg; {} left the domain, {} lone droplets)",
+               fluid.removed_count(), fluid.initial_fluid_count, removed_mass(fluid, model), fluid.removed_left_domain,
+               fluid.removed_lone_droplet);
 }
 
 /// "; N fluid particles removed as escaped (M kg, P % of the water)", or "" when none was.
 std::string removed_summary(const World& world, const Model& model) {
   if (!world.fluid_summary || world.fluid_summary->removed_count() == 0) return "";
   const FluidSummary& fluid = *world.fluid_summary;
-  char text[160];
-  std::snprintf(text, sizeof text, "; %zu fluid particles removed as escaped (%.6g kg, %.3g %% of the water)",
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "; %zu fluid particles removed as escaped (%.6g kg, %.3g %% of the water; %zu left the domain, %zu "
+                "lone droplets)",
                 fluid.removed_count(), removed_mass(fluid, model),
-                100.0 * static_cast<double>(fluid.removed_count()) / static_cast<double>(fluid.initial_fluid_count));
+                100.0 * static_cast<double>(fluid.removed_count()) / static_cast<double>(fluid.initial_fluid_count),
+                fluid.removed_left_domain, fluid.removed_lone_droplet);
   return text;
 }
 
@@ -131,8 +135,11 @@ class DiagnosticsWriter {
                     fluid.volume, static_cast<long long>(fluid.solver_iterations), fluid.solver_residual,
                     fluid.solver_unknowns);
       line += text;
-      // Escaped particles removed so far (fluid_escape): water + removed = the fluid laid out, exactly.
-      std::snprintf(text, sizeof text, ",%zu,%.9g", fluid.removed_count(), removed_mass(fluid, model));
+      // Escaped particles removed so far (fluid_escape): water + removed = the fluid laid out, exactly; then by
+      // reason (left the domain, lone droplets: their sum is the removed count, less any removals before a resume
+      // from a format-11 or older checkpoint).
+      std::snprintf(text, sizeof text, ",%zu,%.9g,%zu,%zu", fluid.removed_count(), removed_mass(fluid, model),
+                    fluid.removed_left_domain, fluid.removed_lone_droplet);
       line += text;
       // How close the grains' drag brings the step to its limit (coupling.drag_number / rate; time_step.hpp).
       std::snprintf(text, sizeof text, ",%.6g", lengths.drag_rate);
@@ -159,7 +166,8 @@ class DiagnosticsWriter {
     if (fluid)
       text += ",fluid_particles,fluid_surface_particles,fluid_kinetic_energy_J,fluid_max_speed_m_s,fluid_courant,"
               "fluid_mean_density_ratio,fluid_volume_m3,ppe_iterations,ppe_relative_residual,ppe_unknowns,"
-              "fluid_removed_particles,fluid_removed_mass_kg,drag_rate_1_s";
+              "fluid_removed_particles,fluid_removed_mass_kg,fluid_removed_left_domain,fluid_removed_lone_droplets,"
+              "drag_rate_1_s";
     if (fluid && driving) text += ",body_force_m_s2";
     for (const SystemTimer& timer : timers) text += ",wall_" + timer.name + "_s";
     return text;
@@ -381,11 +389,14 @@ std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path,
 std::unique_ptr<Simulation> Simulation::from_checkpoint_data(CheckpointData data, const std::string& name,
                                                              const SceneLimits& limits) {
   Model model = parse_scene(data.scene_text, data.scene_file, limits);
-  // The bulk-velocity controller's integral (FluidSummary::body_force_integral) is not in checkpoints yet: a resume
-  // would restart it from 0 and differ from the straight run, so it is refused rather than done silently wrong.
-  if (model.fluid.enabled && model.fluid.body_force.kind == BodyForceModel::Kind::kBulkVelocity)
-    throw CheckpointError(name + ": cannot resume a run whose [fluid.body_force] kind is \"bulk_velocity\": the "
-                          "controller's integral is not stored in checkpoints yet; rerun it from the scene");
+  // The bulk-velocity controller's integral (FluidSummary::body_force_integral) is in checkpoints from format 12: a
+  // resume from an older file would restart it from 0 and differ from the straight run, so it is refused rather
+  // than done silently wrong.
+  if (model.fluid.enabled && model.fluid.body_force.kind == BodyForceModel::Kind::kBulkVelocity &&
+      data.format < FluidSummary::kFirstFormatWithRemovalReasons)
+    throw CheckpointError(name + ": cannot resume a run whose [fluid.body_force] kind is \"bulk_velocity\" from a "
+                          "checkpoint of format " + std::to_string(data.format) +
+                          ": the controller's integral is stored from format 12 on; rerun it from the scene");
   // Components the scene enables but that hold no persistent state are rebuilt; the rest come from the file, once
   // checked against what this scene builds (engine/output/checkpoint_validation.hpp).
   World world = initial_world(model);

@@ -78,6 +78,12 @@ BoxEntry read_box(TableReader& reader, ParticleBoxModel& box, bool fluid_box, co
   if (fluid_box) box.velocity = reader.vec3("velocity", Vec3::Zero(), "m/s", Bounds::any());
   box.fit_extent = reader.choice("placement", "lattice", {"lattice", "extent"}) == "extent";
   entry.fit_extent = box.fit_extent;
+  if (!fluid_box && reader.has("name")) {
+    box.name = reader.text("name", std::nullopt);
+    if (!plain_name(box.name))
+      reader.problem("name", "expected a name of letters, digits, '_', '-' and '.', not starting with '.', got \"" +
+                                 box.name + "\"");
+  }
   if (!fluid_box && reader.has("lid")) {
     // A moving lid (docs/FLUID.md, "Driven flows"): no-slip or free-slip, moving along x only.
     box.lid = true;
@@ -368,6 +374,12 @@ void read_fluid(TableReader& fluid, Model& model) {
     for (std::size_t j = 0; j < k; ++j)
       if (fluid_boxes[k].laid_out && fluid_boxes[j].laid_out && boxes_overlap(fluid_boxes[k], fluid_boxes[j])) {
         fluid_boxes[k].reader.problem("low", "the box overlaps " + fluid_boxes[j].name + overlap_reason(fluid_boxes[k], fluid_boxes[j]));
+        break;
+      }
+  for (std::size_t k = 0; k < out.wall_boxes.size(); ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (!out.wall_boxes[k].name.empty() && out.wall_boxes[k].name == out.wall_boxes[j].name) {
+        wall_boxes[k].reader.problem("name", "\"" + out.wall_boxes[k].name + "\" already names " + wall_boxes[j].name);
         break;
       }
   for (BoxEntry& wall : wall_boxes)

@@ -26,14 +26,6 @@ const std::vector<std::string>& reserved_output_files() {
 
 namespace {
 
-bool plain_name(const std::string& name) {
-  if (name.empty() || name.front() == '.' || name.size() > 200) return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-           c == '.';
-  });
-}
-
 /// One past the largest grain id the run starts with: the grains of [solids] initial_state (ids below its next_id)
 /// and then the scene's own spheres, numbered on from there. nullopt if the initial state cannot be read (that is
 /// reported where [solids] is read).
@@ -183,19 +175,73 @@ void read_bedload_probe(TableReader& table, const Model& model, ProbeModel& prob
 /// The longest time window a transducer may average over: its steps' readings are held in memory.
 constexpr double kMaxAverageWindow = 1.0;  // [s]
 
-/// The keys of a pressure_transducer probe: `points` (disc centres, each on the inner face of a closed tank wall),
-/// `face` (optional: the wall every disc is on; without it each point's own), `diameter` and `average_window`. A
-/// disc must lie within its face: a disc over an edge would be on two walls at once.
+/// The surfaces a transducer may sit on: the tank's inner box (its closed faces; the normal out of the water points
+/// out of the box) or one wall box (all six faces; the normal points into the box, and the reading plane is the
+/// face of the box's particle cells, the surface the water meets, within l0/2 of the given one).
+struct TransducerSurface {
+  Vec3 low = Vec3::Zero(), high = Vec3::Zero();  ///< [m] the box as given, tank frame at rest
+  std::array<bool, 6> closed{};                  ///< per face (kTankFaceNames order): a transducer may sit on it
+  bool inward = false;                           ///< wall box: the normal points into the box
+  Vec3 read_low = Vec3::Zero(), read_high = Vec3::Zero();  ///< [m] the planes the discs read on
+  std::string what;                              ///< "the tank" or "wall box \"name\"", for messages
+  std::string wall(std::size_t face) const {     ///< "the x_min wall" / "the x_min face of wall box \"b\""
+    return inward ? "the " + kTankFaceNames[face] + " face of " + what : "the " + kTankFaceNames[face] + " wall";
+  }
+};
+
+/// The keys of a pressure_transducer probe: `points` (disc centres, each on the inner face of a closed tank wall,
+/// or with `wall_box` on a face of that named [[fluid.wall_boxes]] box), `face` (optional: the face every disc is
+/// on; without it each point's own), `diameter` and `average_window`. A disc must lie within its face: a disc over
+/// an edge would be on two faces at once.
 void read_transducers(TableReader& table, const Model& model, ProbeModel& probe) {
-  if (!model.fluid.tank_walls)
-    table.problem("kind", "pressure transducers sit on the tank's walls, and [fluid] tank_walls = false builds none");
+  if (!model.fluid.tank_walls && !table.has("wall_box"))
+    table.problem("kind", "pressure transducers sit on the tank's walls, and [fluid] tank_walls = false builds none "
+                          "(name a wall box with `wall_box` to put them on its faces)");
   probe.diameter = table.number("diameter", std::nullopt, "m", Bounds::positive());
   probe.average_window =
       table.number("average_window", 0.0, "s", Bounds::closed(0.0, kMaxAverageWindow));
-  const auto open = [&](std::size_t face) {
+  TransducerSurface surface;
+  bool surface_ok = model.tank.size.minCoeff() > 0.0;  // a bad tank is reported where [tank] is read
+  if (table.has("wall_box")) {
+    const std::string name = table.text("wall_box", std::nullopt);
+    const auto& boxes = model.fluid.wall_boxes;
+    const auto found = std::find_if(boxes.begin(), boxes.end(), [&](const ParticleBoxModel& box) {
+      return !box.name.empty() && box.name == name;
+    });
+    if (found == boxes.end()) {
+      std::string names;
+      for (const ParticleBoxModel& box : boxes)
+        if (!box.name.empty()) names += (names.empty() ? "\"" : ", \"") + box.name + "\"";
+      table.problem("wall_box", "no [[fluid.wall_boxes]] entry is named \"" + name + "\" (" +
+                                    (names.empty() ? std::string("none has a name: give it one with `name`")
+                                                   : "named: " + names) +
+                                    ")");
+      surface_ok = false;
+    } else if (model.fluid.spacing > 0.0) {
+      surface.low = found->low;
+      surface.high = found->high;
+      surface.closed.fill(true);
+      surface.inward = true;
+      surface.what = "wall box \"" + name + "\"";
+      const BoxGrid grid =
+          box_grid(model.tank.origin, found->low, found->high, model.fluid.spacing, found->fit_extent);
+      const double half = 0.5 * model.fluid.spacing;
+      for (Eigen::Index axis = 0; axis < 3; ++axis) {
+        surface.read_low[axis] = grid.first[axis] - half;
+        surface.read_high[axis] =
+            grid.first[axis] + static_cast<double>(grid.count[static_cast<std::size_t>(axis)] - 1) * 2.0 * half + half;
+      }
+    } else {
+      surface_ok = false;  // no spacing: reported at [fluid]
+    }
+  } else {
+    surface.low = surface.read_low = model.tank.origin;
+    surface.high = surface.read_high = model.tank.origin + model.tank.size;
     const auto& faces = model.tank.open_faces;
-    return std::find(faces.begin(), faces.end(), kTankFaceNames[face]) != faces.end();
-  };
+    for (std::size_t face = 0; face < 6; ++face)
+      surface.closed[face] = std::find(faces.begin(), faces.end(), kTankFaceNames[face]) == faces.end();
+    surface.what = "the tank";
+  }
   std::optional<std::size_t> chosen;
   bool face_ok = true;  // a bad face is reported once; the points are still read (no "unknown key"), not judged
   if (table.has("face")) {
@@ -205,7 +251,7 @@ void read_transducers(TableReader& table, const Model& model, ProbeModel& probe)
     if (table.problem_count() == problems_before) {
       const auto found = std::find(kTankFaceNames.begin(), kTankFaceNames.end(), name);
       chosen = static_cast<std::size_t>(found - kTankFaceNames.begin());
-      if (open(*chosen)) {
+      if (surface_ok && !surface.closed[*chosen]) {
         table.problem("face", "the " + name + " face is open: it has no wall to put a transducer on");
         face_ok = false;
       }
@@ -217,36 +263,53 @@ void read_transducers(TableReader& table, const Model& model, ProbeModel& probe)
   const std::vector<Vec3> points = table.points("points", true, 3, "m");
   if (points.empty() && table.problem_count() == problems_before)
     table.problem("points", "expected at least one point");
-  const Vec3 low = model.tank.origin;
-  const Vec3 high = low + model.tank.size;
-  // A bad tank is reported where [tank] is read.
-  if (!face_ok || !(model.tank.size.minCoeff() > 0.0)) return;
+  if (!face_ok || !surface_ok) return;
+  const Vec3& low = surface.low;
+  const Vec3& high = surface.high;
   const double slack = 1e-9 * model.tank.size.maxCoeff();
   const double radius = probe.diameter > 0.0 ? 0.5 * probe.diameter : 0.0;
   auto plane = [&](std::size_t face) { return face % 2 == 0 ? low[static_cast<Eigen::Index>(face / 2)]
                                                             : high[static_cast<Eigen::Index>(face / 2)]; };
+  // The points a message names are in the tank frame; a wall box's faces are within the tank.
+  const char* frame = surface.inward ? "as given, tank frame" : "at rest, tank frame";
   for (std::size_t k = 0; k < points.size(); ++k) {
     const Vec3& point = points[k];
-    std::vector<std::size_t> on;  // the closed faces whose plane the point lies in
-    for (std::size_t face = 0; face < 6; ++face)
-      if (!open(face) && std::abs(point[static_cast<Eigen::Index>(face / 2)] - plane(face)) <= slack)
-        on.push_back(face);
+    std::vector<std::size_t> on;  // the closed faces whose plane the point lies in (and, on a wall box, its face)
+    for (std::size_t face = 0; face < 6; ++face) {
+      const Eigen::Index axis = static_cast<Eigen::Index>(face / 2);
+      bool within_face = true;
+      if (surface.inward)
+        for (Eigen::Index other = 0; other < 3; ++other)
+          if (other != axis) within_face = within_face && point[other] >= low[other] - slack &&
+                                           point[other] <= high[other] + slack;
+      if (surface.closed[face] && within_face && std::abs(point[axis] - plane(face)) <= slack) on.push_back(face);
+    }
     std::size_t face = 0;
-    char message[320];
+    char message[400];
     if (chosen) {
       face = *chosen;
       if (std::abs(point[static_cast<Eigen::Index>(face / 2)] - plane(face)) > slack) {
-        std::snprintf(message, sizeof message, "the point is not on the %s face (%c = %g m at rest, tank frame)",
-                      kTankFaceNames[face].c_str(), "xyz"[face / 2], plane(face));
+        std::snprintf(message, sizeof message, "the point is not on the %s face%s%s (%c = %g m %s)",
+                      kTankFaceNames[face].c_str(), surface.inward ? " of " : "",
+                      surface.inward ? surface.what.c_str() : "", "xyz"[face / 2], plane(face), frame);
         table.item_problem("points", k, message);
         continue;
       }
     } else if (on.size() != 1) {
-      if (on.empty()) {
+      if (on.empty() && surface.inward) {
+        std::snprintf(message, sizeof message,
+                      "the point lies on no face of %s: a disc's centre must lie on one of its faces (x = %g or %g, "
+                      "y = %g or %g, z = %g or %g m, %s)",
+                      surface.what.c_str(), low[0], high[0], low[1], high[1], low[2], high[2], frame);
+      } else if (on.empty()) {
         std::snprintf(message, sizeof message,
                       "the point lies on no closed wall of the tank: a disc's centre must lie on a wall's inner face "
                       "(x = %g or %g, y = %g or %g, z = %g or %g m at rest, tank frame; open faces have none)",
                       low[0], high[0], low[1], high[1], low[2], high[2]);
+      } else if (surface.inward) {
+        std::snprintf(message, sizeof message,
+                      "the point lies on the edge of the %s and %s faces of %s: name the face with `face`",
+                      kTankFaceNames[on[0]].c_str(), kTankFaceNames[on[1]].c_str(), surface.what.c_str());
       } else {
         std::snprintf(message, sizeof message,
                       "the point lies on the edge of the %s and %s walls: name the wall with `face`",
@@ -265,16 +328,18 @@ void read_transducers(TableReader& table, const Model& model, ProbeModel& probe)
     if (!within) {
       const Eigen::Index a = face / 2 == 0 ? 1 : 0, b = face / 2 == 2 ? 1 : 2;
       std::snprintf(message, sizeof message,
-                    "the disc (diameter %g m) reaches beyond the %s wall (%c %g to %g m, %c %g to %g m at rest, "
-                    "tank frame)",
-                    probe.diameter, kTankFaceNames[face].c_str(), "xyz"[a], low[a], high[a], "xyz"[b], low[b],
-                    high[b]);
+                    "the disc (diameter %g m) reaches beyond %s (%c %g to %g m, %c %g to %g m %s)", probe.diameter,
+                    surface.wall(face).c_str(), "xyz"[a], low[a], high[a], "xyz"[b], low[b], high[b], frame);
       table.item_problem("points", k, message);
       continue;
     }
+    const Eigen::Index axis = static_cast<Eigen::Index>(face / 2);
+    const double outward = face % 2 == 0 ? -1.0 : 1.0;  // out of the box through this face
     Vec3 normal = Vec3::Zero();
-    normal[static_cast<Eigen::Index>(face / 2)] = face % 2 == 0 ? -1.0 : 1.0;  // out of the water, into the wall
-    probe.points.push_back(point);
+    normal[axis] = surface.inward ? -outward : outward;  // out of the water, into the wall
+    Vec3 reading_point = point;
+    reading_point[axis] = face % 2 == 0 ? surface.read_low[axis] : surface.read_high[axis];
+    probe.points.push_back(reading_point);
     probe.normals.push_back(normal);
   }
 }

@@ -32,6 +32,14 @@ std::string format_number(double value) {
   return stream.str();
 }
 
+bool plain_name(const std::string& name) {
+  if (name.empty() || name.front() == '.' || name.size() > 200) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+           c == '.';
+  });
+}
+
 SceneError::SceneError(const std::vector<std::string>& problems)
     : std::runtime_error(join(problems, "\n")), problems_(problems) {}
 

@@ -175,6 +175,10 @@ std::string scene_spelling(const Vec3& value);
 /// A number as messages show it: the shortest form with 6 significant digits (0.005, 1e-07).
 std::string format_number(double value);
 
+/// A name a scene gives (a probe, a file it writes, a wall box): letters, digits, '_', '-' and '.', not starting
+/// with '.', at most 200 characters, so it is safe as a file name and in a CSV header.
+bool plain_name(const std::string& name);
+
 /// Parses TOML text; syntax errors are reported as problems with the file's line and column.
 std::optional<toml::table> parse_toml(const std::string& text, SceneProblems& problems);
 

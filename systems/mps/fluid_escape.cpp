@@ -50,6 +50,8 @@ void FluidEscape::run(SystemContext& context) {
       summary.escaped.push_back(EscapedParticle{particles.id[i], particles.position[i], particles.velocity[i],
                                                 why == FluidEscapeKind::kLeftDomain});
   }
+  for (const EscapedParticle& particle : summary.escaped)
+    ++(particle.left_domain ? summary.removed_left_domain : summary.removed_lone_droplet);
   for (std::size_t i = fluid_count; i < particles.size(); ++i) kept.push_back(i);
   const std::size_t before = particles.size();
   keep_fields(particles, kept);

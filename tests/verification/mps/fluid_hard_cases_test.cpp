@@ -290,6 +290,9 @@ TEST_CASE("a splash out of a low open tank finishes: escaped droplets are remove
   // The bookkeeping is exact: after every step the particles left plus those removed are those laid out ...
   CHECK(o.count_kept);
   CHECK(summary.fluid_count + summary.removed_count() == laid_out);
+  // ... and the counts by reason that the CSVs and checkpoints carry are the removals' own reasons.
+  CHECK(summary.removed_left_domain == left_domain);
+  CHECK(summary.removed_lone_droplet == flew_free);
   // ... each removed particle reported once, and the ids left and removed are exactly the ids laid out (0 .. F-1).
   std::vector<EntityId> ids = o.removed_ids;
   for (std::size_t i = 0; i < run.fluid_count(); ++i) ids.push_back(run.world.fluid->id[i]);

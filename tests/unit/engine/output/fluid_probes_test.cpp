@@ -381,20 +381,23 @@ TEST_CASE("ProbeWriter writes one column per sensor, empty fields where nothing 
   REQUIRE(totals.size() == 2);
   CHECK(totals[0] == "time_s,step,fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,"
                      "surface_particles,ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,"
-                     "removed_volume_m3");
-  CHECK(totals[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,0,0,0");
+                     "removed_volume_m3,removed_left_domain,removed_lone_droplets");
+  CHECK(totals[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,0,0,0,0,0");
 
-  SUBCASE("particles removed as escaped: counted, rho l0^3 and l0^3 each") {
+  SUBCASE("particles removed as escaped: counted, rho l0^3 and l0^3 each, by reason") {
     world.fluid_summary->initial_fluid_count = 183;  // 3 of the 183 laid out were removed (fluid_escape)
+    world.fluid_summary->removed_left_domain = 1;
+    world.fluid_summary->removed_lone_droplet = 2;
     for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, world, true).write(world);
-    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,180,0.00018,0,0,1,0,42,5e-09,3,0.003,3e-06");
+    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] ==
+          "0,0,180,0.00018,0,0,1,0,42,5e-09,3,0.003,3e-06,1,2");
   }
   SUBCASE("without fluid particles or summary (yet) every field is empty") {
     World empty;
     for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, empty, true).write(empty);
     CHECK(lines_of(directory / "probe_fluid_pressure.csv")[1] == "0,0,,");
     CHECK(lines_of(directory / "probe_surge_front.csv")[1] == "0,0,");
-    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,,,,");
+    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,,,,,,");
   }
 }
 
@@ -533,6 +536,77 @@ TEST_CASE("pressure transducers are read with their defaults, their face inferre
   CHECK(second.normals == std::vector<Vec3>{Vec3::UnitX()});
   CHECK(second.average_window == 0.002);
   CHECK(second.file == "probe_sides.csv");
+}
+
+namespace {
+
+/// fluid_model() with two wall boxes: "block", on the lattice but given 3 mm off it at x (its particles' cells start
+/// at x = 0.06), and "shelf", unnamed (probes cannot refer to it).
+Model fluid_model_with_block() {
+  Model model = fluid_model();
+  model.tank.open_faces = {"z_max"};
+  ParticleBoxModel block;
+  block.name = "block";
+  block.low = Vec3(0.063, 0.0, 0.0);
+  block.high = Vec3(0.1, 0.06, 0.04);
+  model.fluid.wall_boxes.push_back(block);
+  ParticleBoxModel shelf;
+  shelf.low = Vec3(0.0, 0.0, 0.08);
+  shelf.high = Vec3(0.02, 0.06, 0.1);
+  model.fluid.wall_boxes.push_back(shelf);
+  return model;
+}
+
+}  // namespace
+
+TEST_CASE("pressure transducers on a named wall box: normals into the box, discs on its particles' cells' faces") {
+  Model model = fluid_model_with_block();
+  const std::vector<std::string> problems = read_output_probes(SceneBuilder().output()
+      .probe("pressure_transducer").set("name", "block_faces").set("wall_box", "block")
+      .set("points", std::vector<Triple>{{0.063, 0.03, 0.02}, {0.08, 0.03, 0.04}, {0.08, 0.0, 0.02}})
+      .set("diameter", 0.01)
+      .probe("pressure_transducer").set("name", "block_top").set("wall_box", "block").set("face", "z_max")
+      .set("points", std::vector<Triple>{{0.08, 0.03, 0.04}}).set("diameter", 0.02)
+      .toml(),
+                                                               model);
+  CHECK(problems.empty());
+  REQUIRE(model.output.probes.size() == 2);
+  const ProbeModel& faces = model.output.probes[0];
+  // Out of the water into the box: its x_min face +x, its top -z, its y_min face (on the tank's wall) +y.
+  CHECK(faces.normals == std::vector<Vec3>{Vec3::UnitX(), -Vec3::UnitZ(), Vec3::UnitY()});
+  // The lattice's particles of [0.063, 0.1] along x sit at 0.065 ... 0.095: their cells' face is x = 0.06, where
+  // the water meets the block; the top's cells end at z = 0.04 (particles at 0.005 ... 0.035), as given.
+  REQUIRE(faces.points.size() == 3);
+  CHECK(faces.points[0].x() == doctest::Approx(0.06).epsilon(1e-12));
+  CHECK(faces.points[0].z() == 0.02);
+  CHECK(faces.points[1].z() == doctest::Approx(0.04).epsilon(1e-12));
+  CHECK(faces.points[2].y() == doctest::Approx(0.0).scale(1.0).epsilon(1e-12));
+  CHECK(model.output.probes[1].normals == std::vector<Vec3>{-Vec3::UnitZ()});
+}
+
+TEST_CASE("bad transducers on wall boxes are reported as file:line:column: key: message") {
+  using Bad = BadProbe;
+  const char* kind = "kind = \"pressure_transducer\"\ndiameter = 0.01\n";
+  const std::vector<Bad> cases = {
+      {"wall_box = \"blok\"\npoints = [[0.063, 0.03, 0.02]]\n", "wall_box = ^\"blok\"", "output.probes[0].wall_box",
+       "no [[fluid.wall_boxes]] entry is named \"blok\" (named: \"block\")"},
+      {"wall_box = \"block\"\npoints = [[0.07, 0.03, 0.02]]\n", "points = [^[", "output.probes[0].points[0]",
+       "the point lies on no face of wall box \"block\""},
+      {"wall_box = \"block\"\npoints = [[0.063, 0.03, 0.05]]\n", "points = [^[", "output.probes[0].points[0]",
+       "the point lies on no face of wall box \"block\""},  // in the face's plane, above the box
+      {"wall_box = \"block\"\npoints = [[0.063, 0.03, 0.04]]\n", "points = [^[", "output.probes[0].points[0]",
+       "the point lies on the edge of the x_min and z_max faces of wall box \"block\""},
+      {"wall_box = \"block\"\npoints = [[0.063, 0.03, 0.037]]\n", "points = [^[", "output.probes[0].points[0]",
+       "the disc (diameter 0.01 m) reaches beyond the x_min face of wall box \"block\" (y 0 to 0.06 m, z 0 to 0.04 m"},
+      {"wall_box = \"block\"\nface = \"x_max\"\npoints = [[0.063, 0.03, 0.02]]\n", "points = [^[",
+       "output.probes[0].points[0]", "the point is not on the x_max face of wall box \"block\" (x = 0.1 m"},
+  };
+  for (const Bad& bad : cases) {
+    const std::string text = std::string("[output]\n[[output.probes]]\n") + kind + bad.probe;
+    CAPTURE(text);
+    Model model = fluid_model_with_block();
+    check_one_problem(text, model, bad);
+  }
 }
 
 TEST_CASE("bad pressure transducers are reported as file:line:column: key: message") {

@@ -302,6 +302,21 @@ TEST_CASE("a fluid without boxes is refused, and tank_walls = false lifts the wh
   CHECK(count_kind(*world.fluid, FluidKind::kWall) == 8);  // the wall boxes only
 }
 
+TEST_CASE("a wall box's name: plain, unique among the wall boxes, kept in the model") {
+  const std::string first = "low = [0.12, -0.01, 0.005]\nhigh = [0.125, 0.01, 0.01]";
+  const std::string second = "low = [0.12, -0.01, 0.005]\nhigh = [0.13, 0.01, 0.01]";
+  std::string text = replace_once(test::fluid_scene_text(), first, "name = \"step\"\n" + first);
+  const Model model = parse_scene(text, "named.toml");
+  CHECK(model.fluid.wall_boxes[0].name == "step");
+  CHECK(model.fluid.wall_boxes[1].name.empty());
+  std::vector<std::string> problems = problems_of(replace_once(text, second, "name = \"step\"\n" + second));
+  REQUIRE(problems.size() == 1);
+  CHECK(problems[0].find("fluid.wall_boxes[1].name: \"step\" already names fluid.wall_boxes[0]") != std::string::npos);
+  problems = problems_of(replace_once(test::fluid_scene_text(), first, "name = \"a step\"\n" + first));
+  REQUIRE(problems.size() == 1);
+  CHECK(problems[0].find("fluid.wall_boxes[0].name: expected a name of letters, digits") != std::string::npos);
+}
+
 TEST_CASE("the top-level key list names the fluid table") {
   const std::vector<std::string> problems = problems_of(test::fluid_scene_text("[fluidd]\n"));
   REQUIRE(problems.size() == 1);
