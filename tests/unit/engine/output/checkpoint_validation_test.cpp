@@ -332,12 +332,23 @@ TEST_CASE("fluid kinds, slots and counts that do not match the scene are refused
       for (std::size_t i = count; i < fluid.size(); ++i) kept.push_back(i);  // the first `count` fluid slots go
       keep_fields(fluid, kept);
       d.world.fluid_summary->fluid_count -= count;
+      d.world.fluid_summary->removed_lone_droplet += count;  // each removal has its reason
       const std::string spacing = "spacing = 0.005\n";
       d.scene_text.replace(d.scene_text.find(spacing), spacing.size(), spacing + fluid_keys + "\n");
     };
   };
   SUBCASE("removed fluid particles within fluid.escape_fraction_limit are accepted") {
     CHECK(resume(data, remove_fluid(3, "escape_fraction_limit = 0.05")) == "accepted");
+  }
+  SUBCASE("removals whose reasons do not add up to the particles removed are refused") {
+    refused(resume(data,
+                   [&](CheckpointData& d) {
+                     remove_fluid(3, "escape_fraction_limit = 0.05")(d);
+                     d.world.fluid_summary->removed_lone_droplet = 1;
+                     d.world.fluid_summary->removed_left_domain = 1;
+                   }),
+            "fluid_summary.removed_left_domain + removed_lone_droplet = 1 + 1: must equal the fluid particles "
+            "removed, 3");
   }
   SUBCASE("more removed than fluid.escape_fraction_limit is refused") {
     refused(resume(data, remove_fluid(4, "escape_fraction_limit = 0.05")),
