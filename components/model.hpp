@@ -132,7 +132,7 @@ struct ParticleBoxModel {
   Vec3 high = Vec3::Zero();      ///< [m] max corner
   Vec3 velocity = Vec3::Zero();  ///< [m/s] initial velocity (fluid boxes only)
   /// Wall boxes only: an optional name (unique among them) by which a pressure transducer is put on the box's face.
-  std::string name;
+  std::string name{};
   /// false: the lattice points of the tank's lattice inside [low, high] (snapped, the default); true ("extent"):
   /// a lattice of its own at spacing l0 that fills the given extent (engine/setup/fluid_layout.hpp box_grid).
   bool fit_extent = false;

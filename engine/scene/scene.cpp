@@ -621,6 +621,21 @@ void read_lubrication(TableReader& coupling, Model& model) {
     coupling.problem("lubrication", "lubrication needs [contact] (it uses the contacts' neighbour list)");
 }
 
+namespace {
+
+/// The [coupling] defaults a scene gets that depend on the rest of the scene (a Model built in code starts with
+/// these off): the grain's undisturbed velocity, on wherever it holds (the MPS water, where a grain reads the water
+/// its own drag set moving, more so as l0 shrinks, with the isotropic kernel its integrals are for; the mean-flow
+/// fluid's plane average holds no grain's own disturbance), and added mass with the MPS water (every grain that
+/// accelerates against the water carries it: a heavy grain in a shaken tank moves 20 % too far without it, and it is
+/// capped where the bed's water could not take its reaction; the mean-flow fluid has no acceleration to give it).
+bool default_self_induced_velocity(const Model& model, double sampling_vertical_radius) {
+  return model.fluid.enabled && sampling_vertical_radius == 0.0;
+}
+bool default_added_mass(const Model& model) { return model.fluid.enabled; }
+
+}  // namespace
+
 void read_coupling(TableReader& coupling, Model& model) {
   CouplingModel& out = model.coupling;
   out.drag = coupling.boolean("drag", true);
@@ -656,7 +671,7 @@ void read_coupling(TableReader& coupling, Model& model) {
   out.newton_drag_coefficient =
       coupling.number("newton_drag_coefficient", out.newton_drag_coefficient, "1", Bounds::positive());
   read_lubrication(coupling, model);
-  out.added_mass = coupling.boolean("added_mass", false);
+  out.added_mass = coupling.boolean("added_mass", default_added_mass(model));
   out.history_force = coupling.boolean("history_force", false);
   out.history_window = coupling.number("history_window", out.history_window, "s", Bounds::positive());
   // The modes resolve the kernel from the fluid step up: a window of a few steps would be no history at all.
@@ -675,11 +690,8 @@ void read_coupling(TableReader& coupling, Model& model) {
       coupling.choice("drag_reaction", "grid", {"grid", "sampling_kernel"}) == "sampling_kernel";
   out.sampling_vertical_radius =
       coupling.number("sampling_vertical_radius", out.sampling_vertical_radius, "m", Bounds::non_negative());
-  // On wherever it holds: the MPS water (a grain there reads the water its own drag set moving, more so as l0
-  // shrinks) with the isotropic kernel its integrals are for. The mean-flow fluid's plane average holds no grain's
-  // own disturbance.
   out.self_induced_velocity = coupling.boolean("self_induced_velocity",
-                                               model.fluid.enabled && out.sampling_vertical_radius == 0.0);
+                                               default_self_induced_velocity(model, out.sampling_vertical_radius));
   // Fewer than one layer of water across the kernel leaves a grain reading one or two particles.
   if (model.fluid.enabled && out.sampling_vertical_radius > 0.0 && out.sampling_vertical_radius < model.fluid.spacing)
     coupling.problem("sampling_vertical_radius", "below l0 (" + std::to_string(model.fluid.spacing) +
@@ -720,7 +732,12 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   if (auto fluid = scene.table("fluid", false)) read_fluid(*fluid, model);  // engine/scene/fluid_scene.cpp
   if (auto flow = scene.table("mean_flow", false)) read_mean_flow(*flow, model);  // engine/scene/mean_flow_scene.cpp
   model.coupling.enabled = model.solids.enabled && (model.fluid.enabled || model.mean_flow.enabled);
-  if (auto coupling = scene.table("coupling", false)) read_coupling(*coupling, model);
+  if (auto coupling = scene.table("coupling", false)) {
+    read_coupling(*coupling, model);
+  } else if (model.coupling.enabled) {  // the same defaults as an empty [coupling] table
+    model.coupling.self_induced_velocity = default_self_induced_velocity(model, model.coupling.sampling_vertical_radius);
+    model.coupling.added_mass = default_added_mass(model);
+  }
   settle_mean_flow_coupling(scene, model);
   bool checkpoint_interval_given = false;
   if (auto output = scene.table("output", false)) {

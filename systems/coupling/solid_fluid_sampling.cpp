@@ -119,8 +119,19 @@ void SolidFluidSampling::run(SystemContext& context) {
     // Du/Dt of the water at the grain in the Maxey-Riley form (Maxey & Riley 1983): the inviscid momentum balance
     // -<grad p>/rho + g, from the same pressure gradient as the pressure force (docs/COUPLING.md, "Added mass and
     // history force"). Only when a force uses it: with both off the field stays as it was (bit-identical runs).
-    if (fluid_acceleration_)
+    if (fluid_acceleration_) {
       sampled.fluid_acceleration[grain] = context.model.gravity - gradient / (weight_sum * density_);
+      // Plus the other grains' drag reaction on the water around this one, in the cell model Zuber's C_a comes
+      // from (each neighbour pushes the water as this grain does, over the solid fraction 1 - eps; the water takes
+      // it over the flux share): in a suspension the pressure gradient holds the grains' excess weight, which the
+      // water passes on to them through the drag, so without their reaction the water would seem to accelerate
+      // upward at phi (rho_s - rho) g / rho and the added mass would hold every grain up (a suspension at
+      // phi = 0.1 settled 8 % slow). A lone grain (eps = 1) has none. F is the last sub-step's drag.
+      const double voidage = context.read<GrainVoidage>().voidage[grain];
+      const double others = (1.0 - voidage) / (flux_share(fluid_velocity_, voidage) * density_ *
+                                               grain_volume(properties.radius[grain]));
+      sampled.fluid_acceleration[grain] -= others * context.read<GrainDrag>().drag_force[grain];
+    }
     if (body_force_.kind != BodyForceModel::Kind::kNone) {
       if (fluid_acceleration_) sampled.fluid_acceleration[grain].x() += body_force;
       if (imposed_gradient)

@@ -19,10 +19,11 @@ class SolidFluidSampling final : public System {
   std::string_view name() const override { return "solid_fluid_sampling"; }
   Access access() const override {
     // With the self-induced correction, the pressure force loses the grain's own drag reaction (GrainDrag's last
-    // drag, GrainVoidage's reading of it), docs/COUPLING.md.
+    // drag, GrainVoidage's reading of it), docs/COUPLING.md; the water's acceleration (added mass, history force)
+    // gains the other grains' reaction, estimated from the same two.
     // A bulk-velocity body force is the controller's state (FluidSummary, the last step's force), read only then.
     Access access{component_ids<FluidSample, GrainState, GrainProperties>(), component_ids<GrainSampledFluid>()};
-    if (self_induced_velocity_) {
+    if (self_induced_velocity_ || fluid_acceleration_) {
       access.reads.push_back(component_id<GrainDrag>);
       access.reads.push_back(component_id<GrainVoidage>);
     }

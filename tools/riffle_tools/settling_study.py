@@ -14,7 +14,8 @@ riffle's (Wen & Yu at eps = 1 is Schiller-Naumann), so a lone grain must read ep
 
 Usage:
   tools/riffle-tools settling-study [--riffle build/riffle] [--out out/settling] [--cases quick|matrix|RE:D]
-      [--correction on|off|both] [--added-mass 0|0.5] [--voidage-radius METRES] [--threads 1]
+      [--correction on|off|both] [--added-mass 0|0.5 (default: the scene's default, on)] [--voidage-radius METRES]
+      [--threads 1]
 Prints one table row per case and run; --check TOL_TERMINAL TOL_RMS exits 1 when a corrected case misses them.
 """
 import argparse
@@ -189,8 +190,9 @@ def scene_text(g, correction, added_mass, voidage_radius, extra=()):
     lines += list(extra)
     if voidage_radius > 0.0:
         lines.append(f"voidage_radius = {voidage_radius:.15g}")
-    if added_mass > 0.0:
-        lines.append("added_mass = true")
+    # None: no key, the scene's default (added mass on with the MPS water: C_a = 1/2 for a lone grain).
+    if added_mass is not None:
+        lines.append(f"added_mass = {'true' if added_mass > 0.0 else 'false'}")
     lines += ["", "[output]", "vtk_interval = 0", "", "[[output.probes]]", 'kind = "grains"', "ids = [0]",
               "interval = 0", ""]
     return "\n".join(lines), release
@@ -297,7 +299,8 @@ def run_case(riffle, out, reynolds, d_over_l0, box_over_d, correction, added_mas
     subprocess.run([riffle, "run", str(scene), "--out", str(run_dir), "--threads", str(threads)],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     times, heights, speeds = read_probe(run_dir / "probe_grains.csv")
-    result = analyse(g, times, heights, speeds, added_mass)
+    # The reference's C_a: riffle's default for a lone grain in the MPS water (on, 1/2) when the scene names none.
+    result = analyse(g, times, heights, speeds, 0.5 if added_mass is None else added_mass)
     result.update(name=name, d_over_l0=d_over_l0, correction=correction, geometry=g)
     return result
 
@@ -321,7 +324,9 @@ def main(argv=None):
                              "approaching a no-slip plane (Brenner 1961's resistance)")
     parser.add_argument("--coupling", action="append", default=[], metavar="'KEY = VALUE'",
                         help="another [coupling] line for every case (repeatable)")
-    parser.add_argument("--added-mass", type=float, default=0.0, help="C_a of the reference ODE (and the scene)")
+    parser.add_argument("--added-mass", type=float, default=None,
+                        help="C_a of the reference ODE, and the scene's added_mass (0: false, else true); without "
+                             "it the scene has no key (riffle's default, on) and the reference C_a = 1/2")
     parser.add_argument("--voidage-radius", type=float, default=0.0,
                         help="[coupling] voidage_radius (m); a huge one makes a lone grain read eps = 1")
     parser.add_argument("--threads", type=int, default=1)
