@@ -163,12 +163,22 @@ TEST_CASE("the implicit kick is stable for added mass far above the grain's mass
   CHECK(grain.velocity[0].norm() < 1e-6);
 }
 
-TEST_CASE("the scene's added-mass and history switches: off by default, and a window too short is refused") {
+TEST_CASE("the scene's added-mass and history switches: added mass on with the MPS water, history off, and a window "
+          "too short is refused") {
   const std::string scene = test::coupled_scene_text();
-  const Model off = parse_scene(scene, "coupled.toml");
-  CHECK_FALSE(off.coupling.added_mass);
-  CHECK_FALSE(off.coupling.history_force);
-  CHECK(off.coupling.history_window == 0.1);
+  // Without a [coupling] table the scene gets the defaults of an empty one: added mass and the grain's undisturbed
+  // velocity on (the MPS water, the isotropic kernel), history off.
+  for (const std::string& text : {scene, scene + "[coupling]\n"}) {
+    const Model defaults = parse_scene(text, "coupled.toml");
+    CHECK(defaults.coupling.added_mass);
+    CHECK(defaults.coupling.self_induced_velocity);
+    CHECK_FALSE(defaults.coupling.history_force);
+    CHECK(defaults.coupling.history_window == 0.1);
+  }
+  CHECK_FALSE(parse_scene(scene + "[coupling]\nadded_mass = false\n", "coupled.toml").coupling.added_mass);
+  // A Model built in code starts with both off (the tests that build their models).
+  CHECK_FALSE(Model{}.coupling.added_mass);
+  CHECK_FALSE(Model{}.coupling.self_induced_velocity);
   const Model on = parse_scene(scene + "[coupling]\nadded_mass = true\nhistory_force = true\nhistory_window = 0.2\n",
                                "coupled.toml");
   CHECK(on.coupling.added_mass);
