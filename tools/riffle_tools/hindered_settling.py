@@ -49,7 +49,7 @@ def richardson_zaki_exponent(reynolds):
     return 2.39
 
 
-def scene(phi, reading, extra):
+def scene(phi, reading, extra, spacing=0.005):
     count = round(phi * COLUMN * COLUMN * (FILL_HIGH - FILL_LOW) / (math.pi / 6.0 * DIAMETER ** 3))
     return f"""
 [run]
@@ -75,7 +75,7 @@ diameter = {DIAMETER}
 count = {count}
 material = "bead"
 [fluid]
-spacing = 0.005
+spacing = {spacing}
 density = {DENSITY}
 kinematic_viscosity = {VISCOSITY / DENSITY}
 [[fluid.boxes]]
@@ -121,28 +121,33 @@ def main(argv=None):
     parser.add_argument("--readings", default="mixture,pore")
     parser.add_argument("--extra", default="", help="more [coupling] lines")
     parser.add_argument("--threads", default="1")
+    parser.add_argument("--spacings", default="0.005",
+                        help="l0 [m], comma-separated (each a divisor of the 60 x 60 x 180 mm column: 0.01, 0.0075, "
+                             "0.005, 0.004, 0.003, 0.0025): the same suspension at each, for the convergence in l0")
     args = parser.parse_args(argv)
     u_t = terminal_speed()
     reynolds = DENSITY * u_t * DIAMETER / VISCOSITY
     n = richardson_zaki_exponent(reynolds)
     print(f"u_t = {u_t * 1e3:.4f} mm/s, Re_t = {reynolds:.4f}, n = {n}")
-    print("| reading | phi (nominal) | phi (suspension) | Re_t | RZ speed [mm/s] | riffle bulk speed [mm/s] | error "
-          "| column frame [mm/s] | error | band voidage |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for reading in args.readings.split(","):
-        for phi in (float(p) for p in args.phi.split(",")):
-            out = os.path.join(args.work, f"{reading}_phi{phi}")
-            os.makedirs(out, exist_ok=True)
-            scene_file = os.path.join(out, "scene.toml")
-            with open(scene_file, "w") as f:
-                f.write(scene(phi, reading, args.extra))
-            subprocess.run([args.riffle, "run", scene_file, "--out", os.path.join(out, "run"), "--threads",
-                            args.threads], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            speed, lab, voidage, truth = bulk_speed(os.path.join(out, "run"))
-            expected = u_t * (1.0 - truth) ** n
-            print(f"| {reading} | {phi} | {truth:.4f} | {reynolds:.3f} | {expected * 1e3:.4f} | {speed * 1e3:.4f} | "
-                  f"{100.0 * (speed / expected - 1.0):+.1f} % | {lab * 1e3:.4f} | {100.0 * (lab / expected - 1.0):+.1f} % "
-                  f"| {voidage:.4f} |", flush=True)
+    print("| reading | l0 [mm] | phi (nominal) | phi (suspension) | Re_t | RZ speed [mm/s] | riffle bulk speed [mm/s] "
+          "| error | column frame [mm/s] | error | band voidage |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for spacing in (float(s) for s in args.spacings.split(",")):
+        for reading in args.readings.split(","):
+            for phi in (float(p) for p in args.phi.split(",")):
+                suffix = "" if spacing == 0.005 else f"_l{spacing * 1e3:g}mm"
+                out = os.path.join(args.work, f"{reading}_phi{phi}{suffix}")
+                os.makedirs(out, exist_ok=True)
+                scene_file = os.path.join(out, "scene.toml")
+                with open(scene_file, "w") as f:
+                    f.write(scene(phi, reading, args.extra, spacing))
+                subprocess.run([args.riffle, "run", scene_file, "--out", os.path.join(out, "run"), "--threads",
+                                args.threads], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                speed, lab, voidage, truth = bulk_speed(os.path.join(out, "run"))
+                expected = u_t * (1.0 - truth) ** n
+                print(f"| {reading} | {spacing * 1e3:g} | {phi} | {truth:.4f} | {reynolds:.3f} | {expected * 1e3:.4f} | "
+                      f"{speed * 1e3:.4f} | {100.0 * (speed / expected - 1.0):+.1f} % | {lab * 1e3:.4f} | {100.0 * (lab / expected - 1.0):+.1f} % "
+                      f"| {voidage:.4f} |", flush=True)
 
 
 if __name__ == "__main__":
