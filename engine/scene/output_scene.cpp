@@ -225,11 +225,11 @@ void read_transducers(TableReader& table, const Model& model, ProbeModel& probe)
       surface.what = "wall box \"" + name + "\"";
       const BoxGrid grid =
           box_grid(model.tank.origin, found->low, found->high, model.fluid.spacing, found->fit_extent);
-      const double half = 0.5 * model.fluid.spacing;
+      // The outermost particles' cells: first - l0/2 and first + (count - 1/2) l0.
       for (Eigen::Index axis = 0; axis < 3; ++axis) {
-        surface.read_low[axis] = grid.first[axis] - half;
-        surface.read_high[axis] =
-            grid.first[axis] + static_cast<double>(grid.count[static_cast<std::size_t>(axis)] - 1) * 2.0 * half + half;
+        const double count = static_cast<double>(grid.count[static_cast<std::size_t>(axis)]);
+        surface.read_low[axis] = grid.first[axis] - 0.5 * model.fluid.spacing;
+        surface.read_high[axis] = grid.first[axis] + (count - 0.5) * model.fluid.spacing;
       }
     } else {
       surface_ok = false;  // no spacing: reported at [fluid]

@@ -55,6 +55,11 @@ void SolidFluidSampling::run(SystemContext& context) {
     fluid_grid_.build(fluid.position, 0, fluid_count, 0.5 * (smallest_radius + effective_radius), domain.low,
                       domain.high);
 
+  // The grains' last drag and voidage, read once (the self-induced correction and the water's acceleration use them).
+  const bool reads_drag = self_induced_velocity_ || fluid_acceleration_;
+  const GrainVoidage* const voidages = reads_drag ? &context.read<GrainVoidage>() : nullptr;
+  const GrainDrag* const drags = reads_drag ? &context.read<GrainDrag>() : nullptr;
+
   for_each_particle(grains.size(), [&](std::size_t grain) {
     const Vec3 centre = grains.position[grain];
     const WendlandKernel sampling_kernel(properties.radius[grain] + effective_radius);
@@ -127,10 +132,10 @@ void SolidFluidSampling::run(SystemContext& context) {
       // water passes on to them through the drag, so without their reaction the water would seem to accelerate
       // upward at phi (rho_s - rho) g / rho and the added mass would hold every grain up (a suspension at
       // phi = 0.1 settled 8 % slow). A lone grain (eps = 1) has none. F is the last sub-step's drag.
-      const double voidage = context.read<GrainVoidage>().voidage[grain];
+      const double voidage = voidages->voidage[grain];
       const double others = (1.0 - voidage) / (flux_share(fluid_velocity_, voidage) * density_ *
                                                grain_volume(properties.radius[grain]));
-      sampled.fluid_acceleration[grain] -= others * context.read<GrainDrag>().drag_force[grain];
+      sampled.fluid_acceleration[grain] -= others * drags->drag_force[grain];
     }
     if (body_force_.kind != BodyForceModel::Kind::kNone) {
       if (fluid_acceleration_) sampled.fluid_acceleration[grain].x() += body_force;
@@ -143,13 +148,13 @@ void SolidFluidSampling::run(SystemContext& context) {
       // at the centre of the isotropic blob, grad p = -F <rho_s rho_w> / 3 sampled, which adds
       // V F <rho_s rho_w> / 3 to -V <grad p> (docs/COUPLING.md). F is the last sub-step's drag, which the water
       // received over the last step; only for the dilute grains whose drag the correction applies to.
-      const double voidage = context.read<GrainVoidage>().voidage[grain];
+      const double voidage = voidages->voidage[grain];
       if (voidage > kSelfInducedMinVoidage) {
         const double share = flux_share(fluid_velocity_, voidage);
         const double kernel_radius = properties.radius[grain] + effective_radius;
         const double own = grain_volume(properties.radius[grain]) * overlap_ /
                            (3.0 * kernel_radius * kernel_radius * kernel_radius * share);
-        const Vec3 own_force = own * context.read<GrainDrag>().drag_force[grain];
+        const Vec3 own_force = own * drags->drag_force[grain];
         sampled.pressure_force[grain] -= own_force;
         // The water's acceleration the added mass and history forces use is the undisturbed one too.
         if (fluid_acceleration_)
