@@ -82,8 +82,14 @@ template <class Neighbours>
 void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProperties& properties,
                  const Neighbours& neighbours, const ContactModel& model, bool rolling, double dt,
                  Contacts& contacts) {
-  // Gather the remaining inputs of the touching pairs.
-  for (std::size_t p = 0; p < b.count; ++p) {
+  // Gather the remaining inputs of the touching pairs. The pair coefficients are shared by the whole batch when every
+  // pair is of the same two materials (a bed of one material: every batch but those with a wall material's grain),
+  // and then copied once; the reduced mass is formed in a loop of its own, which vectorises.
+  const std::size_t count = b.count;
+  const std::int32_t first_material_i = count > 0 ? properties.material[b.first[0]] : 0;
+  const std::int32_t first_material_j = count > 0 ? neighbours.material(b.second[0]) : 0;
+  bool one_material_pair = true, any_fixed = false;
+  for (std::size_t p = 0; p < count; ++p) {
     const std::uint32_t i = b.first[p], j = b.second[p];
     const Vec3& velocity_i = grains.velocity[i];
     const Vec3& velocity_j = neighbours.velocity(j);
@@ -105,15 +111,31 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     b.sx[p] = spring.x();
     b.sy[p] = spring.y();
     b.sz[p] = spring.z();
-    b.effective_mass[p] =
-        pair_reduced_mass(properties.mass[i], neighbours.mass(j), properties.fixed[i] != 0, neighbours.fixed(j));
-    const ContactPairParameters& pair = model.pair(properties.material[i], neighbours.material(j));
-    b.stiffness_a[p] = pair.normal_stiffness_coefficient;
-    b.stiffness_b[p] = pair.tangential_stiffness_coefficient;
-    b.damping[p] = lane_damping(model.law, pair);
-    b.damping_ratio[p] = pair.tangential_damping_ratio;
-    b.friction[p] = pair.friction;
-    b.rolling[p] = pair.rolling_friction;
+    b.mass_i[p] = properties.mass[i];
+    b.mass_j[p] = neighbours.mass(j);
+    any_fixed |= (properties.fixed[i] != 0) | neighbours.fixed(j);
+    one_material_pair &= (properties.material[i] == first_material_i) & (neighbours.material(j) == first_material_j);
+  }
+  for (std::size_t p = 0; p < count; ++p)
+    b.effective_mass[p] = b.mass_i[p] * b.mass_j[p] / (b.mass_i[p] + b.mass_j[p]);
+  if (any_fixed)
+    for (std::size_t p = 0; p < count; ++p)
+      b.effective_mass[p] = pair_reduced_mass(b.mass_i[p], b.mass_j[p], properties.fixed[b.first[p]] != 0,
+                                              neighbours.fixed(b.second[p]));
+  b.shared_coefficients = one_material_pair;
+  if (one_material_pair) {
+    b.shared = sphere_pair_coefficients(model.law, model.pair(first_material_i, first_material_j));
+  } else {
+    for (std::size_t p = 0; p < count; ++p) {
+      const ContactPairParameters& pair = model.pair(properties.material[b.first[p]], neighbours.material(b.second[p]));
+      const SpherePairCoefficients coefficients = sphere_pair_coefficients(model.law, pair);
+      b.stiffness_a[p] = coefficients.stiffness_a;
+      b.stiffness_b[p] = coefficients.stiffness_b;
+      b.damping[p] = coefficients.damping;
+      b.damping_ratio[p] = coefficients.damping_ratio;
+      b.friction[p] = coefficients.friction;
+      b.rolling[p] = coefficients.rolling;
+    }
   }
   evaluate_sphere_pair_batch(b, model.law, rolling, dt);
   for (std::size_t p = 0; p < b.count; ++p) {

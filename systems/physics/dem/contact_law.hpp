@@ -212,6 +212,15 @@ inline double pair_reduced_mass(double mass_i, double mass_j, bool fixed_i, bool
   return mass_i * mass_j / (mass_i + mass_j);
 }
 
+/// A material pair's coefficients as the batched kernel reads them (ContactLaneInput's names).
+struct SpherePairCoefficients {
+  double stiffness_a = 0.0, stiffness_b = 0.0, damping = 0.0, damping_ratio = 0.0, friction = 0.0, rolling = 0.0;
+};
+inline SpherePairCoefficients sphere_pair_coefficients(ContactLaw law, const ContactPairParameters& pair) {
+  return {pair.normal_stiffness_coefficient, pair.tangential_stiffness_coefficient, lane_damping(law, pair),
+          pair.tangential_damping_ratio, pair.friction, pair.rolling_friction};
+}
+
 /// Touching sphere pairs in structure-of-arrays form, evaluated together by evaluate_sphere_pair_batch.
 constexpr std::size_t kContactBatch = 64;
 struct SpherePairBatch {
@@ -224,7 +233,11 @@ struct SpherePairBatch {
   alignas(64) double sx[kContactBatch], sy[kContactBatch], sz[kContactBatch];     // tangential spring (in old, out new)
   alignas(64) double ri[kContactBatch], rj[kContactBatch];
   alignas(64) double effective_mass[kContactBatch];  // pair_reduced_mass
-  // Pair coefficients, as in ContactLaneInput.
+  alignas(64) double mass_i[kContactBatch], mass_j[kContactBatch];  // the caller's, to form effective_mass
+  // Pair coefficients, as in ContactLaneInput: `shared` for every pair when shared_coefficients (the arrays below are
+  // then not read), else per pair in the arrays.
+  bool shared_coefficients = false;
+  SpherePairCoefficients shared;
   alignas(64) double stiffness_a[kContactBatch], stiffness_b[kContactBatch];
   alignas(64) double damping[kContactBatch], damping_ratio[kContactBatch];
   alignas(64) double friction[kContactBatch], rolling[kContactBatch];

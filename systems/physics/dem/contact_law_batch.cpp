@@ -6,9 +6,10 @@ namespace riffle {
 
 namespace {
 
-template <ContactLaw kLaw, bool kRolling>
+template <ContactLaw kLaw, bool kRolling, bool kShared>
 [[gnu::always_inline]] inline void evaluate_batch(SpherePairBatch& b, double dt) {
   const std::size_t count = b.count;
+  const SpherePairCoefficients shared = b.shared;
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC ivdep
 #endif
@@ -39,12 +40,12 @@ template <ContactLaw kLaw, bool kRolling>
     in.rwz = wiz - wjz;
     in.effective_radius = radius_i * radius_j / touching_distance;
     in.effective_mass = b.effective_mass[p];
-    in.stiffness_a = b.stiffness_a[p];
-    in.stiffness_b = b.stiffness_b[p];
-    in.damping = b.damping[p];
-    in.damping_ratio = b.damping_ratio[p];
-    in.friction = b.friction[p];
-    in.rolling = b.rolling[p];
+    in.stiffness_a = kShared ? shared.stiffness_a : b.stiffness_a[p];
+    in.stiffness_b = kShared ? shared.stiffness_b : b.stiffness_b[p];
+    in.damping = kShared ? shared.damping : b.damping[p];
+    in.damping_ratio = kShared ? shared.damping_ratio : b.damping_ratio[p];
+    in.friction = kShared ? shared.friction : b.friction[p];
+    in.rolling = kShared ? shared.rolling : b.rolling[p];
     in.sx = b.sx[p];
     in.sy = b.sy[p];
     in.sz = b.sz[p];
@@ -79,17 +80,25 @@ template <ContactLaw kLaw, bool kRolling>
 #else
 #define RIFFLE_CONTACT_KERNEL_CLONES
 #endif
+/// The batch's coefficients shared or per pair.
+template <ContactLaw kLaw, bool kRolling>
+[[gnu::always_inline]] inline void evaluate(SpherePairBatch& b, double dt) {
+  if (b.shared_coefficients)
+    evaluate_batch<kLaw, kRolling, true>(b, dt);
+  else
+    evaluate_batch<kLaw, kRolling, false>(b, dt);
+}
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_hertz(SpherePairBatch& b, double dt) {
-  evaluate_batch<ContactLaw::kHertzMindlin, false>(b, dt);
+  evaluate<ContactLaw::kHertzMindlin, false>(b, dt);
 }
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_hertz_rolling(SpherePairBatch& b, double dt) {
-  evaluate_batch<ContactLaw::kHertzMindlin, true>(b, dt);
+  evaluate<ContactLaw::kHertzMindlin, true>(b, dt);
 }
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_linear(SpherePairBatch& b, double dt) {
-  evaluate_batch<ContactLaw::kLinearSpringDashpot, false>(b, dt);
+  evaluate<ContactLaw::kLinearSpringDashpot, false>(b, dt);
 }
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_linear_rolling(SpherePairBatch& b, double dt) {
-  evaluate_batch<ContactLaw::kLinearSpringDashpot, true>(b, dt);
+  evaluate<ContactLaw::kLinearSpringDashpot, true>(b, dt);
 }
 
 }  // namespace

@@ -429,15 +429,25 @@ TEST_CASE("the batched sphere-pair kernel is evaluate_contact on the pair's geom
   // evaluate_sphere_pair_batch is what runs for grain-grain pairs: per pair it must give what evaluate_contact gives
   // for the geometry written out here by hand (normal along the centre line, lever arms R_i n and -R_j n), bit for
   // bit, whatever the pair's place in the batch (a full batch and a ragged one), sliding or sticking.
+  // The coefficients come per pair or, for a batch of one material pair, once for all (`shared`).
   for (ContactLaw law : kLaws)
     for (double friction : {50.0, 1e-3})  // sticks, slides
       for (bool rolling : {false, true})
+        for (bool shared : {false, true})
         for (std::size_t count : {std::size_t{1}, std::size_t{7}, kContactBatch}) {
-          INFO(name_of(law) << ", mu " << friction << ", rolling " << rolling << ", " << count << " pairs");
+          INFO(name_of(law) << ", mu " << friction << ", rolling " << rolling << ", shared " << shared << ", "
+                            << count << " pairs");
           const ContactPairParameters coefficients = pair_parameters(law, 0.5, friction, rolling ? 0.05 : 0.0);
           SpherePairBatch batch;
           batch.count = count;
           for (std::size_t p = 0; p < count; ++p) put(batch, p, sphere_pair(static_cast<int>(p)), coefficients, law);
+          if (shared) {
+            // Only the shared copy holds the coefficients: the per-pair arrays hold nonsense that must not be read.
+            batch.shared_coefficients = true;
+            batch.shared = sphere_pair_coefficients(law, coefficients);
+            for (std::size_t p = 0; p < count; ++p)
+              batch.stiffness_a[p] = batch.stiffness_b[p] = batch.damping[p] = batch.friction[p] = -1.0;
+          }
           evaluate_sphere_pair_batch(batch, law, rolling, kDt);
           int slid = 0;
           for (std::size_t p = 0; p < count; ++p) {
