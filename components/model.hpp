@@ -114,6 +114,13 @@ struct TankMotionModel {
   MotionTable table;               ///< kind = kTable only
 };
 
+/// The tank's faces by name, in claiming order (a wall or dummy particle beyond several faces belongs to the first):
+/// index 2 axis + side, side 0 the low face. The names of [tank] open_faces and of a transducer's face.
+inline const std::array<std::string, 6> kTankFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+inline const std::string& tank_face_name(int axis, int side) {
+  return kTankFaceNames[static_cast<std::size_t>(2 * axis + side)];
+}
+
 struct TankModel {
   Vec3 size = Vec3::Zero();            ///< [m] inner size along x, y, z
   Vec3 origin = Vec3::Zero();          ///< [m] inner min corner at rest
@@ -124,6 +131,13 @@ struct TankModel {
   std::array<bool, 3> periodic{false, false, false};
   TankMotionModel motion;
   bool any_periodic() const { return periodic[0] || periodic[1] || periodic[2]; }
+  /// Whether the face (axis, side) is listed in open_faces (a periodic axis's faces have no wall either).
+  bool face_open(int axis, int side) const {
+    const std::string& name = tank_face_name(axis, side);
+    for (const std::string& face : open_faces)
+      if (face == name) return true;
+    return false;
+  }
 };
 
 /// A box of particles on the fluid lattice, given by two corners (fluid blocks and solid wall blocks).

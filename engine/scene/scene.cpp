@@ -52,7 +52,6 @@ std::int32_t read_material(const Model& model, TableReader& reader, const std::s
 
 namespace {
 
-const std::vector<std::string> kFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
 /// Why `name` cannot be the default output folder out/<name>, or "" if it can: it must be one plain path
 /// component, so that the run writes inside out/ (not "../../..") and the log file can be opened (no NUL).
@@ -207,15 +206,14 @@ void read_periodic(TableReader& tank, TankModel& model, bool motion_valid) {
   const std::size_t problems_before = tank.problem_count();
   const std::vector<std::string> axes = tank.choices("periodic", {"x", "y"});
   if (tank.problem_count() != problems_before || axes.empty()) return;
-  static const char* kAxisFaces[2][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}};
   const Vec3 sweep = motion_valid ? tank_motion_sweep(model.motion) : Vec3::Zero();
   for (const std::string& axis_name : axes) {
     const int axis = axis_name == "x" ? 0 : 1;
     model.periodic[static_cast<std::size_t>(axis)] = true;
-    for (const char* face : kAxisFaces[axis])
-      if (std::find(model.open_faces.begin(), model.open_faces.end(), face) != model.open_faces.end())
+    for (int side = 0; side < 2; ++side)
+      if (model.face_open(axis, side))
         tank.problem("periodic", std::string("the tank is periodic along ") + axis_name + ", which has no walls, so " +
-                                     face + " cannot also be listed in open_faces: a face is either open (particles "
+                                     tank_face_name(axis, side) + " cannot also be listed in open_faces: a face is either open (particles "
                                      "leave through it) or periodic (they come back through the other face)");
     if (sweep[axis] > 0.0)
       tank.problem("periodic", std::string("the tank moves along ") + axis_name + " ([tank.motion]), which is "
@@ -228,7 +226,8 @@ void read_periodic(TableReader& tank, TankModel& model, bool motion_valid) {
 void read_tank(TableReader& tank, Model& model) {
   model.tank.size = tank.vec3("size", std::nullopt, "m", Bounds::positive());
   model.tank.origin = tank.vec3("origin", model.tank.origin, "m", Bounds::any());
-  model.tank.open_faces = tank.choices("open_faces", kFaceNames);
+  model.tank.open_faces =
+      tank.choices("open_faces", std::vector<std::string>(kTankFaceNames.begin(), kTankFaceNames.end()));
   model.tank.wall_material = read_material(model, tank, "wall_material");
   model.tank.domain_margin = tank.number("domain_margin", model.tank.domain_margin, "m", Bounds::non_negative());
   const std::size_t problems_before_motion = tank.problem_count();

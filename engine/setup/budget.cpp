@@ -56,20 +56,15 @@ double box_particles(const ParticleBoxModel& box, const Vec3& origin, double spa
   return count;
 }
 
-bool face_open(const TankModel& tank, const std::string& face) {
-  return std::find(tank.open_faces.begin(), tank.open_faces.end(), face) != tank.open_faces.end();
-}
-
 /// Particles of the tank's shell `layers` deep beyond its closed, non-periodic faces (fluid_layout.hpp: prod_a (n_a + L_a^- + L_a^+) - prod_a n_a).
 double tank_shell(const TankModel& tank, double spacing, double layers) {
-  static const char* kFaces[3][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}, {"z_min", "z_max"}};
   double outer = 1.0, inner = 1.0;
   for (int axis = 0; axis < 3; ++axis) {
     const double cells = std::max(1.0, std::round(tank.size[axis] / spacing));
     // A periodic axis has no wall on either side, as an open face has none (tank_wall_layout).
     const bool periodic = tank.periodic[static_cast<std::size_t>(axis)];
-    const double below = periodic || face_open(tank, kFaces[axis][0]) ? 0.0 : layers;
-    const double above = periodic || face_open(tank, kFaces[axis][1]) ? 0.0 : layers;
+    const double below = periodic || tank.face_open(axis, 0) ? 0.0 : layers;
+    const double above = periodic || tank.face_open(axis, 1) ? 0.0 : layers;
     outer *= cells + below + above;
     inner *= cells;
   }

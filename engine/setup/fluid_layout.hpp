@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "components/fluid.hpp"
+#include "components/model.hpp"
 
 namespace riffle {
 
@@ -29,8 +30,6 @@ struct FluidLayout {
   std::size_t fluid = 0, wall = 0, dummy = 0;  ///< counts per kind
 };
 
-/// Tank faces in claiming order: a wall or dummy particle beyond several faces belongs to the first.
-inline const std::array<std::string, 6> kTankFaceNames = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
 /// Number of dummy layers behind the wall layer: ceil(r_e / l0) - 1 (numerics 3.1), so that a fluid particle on
 /// the wall sees full support: 2 for r_e = 2.6 l0, 3 for r_e = 3.1 l0. A ratio within 1e-9 of an integer counts

@@ -21,13 +21,12 @@ Walls tank_walls(const TankModel& tank) {
   Walls walls;
   const Vec3 centre = tank.origin + 0.5 * tank.size;
   const Vec3 half = 0.5 * tank.size;
-  const char* names[3][2] = {{"x_min", "x_max"}, {"y_min", "y_max"}, {"z_min", "z_max"}};
   for (int axis = 0; axis < 3; ++axis) {
     const int u_axis = (axis + 1) % 3;
     const int v_axis = (axis + 2) % 3;
     for (int side = 0; side < 2; ++side) {
-      const std::string name = names[axis][side];
-      if (std::find(tank.open_faces.begin(), tank.open_faces.end(), name) != tank.open_faces.end()) continue;
+      if (tank.face_open(axis, side)) continue;
+      const std::string& name = tank_face_name(axis, side);
       if (tank.periodic[static_cast<std::size_t>(axis)]) continue;  // a periodic axis has no walls
       const double sign = side == 0 ? -1.0 : 1.0;
       Vec3 face_centre = centre;

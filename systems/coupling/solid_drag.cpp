@@ -25,15 +25,9 @@ SolidDrag::SolidDrag(const Model& model)
 
 SolidDrag::TankFaces SolidDrag::tank_faces(const Model& model) {
   TankFaces faces;
-  static constexpr std::array<std::array<const char*, 2>, 3> kNames = {
-      {{"x_min", "x_max"}, {"y_min", "y_max"}, {"z_min", "z_max"}}};
-  const auto& open = model.tank.open_faces;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side = 0; side < 2; ++side) {
-      const bool is_open = std::find(open.begin(), open.end(), kNames[axis][side]) != open.end();
-      faces.wall[axis][side] = !model.tank.periodic[axis] && !is_open;
-    }
-  }
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side)
+      faces.wall[axis][side] = !model.tank.periodic[axis] && !model.tank.face_open(axis, side);
   faces.low = model.tank.origin;
   faces.high = model.tank.origin + model.tank.size;
   return faces;
