@@ -52,7 +52,6 @@ std::int32_t read_material(const Model& model, TableReader& reader, const std::s
 
 namespace {
 
-
 /// Why `name` cannot be the default output folder out/<name>, or "" if it can: it must be one plain path
 /// component, so that the run writes inside out/ (not "../../..") and the log file can be opened (no NUL).
 std::string run_name_problem(const std::string& name) {
@@ -213,8 +212,9 @@ void read_periodic(TableReader& tank, TankModel& model, bool motion_valid) {
     for (int side = 0; side < 2; ++side)
       if (model.face_open(axis, side))
         tank.problem("periodic", std::string("the tank is periodic along ") + axis_name + ", which has no walls, so " +
-                                     tank_face_name(axis, side) + " cannot also be listed in open_faces: a face is either open (particles "
-                                     "leave through it) or periodic (they come back through the other face)");
+                                     tank_face_name(axis, side) +
+                                     " cannot also be listed in open_faces: a face is either open (particles leave "
+                                     "through it) or periodic (they come back through the other face)");
     if (sweep[axis] > 0.0)
       tank.problem("periodic", std::string("the tank moves along ") + axis_name + " ([tank.motion]), which is "
                                    "periodic: a periodic box is the same box one period on, so shaking it along that "

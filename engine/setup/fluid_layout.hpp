@@ -30,7 +30,6 @@ struct FluidLayout {
   std::size_t fluid = 0, wall = 0, dummy = 0;  ///< counts per kind
 };
 
-
 /// Number of dummy layers behind the wall layer: ceil(r_e / l0) - 1 (numerics 3.1), so that a fluid particle on
 /// the wall sees full support: 2 for r_e = 2.6 l0, 3 for r_e = 3.1 l0. A ratio within 1e-9 of an integer counts
 /// as that integer (w(r_e) = 0, so a layer at exactly r_e adds nothing).

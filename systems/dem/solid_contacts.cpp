@@ -116,12 +116,14 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     any_fixed |= (properties.fixed[i] != 0) | neighbours.fixed(j);
     one_material_pair &= (properties.material[i] == first_material_i) & (neighbours.material(j) == first_material_j);
   }
-  for (std::size_t p = 0; p < count; ++p)
-    b.effective_mass[p] = b.mass_i[p] * b.mass_j[p] / (b.mass_i[p] + b.mass_j[p]);
-  if (any_fixed)
+  if (any_fixed) {
     for (std::size_t p = 0; p < count; ++p)
       b.effective_mass[p] = pair_reduced_mass(b.mass_i[p], b.mass_j[p], properties.fixed[b.first[p]] != 0,
                                               neighbours.fixed(b.second[p]));
+  } else {
+    for (std::size_t p = 0; p < count; ++p)
+      b.effective_mass[p] = pair_reduced_mass(b.mass_i[p], b.mass_j[p], false, false);
+  }
   b.shared_coefficients = one_material_pair;
   if (one_material_pair) {
     b.shared = sphere_pair_coefficients(model.law, model.pair(first_material_i, first_material_j));

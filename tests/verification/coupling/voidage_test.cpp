@@ -355,39 +355,40 @@ TEST_CASE("voidage: a thin bed under coarse water reads its solid fraction with 
   // slab's as l0 shrinks until R_eps reaches its floor 2 d (from l0 = 4/3 mm), half the bed's depth.
   const double radius = 0.001, period = 0.04, bed = 0.008;
   const std::vector<Vec3> centres = random_layer(900, radius, period, radius, bed - radius, 33);
-  for (const double l0 : {0.005, 0.0025, 0.00125, 0.000625}) {
   const double truth = slab_fraction(centres, radius, period * period, 2.0 * radius, bed - 2.0 * radius);
   struct Setting {
     std::string name;
     bool over_tank;
     double vertical_radius;
   };
-  for (const Setting& setting : {Setting{"fluid particles, R_eps across as along (default)", false, 0.0},
-                                Setting{"tank, R_eps 2 mm across", true, 2.0 * radius},
-                                Setting{"tank, R_eps 3 mm across", true, 3.0 * radius}}) {
-    CAPTURE(setting.name);
-    CAPTURE(l0);
-    Model model = box_model(l0, period);
-    model.tank.size = Vec3(period, period, 0.02);
-    model.tank.periodic = {true, true, false};
-    model.coupling.voidage_volume = setting.over_tank ? CouplingModel::VoidageVolume::kTank
-                                                       : CouplingModel::VoidageVolume::kFluidParticles;
-    model.coupling.voidage_vertical_radius = setting.vertical_radius;
-    SolidVoidage voidage(model);
-    World world = box_world(model, centres, radius);
-    run_voidage(voidage, world, model);
-    std::vector<double> middle, floor;
-    for (std::size_t g = 0; g < centres.size(); ++g) {
-      const double z = world.solids->position[g].z(), solid = 1.0 - world.solids->voidage[g];
-      if (z > 3.5 * radius && z < 4.5 * radius) middle.push_back(solid);
-      if (z < 1.5 * radius) floor.push_back(solid);
+  for (const double l0 : {0.005, 0.0025, 0.00125, 0.000625}) {
+    for (const Setting& setting : {Setting{"fluid particles, R_eps across as along (default)", false, 0.0},
+                                  Setting{"tank, R_eps 2 mm across", true, 2.0 * radius},
+                                  Setting{"tank, R_eps 3 mm across", true, 3.0 * radius}}) {
+      CAPTURE(setting.name);
+      CAPTURE(l0);
+      Model model = box_model(l0, period);
+      model.tank.size = Vec3(period, period, 0.02);
+      model.tank.periodic = {true, true, false};
+      model.coupling.voidage_volume = setting.over_tank ? CouplingModel::VoidageVolume::kTank
+                                                         : CouplingModel::VoidageVolume::kFluidParticles;
+      model.coupling.voidage_vertical_radius = setting.vertical_radius;
+      SolidVoidage voidage(model);
+      World world = box_world(model, centres, radius);
+      run_voidage(voidage, world, model);
+      std::vector<double> middle, floor;
+      for (std::size_t g = 0; g < centres.size(); ++g) {
+        const double z = world.solids->position[g].z(), solid = 1.0 - world.solids->voidage[g];
+        if (z > 3.5 * radius && z < 4.5 * radius) middle.push_back(solid);
+        if (z < 1.5 * radius) floor.push_back(solid);
+      }
+      const Spread s = spread_of(middle), f = spread_of(floor);
+      MESSAGE("l0 " << l0 * 1e3 << " mm, R_eps along the bed " << 1e3 * std::max(3.0 * l0, 4.0 * radius) << " mm, "
+              << setting.name << ": middle grains read solid fraction " << s.mean << " (deviation " << s.deviation
+              << ", " << s.count << " grains) against the middle slab's " << truth
+              << "; floor grains (centres below 1.5 mm) " << f.mean << "; the slab 0-2 mm holds "
+              << slab_fraction(centres, radius, period * period, 0.0, 2.0 * radius));
+      if (setting.over_tank) CHECK(std::abs(s.mean / truth - 1.0) < 0.03);
     }
-    const Spread s = spread_of(middle), f = spread_of(floor);
-    MESSAGE("l0 " << l0 * 1e3 << " mm, R_eps along the bed " << 1e3 * std::max(3.0 * l0, 4.0 * radius) << " mm, "
-            << setting.name << ": middle grains read solid fraction " << s.mean << " (deviation " << s.deviation << ", "
-            << s.count << " grains) against the middle slab's " << truth << "; floor grains (centres below 1.5 mm) "
-            << f.mean << "; the slab 0-2 mm holds " << slab_fraction(centres, radius, period * period, 0.0, 2.0 * radius));
-    if (setting.over_tank) CHECK(std::abs(s.mean / truth - 1.0) < 0.03);
-  }
   }
 }
