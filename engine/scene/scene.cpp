@@ -627,11 +627,15 @@ namespace {
 /// its own drag set moving, more so as l0 shrinks, with the isotropic kernel its integrals are for; the mean-flow
 /// fluid's plane average holds no grain's own disturbance), and added mass with the MPS water (every grain that
 /// accelerates against the water carries it: a heavy grain in a shaken tank moves 20 % too far without it, and it is
-/// capped where the bed's water could not take its reaction; the mean-flow fluid has no acceleration to give it).
+/// capped where the bed's water could not take its reaction; the mean-flow fluid has no acceleration to give it), and
+/// the shear lift with the mean-flow fluid (without it a bed starts moving at 1.68 times the Shields threshold, with
+/// it at 1.24-1.26, the same at 400 and 800 cells: docs/cases/bedload.md; the MPS water's kernel is wider than a grain
+/// and cannot give the velocity across one).
 bool default_self_induced_velocity(const Model& model, double sampling_vertical_radius) {
   return model.fluid.enabled && sampling_vertical_radius == 0.0;
 }
 bool default_added_mass(const Model& model) { return model.fluid.enabled; }
+bool default_lift(const Model& model) { return model.mean_flow.enabled; }
 
 }  // namespace
 
@@ -678,7 +682,7 @@ void read_coupling(TableReader& coupling, Model& model) {
     coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
   out.dense_drag = enum_choice(coupling, "dense_drag", out.dense_drag, CouplingModel::kDenseDragNames);
   out.fluid_velocity = enum_choice(coupling, "fluid_velocity", out.fluid_velocity, CouplingModel::kFluidVelocityNames);
-  out.lift = coupling.boolean("lift", false);
+  out.lift = coupling.boolean("lift", default_lift(model));
   if (out.lift) {
     out.lift_coefficient = coupling.number("lift_coefficient", out.lift_coefficient, "1", Bounds::closed(0.0, 10.0));
     if (!model.mean_flow.enabled)
@@ -736,6 +740,7 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   } else if (model.coupling.enabled) {  // the same defaults as an empty [coupling] table
     model.coupling.self_induced_velocity = default_self_induced_velocity(model, model.coupling.sampling_vertical_radius);
     model.coupling.added_mass = default_added_mass(model);
+    model.coupling.lift = default_lift(model);
   }
   settle_mean_flow_coupling(scene, model);
   bool checkpoint_interval_given = false;

@@ -1,6 +1,7 @@
 // What a grain reads from the mean-flow fluid, as the scene asks (engine/scene/mean_flow_scene.cpp, engine/scene/
-// scene.cpp; docs/SCENES.md): by default the mean velocity alone, no lift; `[mean_flow] fluctuations = "langevin"`
-// with its constant and seed, `[coupling] lift` with its coefficient; a lift without the mean-flow fluid, the
+// scene.cpp; docs/SCENES.md): by default the mean velocity with the shear lift; `[mean_flow] fluctuations =
+// "langevin"` with its constant and seed, `[coupling] lift` off or with its coefficient; a lift without the mean-flow
+// fluid, the
 // fluctuations without drag and a constant out of range are refused naming the file, line and key.
 #include <doctest/doctest.h>
 
@@ -28,11 +29,16 @@ std::string channel(const std::string& mean_flow_keys = "", const std::string& a
 
 }  // namespace
 
-TEST_CASE("mean-flow grains: the mean velocity alone by default; the Langevin fluctuations and the lift on request") {
+TEST_CASE("mean-flow grains: the mean velocity and the shear lift by default; the Langevin fluctuations on request") {
+  // The lift is on with or without a [coupling] table (its default follows [mean_flow]), and off on request.
   const Model plain = parse_scene(channel(), "channel.toml");
   REQUIRE(plain.mean_flow.enabled);
   CHECK(plain.mean_flow.fluctuations == MeanFlowModel::Fluctuations::kNone);
-  CHECK_FALSE(plain.coupling.lift);
+  CHECK(plain.coupling.lift);
+  CHECK(plain.coupling.lift_coefficient == 0.2);
+  CHECK(parse_scene(channel("", "[coupling]\ndrag = true\n"), "channel.toml").coupling.lift);
+  CHECK_FALSE(parse_scene(channel("", "[coupling]\nlift = false\n"), "channel.toml").coupling.lift);
+  CHECK_FALSE(parse_scene(test::coupled_scene_text(), "coupled.toml").coupling.lift);  // the MPS water's grains
   const Model both = parse_scene(
       channel("fluctuations = \"langevin\"\nlangevin_c0 = 5.5\nfluctuation_seed = 42\n",
               "[coupling]\nlift = true\nlift_coefficient = 0.3\n"),
