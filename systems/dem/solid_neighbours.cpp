@@ -107,11 +107,39 @@ struct SavedSpring {
   }
 };
 
-const SavedSpring* find_spring(const std::vector<SavedSpring>& saved, EntityId lower, EntityId higher) {
-  const SavedSpring probe{lower, higher, Vec3::Zero()};
-  auto it = std::lower_bound(saved.begin(), saved.end(), probe);
-  return it != saved.end() && it->lower == lower && it->higher == higher ? &*it : nullptr;
-}
+/// The springs saved at a rebuild, sorted by (lower, higher), with an index by the lower id: a lookup is one read and
+/// a scan of that grain's few touching pairs, not a binary search over every saved pair. Ids are dense in practice
+/// (given in creation order, never reused); where they are not (the largest id far above the count), the index is
+/// left empty and the lookup searches the sorted list.
+class SavedSprings {
+ public:
+  explicit SavedSprings(std::vector<SavedSpring> saved, std::size_t grains) : saved_(std::move(saved)) {
+    std::sort(saved_.begin(), saved_.end());
+    if (saved_.empty()) return;
+    EntityId largest = 0;
+    for (const SavedSpring& spring : saved_) largest = std::max(largest, spring.lower);
+    if (largest > 16 * static_cast<EntityId>(grains) + 65536) return;
+    start_.assign(static_cast<std::size_t>(largest) + 2, 0);
+    for (const SavedSpring& spring : saved_) ++start_[static_cast<std::size_t>(spring.lower) + 1];
+    for (std::size_t id = 0; id + 1 < start_.size(); ++id) start_[id + 1] += start_[id];
+  }
+  bool empty() const { return saved_.empty(); }
+  const SavedSpring* find(EntityId lower, EntityId higher) const {
+    if (start_.empty()) {
+      const SavedSpring probe{lower, higher, Vec3::Zero()};
+      auto it = std::lower_bound(saved_.begin(), saved_.end(), probe);
+      return it != saved_.end() && it->lower == lower && it->higher == higher ? &*it : nullptr;
+    }
+    if (lower + 1 >= start_.size()) return nullptr;
+    for (std::uint32_t s = start_[lower]; s < start_[lower + 1]; ++s)
+      if (saved_[s].higher == higher) return &saved_[s];
+    return nullptr;
+  }
+
+ private:
+  std::vector<SavedSpring> saved_;
+  std::vector<std::uint32_t> start_;  ///< lower id -> first saved spring; empty when the ids are too sparse
+};
 
 }  // namespace
 
@@ -181,8 +209,8 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
           saved_walls.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k]});
     }
   }
-  std::sort(saved_pairs.begin(), saved_pairs.end());
-  std::sort(saved_walls.begin(), saved_walls.end());
+  const SavedSprings saved_pair_springs(std::move(saved_pairs), solids.size());
+  const SavedSprings saved_wall_springs(std::move(saved_walls), solids.size());
 
   const std::size_t count = solids.size();
   const double skin = model.contact.skin > 0.0 ? model.contact.skin : default_skin(solids);
@@ -213,24 +241,31 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   const SearchGrains search{box.any() ? search_position : solids.position, box.any() ? search_radius : solids.radius,
                             box.any() ? &contacts.halo : nullptr};
   const GrainBinGrid grid = build_grid(search.position, domain, 2.0 * smallest_radius + skin);
+  // One search: each block of kGrain grains lists its grains' candidates (each grain's sorted) into its own buffer,
+  // and the buffers are joined in grain order, so the list is the same whatever the threads.
   contacts.pair_offsets.assign(count + 1, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      std::uint32_t found = 0;
-      for_each_candidate(search, grid, largest_radius, skin, model.coupling, i, [&](std::uint32_t) { ++found; });
-      contacts.pair_offsets[i + 1] = found;
+  const std::size_t blocks = (count + kGrain - 1) / kGrain;
+  std::vector<std::vector<std::uint32_t>> block_second(blocks);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t block = range.begin(); block < range.end(); ++block) {
+      std::vector<std::uint32_t>& second = block_second[block];
+      second.reserve(16 * kGrain);
+      for (std::size_t i = block * kGrain; i < std::min(count, (block + 1) * kGrain); ++i) {
+        const std::size_t first = second.size();
+        for_each_candidate(search, grid, largest_radius, skin, model.coupling, i,
+                           [&](std::uint32_t j) { second.push_back(j); });
+        std::sort(second.begin() + static_cast<std::ptrdiff_t>(first), second.end());
+        contacts.pair_offsets[i + 1] = static_cast<std::uint32_t>(second.size() - first);
+      }
     }
   });
   for (std::size_t i = 0; i < count; ++i) contacts.pair_offsets[i + 1] += contacts.pair_offsets[i];
   const std::size_t pairs = contacts.pair_offsets[count];
   contacts.pair_second.resize(pairs);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      std::uint32_t next = contacts.pair_offsets[i];
-      for_each_candidate(search, grid, largest_radius, skin, model.coupling, i,
-                         [&](std::uint32_t j) { contacts.pair_second[next++] = j; });
-      std::sort(contacts.pair_second.begin() + contacts.pair_offsets[i], contacts.pair_second.begin() + next);
-    }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t block = range.begin(); block < range.end(); ++block)
+      std::copy(block_second[block].begin(), block_second[block].end(),
+                contacts.pair_second.begin() + contacts.pair_offsets[block * kGrain]);
   });
   contacts.pair_spring.assign(pairs, Vec3::Zero());
   contacts.pair_force.assign(pairs, Vec3::Zero());
@@ -268,20 +303,28 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   contacts.wall_pair_torque.assign(wall_pairs, Vec3::Zero());
   contacts.wall_pair_overlap.assign(wall_pairs, 0.0);
 
-  // 6. Carry the springs over by id.
-  if (!saved_pairs.empty() || !saved_walls.empty()) {
+  // 6. Carry the springs over by id, to the pairs that touch at the positions of this build. A pair that separated
+  // since its last evaluation keeps no spring: the new list starts it at zero overlap, so the contact pass would not
+  // see it separate and clear it, and its next touch would start from the old spring.
+  if (!saved_pair_springs.empty() || !saved_wall_springs.empty()) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
         for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
-          const EntityId first = solids.id[i], second = solids.id[search.owner_of(contacts.pair_second[k])];
+          const std::uint32_t j = contacts.pair_second[k];
+          const double touching_distance = search.radius[i] + search.radius[j];
+          if ((search.position[j] - search.position[i]).squaredNorm() >= touching_distance * touching_distance) continue;
+          const EntityId first = solids.id[i], second = solids.id[search.owner_of(j)];
           const bool first_lower = first < second;
           if (const SavedSpring* found =
-                  find_spring(saved_pairs, first_lower ? first : second, first_lower ? second : first))
+                  saved_pair_springs.find(first_lower ? first : second, first_lower ? second : first))
             contacts.pair_spring[k] = first_lower ? found->spring : Vec3(-found->spring);
         }
-        for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
-          if (const SavedSpring* found = find_spring(saved_walls, solids.id[i], contacts.wall_pair_wall[k]))
+        for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
+          const std::uint32_t wall = contacts.wall_pair_wall[k];
+          if ((solids.position[i] - walls.point[wall]).dot(walls.normal[wall]) >= solids.radius[i]) continue;
+          if (const SavedSpring* found = saved_wall_springs.find(solids.id[i], wall))
             contacts.wall_pair_spring[k] = found->spring;
+        }
       }
     });
   }

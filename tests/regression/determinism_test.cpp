@@ -146,6 +146,47 @@ TEST_CASE("a neighbour-list rebuild that reorders the grains keeps every tangent
   }
 }
 
+TEST_CASE("a pair apart at a rebuild's positions keeps no spring: its next touch starts afresh") {
+  // Between the last force evaluation and a rebuild a touching pair can come apart. The new list starts every pair at
+  // zero overlap, so the contact pass would not see it separate: a spring carried to it would outlive the contact.
+  auto simulation = Simulation::from_model(parse_scene(contact_scene(), "pile.toml"));
+  for (int step = 0; step < 40; ++step) simulation->step();
+  World& world = simulation->world();
+  Solids& solids = *world.solids;
+  const auto before = springs_by_id(solids, *world.contacts);
+  REQUIRE(before.size() > 10);
+  // Pull the first spring-loaded pair's higher-id grain off along their centre line, a micrometre past touching.
+  const auto& [ids, spring] = *before.begin();
+  std::size_t lower = 0, higher = 0;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    if (solids.id[i] == ids.first) lower = i;
+    if (solids.id[i] == ids.second) higher = i;
+  }
+  REQUIRE(spring.norm() > 0.0);
+  const Vec3 line = solids.position[higher] - solids.position[lower];
+  const double apart = solids.radius[lower] + solids.radius[higher] + 1.0e-6;
+  solids.position[higher] = solids.position[lower] + apart * line.normalized();
+  rebuild_neighbour_list(solids, *world.contacts, *world.walls, *world.tank_motion, simulation->model(), false);
+  const Contacts& contacts = *world.contacts;
+  std::size_t apart_pairs = 0;
+  bool separated_pair_listed = false;
+  for (std::size_t i = 0; i < solids.size(); ++i)
+    for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+      const std::uint32_t j = contacts.pair_second[k];
+      if ((solids.position[j] - solids.position[i]).norm() < solids.radius[i] + solids.radius[j]) continue;
+      ++apart_pairs;
+      CHECK(contacts.pair_spring[k] == Vec3::Zero());
+      separated_pair_listed = separated_pair_listed || (solids.id[i] == ids.first && solids.id[j] == ids.second) ||
+                              (solids.id[i] == ids.second && solids.id[j] == ids.first);
+    }
+  CHECK(apart_pairs > 0);
+  CHECK(separated_pair_listed);  // still a candidate (within the skin), now without its spring
+  // Every other pair still touching keeps its spring, bit for bit.
+  const auto after = springs_by_id(solids, contacts);
+  for (const auto& [pair, kept] : after)
+    if (before.count(pair) == 1) CHECK(kept == before.at(pair));
+}
+
 namespace {
 /// A dam break in the shaken seed tank: the fluid moves fast (Courant-limited steps, neighbour rebuilds, surface
 /// particles come and go) and the PPE warm start carries state between steps.
