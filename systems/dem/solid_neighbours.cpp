@@ -143,12 +143,18 @@ class SavedSprings {
 
 }  // namespace
 
-void exchange_grain_halo(const Solids& solids, Contacts& contacts) {
+void exchange_grain_halo_motion(const Solids& solids, Contacts& contacts) {
   const Halo& halo = contacts.halo;
   GrainGhosts& ghosts = contacts.ghosts;
   halo_copy_positions(halo, solids.position, ghosts.position);
   halo_copy(halo, solids.velocity, ghosts.velocity);
   halo_copy(halo, solids.angular_velocity, ghosts.angular_velocity);
+}
+
+void exchange_grain_halo(const Solids& solids, Contacts& contacts) {
+  const Halo& halo = contacts.halo;
+  GrainGhosts& ghosts = contacts.ghosts;
+  exchange_grain_halo_motion(solids, contacts);
   halo_copy(halo, solids.radius, ghosts.radius);
   halo_copy(halo, solids.mass, ghosts.mass);
   halo_copy(halo, solids.material, ghosts.material);
@@ -351,7 +357,7 @@ void SolidNeighbours::run(SystemContext& context) {
     const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
     rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);
   } else if (box.any()) {
-    exchange_grain_halo(solids, contacts);  // the ghosts follow their owners every sub-step
+    exchange_grain_halo_motion(solids, contacts);  // the ghosts follow their owners every sub-step
   }
 }
 

@@ -20,6 +20,9 @@ namespace riffle {
 /// The exchange of the grains' halo: copies each ghost's owner's position (+ shift), velocity, angular velocity,
 /// radius, mass and material into `contacts.ghosts`.
 void exchange_grain_halo(const Solids& solids, Contacts& contacts);
+/// The exchange between rebuilds: the position (+ shift), velocity and angular velocity only (a ghost's radius, mass
+/// and material cannot change while its halo stands: the same grains, the same owners).
+void exchange_grain_halo_motion(const Solids& solids, Contacts& contacts);
 
 /// A list read from a checkpoint has no halo (it is not stored): rebuilds it from the positions the list was built
 /// at, the very ghosts in the very order of the run that wrote it. Does nothing without periodic axes or when built.
