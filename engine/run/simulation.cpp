@@ -484,6 +484,14 @@ RunOutcome Simulation::run(const RunOptions& options) {
     std::shared_ptr<spdlog::logger> logger;
     ~SinkGuard() { logger->sinks().pop_back(); }
   } sink_guard{logger};
+  // The scene as this run reads it, --set overrides applied (the text its checkpoints hold): what a later look at the
+  // folder (a plot, a post-processing tool) must read, not the scene file, which the command line may have changed.
+  // Relative paths in it are relative to the scene file's folder, as in the file.
+  try {
+    replace_file(out / kSceneAsRunFile, model_->scene_text, Durability::kFlush);
+  } catch (const std::exception& error) {
+    return refuse(error.what());
+  }
 
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));

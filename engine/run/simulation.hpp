@@ -32,6 +32,9 @@ void request_stop(int signal_number);
 /// The signal number of a pending stop request, or 0.
 int stop_requested();
 
+/// The run folder's copy of the scene as the run read it (--set overrides applied; the text its checkpoints hold).
+inline constexpr const char* kSceneAsRunFile = "scene_as_run.toml";
+
 struct RunOptions {
   std::string out_dir;                ///< where every output goes (created if needed)
   int threads = 0;                    ///< 0 = all cores

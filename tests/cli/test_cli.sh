@@ -313,6 +313,10 @@ expect_rc "riffle run with --set exits 0" set_run 0
 check "... ends at the overridden time (4 steps)" test "$(data_rows set_run/diagnostics.csv)" = 4
 check "... and its checkpoints record the overrides" grep -qaF -- "--set run.end_time=0.004" \
   set_run/checkpoints/final.ckpt
+check "... as does the scene it writes beside its outputs, which reads back with the changed values" \
+  contains set_run/scene_as_run.toml "--set run.end_time=0.004" "end_time = 0.004"
+riffle_as set_as_run check set_run/scene_as_run.toml
+expect_rc "... and passes riffle check as it stands" set_as_run 0
 riffle_as set_resume resume set_run/checkpoints/$(ckpt_name 2) --out set_resumed --threads 1 --log-level warn
 expect_rc "a checkpoint of a --set run resumes without the --set" set_resume 0
 check "... to the overridden end time (step 4)" test -e "set_resumed/checkpoints/$(ckpt_name 4)"

@@ -109,10 +109,11 @@ def read_pvd(path):
 
 
 def run_scene(out_dir):
-    """The scene a run used, from the last 'starting' or 'resuming' line of OUT_DIR/riffle.log: (path, named),
-    path the first existing of the name as written, relative to the run's grandparent (out/<run> lies in the
-    repository) and relative to the repository holding this file; path None when none exists, named None when the
-    log names no scene."""
+    """The scene a run used: (path, named), named the scene file of the last 'starting' or 'resuming' line of
+    OUT_DIR/riffle.log (None if it names none). path is OUT_DIR/scene_as_run.toml where the run wrote it (the scene
+    as the run read it, --set overrides applied), else the first existing of the name as written, relative to the
+    run's grandparent (out/<run> lies in the repository) and relative to the repository holding this file; None when
+    none exists. Relative paths inside the scene are relative to the named file's folder."""
     out_dir = pathlib.Path(out_dir)
     log = out_dir / "riffle.log"
     named = None
@@ -121,6 +122,9 @@ def run_scene(out_dir):
             found = re.search(r"(?:starting|resuming) '[^']*' from (.+?\.toml):", line)
             if found:
                 named = found.group(1)
+    as_run = out_dir / "scene_as_run.toml"
+    if as_run.exists():
+        return as_run, named
     if named is None:
         return None, None
     for candidate in (pathlib.Path(named), out_dir.resolve().parent.parent / named,
