@@ -8,13 +8,18 @@ Mueller (1948), Wong & Parker (2006) and the Shields curve of Soulsby & Whitehou
 u*_c/u* beside Lajeunesse, Malverti & Charru (2010), u_p = 4.4 (u* - u*_c).
 
 Usage: tools/riffle-tools bedload-sweep [--riffle build/riffle] [--diameters 0.002 0.001] [--shields 0.03 ...]
-           [--out out/bedload_sweep] [--until T] [--threads 2] [--cells N] [--set KEY=VALUE ...] [--collect-only]
+           [--out out/bedload_sweep] [--until T] [--threads 1] [--jobs N] [--cells N] [--set KEY=VALUE ...]
+           [--collect-only]
+
+The runs of one diameter go side by side, --jobs at a time (default: the cores over --threads): a 1,150-grain bed
+gains only 1.2 x from a second thread, so one-thread runs two at a time finish a sweep sooner (docs/BENCHMARKS.md).
 
 Writes OUT/sweep.csv (one row per run), OUT/threshold.csv (per diameter) and OUT/bedload_sweep.png; prints the table.
 Each run's directory is OUT/d<d>/theta_<Theta>; a run whose probe file covers its end time is not run again.
 Needs numpy and matplotlib (tools/setup.sh installs them).
 """
 import argparse
+import concurrent.futures
 import csv
 import math
 import os
@@ -66,6 +71,23 @@ def run(command):
     subprocess.run(command, check=True)
 
 
+def run_side_by_side(commands, jobs):
+    """Runs every command, up to `jobs` at a time; each one's output is printed whole when it ends, after its command
+    line. The first that fails raises CalledProcessError (after the others have ended)."""
+    def one(command):
+        return command, subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+    failed = None
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        for command, result in pool.map(one, commands):
+            print("+ " + " ".join(command), flush=True)
+            print(result.stdout, end="", flush=True)
+            if result.returncode != 0 and failed is None:
+                failed = subprocess.CalledProcessError(result.returncode, command)
+    if failed is not None:
+        raise failed
+
+
 def probe_means(run_dir):
     """The means of a run's bedload_transport rows over its second half, or None without the probe file."""
     path = probe_path(run_dir, "bedload_transport")
@@ -112,7 +134,9 @@ def main(argv=None):
     parser.add_argument("--shields", type=float, nargs="+", default=DEFAULT_SHIELDS)
     parser.add_argument("--out", default="out/bedload_sweep")
     parser.add_argument("--until", type=float, default=None, help="end time of each run (default: the scene's)")
-    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--threads", type=int, default=1, help="threads of each run (default 1)")
+    parser.add_argument("--jobs", type=int, default=None,
+                        help="runs side by side (default: the cores over --threads)")
     parser.add_argument("--cells", type=int, default=None, help="mean_flow.cells (default: the scene's)")
     parser.add_argument("--set", action="append", default=[], help="a further override of the channel scene")
     parser.add_argument("--collect-only", action="store_true")
@@ -121,6 +145,7 @@ def main(argv=None):
                              "move); the extrapolation leans on its range where q*^(2/3) bends")
     args = parser.parse_args(argv)
 
+    jobs = args.jobs if args.jobs else max(1, (os.cpu_count() or 1) // max(1, args.threads))
     rows = []
     for diameter in args.diameters:
         settle_sets, channel_sets = scaled_sets(diameter, args.cells)
@@ -133,6 +158,7 @@ def main(argv=None):
             for item in settle_sets:
                 command += ["--set", item]
             run(command)
+        pending = []
         for theta in args.shields:
             run_dir = os.path.join(base, f"theta_{theta:g}")
             means = probe_means(run_dir)
@@ -146,8 +172,10 @@ def main(argv=None):
                     command += ["--set", item]
                 if args.until is not None:
                     command += ["--until", f"{args.until:g}"]
-                run(command)
-                means = probe_means(run_dir)
+                pending.append(command)
+        run_side_by_side(pending, jobs)
+        for theta in args.shields:
+            means = probe_means(os.path.join(base, f"theta_{theta:g}"))
             if means is None:
                 continue
             rows.append({"diameter_m": diameter, "shields_set": theta, **means})
