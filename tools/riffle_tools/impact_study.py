@@ -5,6 +5,8 @@ switched on), then summarises the downstream-wall sensors per run:
 
   arrival T_a   first sample with P = p/(rho g H) > 0.1, as T = t sqrt(g/H)
   peak          largest P in [T_a, T_a + 0.5] (the first impact) and its T
+  peak1ms       largest 1 ms running mean of P in the same window: the peak as a sensor of finite response reads
+                it, and the measure the targets name (a one-step spike of height S adds only S dt / 1 ms to it)
   rise [ms]     Lobovsky et al.'s definition (their Sec. 5.1.2): 2 (t_peak - t_half), t_half the last time before the
                 peak at which p crossed half the peak
   P15           mean P over the 15 ms after arrival (the impact's impulse / 15 ms; robust against one-step spikes)
@@ -115,6 +117,12 @@ def sensor_metrics(times, pressures):
         fraction = (t1 - times[k - 1]) / (times[k] - times[k - 1])
         p1 = P[k - 1] + fraction * (P[k] - P[k - 1])
         impulse += 0.5 * (P[k - 1] + p1) * (t1 - times[k - 1])
+    # The 1 ms running mean over the first impact's window, with 0.5 ms of samples either side so that the means at
+    # its ends see a whole millisecond.
+    near = [k for k in range(len(times)) if t_a - 0.0005 <= times[k] <= t_a + 0.5 / TIME_SCALE + 0.0005]
+    smooth = running_mean([times[k] for k in near], [P[k] for k in near], 0.001)
+    inside = [m for k, m in zip(near, smooth) if t_a <= times[k] <= t_a + 0.5 / TIME_SCALE]
+    result.update(peak1ms=max(inside) if inside else float("nan"))
     result.update(arrival_T=t_a * TIME_SCALE, peak=P[peak], peak_T=times[peak] * TIME_SCALE,
                   rise_ms=2000.0 * (times[peak] - t_half), P15=impulse / 0.015,
                   impulse_Pa_s=impulse * PRESSURE_SCALE)
@@ -162,13 +170,14 @@ def reference():
 
 def format_summary(results):
     ref = reference()
-    lines = ["| run | sensor | T_a | peak P | peak T | rise ms | P15 | mean P | dev1ms p95 | dev1ms max | rms |"
-             " ms/step | steps |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| run | sensor | T_a | peak P | peak P (1 ms mean) | peak T | rise ms | P15 | mean P | dev1ms p95 |"
+             " dev1ms max | rms | ms/step | steps |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for label, summary in results:
         for k, s in enumerate(summary["sensors"]):
             def cell(key, digits=2):
                 return f"{s[key]:.{digits}f}" if key in s else "-"
-            lines.append(f"| {label} | {k + 1} | {cell('arrival_T')} | {cell('peak')} | {cell('peak_T')} | "
+            lines.append(f"| {label} | {k + 1} | {cell('arrival_T')} | {cell('peak')} | {cell('peak1ms')} | "
+                         f"{cell('peak_T')} | "
                          f"{cell('rise_ms', 1)} | {cell('P15')} | {cell('mean')} | {cell('dev1ms')} | "
                          f"{cell('dev1ms_max')} | {cell('rms')} | {summary['ms_per_step']:.1f} | {summary['steps']} |")
     lines.append("")
