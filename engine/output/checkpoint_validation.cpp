@@ -173,7 +173,7 @@ void check_grains_match_scene(const Refusal& refusal, const Solids& grains, cons
     same("mass", grains.mass[i], scene.mass[k]);
     same("moment_of_inertia", grains.moment_of_inertia[i], scene.moment_of_inertia[k]);
   }
-  const DomainBox domain = domain_box(model);
+  const DomainBox domain = grain_domain_box(model);
   for (std::size_t i = 0; i < grains.size(); ++i)
     if (!domain.contains(grains.position[i]))
       refusal.fail(refusal.item("solids.position", i, grains.position[i]),

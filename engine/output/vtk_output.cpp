@@ -100,13 +100,15 @@ std::string base64_encode(const void* data, std::size_t size) {
 
 namespace {
 /// Particles of any SoA component as vertices at `position`, its output fields as point data.
+/// Positions wrapped into `box`'s period (unchanged without periodic axes).
 template <class Component>
-std::string particles_vtp(const Component& particles, const char* scalars) {
+std::string particles_vtp(const Component& particles, const char* scalars, const PeriodicBox& box = {}) {
   const std::size_t count = particles.size();
   std::vector<double> xyz(3 * count);
   std::vector<std::int64_t> connectivity(count), offsets(count);
   for (std::size_t i = 0; i < count; ++i) {
-    for (int c = 0; c < 3; ++c) xyz[3 * i + static_cast<std::size_t>(c)] = particles.position[i][c];
+    const Vec3 position = box.any() ? box.wrap(particles.position[i]) : particles.position[i];
+    for (int c = 0; c < 3; ++c) xyz[3 * i + static_cast<std::size_t>(c)] = position[c];
     connectivity[i] = static_cast<std::int64_t>(i);
     offsets[i] = static_cast<std::int64_t>(i + 1);
   }
@@ -121,7 +123,7 @@ std::string particles_vtp(const Component& particles, const char* scalars) {
 }
 }  // namespace
 
-std::string solids_vtp(const Solids& solids) { return particles_vtp(solids, "radius"); }
+std::string solids_vtp(const Solids& solids, const PeriodicBox& box) { return particles_vtp(solids, "radius", box); }
 
 std::string fluid_vtp(const FluidParticles& fluid) { return particles_vtp(fluid, "pressure"); }
 

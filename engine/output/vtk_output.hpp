@@ -7,11 +7,14 @@
 #include "components/fluid.hpp"
 #include "components/solids.hpp"
 #include "components/walls.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 namespace riffle {
 
-/// Grains as vertices with every output field of the Solids table as point data.
-std::string solids_vtp(const Solids& solids);
+/// Grains as vertices with every output field of the Solids table as point data; the positions wrapped into the
+/// period along `box`'s periodic axes (a grain that crossed a seam is wrapped in the state only at the next
+/// neighbour-list rebuild).
+std::string solids_vtp(const Solids& solids, const PeriodicBox& box = {});
 /// MPS particles (fluid, wall and dummy) as vertices with every output field of the FluidParticles table as point
 /// data: id, kind, velocity, pressure, number_density, free_surface.
 std::string fluid_vtp(const FluidParticles& fluid);

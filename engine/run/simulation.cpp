@@ -24,6 +24,7 @@
 #include "engine/scene/scene.hpp"
 #include "engine/output/vtk_output.hpp"
 #include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/time/time_step.hpp"
 
 namespace riffle {
@@ -243,7 +244,7 @@ class CheckpointStore {
 };
 
 /// Appends a VTK frame of every phase and rewrites the .pvd series that list all frames so far.
-void write_vtk_frame(const fs::path& out, const World& world, OutputState& output) {
+void write_vtk_frame(const fs::path& out, const World& world, const Model& model, OutputState& output) {
   const std::size_t index = output.frame_times.size();
   output.frame_times.push_back(world.time);
   char name[64];
@@ -257,7 +258,7 @@ void write_vtk_frame(const fs::path& out, const World& world, OutputState& outpu
     fluid_files.push_back(name);
   }
   if (world.solids) {
-    write_text_file(out / solid_files.back(), solids_vtp(*world.solids));
+    write_text_file(out / solid_files.back(), solids_vtp(*world.solids, periodic_box(model)));
     write_text_file(out / "solids.pvd", pvd_collection(output.frame_times, solid_files));
   }
   if (world.walls) {
@@ -545,7 +546,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
     std::optional<BedProfileWriter> bed_profile;
     if (model_->output.bed_profile_interval > 0.0 && world_.solids)
       bed_profile.emplace(*model_, out, world_, fresh_run);
-    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, output_);
+    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, *model_, output_);
     if (fresh_run) {
       for (ProbeWriter& probe : probes) probe.write(world_);
       if (bed_profile) bed_profile->write(world_);
@@ -585,12 +586,12 @@ RunOutcome Simulation::run(const RunOptions& options) {
         outcome.exit_code = kExitUnstable;
         outcome.message = diagnosis(world_, *model_);
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
-        if (world_.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids));
+        if (world_.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids, periodic_box(*model_)));
         break;
       }
       if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
-      if (due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, output_);
+      if (due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, *model_, output_);
       for (ProbeWriter& probe : probes) probe.write_if_due(world_);
       if (bed_profile) bed_profile->write_if_due(world_);
       if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) checkpoints.save(*this, true);

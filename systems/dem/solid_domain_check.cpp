@@ -20,7 +20,7 @@ bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) &
 void SolidDomainCheck::run(SystemContext& context) {
   const GrainState& grains = context.read<GrainState>();
   StepStatus& status = context.write<StepStatus>();
-  const DomainBox domain = domain_box(context.model);
+  const DomainBox domain = grain_domain_box(context.model);
   constexpr std::size_t kNoProblem = std::numeric_limits<std::size_t>::max();
   // The lowest offending slot: min is associative and commutative, so any split gives the same answer.
   const std::size_t first_bad = tbb::parallel_reduce(

@@ -160,17 +160,6 @@ void exchange_grain_halo(const Solids& solids, Contacts& contacts) {
   halo_copy(halo, solids.material, ghosts.material);
 }
 
-bool outside_periodic_box(const Solids& solids, const PeriodicBox& box) {
-  if (!box.any()) return false;
-  return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, solids.size(), 4096), false,
-      [&](const tbb::blocked_range<std::size_t>& range, bool outside) {
-        for (std::size_t i = range.begin(); i < range.end() && !outside; ++i) outside = !box.inside(solids.position[i]);
-        return outside;
-      },
-      [](bool a, bool b) { return a || b; });
-}
-
 bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank) {
   if (!contacts.valid || contacts.build_position.size() != solids.size()) return true;
   const double largest_move = tbb::parallel_reduce(
@@ -352,8 +341,9 @@ void SolidNeighbours::run(SystemContext& context) {
   context.count_items(solids.size());
   const PeriodicBox box = periodic_box(context.model);
   restore_halo(solids, contacts, context.model);
-  // A grain past a periodic face is wrapped at a rebuild: its ghosts and its pairs change sides.
-  if (neighbour_list_stale(solids, contacts, tank) || outside_periodic_box(solids, box)) {
+  // A grain past a periodic face is wrapped at the next rebuild, not at once: until its skin is used up its pairs
+  // stay the same (ghost = owner + period, so a pair across the seam is the same pair on either side of it).
+  if (neighbour_list_stale(solids, contacts, tank)) {
     const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
     rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);
   } else if (box.any()) {

@@ -28,9 +28,6 @@ void exchange_grain_halo_motion(const Solids& solids, Contacts& contacts);
 /// at, the very ghosts in the very order of the run that wrote it. Does nothing without periodic axes or when built.
 void restore_halo(const Solids& solids, Contacts& contacts, const Model& model);
 
-/// Whether some grain lies outside the periodic box along a periodic axis (then the list is rebuilt and wraps it).
-bool outside_periodic_box(const Solids& solids, const PeriodicBox& box);
-
 /// True if the list built with `contacts` may miss a contact at the current positions.
 bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank);
 

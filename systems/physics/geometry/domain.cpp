@@ -1,5 +1,7 @@
 #include "systems/physics/geometry/domain.hpp"
 
+#include <limits>
+
 #include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
@@ -9,6 +11,16 @@ DomainBox domain_box(const Model& model) {
   const Vec3 sweep = tank_motion_sweep(tank.motion);
   const Vec3 margin = Vec3::Constant(tank.domain_margin) + sweep;
   return {tank.origin - margin, tank.origin + tank.size + margin};
+}
+
+DomainBox grain_domain_box(const Model& model) {
+  DomainBox domain = domain_box(model);
+  for (int axis = 0; axis < 3; ++axis)
+    if (model.tank.periodic[static_cast<std::size_t>(axis)]) {
+      domain.low[axis] = -std::numeric_limits<double>::infinity();
+      domain.high[axis] = std::numeric_limits<double>::infinity();
+    }
+  return domain;
 }
 
 double distance_outside_box(const Vec3& low, const Vec3& high, const Vec3& point) {

@@ -15,6 +15,10 @@ struct DomainBox {
   }
 };
 DomainBox domain_box(const Model& model);
+/// The box a grain's centre must stay in: domain_box, unbounded along the tank's periodic axes. A grain that crosses a
+/// periodic face keeps its path past it (its ghosts and pairs stay valid, ghost = owner + period) until the next
+/// neighbour-list rebuild wraps it back, at most half a skin later; nothing is lost through a seam.
+DomainBox grain_domain_box(const Model& model);
 
 /// [m] Euclidean distance from `point` to the axis-aligned box [low, high]; 0 inside or on it.
 double distance_outside_box(const Vec3& low, const Vec3& high, const Vec3& point);

@@ -87,6 +87,25 @@ TEST_CASE("solids_vtp carries positions and every output field exactly") {
   CHECK(vtp.find("Name=\"moment_of_inertia\"") == std::string::npos);
 }
 
+TEST_CASE("solids_vtp writes a grain past a periodic face at its place in the period") {
+  // Between a seam crossing and the next neighbour rebuild a grain's state lies past the face (up to half a skin);
+  // the frame shows it where it is, one period back, and leaves the other axes alone.
+  const World world = initial_world(test::small_model());
+  Solids solids = *world.solids;
+  REQUIRE(solids.size() >= 2);
+  PeriodicBox box;
+  box.low = Vec3(0.0, 0.0, 0.0);
+  box.length = Vec3(0.04, 0.03, 0.02);
+  box.periodic = {true, false, false};
+  solids.position[0] = Vec3(0.0401, 0.035, 0.01);  // past x = L; past y = 0.03 too, but y is not periodic
+  solids.position[1] = Vec3(-0.0002, 0.01, 0.01);  // before x = 0
+  const std::vector<double> points = values<double>(array_bytes(solids_vtp(solids, box), "Points"));
+  CHECK(points[0] == doctest::Approx(0.0001).epsilon(1e-12));
+  CHECK(points[1] == 0.035);
+  CHECK(points[3] == doctest::Approx(0.0398).epsilon(1e-12));
+  CHECK(values<double>(array_bytes(solids_vtp(solids), "Points"))[0] == 0.0401);  // no periodic axis: as it is
+}
+
 TEST_CASE("walls_vtp draws each wall as a quad around its centre") {
   const World world = initial_world(test::small_model());
   const Walls& walls = *world.walls;
