@@ -18,6 +18,7 @@
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "systems/physics/measures/pressure_sensor.hpp"
 #include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 namespace riffle {
 
@@ -320,13 +321,16 @@ void ProbeWriter::write(const World& world) {
     case ProbeModel::Kind::kGrains: {
       const Solids* solids = world.solids ? &*world.solids : nullptr;
       if (solids) slots_.refresh(*solids);
+      // Wrapped into the period, as the VTK frames: a grain past a periodic face is wrapped in the state only at
+      // the next neighbour-list rebuild.
+      const PeriodicBox box = periodic_box(*model_);
       for (std::size_t k = 0; k < probe_.ids.size(); ++k) {
         const std::size_t slot = solids ? slots_.slot(k) : GrainSlotMap::kNone;
         if (slot == GrainSlotMap::kNone) {
           append_empty(kGrainProbeColumns.size());  // the grain is gone (or never was): empty, not made up
           continue;
         }
-        append(solids->position[slot]);
+        append(box.wrap(solids->position[slot]));
         append(solids->velocity[slot]);
         append(solids->angular_velocity[slot]);
         append(solids->contact_force[slot]);

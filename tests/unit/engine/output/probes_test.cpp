@@ -335,6 +335,48 @@ interval = 0.005
   CHECK(lines_of(c / "class_centroids.csv").size() == 4);  // t = 0, 0.01, 0.02
 }
 
+TEST_CASE("a grains probe writes a grain past a periodic face at its place in the period") {
+  // A lone 2 mm grain flying at 1 m/s along x through the seam of a 4 cm periodic box from 0.1 mm before it: its
+  // state passes x = L and is wrapped only at the neighbour rebuild that follows (its skin of 0.5 mm half used up,
+  // 0.15 mm past the face), but every probe row gives x in [0, L], as the VTK frames do (L itself where a position a
+  // rounding below it is printed to the probe's 9 digits).
+  const std::string text =
+      SceneBuilder().run({.name = "seam_probe", .end_time = 0.002, .dt = 1.0e-5, .solid_substeps = 2,
+                          .gravity = {0.0, 0.0, 0.0}})
+          .material("grain", {.density = 2650.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
+          .tank({.size = {0.04, 0.02, 0.02}, .wall_material = "grain"})
+          .set("periodic", TomlValue::verbatim("[\"x\"]"))
+          .contact({.restitution = 0.8, .friction = 0.5}).solids()
+          .sphere({.position = {0.0399, 0.01, 0.01}, .radius = 0.001, .material = "grain", .velocity = {1.0, 0.0, 0.0}})
+          .output().toml() +
+      "[[output.probes]]\nkind = \"grains\"\nids = [0]\ninterval = 1.0e-5\n";
+  const Model model = parse_scene(text, "seam_probe.toml");
+  // The state: past the face for some steps after the crossing (the test is about something).
+  auto stepped = Simulation::from_model(model);
+  double farthest = 0.0;
+  while (stepped->world().time < 0.002 - 1e-12) {
+    stepped->step();
+    farthest = std::max(farthest, stepped->world().solids->position[0].x() - 0.04);
+  }
+  CHECK(farthest > 1.0e-4);
+  // The probe: every row inside the period.
+  const fs::path directory = test::scratch_dir("seam_probe");
+  auto simulation = Simulation::from_model(model);
+  RunOptions options;
+  options.out_dir = directory.string();
+  REQUIRE(simulation->run(options).exit_code == kExitOk);
+  const std::vector<std::string> rows = lines_of(directory / "probe_grains.csv");
+  REQUIRE(rows.size() == 202);  // the header, t = 0 and 200 steps
+  for (std::size_t row = 1; row < rows.size(); ++row) {
+    const std::string& line = rows[row];
+    const std::size_t x_start = line.find(',', line.find(',') + 1) + 1;
+    const double x = std::stod(line.substr(x_start, line.find(',', x_start) - x_start));
+    CAPTURE(line);
+    CHECK(x >= 0.0);
+    CHECK(x <= 0.04);
+  }
+}
+
 TEST_CASE("with [solids] initial_state, probe ids cover its grains and then the scene's own") {
   const fs::path directory = test::scratch_dir("probes_initial_state");
   // A checkpoint holding the 81 grains of the contact scene (ids 0-80).
