@@ -546,7 +546,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
     std::optional<BedProfileWriter> bed_profile;
     if (model_->output.bed_profile_interval > 0.0 && world_.solids)
       bed_profile.emplace(*model_, out, world_, fresh_run);
-    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, *model_, output_);
+    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
+      write_vtk_frame(out, world_, *model_, output_);
     if (fresh_run) {
       for (ProbeWriter& probe : probes) probe.write(world_);
       if (bed_profile) bed_profile->write(world_);
@@ -586,7 +587,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
         outcome.exit_code = kExitUnstable;
         outcome.message = diagnosis(world_, *model_);
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
-        if (world_.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids, periodic_box(*model_)));
+        if (world_.solids)
+          write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids, periodic_box(*model_)));
         break;
       }
       if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
