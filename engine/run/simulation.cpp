@@ -276,7 +276,8 @@ void write_vtk_frame(const fs::path& out, const World& world, const Model& model
 /// The one-line diagnosis of a failed step.
 std::string diagnosis(const World& world, const Model& model) {
   const StepStatus& status = world.step_status;
-  const DomainBox domain = domain_box(model);
+  // The box the failing check used: the grains' is open by a period either side along periodic axes.
+  const DomainBox domain = status.phase == "solids" ? grain_domain_box(model) : domain_box(model);
   const std::string when = "run stopped at step " + std::to_string(world.step) + " (t = " + std::to_string(world.time) + " s): ";
   if (status.problem == StepProblem::kTimeStepCollapse) {
     // The limit that set the step names the cause: the grains' drag, or the flow itself.

@@ -1,7 +1,5 @@
 #include "systems/physics/geometry/domain.hpp"
 
-#include <limits>
-
 #include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
@@ -17,8 +15,8 @@ DomainBox grain_domain_box(const Model& model) {
   DomainBox domain = domain_box(model);
   for (int axis = 0; axis < 3; ++axis)
     if (model.tank.periodic[static_cast<std::size_t>(axis)]) {
-      domain.low[axis] = -std::numeric_limits<double>::infinity();
-      domain.high[axis] = std::numeric_limits<double>::infinity();
+      domain.low[axis] = model.tank.origin[axis] - model.tank.size[axis];
+      domain.high[axis] = model.tank.origin[axis] + 2.0 * model.tank.size[axis];
     }
   return domain;
 }

@@ -25,8 +25,9 @@ struct PeriodicBox {
   Vec3 wrap(const Vec3& point) const;
   /// The non-zero shifts s (sums of +-length along periodic axes) such that point + s lies within `cutoff` of the
   /// box, i.e. the images a neighbour search within `cutoff` can meet, in a fixed order (x before y, + before -).
-  /// `point` must be inside the box and the period longer than 2 cutoff (periodic_cutoff_fits), so that at most one
-  /// image per axis qualifies: then there are at most 3.
+  /// `point` must be inside the box, or less than length - cutoff past a face (a grain between a seam crossing and
+  /// the rebuild that wraps it: past the high face the shift is -length, past the low one +length), and the period
+  /// longer than 2 cutoff (periodic_cutoff_fits), so that at most one image per axis qualifies: at most 3.
   int image_shifts(const Vec3& point, double cutoff, std::array<Vec3, 3>& shifts) const;
 };
 

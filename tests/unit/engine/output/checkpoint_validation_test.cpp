@@ -487,8 +487,12 @@ TEST_CASE("a periodic box: a pair with a ghost second is accepted, one beyond th
           "contacts.pair_second[" + std::to_string(k) + "] = 4000000: must be above its first grain");
   refused(resume(data, [&](CheckpointData& d) { d.world.contacts->pair_second[k] = 4000000u; }), "(ghosts included)");
   // A grain that crossed a periodic face is wrapped only at the next rebuild: a centre past an x or y face, beyond
-  // the domain's margin even, is a state a run writes; past the floor (z is never periodic) it is refused.
-  CHECK(resume(data, [](CheckpointData& d) { d.world.solids->position[0].x() = 0.03 + 0.2; }) == "accepted");
-  CHECK(resume(data, [](CheckpointData& d) { d.world.solids->position[0].y() = -0.2; }) == "accepted");
+  // the domain's margin even, is a state a run writes; a whole period out it is not (a blow-up's), nor past the
+  // floor (z is never periodic).
+  CHECK(resume(data, [](CheckpointData& d) { d.world.solids->position[0].x() = 0.03 + 0.02; }) == "accepted");
+  CHECK(resume(data, [](CheckpointData& d) { d.world.solids->position[0].y() = -0.02; }) == "accepted");
+  refused(resume(data, [](CheckpointData& d) { d.world.solids->position[0].x() = 0.03 + 0.031; }),
+          "is outside the domain");
+  refused(resume(data, [](CheckpointData& d) { d.world.solids->position[0].y() = 1e300; }), "is outside the domain");
   refused(resume(data, [](CheckpointData& d) { d.world.solids->position[0].z() = -0.2; }), "is outside the domain");
 }
