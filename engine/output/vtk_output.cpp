@@ -107,7 +107,7 @@ std::string particles_vtp(const Component& particles, const char* scalars, const
   std::vector<double> xyz(3 * count);
   std::vector<std::int64_t> connectivity(count), offsets(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const Vec3 position = box.any() ? box.wrap(particles.position[i]) : particles.position[i];
+    const Vec3 position = box.wrap(particles.position[i]);  // unchanged along non-periodic axes
     for (int c = 0; c < 3; ++c) xyz[3 * i + static_cast<std::size_t>(c)] = position[c];
     connectivity[i] = static_cast<std::int64_t>(i);
     offsets[i] = static_cast<std::int64_t>(i + 1);

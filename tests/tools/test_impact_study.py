@@ -5,7 +5,6 @@ spike's share of a millisecond), the arrival, the 15 ms impulse, and the scene i
 
 Usage: /usr/bin/python3 tests/tools/test_impact_study.py RIFFLE_BINARY [WORK_DIR]   (exit 0 = pass)
 """
-import math
 import pathlib
 import subprocess
 import sys
