@@ -4,10 +4,11 @@
 // Pairs are stored once, from the grain with the lower slot ("first") to the higher ("second"), grouped by first
 // grain in CSR form. Slots change only when the list is rebuilt (the rebuild may reorder the grains by cell); the
 // tangential springs are carried over by grain id, so contact history survives reordering and checkpoints.
-// Forces are computed per pair into the pair arrays, then gathered per grain in a fixed order (pairs where it is
-// first, then pairs where it is second, then wall pairs): results do not depend on the thread count.
+// The contact pass adds each pair's force to both grains, slab by slab (systems/physics/dem/contact_slabs.hpp), in
+// an order that does not depend on the thread count.
 #include <cereal/types/vector.hpp>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "components/component_id.hpp"
@@ -25,18 +26,15 @@ struct Contacts {
   std::vector<std::uint32_t> pair_offsets;     ///< grains + 1: pairs of first grain i are [offsets[i], offsets[i+1])
   std::vector<std::uint32_t> pair_second;      ///< slot of the second grain (> first), or of a ghost (halo below)
   std::vector<Vec3> pair_spring;               ///< [m] tangential spring, on the first grain; zero when apart
-  std::vector<Vec3> pair_force;                ///< [N] contact force on the first grain (second gets the negative)
-  std::vector<Vec3> pair_torque_first;         ///< [N m] contact torque on the first grain
-  std::vector<Vec3> pair_torque_second;        ///< [N m] contact torque on the second grain
   std::vector<double> pair_overlap;            ///< [m] > 0 while touching, 0 when apart
-  // Reverse index for the gather: for grain j, the pairs where it is second, ascending.
+  // Reverse index for pair forces gathered per grain (lubrication): for grain j, the pairs where it is second,
+  // ascending.
   std::vector<std::uint32_t> second_offsets;   ///< grains + 1
   std::vector<std::uint32_t> second_pairs;     ///< pair indices
-  // Per-grain sums over the pairs where the grain is first, in pair order, filled by solid_contact_forces while the
-  // pair results are still in registers, so the gather walks only the second-grain side. Scratch, rewritten every
-  // sub-step: not checkpointed.
-  std::vector<Vec3> first_force;               ///< [N] grains
-  std::vector<Vec3> first_torque;              ///< [N m] grains
+  // The contact pass's slabs (systems/physics/dem/contact_slabs.hpp): slots grouped by slab, a pure function of
+  // build_position and the list's reach, so not checkpointed (rebuilt on resume, as the halo is).
+  std::vector<std::uint32_t> slab_offsets;     ///< slabs + 1; empty: one slab of every grain in slot order
+  std::vector<std::uint32_t> slab_grains;      ///< grains
 
   // Grain-wall candidates, grouped by grain.
   std::vector<std::uint32_t> wall_pair_offsets;  ///< grains + 1
@@ -71,14 +69,9 @@ struct Contacts {
     visit("pair_offsets", true, self.pair_offsets);
     visit("pair_second", true, self.pair_second);
     visit("pair_spring", true, self.pair_spring);
-    visit("pair_force", true, self.pair_force);
-    visit("pair_torque_first", true, self.pair_torque_first);
-    visit("pair_torque_second", true, self.pair_torque_second);
     visit("pair_overlap", true, self.pair_overlap);
     visit("second_offsets", true, self.second_offsets);
     visit("second_pairs", true, self.second_pairs);
-    visit("first_force", false, self.first_force);  // scratch, rewritten every sub-step
-    visit("first_torque", false, self.first_torque);
     visit("wall_pair_offsets", true, self.wall_pair_offsets);
     visit("wall_pair_wall", true, self.wall_pair_wall);
     visit("wall_pair_spring", true, self.wall_pair_spring);
@@ -94,10 +87,20 @@ struct Contacts {
 
   template <class Archive>
   void serialize(Archive& archive) {
-    for_each_member(*this, [&](const char*, bool persistent, auto& member) {
+    for_each_member(*this, [&](const char* name, bool persistent, auto& member) {
       if (persistent) archive(member);
+      // Formats up to kLastFormatWithPairForces kept each pair's force and torques after its spring; the contact
+      // pass recomputes them every sub-step, so a resume reads and drops them.
+      if constexpr (requires { archive.format_version(); })
+        if (archive.format_version() <= kLastFormatWithPairForces && std::string_view(name) == "pair_spring") {
+          std::vector<Vec3> force, torque_first, torque_second;
+          archive(force, torque_first, torque_second);
+        }
     });
   }
+
+  /// The last checkpoint format with per-pair forces and torques (engine/output/checkpoint.hpp).
+  static constexpr std::uint32_t kLastFormatWithPairForces = 12;
 };
 
 }  // namespace riffle

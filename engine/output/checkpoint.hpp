@@ -27,8 +27,9 @@ namespace riffle {
 // viscous_force ([coupling] viscous_stress); 8: the grains' `fixed` flag ([solids] fixed_below); 9: the mean-flow
 // fluid's column (World::mean_flow; absent in older files); 10: the grains' fluctuation_state ([mean_flow]
 // fluctuations); 11: the walls' part of the grains' own disturbance (self_induced_wall_x, _y, _z); 12: the fluid
-// particles removed by reason and the bulk-velocity controller's integral (FluidSummary).
-inline constexpr std::uint32_t kCheckpointVersion = 12;
+// particles removed by reason and the bulk-velocity controller's integral (FluidSummary); 13: without the pairs'
+// forces and torques (Contacts::kLastFormatWithPairForces: the contact pass adds them to the grains directly).
+inline constexpr std::uint32_t kCheckpointVersion = 13;
 /// The first format with the mean-flow column.
 inline constexpr std::uint32_t kFirstCheckpointVersionWithMeanFlow = 9;
 /// The oldest format still read: format 4 differs from 5 only by FluidSummary's last_dt (components/fluid.hpp), and

@@ -11,6 +11,7 @@
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/dem/contact_slabs.hpp"
 #include "systems/physics/dem/neighbour_range.hpp"
 
 namespace riffle {
@@ -203,8 +204,7 @@ void check_walls(const Refusal& refusal, const Walls& walls, const Walls& scene)
 void check_contacts(const Refusal& refusal, const Contacts& contacts, const Solids& grains, std::size_t wall_count,
                     const Model& model) {
   const bool empty = contacts.pair_offsets.empty() && contacts.pair_second.empty() && contacts.pair_spring.empty() &&
-                     contacts.pair_force.empty() && contacts.pair_torque_first.empty() &&
-                     contacts.pair_torque_second.empty() && contacts.pair_overlap.empty() &&
+                     contacts.pair_overlap.empty() &&
                      contacts.second_offsets.empty() && contacts.second_pairs.empty() &&
                      contacts.wall_pair_offsets.empty() && contacts.wall_pair_wall.empty() &&
                      contacts.wall_pair_spring.empty() && contacts.wall_pair_force.empty() &&
@@ -217,9 +217,6 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
   const std::string per_pair = "one per grain pair";
   refusal.offsets("contacts.pair_offsets", contacts.pair_offsets, grain_count, pairs);
   refusal.count("contacts.pair_spring", contacts.pair_spring.size(), pairs, per_pair);
-  refusal.count("contacts.pair_force", contacts.pair_force.size(), pairs, per_pair);
-  refusal.count("contacts.pair_torque_first", contacts.pair_torque_first.size(), pairs, per_pair);
-  refusal.count("contacts.pair_torque_second", contacts.pair_torque_second.size(), pairs, per_pair);
   refusal.count("contacts.pair_overlap", contacts.pair_overlap.size(), pairs, per_pair);
   // A periodic box: a second slot may be a ghost; the halo is rebuilt from the positions the list was built at,
   // exactly as the resumed run will (solid_neighbours), and the ghost stands for its owner.
@@ -264,9 +261,6 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
                    "must be below the wall count " + std::to_string(wall_count));
   refusal.count("contacts.build_position", contacts.build_position.size(), grain_count, "one per grain");
   refusal.finite_values("contacts.pair_spring", contacts.pair_spring);
-  refusal.finite_values("contacts.pair_force", contacts.pair_force);
-  refusal.finite_values("contacts.pair_torque_first", contacts.pair_torque_first);
-  refusal.finite_values("contacts.pair_torque_second", contacts.pair_torque_second);
   refusal.finite_values("contacts.pair_overlap", contacts.pair_overlap);
   refusal.finite_values("contacts.wall_pair_spring", contacts.wall_pair_spring);
   refusal.finite_values("contacts.wall_pair_force", contacts.wall_pair_force);
@@ -277,6 +271,19 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
   const double skin = model.contact.skin > 0.0 ? model.contact.skin : default_skin(grains);
   if (contacts.valid && contacts.skin != skin)
     refusal.fail("contacts.skin = " + show(contacts.skin), "differs from the scene's skin " + show(skin));
+  // The contact pass writes a pair's two grains from the task of the first grain's slab: a pair whose grains lie in
+  // slabs further apart (a list not built from these positions) would let two tasks write one grain.
+  const ContactSlabs slabs = contact_slabs(contacts.build_position, halo_width(grains, model, skin), periodic_box(model));
+  std::vector<std::uint32_t> slab_of(grain_count);
+  for (std::uint32_t s = 0; s < slabs.count(); ++s)
+    for (std::uint32_t n = slabs.offsets[s]; n < slabs.offsets[s + 1]; ++n) slab_of[slabs.grains[n]] = s;
+  for (std::size_t i = 0; i < grain_count; ++i)
+    for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+      if (!neighbouring_slabs(slabs, slab_of[i], slab_of[halo.owner_of(contacts.pair_second[k])]))
+        refusal.fail(refusal.item("contacts.pair_second", k, contacts.pair_second[k]),
+                     "lies beyond the list's reach of its first grain " + std::to_string(i) +
+                         " at the positions it was built at");
+    }
 }
 
 /// The MPS particles are the scene's: the same ids, less the fluid particles fluid_escape removed (with

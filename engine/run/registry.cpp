@@ -93,7 +93,6 @@ Pipeline build_pipeline(const Model& model) {
       if (contacts) {
         phase->push_back(std::make_unique<SolidNeighbours>());
         phase->push_back(std::make_unique<SolidContactForces>());
-        phase->push_back(std::make_unique<SolidContactGather>());
       }
       if (coupled && model.coupling.drag && phase == &pipeline.substep) phase->push_back(std::make_unique<SolidDrag>(model));
       // A new run's first sub-steps use the water as laid out (hydrostatic, engine/setup/initial_state.cpp): buoyancy

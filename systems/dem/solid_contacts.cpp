@@ -3,9 +3,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "systems/physics/dem/contact_law.hpp"
+#include "systems/physics/dem/contact_slabs.hpp"
 
 namespace riffle {
 
@@ -14,8 +17,8 @@ constexpr std::size_t kGrain = 256;
 
 // Touching grain-grain pairs are evaluated in batches: pass 1 walks the candidates, tests the distance and copies
 // the inputs of the touching ones into structure-of-arrays scratch; pass 2 evaluates the batch with the vectorised
-// kernel of contact_law.hpp; pass 3 writes the pair arrays back in pair order. Separated candidates (about half of
-// them in a settled bed) cost only the distance test.
+// kernel of contact_law.hpp; pass 3 writes each pair's overlap and spring back and adds its force and torques to both
+// grains, in pair order. Separated candidates (about half of them in a settled bed) cost only the distance test.
 
 /// The second grain of a pair as the contact code reads it: a real grain (no periodic axis), or in a periodic box a
 /// real or a ghost through the halo (components/halo.hpp). One template body serves both, so the walled box keeps
@@ -45,6 +48,7 @@ struct RealNeighbours {
   double mass(std::uint32_t j) const { return mass_[j]; }
   std::int32_t material(std::uint32_t j) const { return material_[j]; }
   bool fixed(std::uint32_t j) const { return fixed_[j] != 0; }
+  std::uint32_t owner(std::uint32_t j) const { return j; }
 };
 struct GhostedNeighbours {
   Ghosted<Vec3> position_, velocity_, angular_velocity_;
@@ -68,20 +72,25 @@ struct GhostedNeighbours {
   double mass(std::uint32_t j) const { return mass_[j]; }
   std::int32_t material(std::uint32_t j) const { return material_[j]; }
   bool fixed(std::uint32_t j) const { return fixed_[halo_->owner_of(j)] != 0; }
+  std::uint32_t owner(std::uint32_t j) const { return halo_->owner_of(j); }
 };
 
-/// A pair that has just separated carries no overlap, spring, force or torque (the next touch starts afresh).
-void clear_separated(double& overlap, Vec3& spring, Vec3& force, Vec3& torque) {
+/// Where a pass adds the contact forces: the grains' sums (GrainContactForce), as raw pointers (see above).
+struct ContactSums {
+  Vec3* force;
+  Vec3* torque;
+};
+
+/// A pair that has just separated carries no overlap or spring (the next touch starts afresh).
+void clear_separated(double& overlap, Vec3& spring) {
   overlap = 0.0;
   spring = Vec3::Zero();
-  force = Vec3::Zero();
-  torque = Vec3::Zero();
 }
 
 template <class Neighbours>
 void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProperties& properties,
                  const Neighbours& neighbours, const ContactModel& model, bool rolling, double dt,
-                 Contacts& contacts) {
+                 Contacts& contacts, const ContactSums& sums) {
   // Gather the remaining inputs of the touching pairs. The pair coefficients are shared by the whole batch when every
   // pair is of the same two materials (a bed of one material: every batch but those with a wall material's grain),
   // and then copied once; the reduced mass is formed in a loop of its own, which vectorises.
@@ -143,108 +152,142 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
   for (std::size_t p = 0; p < b.count; ++p) {
     const std::uint32_t k = b.pair[p];
     const Vec3 force(b.fx[p], b.fy[p], b.fz[p]);
-    const Vec3 torque_first(b.tix[p], b.tiy[p], b.tiz[p]);
     contacts.pair_overlap[k] = b.overlap[p];
     contacts.pair_spring[k] = Vec3(b.sx[p], b.sy[p], b.sz[p]);
-    contacts.pair_force[k] = force;
-    contacts.pair_torque_first[k] = torque_first;
-    contacts.pair_torque_second[k] = Vec3(b.tjx[p], b.tjy[p], b.tjz[p]);
-    // Batch entries are in pair order, so each grain's sum runs in pair order whatever the batch boundaries.
-    contacts.first_force[b.first[p]] += force;
-    contacts.first_torque[b.first[p]] += torque_first;
+    // Newton's third law: the second grain (its owner, for a ghost) takes the negative force. Only this slab's task
+    // writes these grains in this phase (contact_slabs.hpp).
+    const std::uint32_t i = b.first[p], j = neighbours.owner(b.second[p]);
+    sums.force[i] += force;
+    sums.torque[i] += Vec3(b.tix[p], b.tiy[p], b.tiz[p]);
+    sums.force[j] -= force;
+    sums.torque[j] += Vec3(b.tjx[p], b.tjy[p], b.tjz[p]);
   }
   b.count = 0;
 }
 
+/// The candidates of the grains `slots` (in that order): their pairs' forces added to both grains and their wall
+/// forces to the grain, into `sums`.
 template <class Neighbours>
-void contact_forces(const GrainState& grains, const GrainProperties& properties, const Neighbours& neighbours,
-                    const Walls& walls, Contacts& contacts, const ContactModel& law, double dt) {
-  bool rolling = false;
-  for (const ContactPairParameters& pair : law.pairs) rolling = rolling || pair.rolling_friction > 0.0;
-  contacts.first_force.resize(grains.size());
-  contacts.first_torque.resize(grains.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    SpherePairBatch batch;
-    std::size_t count = 0;  // batch.count, in a register while filling
-    // Raw pointers held in registers: the compiler cannot tell the batch stores from the vectors' own fields.
-    const std::uint32_t* const pair_offsets = contacts.pair_offsets.data();
-    const std::uint32_t* const pair_second = contacts.pair_second.data();
-    const double* const pair_overlap = contacts.pair_overlap.data();
-    const Neighbours view = neighbours;  // a task's own copy, whose pointers stay in registers
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      // Local copies: the pair arrays written below could alias the grain arrays as far as the compiler knows.
-      const Vec3 position = grains.position[i];
-      const Vec3 velocity = grains.velocity[i];
-      const Vec3 angular_velocity = grains.angular_velocity[i];
-      const double radius = properties.radius[i];
-      const double mass = properties.mass[i];
-      const std::int32_t material = properties.material[i];
-      contacts.first_force[i] = Vec3::Zero();
-      contacts.first_torque[i] = Vec3::Zero();
-      const std::uint32_t pair_end = pair_offsets[i + 1];
-      for (std::uint32_t k = pair_offsets[i]; k < pair_end; ++k) {
-        const std::uint32_t j = pair_second[k];
-        const Vec3 centre_line = view.position(j) - position;
-        const double radius_j = view.radius(j);
-        const double touching_distance = radius + radius_j;
-        const double distance_squared = centre_line.squaredNorm();
-        // Branch-free compaction: every candidate is written at the batch end, only touching ones advance it (about
-        // half the candidates touch, in no predictable pattern, so a branch here would mispredict often).
-        const bool touching = (distance_squared < touching_distance * touching_distance) & (distance_squared != 0.0);
-        const std::size_t p = count;
-        batch.pair[p] = k;
-        batch.first[p] = static_cast<std::uint32_t>(i);
-        batch.second[p] = j;
-        batch.dx[p] = centre_line.x();
-        batch.dy[p] = centre_line.y();
-        batch.dz[p] = centre_line.z();
-        batch.ri[p] = radius;
-        batch.rj[p] = radius_j;
-        count += touching;
-        // Apart: most candidates stay apart for many sub-steps, so write only when the pair has just separated.
-        // One comparison of the two flags: tested one after the other, the first alone would mispredict often.
-        const bool was_touching = pair_overlap[k] > 0.0;
-        if (__builtin_expect(static_cast<int>(was_touching) > static_cast<int>(touching), 0)) {
-          clear_separated(contacts.pair_overlap[k], contacts.pair_spring[k], contacts.pair_force[k],
-                          contacts.pair_torque_first[k]);
-          contacts.pair_torque_second[k] = Vec3::Zero();
-        }
-        if (count == kContactBatch) {
-          batch.count = count;
-          flush_batch(batch, grains, properties, view, law, rolling, dt, contacts);
-          count = 0;
-        }
-      }
-      for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
-        const std::uint32_t wall = contacts.wall_pair_wall[k];
-        const Vec3& wall_normal = walls.normal[wall];
-        const double height = (position - walls.point[wall]).dot(wall_normal);
-        const double overlap = radius - height;
-        if (overlap <= 0.0) {
-          if (contacts.wall_pair_overlap[k] > 0.0) {
-            clear_separated(contacts.wall_pair_overlap[k], contacts.wall_pair_spring[k], contacts.wall_pair_force[k],
-                            contacts.wall_pair_torque[k]);
-          }
-          continue;
-        }
-        contacts.wall_pair_overlap[k] = overlap;
-        ContactGeometry geometry;
-        geometry.normal = -wall_normal;  // from the grain towards the wall
-        geometry.overlap = overlap;
-        const Vec3 arm = radius * geometry.normal;
-        geometry.contact_velocity = walls.velocity[wall] - (velocity + angular_velocity.cross(arm));
-        geometry.relative_angular_velocity = angular_velocity;
-        geometry.effective_radius = radius;  // a plane has zero curvature
-        geometry.effective_mass = mass;      // a wall does not move in response
-        const ContactResponse response = evaluate_contact(law.law, law.pair(material, walls.material[wall]),
-                                                          geometry, contacts.wall_pair_spring[k], dt);
-        contacts.wall_pair_force[k] = response.force_on_first;
-        contacts.wall_pair_torque[k] = arm.cross(response.force_on_first) + response.rolling_torque_on_first;
+void slab_contact_forces(const std::uint32_t* slots, std::size_t slot_count, const GrainState& grains,
+                         const GrainProperties& properties, const Neighbours& neighbours, const Walls& walls,
+                         Contacts& contacts, const ContactModel& law, bool rolling, double dt, const ContactSums& sums) {
+  SpherePairBatch batch;
+  std::size_t count = 0;  // batch.count, in a register while filling
+  // Raw pointers held in registers: the compiler cannot tell the batch stores from the vectors' own fields.
+  const std::uint32_t* const pair_offsets = contacts.pair_offsets.data();
+  const std::uint32_t* const pair_second = contacts.pair_second.data();
+  const double* const pair_overlap = contacts.pair_overlap.data();
+  const Neighbours view = neighbours;  // a task's own copy, whose pointers stay in registers
+  for (std::size_t n = 0; n < slot_count; ++n) {
+    const std::uint32_t i = slots[n];
+    // Local copies: the pair arrays written below could alias the grain arrays as far as the compiler knows.
+    const Vec3 position = grains.position[i];
+    const Vec3 velocity = grains.velocity[i];
+    const Vec3 angular_velocity = grains.angular_velocity[i];
+    const double radius = properties.radius[i];
+    const double mass = properties.mass[i];
+    const std::int32_t material = properties.material[i];
+    const std::uint32_t pair_end = pair_offsets[i + 1];
+    for (std::uint32_t k = pair_offsets[i]; k < pair_end; ++k) {
+      const std::uint32_t j = pair_second[k];
+      const Vec3 centre_line = view.position(j) - position;
+      const double radius_j = view.radius(j);
+      const double touching_distance = radius + radius_j;
+      const double distance_squared = centre_line.squaredNorm();
+      // Branch-free compaction: every candidate is written at the batch end, only touching ones advance it (about
+      // half the candidates touch, in no predictable pattern, so a branch here would mispredict often).
+      const bool touching = (distance_squared < touching_distance * touching_distance) & (distance_squared != 0.0);
+      const std::size_t p = count;
+      batch.pair[p] = k;
+      batch.first[p] = i;
+      batch.second[p] = j;
+      batch.dx[p] = centre_line.x();
+      batch.dy[p] = centre_line.y();
+      batch.dz[p] = centre_line.z();
+      batch.ri[p] = radius;
+      batch.rj[p] = radius_j;
+      count += touching;
+      // Apart: most candidates stay apart for many sub-steps, so write only when the pair has just separated.
+      // One comparison of the two flags: tested one after the other, the first alone would mispredict often.
+      const bool was_touching = pair_overlap[k] > 0.0;
+      if (__builtin_expect(static_cast<int>(was_touching) > static_cast<int>(touching), 0))
+        clear_separated(contacts.pair_overlap[k], contacts.pair_spring[k]);
+      if (count == kContactBatch) {
+        batch.count = count;
+        flush_batch(batch, grains, properties, view, law, rolling, dt, contacts, sums);
+        count = 0;
       }
     }
-    batch.count = count;
-    flush_batch(batch, grains, properties, view, law, rolling, dt, contacts);
+    for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
+      const std::uint32_t wall = contacts.wall_pair_wall[k];
+      const Vec3& wall_normal = walls.normal[wall];
+      const double height = (position - walls.point[wall]).dot(wall_normal);
+      const double overlap = radius - height;
+      if (overlap <= 0.0) {
+        if (contacts.wall_pair_overlap[k] > 0.0) {
+          clear_separated(contacts.wall_pair_overlap[k], contacts.wall_pair_spring[k]);
+          contacts.wall_pair_force[k] = Vec3::Zero();
+          contacts.wall_pair_torque[k] = Vec3::Zero();
+        }
+        continue;
+      }
+      contacts.wall_pair_overlap[k] = overlap;
+      ContactGeometry geometry;
+      geometry.normal = -wall_normal;  // from the grain towards the wall
+      geometry.overlap = overlap;
+      const Vec3 arm = radius * geometry.normal;
+      geometry.contact_velocity = walls.velocity[wall] - (velocity + angular_velocity.cross(arm));
+      geometry.relative_angular_velocity = angular_velocity;
+      geometry.effective_radius = radius;  // a plane has zero curvature
+      geometry.effective_mass = mass;      // a wall does not move in response
+      const ContactResponse response = evaluate_contact(law.law, law.pair(material, walls.material[wall]), geometry,
+                                                        contacts.wall_pair_spring[k], dt);
+      const Vec3 torque = arm.cross(response.force_on_first) + response.rolling_torque_on_first;
+      contacts.wall_pair_force[k] = response.force_on_first;  // kept for the walls' reaction (probes)
+      contacts.wall_pair_torque[k] = torque;
+      sums.force[i] += response.force_on_first;
+      sums.torque[i] += torque;
+    }
+  }
+  batch.count = count;
+  flush_batch(batch, grains, properties, view, law, rolling, dt, contacts, sums);
+}
+
+template <class Neighbours>
+void contact_forces(const GrainState& grains, const GrainProperties& properties, const Neighbours& neighbours,
+                    const Walls& walls, Contacts& contacts, const ContactModel& law, double dt,
+                    GrainContactForce& contact) {
+  bool rolling = false;
+  for (const ContactPairParameters& pair : law.pairs) rolling = rolling || pair.rolling_friction > 0.0;
+  const std::size_t count = grains.size();
+  contact.contact_force.resize(count);
+  contact.contact_torque.resize(count);
+  const ContactSums sums{contact.contact_force.data(), contact.contact_torque.data()};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4 * kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::fill(sums.force + range.begin(), sums.force + range.end(), Vec3::Zero());
+    std::fill(sums.torque + range.begin(), sums.torque + range.end(), Vec3::Zero());
   });
+  // Slabs s = phase, phase + 3, ... side by side; without slabs (a list not yet sliced), one task in slot order.
+  const bool sliced = contacts.slab_offsets.size() >= 2 && contacts.slab_grains.size() == count &&
+                      contacts.slab_offsets.back() == count;
+  if (!sliced) {
+    std::vector<std::uint32_t> slots(count);
+    for (std::size_t i = 0; i < count; ++i) slots[i] = static_cast<std::uint32_t>(i);
+    slab_contact_forces(slots.data(), count, grains, properties, neighbours, walls, contacts, law, rolling, dt, sums);
+    return;
+  }
+  const std::size_t slabs = contacts.slab_offsets.size() - 1;
+  for (std::size_t phase = 0; phase < kContactSlabPhases; ++phase) {
+    const std::size_t tasks = slabs > phase ? (slabs - phase + kContactSlabPhases - 1) / kContactSlabPhases : 0;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+      for (std::size_t task = range.begin(); task < range.end(); ++task) {
+        const std::size_t slab = phase + kContactSlabPhases * task;
+        const std::uint32_t begin = contacts.slab_offsets[slab], end = contacts.slab_offsets[slab + 1];
+        slab_contact_forces(contacts.slab_grains.data() + begin, end - begin, grains, properties, neighbours, walls,
+                            contacts, law, rolling, dt, sums);
+      }
+    });
+  }
 }
 }  // namespace
 
@@ -253,48 +296,15 @@ void SolidContactForces::run(SystemContext& context) {
   const GrainProperties& properties = context.read<GrainProperties>();
   const Walls& walls = context.read<Walls>();
   Contacts& contacts = context.write<Contacts>();
+  GrainContactForce& contact = context.write<GrainContactForce>();
   // A periodic box: the second grain of a pair may be a ghost (solid_neighbours built and exchanged the halo).
   if (contacts.halo.valid)
     contact_forces(grains, properties, GhostedNeighbours(grains, properties, contacts), walls, contacts,
-                   context.model.contact, context.dt);
+                   context.model.contact, context.dt, contact);
   else
     contact_forces(grains, properties, RealNeighbours(grains, properties), walls, contacts, context.model.contact,
-                   context.dt);
+                   context.dt, contact);
   context.count_items(grains.size());
-}
-
-void SolidContactGather::run(SystemContext& context) {
-  const Contacts& contacts = context.read<Contacts>();
-  GrainContactForce& contact = context.write<GrainContactForce>();
-  // The per-grain first sums exist once solid_contact_forces has run on this list (not yet right after a restore).
-  const bool fused = contacts.first_force.size() == contact.size();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, contact.size(), kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i < range.end(); ++i) {
-      // The pairs where i is first were summed, in pair order, by solid_contact_forces; separated pairs carry zero.
-      Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
-      if (fused) {
-        force = contacts.first_force[i];
-        torque = contacts.first_torque[i];
-      } else {
-        for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
-          force += contacts.pair_force[k];
-          torque += contacts.pair_torque_first[k];
-        }
-      }
-      for (std::uint32_t s = contacts.second_offsets[i]; s < contacts.second_offsets[i + 1]; ++s) {
-        const std::uint32_t k = contacts.second_pairs[s];
-        force -= contacts.pair_force[k];
-        torque += contacts.pair_torque_second[k];
-      }
-      for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
-        force += contacts.wall_pair_force[k];
-        torque += contacts.wall_pair_torque[k];
-      }
-      contact.contact_force[i] = force;
-      contact.contact_torque[i] = torque;
-    }
-  });
-  context.count_items(contact.size());
 }
 
 }  // namespace riffle

@@ -11,6 +11,7 @@
 
 #include "systems/physics/geometry/cell_index.hpp"
 #include "systems/dem/solid_cell_sort.hpp"
+#include "systems/physics/dem/contact_slabs.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 
@@ -175,17 +176,26 @@ bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const 
   return 2.0 * grain_move > contacts.skin || grain_move + wall_move > contacts.skin;
 }
 
-void restore_halo(const Solids& solids, Contacts& contacts, const Model& model) {
+void slice_contact_slabs(const Solids& solids, Contacts& contacts, const Model& model) {
+  ContactSlabs slabs =
+      contact_slabs(contacts.build_position, halo_width(solids, model, contacts.skin), periodic_box(model));
+  contacts.slab_offsets = std::move(slabs.offsets);
+  contacts.slab_grains = std::move(slabs.grains);
+}
+
+void restore_halo_and_slabs(const Solids& solids, Contacts& contacts, const Model& model) {
+  if (!contacts.valid || contacts.build_position.size() != solids.size()) return;
   const PeriodicBox box = periodic_box(model);
-  if (box.any() && contacts.valid && !contacts.halo.valid && contacts.build_position.size() == solids.size()) {
+  if (box.any() && !contacts.halo.valid) {
     build_halo(contacts.build_position, solids.id, box, halo_width(solids, model, contacts.skin), contacts.halo);
     exchange_grain_halo(solids, contacts);
   }
+  if (contacts.slab_grains.size() != solids.size()) slice_contact_slabs(solids, contacts, model);
 }
 
 void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& walls, const TankMotion& tank,
                             const Model& model, bool reorder) {
-  restore_halo(solids, contacts, model);  // the old list's ghosts name the pairs whose springs are kept below
+  restore_halo_and_slabs(solids, contacts, model);  // the old list's ghosts name the pairs whose springs are kept below
   // 1. Save the springs of touching pairs by id, before slots change.
   std::vector<SavedSpring> saved_pairs, saved_walls;
   if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
@@ -263,9 +273,6 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
                 contacts.pair_second.begin() + contacts.pair_offsets[block * kGrain]);
   });
   contacts.pair_spring.assign(pairs, Vec3::Zero());
-  contacts.pair_force.assign(pairs, Vec3::Zero());
-  contacts.pair_torque_first.assign(pairs, Vec3::Zero());
-  contacts.pair_torque_second.assign(pairs, Vec3::Zero());
   contacts.pair_overlap.assign(pairs, 0.0);
 
   // 4. Reverse index: pairs where each grain is second (itself or through a ghost: the force goes to the owner),
@@ -327,6 +334,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   contacts.build_position = solids.position;
   contacts.build_tank_displacement = tank.displacement;
   contacts.skin = skin;
+  slice_contact_slabs(solids, contacts, model);
   ++contacts.rebuilds;
   contacts.valid = true;
 }
@@ -340,7 +348,7 @@ void SolidNeighbours::run(SystemContext& context) {
   const TankMotion& tank = context.read<TankMotion>();
   context.count_items(solids.size());
   const PeriodicBox box = periodic_box(context.model);
-  restore_halo(solids, contacts, context.model);
+  restore_halo_and_slabs(solids, contacts, context.model);
   // A grain past a periodic face is wrapped at the next rebuild, not at once: until its skin is used up its pairs
   // stay the same (ghost = owner + period, so a pair across the seam is the same pair on either side of it).
   if (neighbour_list_stale(solids, contacts, tank)) {

@@ -24,9 +24,14 @@ void exchange_grain_halo(const Solids& solids, Contacts& contacts);
 /// and material cannot change while its halo stands: the same grains, the same owners).
 void exchange_grain_halo_motion(const Solids& solids, Contacts& contacts);
 
-/// A list read from a checkpoint has no halo (it is not stored): rebuilds it from the positions the list was built
-/// at, the very ghosts in the very order of the run that wrote it. Does nothing without periodic axes or when built.
-void restore_halo(const Solids& solids, Contacts& contacts, const Model& model);
+/// A list read from a checkpoint has no halo and no slabs (they are not stored): rebuilds them from the positions the
+/// list was built at, the very ghosts in the very order, and the very slabs, of the run that wrote it. Does nothing
+/// where they stand (and no halo without periodic axes).
+void restore_halo_and_slabs(const Solids& solids, Contacts& contacts, const Model& model);
+
+/// Cuts the list's grains into the contact pass's slabs (systems/physics/dem/contact_slabs.hpp) by their positions
+/// at the build, the list's reach and the periodic box.
+void slice_contact_slabs(const Solids& solids, Contacts& contacts, const Model& model);
 
 /// True if the list built with `contacts` may miss a contact at the current positions.
 bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank);

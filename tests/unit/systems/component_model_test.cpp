@@ -9,8 +9,11 @@
 #include <fstream>
 #include <iterator>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
+
+#include <cereal/archives/binary.hpp>
 
 #include "systems/system.hpp"
 #include "engine/output/checkpoint.hpp"
@@ -80,14 +83,12 @@ bool conflict(const System& a, const System& b) {
 TEST_CASE("the role split lets contact beside drag, and the fluid's step beside the grains' sub-steps") {
   const Model model = test::fluid_model();
   const SolidContactForces contact_forces;
-  const SolidContactGather contact_gather;
   const SolidDrag drag(model);
   CHECK_FALSE(conflict(contact_forces, drag));
-  CHECK_FALSE(conflict(contact_gather, drag));
   // ... but the sum waits for both, and the sampling's result is read by the drag.
   const SolidForceSum force_sum;
   const SolidFluidSampling sampling(model);
-  CHECK(conflict(contact_gather, force_sum));
+  CHECK(conflict(contact_forces, force_sum));
   CHECK(conflict(drag, force_sum));
   CHECK(conflict(sampling, drag));
 
@@ -106,7 +107,6 @@ TEST_CASE("the role split lets contact beside drag, and the fluid's step beside 
   grain_substep.push_back(std::make_unique<WallMotion>());
   grain_substep.push_back(std::make_unique<SolidNeighbours>());
   grain_substep.push_back(std::make_unique<SolidContactForces>());
-  grain_substep.push_back(std::make_unique<SolidContactGather>());
   grain_substep.push_back(std::make_unique<SolidDrag>(model));
   grain_substep.push_back(std::make_unique<SolidForceSum>());
   grain_substep.push_back(std::make_unique<SolidKick>(model));
@@ -259,7 +259,7 @@ TEST_CASE("checkpoints of the corpus read and write back: the current format byt
     std::memcpy(&version, bytes.data() + 8, sizeof version);
     return version;
   };
-  std::size_t current = 0, legacy = 0, legacy_fluid = 0, legacy_grains = 0, legacy_fluid_fields = 0;
+  std::size_t current = 0, legacy = 0, legacy_fluid = 0, legacy_grains = 0, legacy_fluid_fields = 0, legacy_contacts = 0;
   for (const auto& entry : std::filesystem::directory_iterator(corpus)) {
     CAPTURE(entry.path().string());
     CheckpointData data;
@@ -284,6 +284,23 @@ TEST_CASE("checkpoints of the corpus read and write back: the current format byt
     REQUIRE(old_version >= kOldestCheckpointVersionRead);
     CHECK(encode_checkpoint(decode_checkpoint(written, "rewritten")) == written);
     std::string old_payload = bytes.substr(32), new_payload = written.substr(32);
+    // Formats up to 12 held each grain pair's force and two torques after its spring: three vectors of 3-vectors,
+    // erased from the old payload after the pairs' seconds and springs (found by their bytes).
+    if (data.world.contacts && data.world.contacts->valid && old_version <= Contacts::kLastFormatWithPairForces) {
+      const Contacts& contacts = *data.world.contacts;
+      std::ostringstream stream;
+      {
+        cereal::BinaryOutputArchive archive(stream);
+        archive(contacts.pair_second, contacts.pair_spring);
+      }
+      const std::string before = stream.str();
+      const std::size_t at = old_payload.find(before);
+      REQUIRE(at != std::string::npos);
+      const std::size_t dropped = 3 * (8 + 3 * sizeof(double) * contacts.pair_count());
+      REQUIRE(at + before.size() + dropped <= old_payload.size());
+      old_payload.erase(at + before.size(), dropped);
+      ++legacy_contacts;
+    }
     // The fields a table gained since the old format, written at its end (the grains' table comes before the fluid's
     // in the payload, World::kParts): each at its default; erased from the new payload where it first differs.
     const auto erase_added = [&](const auto& table) {
@@ -339,4 +356,5 @@ TEST_CASE("checkpoints of the corpus read and write back: the current format byt
   CHECK(legacy_fluid >= 3);
   CHECK(legacy_grains >= 3);
   CHECK(legacy_fluid_fields >= 3);  // the fluid's viscous_acceleration (format 7) in the v4_, v5_ and v6_ fluid files
+  CHECK(legacy_contacts >= 8);      // the v4_ to v12_ files with contacts
 }

@@ -218,6 +218,15 @@ TEST_CASE("contact lists whose indices do not fit the grains and walls are refus
     refused(resume(data, [](CheckpointData& d) { d.world.contacts->pair_offsets[1] = 1000000; }),
             "contacts.pair_offsets[2]");
   }
+  SUBCASE("a pair whose grains lay beyond the list's reach at its build") {
+    // The contact pass writes both grains of a pair from the first grain's slab: a pair three slabs apart would let
+    // two tasks write one grain.
+    const auto& contacts = *data.world.contacts;
+    const std::uint32_t j = contacts.pair_second[0];
+    REQUIRE(contacts.build_position[0].x() < 0.005);
+    refused(resume(data, [&](CheckpointData& d) { d.world.contacts->build_position[j].x() = 0.0275; }),
+            "lies beyond the list's reach of its first grain 0");
+  }
   SUBCASE("a reverse index that points elsewhere") {
     refused(resume(data, [](CheckpointData& d) { d.world.contacts->second_pairs[0] = 4000000000u; }),
             "contacts.second_pairs[0] = 4000000000");
@@ -392,9 +401,9 @@ TEST_CASE("non-finite and non-positive values and an inconsistent time are refus
     refused(resume(data, [](CheckpointData& d) { d.world.solids->velocity[4][1] = kNaN; }),
             "solids.velocity[4] = (");
   }
-  SUBCASE("an infinite contact force") {
-    refused(resume(data, [](CheckpointData& d) { d.world.contacts->pair_force[0][0] = kInf; }),
-            "contacts.pair_force[0] = (inf");
+  SUBCASE("an infinite tangential spring") {
+    refused(resume(data, [](CheckpointData& d) { d.world.contacts->pair_spring[0][0] = kInf; }),
+            "contacts.pair_spring[0] = (inf");
   }
   SUBCASE("voidage 0") {
     refused(resume(data, [](CheckpointData& d) { d.world.solids->voidage[3] = 0.0; }),
