@@ -17,13 +17,16 @@
 # checkpoints ("same" in the report); a "no" there means the builds differ in physics, not only in speed. Each run
 # prints the 1-minute load average after it: runs beside other jobs (load above the 2 cores) are slower and noisier.
 # The seed and dem scenes start from the settled seed bed: $SETTLED, else out/dry_bed_settle/checkpoints/final.ckpt
-# of this source tree, else it is settled once with build A (about 3 minutes). Work folder: $WORK (default a new
+# of this source tree, else it is settled once with build A (about 3 minutes). OWN_BEDS=1 settles one bed with each
+# build instead and runs each build from its own (a change of the grains' slot order at the rebuilds, or of the
+# checkpoint format, shows only in a bed the build settled itself, as a user's fresh clone does; the beds are then
+# different packings of the same scene and "same" is not judged). Work folder: $WORK (default a new
 # temporary folder, removed at the end unless KEEP=1). Nothing is written into the source tree.
 set -euo pipefail
 # The whole script is one function, read before it runs: editing the file during a run cannot change that run.
 main() {
 if [ $# -lt 2 ] || [ $# -gt 3 ]; then
-  sed -n '2,21p' "$0" >&2
+  sed -n '2,24p' "$0" >&2
   exit 1
 fi
 SRC=$(cd "$(dirname "$0")/.." && pwd)
@@ -46,7 +49,18 @@ cp "$SRC/scenes/oscillating_tank_quick.toml" "$SRC/scenes/dry_shaken_tank.toml" 
   "$work/scenes/"
 cd "$work"
 settled=out/dry_bed_settle/checkpoints/final.ckpt
-if [ -n "${SETTLED:-}" ]; then
+own_beds=${OWN_BEDS:-0}
+# The folder a side's seed and dem runs start in (their scenes read the settled bed by a relative path).
+bed_dir() { if [ "$own_beds" = 1 ]; then echo "$work/bed_$1"; else echo "$work"; fi; }
+if [ "$own_beds" = 1 ]; then
+  for side in A B; do
+    mkdir -p "bed_$side/out/dry_bed_settle"
+    cp -r scenes "bed_$side/"
+    echo "ab: settling the seed bed with build $side (scenes/dry_bed_settle.toml, about 3 minutes)" >&2
+    (cd "bed_$side" && "$work/$side/riffle" run scenes/dry_bed_settle.toml --out out/dry_bed_settle --threads "$threads" \
+      --log-level warn >"$work/settle_$side.log" 2>&1)
+  done
+elif [ -n "${SETTLED:-}" ]; then
   cp "$SETTLED" "$settled"
 elif [ -f "$SRC/$settled" ]; then
   cp "$SRC/$settled" "$settled"
@@ -64,10 +78,10 @@ run_one() {
     seed | dem)
       local scene=scenes/oscillating_tank_quick.toml until=$seed_until
       [ "$bench" = dem ] && scene=scenes/dry_shaken_tank.toml && until=$dem_until
-      "$side/riffle" run "$scene" --until "$until" --threads "$threads" --out "$out" >"$out.log" 2>&1 ||
-        { echo "ab: $side/riffle run $scene failed, see $out.log" >&2; exit 1; }
+      (cd "$(bed_dir "$side")" && "$work/$side/riffle" run "$scene" --until "$until" --threads "$threads" --out "$out") \
+        >"$out.log" 2>&1 || { echo "ab: $side/riffle run $scene failed, see $out.log" >&2; exit 1; }
       seconds=$(stepping_wall "$out.log")
-      if [ "$side" = B ]; then
+      if [ "$side" = B ] && [ "$own_beds" != 1 ]; then
         cmp -s "$out/checkpoints/final.ckpt" "$work/run_${bench}_A_$rep/checkpoints/final.ckpt" && same=yes || same=no
       fi
       ;;

@@ -176,6 +176,23 @@ bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const 
   return 2.0 * grain_move > contacts.skin || grain_move + wall_move > contacts.skin;
 }
 
+namespace {
+/// The grains' order at a reordering rebuild: by the contact pass's slab (contact_slabs.hpp: the slabs these positions
+/// give), then by cell within it. Each slab is then a run of slots, walked by the pass in memory order, and its
+/// neighbours' data lie in a few runs near it.
+std::vector<std::size_t> slab_cell_order(const Solids& solids, const Model& model, double skin, const DomainBox& domain,
+                                         const PeriodicBox& box, double largest_radius) {
+  std::vector<std::size_t> order = cell_order(solids, domain.low, 2.0 * largest_radius);
+  const ContactSlabs slabs = contact_slabs(solids.position, halo_width(solids, model, skin), box);
+  if (slabs.count() <= 1) return order;
+  std::vector<std::uint32_t> slab_of(solids.size());
+  for (std::uint32_t s = 0; s < slabs.count(); ++s)
+    for (std::uint32_t n = slabs.offsets[s]; n < slabs.offsets[s + 1]; ++n) slab_of[slabs.grains[n]] = s;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return slab_of[a] < slab_of[b]; });
+  return order;
+}
+}  // namespace
+
 void slice_contact_slabs(const Solids& solids, Contacts& contacts, const Model& model) {
   ContactSlabs slabs =
       contact_slabs(contacts.build_position, halo_width(solids, model, contacts.skin), periodic_box(model));
@@ -228,7 +245,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   // unchanged), then reorder by cell for locality (ids travel with their data; the springs above are keyed by id).
   if (box.any())
     for (Vec3& position : solids.position) position = box.wrap(position);
-  if (reorder && count > 1) permute_fields(solids, cell_order(solids, domain.low, 2.0 * largest_radius));
+  if (reorder && count > 1) permute_fields(solids, slab_cell_order(solids, model, skin, domain, box, largest_radius));
 
   // 3. Grain-grain candidates: count, scan, fill; every grain's list comes out in the same order every time. In a
   // periodic box the ghosts of the grains within the list's reach of a seam join the search after the reals.
