@@ -36,8 +36,9 @@ ContactSlabs contact_slabs(const std::vector<Vec3>& position, double reach, cons
         highest = std::max(highest, p[axis]);
       }
       low[a] = lowest;
-      // The grains' span plus a reach: the first and last slabs hold grains up to a reach from the span's ends.
-      extent[a] = std::isfinite(highest - lowest) ? highest - lowest + reach : 0.0;
+      // The grains' span: the grain at its top end goes to the last slab (clamped below), so that every slab holds
+      // an equal share of a uniform bed (two threads then finish each phase together).
+      extent[a] = std::isfinite(highest - lowest) ? highest - lowest : 0.0;
     }
     count[a] = contact_slab_count(extent[a], reach, box.periodic[a]);
   }
