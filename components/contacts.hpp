@@ -35,6 +35,7 @@ struct Contacts {
   // build_position and the list's reach, so not checkpointed (rebuilt on resume, as the halo is).
   std::vector<std::uint32_t> slab_offsets;     ///< slabs + 1; empty: one slab of every grain in slot order
   std::vector<std::uint32_t> slab_grains;      ///< grains
+  bool slab_periodic = false;                  ///< the slabs' axis is periodic: the last slab neighbours the first
 
   // Grain-wall candidates, grouped by grain.
   std::vector<std::uint32_t> wall_pair_offsets;  ///< grains + 1

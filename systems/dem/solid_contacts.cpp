@@ -2,8 +2,11 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
 #include <cmath>
 #include <vector>
 
@@ -263,31 +266,37 @@ void contact_forces(const GrainState& grains, const GrainProperties& properties,
   contact.contact_force.resize(count);
   contact.contact_torque.resize(count);
   const ContactSums sums{contact.contact_force.data(), contact.contact_torque.data()};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4 * kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
-    std::fill(sums.force + range.begin(), sums.force + range.end(), Vec3::Zero());
-    std::fill(sums.torque + range.begin(), sums.torque + range.end(), Vec3::Zero());
-  });
-  // Slabs s = phase, phase + 3, ... side by side; without slabs (a list not yet sliced), one task in slot order.
+  // Without slabs (a list not yet sliced), one task in slot order.
   const bool sliced = contacts.slab_offsets.size() >= 2 && contacts.slab_grains.size() == count &&
                       contacts.slab_offsets.back() == count;
   if (!sliced) {
+    std::fill(sums.force, sums.force + count, Vec3::Zero());
+    std::fill(sums.torque, sums.torque + count, Vec3::Zero());
     std::vector<std::uint32_t> slots(count);
     for (std::size_t i = 0; i < count; ++i) slots[i] = static_cast<std::uint32_t>(i);
     slab_contact_forces(slots.data(), count, grains, properties, neighbours, walls, contacts, law, rolling, dt, sums);
     return;
   }
-  const std::size_t slabs = contacts.slab_offsets.size() - 1;
-  for (std::size_t phase = 0; phase < kContactSlabPhases; ++phase) {
-    const std::size_t tasks = slabs > phase ? (slabs - phase + kContactSlabPhases - 1) / kContactSlabPhases : 0;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tasks, 1), [&](const tbb::blocked_range<std::size_t>& range) {
-      for (std::size_t task = range.begin(); task < range.end(); ++task) {
-        const std::size_t slab = phase + kContactSlabPhases * task;
-        const std::uint32_t begin = contacts.slab_offsets[slab], end = contacts.slab_offsets[slab + 1];
-        slab_contact_forces(contacts.slab_grains.data() + begin, end - begin, grains, properties, neighbours, walls,
-                            contacts, law, rolling, dt, sums);
+  const auto slabs = static_cast<std::uint32_t>(contacts.slab_offsets.size() - 1);
+  const ContactSlabSchedule schedule = contact_slab_schedule(slabs, contacts.slab_periodic);
+  std::vector<std::atomic<std::uint32_t>> waiting(slabs);
+  for (std::uint32_t s = 0; s < slabs; ++s) waiting[s].store(schedule.waits_for[s], std::memory_order_relaxed);
+  tbb::task_group group;
+  std::function<void(std::uint32_t)> run_slab = [&](std::uint32_t slab) {
+    for (const std::uint32_t zeroed : schedule.zeroes[slab])
+      for (std::uint32_t n = contacts.slab_offsets[zeroed]; n < contacts.slab_offsets[zeroed + 1]; ++n) {
+        sums.force[contacts.slab_grains[n]] = Vec3::Zero();
+        sums.torque[contacts.slab_grains[n]] = Vec3::Zero();
       }
-    });
-  }
+    const std::uint32_t begin = contacts.slab_offsets[slab], end = contacts.slab_offsets[slab + 1];
+    slab_contact_forces(contacts.slab_grains.data() + begin, end - begin, grains, properties, neighbours, walls,
+                        contacts, law, rolling, dt, sums);
+    for (const std::uint32_t next : schedule.after[slab])
+      if (waiting[next].fetch_sub(1, std::memory_order_acq_rel) == 1) group.run([&run_slab, next] { run_slab(next); });
+  };
+  for (std::uint32_t s = 0; s < slabs; ++s)
+    if (schedule.waits_for[s] == 0) group.run([&run_slab, s] { run_slab(s); });
+  group.wait();
 }
 }  // namespace
 

@@ -198,6 +198,7 @@ void slice_contact_slabs(const Solids& solids, Contacts& contacts, const Model& 
       contact_slabs(contacts.build_position, halo_width(solids, model, contacts.skin), periodic_box(model));
   contacts.slab_offsets = std::move(slabs.offsets);
   contacts.slab_grains = std::move(slabs.grains);
+  contacts.slab_periodic = slabs.periodic;
 }
 
 void restore_halo_and_slabs(const Solids& solids, Contacts& contacts, const Model& model) {

@@ -72,4 +72,41 @@ bool neighbouring_slabs(const ContactSlabs& slabs, std::uint32_t a, std::uint32_
   return high - low <= 1 || (slabs.periodic && low == 0 && high + 1 == slabs.count());
 }
 
+ContactSlabSchedule contact_slab_schedule(std::uint32_t slabs, bool periodic) {
+  ContactSlabSchedule schedule;
+  schedule.after.resize(slabs);
+  schedule.waits_for.assign(slabs, 0);
+  schedule.zeroes.resize(slabs);
+  const auto phase = [](std::uint32_t s) { return s % kContactSlabPhases; };
+  // The tasks within two slabs of s (each once: a short periodic axis has fewer than four others).
+  const auto near = [&](std::uint32_t s) {
+    std::vector<std::uint32_t> found;
+    for (const int offset : {-2, -1, 1, 2}) {
+      std::int64_t t = static_cast<std::int64_t>(s) + offset;
+      if (periodic) t = (t + slabs) % slabs;
+      if (t < 0 || t >= static_cast<std::int64_t>(slabs) || t == static_cast<std::int64_t>(s)) continue;
+      if (std::find(found.begin(), found.end(), static_cast<std::uint32_t>(t)) == found.end())
+        found.push_back(static_cast<std::uint32_t>(t));
+    }
+    return found;
+  };
+  for (std::uint32_t s = 0; s < slabs; ++s)
+    for (const std::uint32_t t : near(s))
+      if (phase(s) < phase(t)) {
+        schedule.after[s].push_back(t);
+        ++schedule.waits_for[t];
+      }
+  // The first writer of slab s: the lowest phase among the tasks of s and its neighbours.
+  for (std::uint32_t s = 0; s < slabs; ++s) {
+    std::uint32_t first = s;
+    for (const std::uint32_t t : near(s)) {
+      const std::uint32_t distance = periodic ? std::min((t + slabs - s) % slabs, (s + slabs - t) % slabs)
+                                              : (t > s ? t - s : s - t);
+      if (distance == 1 && phase(t) < phase(first)) first = t;
+    }
+    schedule.zeroes[first].push_back(s);
+  }
+  return schedule;
+}
+
 }  // namespace riffle

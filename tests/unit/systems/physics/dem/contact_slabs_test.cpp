@@ -2,6 +2,7 @@
 // of three along a periodic axis, and every pair within the reach in the same or a neighbouring slab.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -77,4 +78,44 @@ TEST_CASE("grains in a box under three reaches long on every axis are one slab")
   const ContactSlabs slabs = contact_slabs(position, 0.04, box);
   CHECK(slabs.count() == 1);
   CHECK(slabs.grains == std::vector<std::uint32_t>{0, 1, 2});
+}
+
+TEST_CASE("the slabs' schedule orders every two tasks that write common grains, lower phase first, and zeroes once") {
+  for (std::uint32_t slabs = 1; slabs <= 14; ++slabs)
+    for (const bool periodic : {false, true}) {
+      if (periodic && slabs % 3 != 0 && slabs != 1) continue;  // contact_slab_count gives no other periodic count
+      CAPTURE(slabs);
+      CAPTURE(periodic);
+      const ContactSlabSchedule schedule = contact_slab_schedule(slabs, periodic);
+      const auto distance = [&](std::uint32_t a, std::uint32_t b) {
+        const std::uint32_t d = a > b ? a - b : b - a;
+        return periodic ? std::min(d, slabs - d) : d;
+      };
+      const auto ordered = [&](std::uint32_t a, std::uint32_t b) {  // a runs before b
+        return std::find(schedule.after[a].begin(), schedule.after[a].end(), b) != schedule.after[a].end();
+      };
+      std::vector<std::uint32_t> waits(slabs, 0), zeroed(slabs, 0);
+      for (std::uint32_t a = 0; a < slabs; ++a) {
+        for (const std::uint32_t b : schedule.after[a]) {
+          CHECK(a % 3 < b % 3);  // lower phase first: no cycle
+          ++waits[b];
+        }
+        for (const std::uint32_t s : schedule.zeroes[a]) ++zeroed[s];
+        // Tasks two slabs apart or closer write common grains (task s writes slabs s - 1 to s + 1): one waits for the
+        // other.
+        for (std::uint32_t b = a + 1; b < slabs; ++b)
+          if (distance(a, b) <= 2) CHECK(ordered(a, b) != ordered(b, a));
+      }
+      CHECK(waits == schedule.waits_for);
+      for (std::uint32_t s = 0; s < slabs; ++s) {
+        CHECK(zeroed[s] == 1);
+        // The task that zeroes slab s runs before every other task writing it.
+        std::uint32_t zeroer = 0;
+        for (std::uint32_t a = 0; a < slabs; ++a)
+          if (std::find(schedule.zeroes[a].begin(), schedule.zeroes[a].end(), s) != schedule.zeroes[a].end()) zeroer = a;
+        CHECK(distance(zeroer, s) <= 1);
+        for (std::uint32_t writer = 0; writer < slabs; ++writer)
+          if (writer != zeroer && distance(writer, s) <= 1) CHECK(ordered(zeroer, writer));
+      }
+    }
 }
