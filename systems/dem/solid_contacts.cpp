@@ -281,8 +281,11 @@ void contact_forces(const GrainState& grains, const GrainProperties& properties,
   const ContactSlabSchedule schedule = contact_slab_schedule(slabs, contacts.slab_periodic);
   std::vector<std::atomic<std::uint32_t>> waiting(slabs);
   for (std::uint32_t s = 0; s < slabs; ++s) waiting[s].store(schedule.waits_for[s], std::memory_order_relaxed);
+  // Declared before the group, so that the group (destroyed first) has waited for every task that calls it, even
+  // when a run() throws.
+  std::function<void(std::uint32_t)> run_slab;
   tbb::task_group group;
-  std::function<void(std::uint32_t)> run_slab = [&](std::uint32_t slab) {
+  run_slab = [&](std::uint32_t slab) {
     for (const std::uint32_t zeroed : schedule.zeroes[slab])
       for (std::uint32_t n = contacts.slab_offsets[zeroed]; n < contacts.slab_offsets[zeroed + 1]; ++n) {
         sums.force[contacts.slab_grains[n]] = Vec3::Zero();
