@@ -259,7 +259,7 @@ void slab_contact_forces(const std::uint32_t* slots, std::size_t slot_count, con
 template <class Neighbours>
 void contact_forces(const GrainState& grains, const GrainProperties& properties, const Neighbours& neighbours,
                     const Walls& walls, Contacts& contacts, const ContactModel& law, double dt,
-                    GrainContactForce& contact) {
+                    GrainContactForce& contact, const ContactSlabSchedule& schedule) {
   bool rolling = false;
   for (const ContactPairParameters& pair : law.pairs) rolling = rolling || pair.rolling_friction > 0.0;
   const std::size_t count = grains.size();
@@ -278,7 +278,6 @@ void contact_forces(const GrainState& grains, const GrainProperties& properties,
     return;
   }
   const auto slabs = static_cast<std::uint32_t>(contacts.slab_offsets.size() - 1);
-  const ContactSlabSchedule schedule = contact_slab_schedule(slabs, contacts.slab_periodic);
   std::vector<std::atomic<std::uint32_t>> waiting(slabs);
   for (std::uint32_t s = 0; s < slabs; ++s) waiting[s].store(schedule.waits_for[s], std::memory_order_relaxed);
   // Declared before the group, so that the group (destroyed first) has waited for every task that calls it, even
@@ -309,13 +308,19 @@ void SolidContactForces::run(SystemContext& context) {
   const Walls& walls = context.read<Walls>();
   Contacts& contacts = context.write<Contacts>();
   GrainContactForce& contact = context.write<GrainContactForce>();
+  const auto slabs = static_cast<std::uint32_t>(contacts.slab_offsets.empty() ? 0 : contacts.slab_offsets.size() - 1);
+  if (slabs != schedule_slabs_ || contacts.slab_periodic != schedule_periodic_) {
+    schedule_ = contact_slab_schedule(slabs, contacts.slab_periodic);
+    schedule_slabs_ = slabs;
+    schedule_periodic_ = contacts.slab_periodic;
+  }
   // A periodic box: the second grain of a pair may be a ghost (solid_neighbours built and exchanged the halo).
   if (contacts.halo.valid)
     contact_forces(grains, properties, GhostedNeighbours(grains, properties, contacts), walls, contacts,
-                   context.model.contact, context.dt, contact);
+                   context.model.contact, context.dt, contact, schedule_);
   else
     contact_forces(grains, properties, RealNeighbours(grains, properties), walls, contacts, context.model.contact,
-                   context.dt, contact);
+                   context.dt, contact, schedule_);
   context.count_items(grains.size());
 }
 

@@ -6,6 +6,7 @@
 // one grain at once and each grain's sum runs in an order that does not depend on the thread count: the result is
 // bit-identical for any thread count. Torque lever arm: R_i n for
 // each grain (numerics.md Sec. 4.1: the seed's (1/2) xi_ij holds only for equal sizes).
+#include "systems/physics/dem/contact_slabs.hpp"
 #include "systems/system.hpp"
 
 namespace riffle {
@@ -17,6 +18,13 @@ class SolidContactForces final : public System {
     return {component_ids<GrainState, GrainProperties, Walls>(), component_ids<Contacts, GrainContactForce>()};
   }
   void run(SystemContext& context) override;
+
+ private:
+  // The slabs' task order, a function of the slab count and periodicity alone: made when they change, not every
+  // sub-step.
+  ContactSlabSchedule schedule_;
+  std::uint32_t schedule_slabs_ = 0;
+  bool schedule_periodic_ = false;
 };
 
 }  // namespace riffle
