@@ -259,7 +259,8 @@ TEST_CASE("a settled bed under a lid too slow to move it, periodic in x and y: n
     double spacing;
     bool viscous;
   };
-  for (const Case& c : {Case{0.0025, false}, Case{0.0025, true}, Case{0.02 / 12, true}, Case{0.00125, true}}) {
+  // 1.67 mm, between the two, closed to +1.0 % (at deb9a2c) and is not run: it cost 30 % of the test's time.
+  for (const Case& c : {Case{0.0025, false}, Case{0.0025, true}, Case{0.00125, true}}) {
     CAPTURE(c.spacing);
     CAPTURE(c.viscous);
     const SlowLidBalance balance = run_slow_lid(bed, bed_top, c.spacing, c.viscous);
@@ -272,10 +273,10 @@ TEST_CASE("a settled bed under a lid too slow to move it, periodic in x and y: n
     // The water's momentum balance, tau_b = tau_lid - (1/A) dP_x/dt. With the viscous stress force it closes to
     // within 5 % of tau_lid at every spacing, a third of the 15 % the lid's traction itself is held to against Couette
     // above; without it tau_b falls short by 16-18 % beyond the unsteady term. Measured (the closure over tau_lid, its
-    // standard error 0.01-0.02 %): +0.7 % at l0 = 2.5 mm, +0.7 % at 1.67 mm, -2.4 % at 1.25 mm (d / l0 = 0.8-1.6:
+    // standard error 0.01-0.02 %) at deb9a2c: -0.3 % at l0 = 2.5 mm, -1.5 % at 1.25 mm (d / l0 = 0.8-1.6:
     // it does not grow with refinement; the remainder is systematic, not noise: the discrete voidage and nu lap u the
     // grains sample against those the water's reaction used, and the floor under the bed's pores); without the
-    // force -16 % (2.5 mm) and -18 % (1.25 mm, one run at run.dt = 1e-4 s).
+    // force -18 % (2.5 mm, deb9a2c) and -18 % (1.25 mm, one run at run.dt = 1e-4 s, earlier).
     if (c.viscous) {
       CHECK(std::abs(balance.closure()) < 0.05 * balance.tau_lid);
     } else {
