@@ -116,6 +116,11 @@ struct GrainDrag {
   /// pair of walls across x, y and z (with the walls' resistance at the grain's scale), as slow as the disturbance's
   /// slowest mode.
   std::vector<Vec3> self_induced_wall_x, self_induced_wall_y, self_induced_wall_z;
+  /// Ergun's drag at the grain's voidage over this fluid step, F = (ergun_resistance + ergun_inertial_resistance |w|) w
+  /// for the slip w (systems/physics/coupling/drag_law.hpp, ErgunDrag times the grain's volume): [N s/m] and
+  /// [N s^2/m^2], set by solid_drag_law once a step for the grains in Ergun's range (else 0), so that the drag's
+  /// sub-steps pay only for the slip.
+  std::vector<double> ergun_resistance, ergun_inertial_resistance;
 
   std::size_t size() const { return drag_force.size(); }
 
@@ -130,6 +135,9 @@ struct GrainDrag {
     visit(FieldInfo{"self_induced_wall_x", "m/s", false, 0.0, 11}, self.self_induced_wall_x);
     visit(FieldInfo{"self_induced_wall_y", "m/s", false, 0.0, 11}, self.self_induced_wall_y);
     visit(FieldInfo{"self_induced_wall_z", "m/s", false, 0.0, 11}, self.self_induced_wall_z);
+    // Set by solid_drag_law at every step's start from the voidage, before any reader: not checkpointed.
+    visit(FieldInfo{"ergun_resistance", "N s/m", false, 0.0, 0, false}, self.ergun_resistance);
+    visit(FieldInfo{"ergun_inertial_resistance", "N s^2/m^2", false, 0.0, 0, false}, self.ergun_inertial_resistance);
   }
 };
 
@@ -231,7 +239,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
-  static constexpr std::array<const char*, 42> kFieldOrder = {
+  static constexpr std::array<const char*, 44> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
@@ -240,7 +248,8 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
       "history_relative_velocity", "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
       "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7",
       "self_induced_fast", "self_induced_middle", "self_induced_slow", "viscous_force", "fixed",
-      "fluctuation_state", "self_induced_wall_x", "self_induced_wall_y", "self_induced_wall_z"};
+      "fluctuation_state", "self_induced_wall_x", "self_induced_wall_y", "self_induced_wall_z",
+      "ergun_resistance", "ergun_inertial_resistance"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 
@@ -263,18 +272,25 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
     return slot;
   }
 
-  /// A field newer than the file read (FieldInfo::since_format) is not in it: it gets its default for every grain.
+  /// A field not checkpointed (FieldInfo::checkpointed) is left out, and a field newer than the file read
+  /// (FieldInfo::since_format) is not in it: a read gives either its default for every grain.
   template <class Archive>
   void serialize(Archive& archive) {
     archive(next_id);
     bool absent_fields = false;
     for_each_field_in_order(*this, [&](const FieldInfo& info, auto& field) {
-      if constexpr (requires { archive.format_version(); })
-        if (archive.format_version() < info.since_format) {
+      if constexpr (Archive::is_loading::value) {
+        bool absent = !info.checkpointed;
+        if constexpr (requires { archive.format_version(); })
+          absent = absent || archive.format_version() < info.since_format;
+        if (absent) {
           field.clear();
           absent_fields = true;
           return;
         }
+      } else {
+        if (!info.checkpointed) return;
+      }
       archive(field);
     });
     if (absent_fields) resize_fields(*this, id.size());

@@ -8,6 +8,7 @@
 #include "systems/coupling/mean_flow_grains.hpp"
 #include "systems/mean_flow/mean_flow_momentum.hpp"
 #include "systems/coupling/solid_drag.hpp"
+#include "systems/coupling/solid_drag_law.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
 #include "systems/coupling/solid_lubrication.hpp"
 #include "systems/coupling/solid_history_force.hpp"
@@ -82,6 +83,8 @@ Pipeline build_pipeline(const Model& model) {
       pipeline.end_of_step.push_back(std::make_unique<MeanFlowDragReaction>(model));
     }
   }
+  // What the grains' drag keeps over the step (the law at each grain's voidage), from the water just sampled.
+  if (model.coupling.enabled && model.coupling.drag) pipeline.solid_step.push_back(std::make_unique<SolidDragLaw>(model));
   // Order matters only where systems share a component: the scheduler derives the edges from it.
   if (model.solids.enabled) pipeline.substep.push_back(std::make_unique<SolidKickDrift>(model));
   // The walls move once per sub-step when grains feel them, otherwise once per engine step.

@@ -48,10 +48,11 @@ void SolidDrag::run(SystemContext& context) {
   const Vec3 tank_shift = model_.self_induced_velocity ? tank_kinematics(tank_.motion, context.time).displacement
                                                        : Vec3::Zero();
   const double kPi = 3.14159265358979323846;
+  // A grain the self-induced correction does not act on (dry, or in a dense bed) had its disturbance cleared and its
+  // undisturbed velocity set at the step's start (solid_drag_law): it holds over the step.
   for_each_particle(grains.size(), [&](std::size_t grain) {
     if (sampled.fluid_weight[grain] <= 0.0) {
       drag.drag_force[grain] = Vec3::Zero();
-      if (model_.self_induced_velocity) clear_disturbance(drag, grain);
       return;
     }
     const double voidage = voidages.voidage[grain];
@@ -60,25 +61,26 @@ void SolidDrag::run(SystemContext& context) {
     // Mixture reading (docs/COUPLING.md): the sampled MPS velocity is the mixture's volume flux, so the pore water
     // passes the grain at (u - u_s) / eps; the seed's reading takes u as the pore velocity itself.
     const double share = flux_share(model_.fluid_velocity, voidage);
-    if (model_.self_induced_velocity && voidage > kSelfInducedMinVoidage) {
+    if (carries_self_induced_disturbance(model_, sampled.fluid_weight[grain], voidage)) {
       drag_without_own_disturbance(grain, grains, properties, sampled, voidage, share, dt, fluid_step, tank_shift,
                                    drag);
     } else {
       const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
       const Vec3 slip = relative / share;
-      const double coefficient = drag_per_volume(voidage, diameter, slip.norm(), density, viscosity, model_);
-      drag.drag_force[grain] = coefficient * volume * slip;
-      if (model_.self_induced_velocity) {  // a grain in a dense bed: no correction (its validity: dilute grains)
-        clear_disturbance(drag, grain);
-        drag.undisturbed_velocity[grain] = sampled.fluid_velocity[grain];
-      }
+      // In Ergun's range the law at this step's voidage is ready (solid_drag_law): only the slip is new.
+      if (ergun_applies(voidage, model_))
+        drag.drag_force[grain] =
+            (drag.ergun_resistance[grain] + drag.ergun_inertial_resistance[grain] * slip.norm()) * slip;
+      else
+        drag.drag_force[grain] =
+            drag_per_volume(voidage, diameter, slip.norm(), density, viscosity, model_) * volume * slip;
     }
     drag.drag_impulse[grain] += dt * drag.drag_force[grain];
   });
   context.count_items(grains.size());
 }
 
-void SolidDrag::clear_disturbance(GrainDrag& drag, std::size_t grain) {
+void clear_self_induced_disturbance(GrainDrag& drag, std::size_t grain) {
   drag.self_induced_fast[grain] = drag.self_induced_middle[grain] = drag.self_induced_slow[grain] = Vec3::Zero();
   drag.self_induced_wall_x[grain] = drag.self_induced_wall_y[grain] = drag.self_induced_wall_z[grain] = Vec3::Zero();
   drag.undisturbed_velocity[grain] = Vec3::Zero();

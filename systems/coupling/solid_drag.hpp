@@ -16,6 +16,14 @@ namespace riffle {
 /// pore velocity.
 inline constexpr double kSelfInducedMinVoidage = 0.8;
 
+/// Whether the self-induced correction acts on a grain: it has water around it (`fluid_weight` > 0) and is dilute.
+inline bool carries_self_induced_disturbance(const CouplingModel& coupling, double fluid_weight, double voidage) {
+  return coupling.self_induced_velocity && fluid_weight > 0.0 && voidage > kSelfInducedMinVoidage;
+}
+
+/// A grain without the correction: no disturbance in any mode or wall lag, and no undisturbed velocity.
+void clear_self_induced_disturbance(GrainDrag& drag, std::size_t grain);
+
 class SolidDrag final : public System {
  public:
   explicit SolidDrag(const Model& model);
@@ -26,7 +34,6 @@ class SolidDrag final : public System {
   void run(SystemContext& context) override;
 
  private:
-  void clear_disturbance(GrainDrag& drag, std::size_t grain);
   void drag_without_own_disturbance(std::size_t grain, const GrainState& grains, const GrainProperties& properties,
                                     const GrainSampledFluid& sampled, double voidage, double flux_share, double dt,
                                     double fluid_step, const Vec3& tank_shift, GrainDrag& drag);

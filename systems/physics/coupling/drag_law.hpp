@@ -24,6 +24,21 @@ inline double grain_volume(double radius) { return 4.0 / 3.0 * 3.141592653589793
 /// C_D Re_p for a sphere: 24 (1 + 0.15 Re^0.687) up to Re_p = 1000, then C_D,Newton Re_p (finite as Re_p -> 0).
 double drag_coefficient_times_reynolds(double reynolds, double newton_drag_coefficient);
 
+/// Whether drag_per_volume takes Ergun's law at `voidage` (else Wen & Yu's).
+inline bool ergun_applies(double voidage, const CouplingModel& coupling) {
+  return voidage <= 0.8 && coupling.dense_drag == CouplingModel::DenseDrag::kErgun;
+}
+
+/// Ergun's k = beta / (1 - eps) split by its dependence on the slip speed |w|: k = viscous + inertial |w|. A grain's
+/// voidage holds over a fluid step, so its sub-steps need only |w| (solid_drag_law sets the two once a step).
+struct ErgunDrag {
+  double viscous = 0.0;   ///< [kg/(m^3 s)] eps^2 mu / (K (1 - eps)), K = eps^3 d^2 / (150 (1 - eps)^2)
+  double inertial = 0.0;  ///< [kg/m^4] F_ch eps^3 rho / (sqrt(K) (1 - eps)), F_ch = 1.75 / (sqrt(150) eps^n)
+};
+/// Ergun's two terms for a grain of `diameter` at `voidage` (<= 0.8) in a fluid of `density` and dynamic `viscosity`,
+/// with the inertial term's voidage exponent n = coupling.ergun_inertial_exponent.
+ErgunDrag ergun_drag(double voidage, double diameter, double density, double viscosity, const CouplingModel& coupling);
+
 /// k = beta / (1 - eps) [kg / (m^3 s)] for a grain of `diameter` at voidage `voidage` with slip speed `slip`, in a
 /// fluid of density `density` and dynamic viscosity `viscosity`.
 double drag_per_volume(double voidage, double diameter, double slip, double density, double viscosity,

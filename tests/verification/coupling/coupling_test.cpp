@@ -12,6 +12,7 @@
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/coupling/fluid_drag_reaction.hpp"
 #include "systems/coupling/solid_drag.hpp"
+#include "systems/coupling/solid_drag_law.hpp"
 #include "systems/physics/coupling/voidage_grid.hpp"
 #include "tests/support/test_support.hpp"
 #include "tests/support/scene_builder.hpp"
@@ -302,6 +303,10 @@ TEST_CASE("mixture reading: the pore water passes a grain at (u - u_s) / eps and
     world.solids->fluid_velocity[slot] = flux;
     world.solids->voidage[slot] = eps;
     world.solids->fluid_weight[slot] = 1.0;
+    SolidDragLaw drag_law(model);  // the law at the grain's voidage, as every step's start sets it
+    const Access law_access = drag_law.access();
+    SystemContext law_context(world, model, drag_law, law_access, 0.0, 1.0e-3);
+    drag_law.run(law_context);
     SolidDrag drag(model);
     const Access drag_access = drag.access();
     SystemContext drag_context(world, model, drag, drag_access, 0.0, 1.0e-3);

@@ -27,6 +27,7 @@
 #include "systems/coupling/fluid_drag_reaction.hpp"
 #include "systems/coupling/fluid_sample_copy.hpp"
 #include "systems/coupling/solid_drag.hpp"
+#include "systems/coupling/solid_drag_law.hpp"
 #include "systems/coupling/solid_fluid_sampling.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "tests/support/test_support.hpp"
@@ -203,9 +204,10 @@ TEST_CASE("sampling-kernel reaction: a held grain in sheared water pushes the wa
     const double dt = 5.0e-4;
     FluidSampleCopy copy;
     SolidFluidSampling sampling(model);
+    SolidDragLaw drag_law(model);
     SolidDrag drag(model);
     FluidDragReaction reaction(model);
-    for (System* system : std::vector<System*>{&copy, &sampling, &drag, &reaction}) {
+    for (System* system : std::vector<System*>{&copy, &sampling, &drag_law, &drag, &reaction}) {
       const Access access = system->access();
       SystemContext context(world, model, *system, access, 0.0, dt);
       system->run(context);

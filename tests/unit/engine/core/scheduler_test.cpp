@@ -144,8 +144,11 @@ TEST_CASE("a coupled scene's fluid systems and the grains' sub-step loop share n
   REQUIRE(graph.find("fluid_sample_copy"));
   CHECK(graph.phase_of(*graph.find("fluid_sample_copy")) == "step_start");
   CHECK(graph.has_path(*graph.find("fluid_sample_copy"), *loop));
-  REQUIRE(stepper.substep_loop()->once().size() == 1);
+  // Then what the drag keeps over the step, from the water just sampled.
+  REQUIRE(stepper.substep_loop()->once().size() == 2);
   CHECK(stepper.substep_loop()->once().system(0).name() == "solid_fluid_sampling");
+  CHECK(stepper.substep_loop()->once().system(1).name() == "solid_drag_law");
+  CHECK(stepper.substep_loop()->once().has_path(0, 1));
   const std::vector<std::string> edges = graph.edge_names();
   const auto has = [&](const std::string& edge) { return std::find(edges.begin(), edges.end(), edge) != edges.end(); };
   // The voidage at the grains' new positions comes first, then the drag impulse goes back divided by it.
