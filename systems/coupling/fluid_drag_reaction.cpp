@@ -176,7 +176,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
     const auto gather = [&](const Vec3& query) {
       const auto keep = [&](const std::uint32_t* first, const std::uint32_t* last) {
         for (const std::uint32_t* j = first; j < last; ++j) {
-          batch.offer(*j, sampling_distance_squared(particles.position[*j] - query, stretch), kernel);
+          batch.offer(*j, sampling_distance_squared(fluid_grid_.member_position(j) - query, stretch), kernel);
           if (batch.full()) flush();
         }
       };
@@ -235,7 +235,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
         for (const std::uint32_t* k = first; k < last; ++k) {
           // The same offset as pass 1's, point - (centre + s) with s = -shift, bit for bit, in the same metric
           // (an ellipsoidal kernel's stretched dz): the weights pass 1 normalised with are the ones spread with.
-          batch.offer(*k, sampling_distance_squared(point - Vec3(spread_centre_[*k] - shift), spread_stretch_[*k]),
+          batch.offer(*k, sampling_distance_squared(point - Vec3(grain_grid_.member_position(k) - shift), spread_stretch_[*k]),
                       spread_kernel_[*k]);
           if (batch.full()) flush();
         }

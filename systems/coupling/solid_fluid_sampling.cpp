@@ -75,6 +75,7 @@ void SolidFluidSampling::run(SystemContext& context) {
     // norm), and the sums run in the same order as one candidate at a time.
     FluidPairBatch batch;
     batch.count = 0;
+    std::array<double, kPairBatch> squared;  // a chunk of a run's candidates' s^2
     const auto flush = [&] {
       evaluate_pair_geometry(batch, sampling_kernel);
       for (std::size_t k = 0; k < batch.count; ++k) {
@@ -91,13 +92,27 @@ void SolidFluidSampling::run(SystemContext& context) {
     // is met twice): exact and without a halo as wide as the sampling radius. Without a period: the centre alone.
     const auto gather = [&](const Vec3& query) {
       const auto keep = [&](const std::uint32_t* first, const std::uint32_t* last) {
-        for (const std::uint32_t* member = first; member < last; ++member) {
-          const std::size_t k = batch.count;
-          batch.slot[k] = *member;
-          batch.distance_squared[k] = sampling_distance_squared(fluid.position[*member] - query, stretch);
-          batch.count += batch.distance_squared[k] < radius_squared ? 1 : 0;
-          if (batch.count == kPairBatch) flush();
+        // A run's distances in one vectorised loop over the grid's copy of the positions, then the kept ones
+        // compacted; the batch's end in a local while filling (in batch.count it would go through memory at every
+        // candidate: the compiler cannot tell the batch's stores from it).
+        const CellGrid::Coordinates at = fluid_grid_.member_coordinates(first);
+        const auto candidates = static_cast<std::size_t>(last - first);
+        std::size_t count = batch.count;
+        for (std::size_t begin = 0; begin < candidates; begin += kPairBatch) {
+          const std::size_t chunk = std::min(kPairBatch, candidates - begin);
+          squared_offsets(at.x + begin, at.y + begin, at.z + begin, chunk, query, stretch, squared.data());
+          for (std::size_t k = 0; k < chunk; ++k) {
+            batch.slot[count] = first[begin + k];
+            batch.distance_squared[count] = squared[k];
+            count += squared[k] < radius_squared ? 1 : 0;
+            if (count == kPairBatch) {
+              batch.count = count;
+              flush();
+              count = 0;
+            }
+          }
         }
+        batch.count = count;
       };
       fluid_grid_.for_each_candidate_run(query, sampling_kernel.effective_radius, keep);
     };

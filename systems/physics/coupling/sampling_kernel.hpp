@@ -4,6 +4,8 @@
 // metric s^2 = (dx^2 + dy^2 + (R_h/R_v)^2 dz^2), so the weight is the usual w(s) on the kernel of radius R_h and the
 // cut is s < R_h: the ellipsoid lies inside the sphere of R_h, so a search of radius R_h finds every pair. With
 // R_v = R_h the stretch is exactly 1 and s^2 is |d|^2 bit for bit (x * 1.0 = x).
+#include <cstddef>
+
 #include "components/vec.hpp"
 
 namespace riffle {
@@ -18,5 +20,10 @@ inline double sampling_distance_squared(const Vec3& offset, double vertical_stre
   // Eigen's squaredNorm, as the isotropic loops used: the same operations in the same order.
   return Vec3(offset.x(), offset.y(), offset.z() * vertical_stretch).squaredNorm();
 }
+
+/// out[k] = sampling_distance_squared((x[k], y[k], z[k]) - centre, vertical_stretch) for k < count, bit for bit, in
+/// one vectorised loop (a grain's candidate particles, a run of grid cells at a time).
+void squared_offsets(const double* x, const double* y, const double* z, std::size_t count, const Vec3& centre,
+                     double vertical_stretch, double* out);
 
 }  // namespace riffle

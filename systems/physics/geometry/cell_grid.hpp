@@ -60,6 +60,28 @@ class CellGrid {
     members_.resize(count);
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
     for (std::size_t k = 0; k < count; ++k) members_[fill[cell_of_[k]]++] = static_cast<std::uint32_t>(first + k);
+    for (auto& coordinate : member_coordinates_) coordinate.resize(count);
+    for (std::size_t m = 0; m < count; ++m)
+      for (std::size_t axis = 0; axis < 3; ++axis)
+        member_coordinates_[axis][m] = points[members_[m]][static_cast<Eigen::Index>(axis)];
+  }
+
+  /// The members' coordinates from `member` (a pointer into a run for_each_candidate_run handed out) on, as they
+  /// were when the grid was built, x, y and z apart and in the runs' order: a run's distances are then one
+  /// vectorised loop over contiguous memory (squared_offsets), where points[*member] would be read one by one.
+  struct Coordinates {
+    const double* x;
+    const double* y;
+    const double* z;
+  };
+  Coordinates member_coordinates(const std::uint32_t* member) const {
+    const auto m = static_cast<std::size_t>(member - members_.data());
+    return {member_coordinates_[0].data() + m, member_coordinates_[1].data() + m, member_coordinates_[2].data() + m};
+  }
+  /// The position of the member at `member`, as it was when the grid was built.
+  Vec3 member_position(const std::uint32_t* member) const {
+    const Coordinates at = member_coordinates(member);
+    return Vec3(*at.x, *at.y, *at.z);
   }
 
   /// Calls visit(first, last) for each row of cells (fixed y, z) that the box of `radius` around `centre` reaches:
@@ -110,6 +132,7 @@ class CellGrid {
   Vec3 low_ = Vec3::Zero();
   std::array<std::int64_t, 3> cells_{1, 1, 1};
   std::vector<std::uint32_t> start_, members_;
+  std::array<std::vector<double>, 3> member_coordinates_;  ///< points[members_[m]] at the build, per axis
   std::vector<std::size_t> cell_of_;
 };
 
