@@ -77,7 +77,7 @@ void SolidFluidSampling::run(SystemContext& context) {
     batch.count = 0;
     std::array<double, kPairBatch> squared;  // a chunk of a run's candidates' s^2
     const auto flush = [&] {
-      evaluate_pair_geometry(batch, sampling_kernel);
+      evaluate_pair_weights(batch, sampling_kernel);
       for (std::size_t k = 0; k < batch.count; ++k) {
         const double weight = batch.weight[k];
         weight_sum += weight;

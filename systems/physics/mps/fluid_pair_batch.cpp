@@ -28,4 +28,15 @@ RIFFLE_PAIR_KERNEL_CLONES void evaluate_pair_geometry(FluidPairBatch& batch, con
   }
 }
 
+RIFFLE_PAIR_KERNEL_CLONES void evaluate_pair_weights(FluidPairBatch& batch, const WendlandKernel& kernel) {
+  const WendlandKernel local = kernel;
+  const double effective_radius = local.effective_radius;
+  const std::size_t count = batch.count;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double distance = std::sqrt(batch.distance_squared[k]);
+    const double weight = local.weight_inside(distance);
+    batch.weight[k] = distance >= effective_radius ? 0.0 : weight;
+  }
+}
+
 }  // namespace riffle

@@ -29,6 +29,9 @@ struct FluidPairBatch {
 
 /// Fills distance, inverse_squared and weight of pairs [0, batch.count) from distance_squared.
 void evaluate_pair_geometry(FluidPairBatch& batch, const WendlandKernel& kernel);
+/// Fills only the weight (the same values as evaluate_pair_geometry's): for the loops that need nothing else (the
+/// grains' sampling), without the division for 1/r^2.
+void evaluate_pair_weights(FluidPairBatch& batch, const WendlandKernel& kernel);
 
 /// Walks `list` a batch at a time (`batch` is the caller's scratch: declared beside the loop that uses it, it keeps
 /// the measured speed of the prediction; inside this function it cost 30 %): fills the batch's offsets, evaluates its geometry and calls pair(batch, k) on its
