@@ -69,10 +69,11 @@ void SolidFluidSampling::run(SystemContext& context) {
     const double stretch = sampling_vertical_stretch(sampling_kernel.effective_radius, vertical_radius_);
     double weight_sum = 0.0;
     Vec3 velocity = Vec3::Zero(), gradient = Vec3::Zero(), viscous = Vec3::Zero();
-    // The fluid particles within the sampling radius, in grid order, a batch at a time: each candidate is written
-    // and kept by advancing the end (about half are kept, at random to a branch predictor), the distances and
-    // weights of a batch are evaluated in one vectorised pass (the same operations as WendlandKernel::weight of the
-    // norm), and the sums run in the same order as one candidate at a time.
+    // The fluid particles within the sampling radius, in grid order, a batch at a time: a run of cells' candidates
+    // get their s^2 in one vectorised loop over the grid's copy of the positions (squared_offsets), each is written
+    // and kept by advancing the end (whether it is kept is random to a branch predictor), the weights of a batch are
+    // evaluated in one vectorised pass (the same operations as WendlandKernel::weight of the norm), and the sums run
+    // in the same order as one candidate at a time.
     FluidPairBatch batch;
     batch.count = 0;
     std::array<double, kPairBatch> squared;  // a chunk of a run's candidates' s^2
@@ -92,9 +93,8 @@ void SolidFluidSampling::run(SystemContext& context) {
     // is met twice): exact and without a halo as wide as the sampling radius. Without a period: the centre alone.
     const auto gather = [&](const Vec3& query) {
       const auto keep = [&](const std::uint32_t* first, const std::uint32_t* last) {
-        // A run's distances in one vectorised loop over the grid's copy of the positions, then the kept ones
-        // compacted; the batch's end in a local while filling (in batch.count it would go through memory at every
-        // candidate: the compiler cannot tell the batch's stores from it).
+        // The batch's end in a local while filling (in batch.count it would go through memory at every candidate:
+        // the compiler cannot tell the batch's stores from it).
         const CellGrid::Coordinates at = fluid_grid_.member_coordinates(first);
         const auto candidates = static_cast<std::size_t>(last - first);
         std::size_t count = batch.count;
