@@ -89,14 +89,20 @@ void clear_self_induced_disturbance(GrainDrag& drag, std::size_t grain) {
 // docs/COUPLING.md, "The undisturbed fluid velocity". The water received the grain's drag (over the flux share in the
 // mixture reading) spread with the sampling kernel, so the sampled velocity holds the grain's own regularised
 // Stokeslet: steady, u_self = -K phi(Re_R) F / flux_share with K = <1/r> / (6 pi mu), built up over time through
-// three first-order lags (SelfInducedModes). Each mode m relaxes over this sub-step towards -a_m K phi F_new with the
-// exact factor e_m = exp(-dt / tau_m), so u_self,new = carried - alpha K phi F_new / flux_share with
-// carried = sum e_m y_m and alpha = sum a_m (1 - e_m). The slip the drag sees, w = u_sampled - u_self,new - v, then
-// satisfies w (1 - gain(|w|)) = u_sampled - v - carried (self_induced.hpp): solved along that direction.
-// The Oseen linearisation is about the water the spread force moves through: in the Lagrangian MPS water the
-// particles around the grain move with its disturbance, so Re_R = |u_sampled - v| R / nu (known for the sub-step,
-// so phi is explicit). Convection also ends the build-up: the mode times are T_m R^2 / (nu (1 + T_m Re_R)), the
-// diffusive time capped by the time R / |u_sampled - v| the water takes to pass the kernel.
+// three first-order lags. Each mode m relaxes over this sub-step towards -b_m K F_new (b_m the amplitudes fitted to
+// the unsteady Oseen build-up at Re_R, summing to phi; self_induced_mode_amplitudes) with the exact factor
+// e_m = exp(-dt / tau_m), so u_self,new = carried - alpha K F_new / flux_share with carried = sum e_m y_m and
+// alpha = sum b_m (1 - e_m). The slip the drag sees, w = u_sampled - u_self,new - v, then satisfies
+// w (1 - gain(|w|)) = u_sampled - v - carried (self_induced.hpp): solved along that direction.
+// The Oseen linearisation has two speeds. The slow mode is the far field, built where the water is undisturbed: the
+// spread force moves through it at the grain's velocity relative to the undisturbed water, Re_R = |u_sampled -
+// u_carried - v| R / nu (the disturbance carried from the last sub-step: explicit). The fast and middle modes are
+// the kernel's own scale, where the Lagrangian MPS water moves with the disturbance: Re_near = |u_sampled - v| R /
+// nu. Each mode takes its amplitude and time at its own Reynolds number (the mode times T_m R^2 / (nu (1 + T_m Re)):
+// convection ends each build-up within about the time the water takes to pass the kernel). Measured on a grain
+// settling at Re 1, d/l0 = 1: the MPS water's own disturbance follows the unsteady Oseen response at Re_R within
+// 2-7 % until the walls come near; with Re_near on every mode the steady disturbance came out 10 % high, and with
+// Re_R on every mode the build-up at Re 10, d/l0 = 2 lagged the water's (the terminal speed 3.3 % fast).
 void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState& grains,
                                              const GrainProperties& properties, const GrainSampledFluid& sampled,
                                              double voidage, double flux_share, double dt, double fluid_step,
@@ -112,7 +118,12 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   const Vec3& velocity = grains.velocity[grain];
   const Vec3& sampled_velocity = sampled.fluid_velocity[grain];
 
-  const double relative_speed = (sampled_velocity - velocity).norm();
+  // The speed the spread force moves through the water at, far from the grain: its velocity relative to the
+  // undisturbed water, estimated with the disturbance carried from the last sub-step.
+  const Vec3 carried_disturbance = drag.self_induced_fast[grain] + drag.self_induced_middle[grain] +
+                                   drag.self_induced_slow[grain] + drag.self_induced_wall_x[grain] +
+                                   drag.self_induced_wall_y[grain] + drag.self_induced_wall_z[grain];
+  const double relative_speed = (sampled_velocity - carried_disturbance - velocity).norm();
   const double reynolds_r = relative_speed * kernel_radius / nu;
   // The other grains around screen the disturbance (Brinkman): the water between them is resisted by
   // (1 - eps) times the drag per grain volume, mu / l_B^2, at the sub-step's known slip. A lone grain reads eps = 1
@@ -126,7 +137,14 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
       drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_);
   const double resistance_per_volume = solid_fraction * known_drag_per_volume / flux_share;
   const double kernel_over_screening = kernel_radius * std::sqrt(resistance_per_volume / viscosity);
-  const double phi = self_induced_oseen_factor(reynolds_r) * self_induced_brinkman_factor(kernel_over_screening);
+  const double brinkman = self_induced_brinkman_factor(kernel_over_screening);
+  const double reynolds_near = (sampled_velocity - velocity).norm() * kernel_radius / nu;
+  const auto mode_reynolds = [&](int m) { return m + 1 < SelfInducedModes::kCount ? reynolds_near : reynolds_r; };
+  std::array<double, SelfInducedModes::kCount> amplitudes = self_induced_mode_amplitudes(reynolds_r);
+  const std::array<double, SelfInducedModes::kCount> near_amplitudes = self_induced_mode_amplitudes(reynolds_near);
+  for (int m = 0; m + 1 < SelfInducedModes::kCount; ++m)
+    amplitudes[static_cast<std::size_t>(m)] = near_amplitudes[static_cast<std::size_t>(m)];
+  const double phi = (amplitudes[0] + amplitudes[1] + amplitudes[2]) * brinkman;
   // The water shows a sub-step's drag about two fluid steps later (spread at the step's end, applied in the next
   // step's prediction, sampled at the start of the one after, used over it): each lag also waits that long (a
   // delay d ahead of a lag tau is a lag tau + d to first order).
@@ -137,13 +155,11 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   Vec3 carried = Vec3::Zero();
   double alpha = 0.0, slow_time = 0.0;
   for (int m = 0; m < SelfInducedModes::kCount; ++m) {
-    const double tau = SelfInducedModes::time[m] * kernel_radius * kernel_radius /
-                           (nu * (1.0 + SelfInducedModes::time[m] * reynolds_r)) +
-                       exchange_delay;
+    const double tau = self_induced_mode_time(m, mode_reynolds(m)) * kernel_radius * kernel_radius / nu + exchange_delay;
     slow_time = std::max(slow_time, tau);
     keep[m] = std::exp(-dt / tau);
     carried += keep[m] * *modes[m];
-    alpha += SelfInducedModes::amplitude[m] * (1.0 - keep[m]);
+    alpha += amplitudes[static_cast<std::size_t>(m)] * brinkman * (1.0 - keep[m]);
   }
   // The tank's walls hold the water, so the disturbance next to them is smaller (self_induced_wall_factors), along
   // a wall's normal most: each wall takes off (1 - f) of the free disturbance, per component. And the drag law is the
@@ -215,7 +231,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // u_self,new = carried - K diag(m) F / flux_share - diag(rho) w, with m_i = alpha phi - the walls' reductions
   // (at least 0: the walls' lag is the slowest mode's, so (1 - keep) <= alpha) and rho_i the walls' resistance
   // shares, each through its lag's step (1 - keep).
-  Vec3 gain_share = Vec3::Constant(alpha * phi), resistance_gain = Vec3::Zero();
+  Vec3 gain_share = Vec3::Constant(alpha), resistance_gain = Vec3::Zero();
   for (int axis = 0; axis < 3; ++axis) {
     gain_share -= (1.0 - wall_keep[axis]) * wall_reduction[axis];
     resistance_gain += (1.0 - wall_keep[axis]) * wall_resistance_share[axis];
@@ -233,7 +249,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   Vec3 disturbance = Vec3::Zero();
   for (int m = 0; m < SelfInducedModes::kCount; ++m) {
     *modes[m] = keep[m] * *modes[m] -
-                (SelfInducedModes::amplitude[m] * (1.0 - keep[m]) * mobility * phi / flux_share) * force;
+                (amplitudes[static_cast<std::size_t>(m)] * brinkman * (1.0 - keep[m]) * mobility / flux_share) * force;
     disturbance += *modes[m];
   }
   for (int axis = 0; axis < 3; ++axis) {

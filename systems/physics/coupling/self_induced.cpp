@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "components/vec.hpp"
 
@@ -283,6 +286,161 @@ double self_induced_brinkman_factor(double kernel_over_screening) {
 double self_induced_buildup(double time) {
   const KernelTransform& table = kernel_transform();
   return table.integrate([&](double kappa) { return 1.0 - std::exp(-kappa * kappa * time); }) / table.integral;
+}
+
+namespace {
+
+/// (sin b - b cos b) / b^3, its series below b = 0.1 (the next term, b^6 / 45360, is below 1e-10 there).
+double oseen_direction_average(double b) {
+  if (b < 0.1) {
+    const double b2 = b * b;
+    return 1.0 / 3.0 - b2 / 30.0 + b2 * b2 / 840.0;
+  }
+  return (std::sin(b) - b * std::cos(b)) / (b * b * b);
+}
+
+/// d psi / dT at (T, Re_R): the trapezoidal rule over the kernel's transform up to kappa = 40 (W^2 < 4e-11 beyond)
+/// and where exp(-kappa^2 T) > e^-50.
+double oseen_buildup_rate(double time, double reynolds_r) {
+  const KernelTransform& table = kernel_transform();
+  constexpr double kKappaMax = 40.0;
+  const double kappa_cut = time > 0.0 ? std::min(kKappaMax, std::sqrt(50.0 / time)) : kKappaMax;
+  const int last = static_cast<int>(kappa_cut / KernelTransform::kStep);
+  double sum = 0.0;
+  for (int i = 1; i <= last; ++i) {  // kappa = 0 contributes nothing (kappa^2)
+    const double kappa = i * KernelTransform::kStep;
+    const double term = table.squared[static_cast<std::size_t>(i)] * kappa * kappa * std::exp(-kappa * kappa * time) *
+                        3.0 * oseen_direction_average(reynolds_r * kappa * time);
+    sum += i == last ? 0.5 * term : term;
+  }
+  return sum * KernelTransform::kStep / table.integral;
+}
+
+/// psi(T_k, Re_R) on the grid T_0 = 0, T_k = 10^(-5 + (k - 1) / 20) up to 10^3: the rate integrated by the
+/// trapezoidal rule.
+struct OseenBuildupCurve {
+  static constexpr int kPoints = 162;
+  std::array<double, kPoints> time{};
+  std::array<double, kPoints> value{};
+  explicit OseenBuildupCurve(double reynolds_r) {
+    double previous_rate = oseen_buildup_rate(0.0, reynolds_r);
+    for (int k = 1; k < kPoints; ++k) {
+      time[static_cast<std::size_t>(k)] = std::pow(10.0, -5.0 + (k - 1) / 20.0);
+      const double rate = oseen_buildup_rate(time[static_cast<std::size_t>(k)], reynolds_r);
+      value[static_cast<std::size_t>(k)] =
+          value[static_cast<std::size_t>(k - 1)] +
+          0.5 * (rate + previous_rate) * (time[static_cast<std::size_t>(k)] - time[static_cast<std::size_t>(k - 1)]);
+      previous_rate = rate;
+    }
+  }
+  double at(double t) const {
+    if (!(t > 0.0)) return 0.0;
+    if (t >= time.back()) return value.back();
+    const auto upper = static_cast<std::size_t>(std::upper_bound(time.begin(), time.end(), t) - time.begin());
+    const double f = (t - time[upper - 1]) / (time[upper] - time[upper - 1]);
+    return (1.0 - f) * value[upper - 1] + f * value[upper];
+  }
+};
+
+/// b >= 0 with sum b = phi minimising |A b - psi|^2 (A_km = 1 - exp(-T_k / T_m)): every support of the three modes
+/// is tried, each an equality-constrained least-squares problem (its KKT system), the best feasible one kept.
+std::array<double, SelfInducedModes::kCount> fit_mode_amplitudes(double reynolds_r) {
+  constexpr int kModes = SelfInducedModes::kCount;
+  const OseenBuildupCurve curve(reynolds_r);
+  const double phi = self_induced_oseen_factor(reynolds_r);
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d projected = Eigen::Vector3d::Zero();
+  double psi_squares = 0.0;
+  for (int k = 1; k < OseenBuildupCurve::kPoints; ++k) {
+    const double t = curve.time[static_cast<std::size_t>(k)];
+    if (t < 1e-3 * (1.0 - 1e-12) || t > 1e2 * (1.0 + 1e-12)) continue;
+    Eigen::Vector3d row;
+    for (int m = 0; m < kModes; ++m) row[m] = 1.0 - std::exp(-t / self_induced_mode_time(m, reynolds_r));
+    normal += row * row.transpose();
+    projected += row * curve.value[static_cast<std::size_t>(k)];
+    psi_squares += curve.value[static_cast<std::size_t>(k)] * curve.value[static_cast<std::size_t>(k)];
+  }
+  std::array<double, kModes> best{};
+  double best_residual = std::numeric_limits<double>::infinity();
+  for (int support = 1; support < (1 << kModes); ++support) {
+    std::array<int, kModes> members{};
+    int size = 0;
+    for (int m = 0; m < kModes; ++m)
+      if (support & (1 << m)) members[static_cast<std::size_t>(size++)] = m;
+    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(size + 1, size + 1);
+    Eigen::VectorXd rhs(size + 1);
+    for (int i = 0; i < size; ++i) {
+      for (int j = 0; j < size; ++j) kkt(i, j) = normal(members[static_cast<std::size_t>(i)], members[static_cast<std::size_t>(j)]);
+      kkt(i, size) = kkt(size, i) = 1.0;
+      rhs[i] = projected[members[static_cast<std::size_t>(i)]];
+    }
+    rhs[size] = phi;
+    const Eigen::VectorXd solution = kkt.fullPivLu().solve(rhs);
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    bool feasible = true;
+    for (int i = 0; i < size; ++i) {
+      b[members[static_cast<std::size_t>(i)]] = solution[i];
+      feasible = feasible && solution[i] >= 0.0;
+    }
+    if (!feasible) continue;
+    const double residual = b.dot(normal * b) - 2.0 * b.dot(projected) + psi_squares;
+    if (residual < best_residual) {
+      best_residual = residual;
+      for (int m = 0; m < kModes; ++m) best[static_cast<std::size_t>(m)] = b[m];
+    }
+  }
+  return best;
+}
+
+/// The amplitudes at Re_R = 0 and at log10 Re_R = -2 to 4, eight per decade.
+struct ModeAmplitudeTable {
+  static constexpr double kLogLow = -2.0;
+  static constexpr double kLogHigh = 4.0;
+  static constexpr int kLogPoints = 49;
+  std::array<std::array<double, SelfInducedModes::kCount>, kLogPoints + 1> amplitudes{};
+  ModeAmplitudeTable() {
+    amplitudes[0] = fit_mode_amplitudes(0.0);
+    for (int n = 0; n < kLogPoints; ++n)
+      amplitudes[static_cast<std::size_t>(n + 1)] =
+          fit_mode_amplitudes(std::pow(10.0, kLogLow + (kLogHigh - kLogLow) * n / (kLogPoints - 1)));
+  }
+};
+
+}  // namespace
+
+double self_induced_oseen_buildup(double time, double reynolds_r) {
+  return OseenBuildupCurve(reynolds_r).at(time);
+}
+
+double self_induced_mode_time(int mode, double reynolds_r) {
+  const double stokes = SelfInducedModes::time[static_cast<std::size_t>(mode)];
+  return stokes / (1.0 + stokes * std::max(reynolds_r, 0.0));
+}
+
+std::array<double, SelfInducedModes::kCount> self_induced_mode_amplitudes(double reynolds_r) {
+  static const ModeAmplitudeTable table;
+  using Table = ModeAmplitudeTable;
+  std::array<double, SelfInducedModes::kCount> result{};
+  const auto blend = [&](std::size_t a, std::size_t b, double f) {
+    for (std::size_t m = 0; m < result.size(); ++m)
+      result[m] = (1.0 - f) * table.amplitudes[a][m] + f * table.amplitudes[b][m];
+  };
+  if (!(reynolds_r > 0.0)) return table.amplitudes[0];
+  const double low = std::pow(10.0, Table::kLogLow);
+  if (reynolds_r <= low) {
+    blend(0, 1, reynolds_r / low);
+    return result;
+  }
+  const double position =
+      (std::log10(reynolds_r) - Table::kLogLow) / (Table::kLogHigh - Table::kLogLow) * (Table::kLogPoints - 1);
+  if (position >= Table::kLogPoints - 1) {  // beyond: the last fit's shares of phi
+    const double scale = self_induced_oseen_factor(reynolds_r) / self_induced_oseen_factor(std::pow(10.0, Table::kLogHigh));
+    for (std::size_t m = 0; m < result.size(); ++m) result[m] = scale * table.amplitudes.back()[m];
+    return result;
+  }
+  const auto n = static_cast<std::size_t>(position);
+  blend(n + 1, n + 2, position - static_cast<double>(n));
+  return result;
 }
 
 }  // namespace riffle

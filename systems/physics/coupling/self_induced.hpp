@@ -48,6 +48,24 @@ struct SelfInducedModes {
 /// psi(T), T = nu t / R^2, by quadrature of the kernel's transform (for the tests of the mode fit).
 double self_induced_buildup(double time);
 
+/// The same build-up with the water passing the spread force at Re_R = |u_undisturbed - v| R / nu (the linearised
+/// Oseen response, unsteady): psi(T, Re_R), tending to phi(Re_R). Its rate has a closed angular integral,
+/// d psi / dT = int W^2 kappa^2 exp(-kappa^2 T) 3 j(Re_R kappa T) d kappa / int W^2, j(b) = (sin b - b cos b) / b^3
+/// (the Oseen symbol's decaying oscillation averaged over the directions, with the projector's weight 1 - c^2),
+/// integrated in T by the trapezoidal rule on a fine logarithmic grid.
+double self_induced_oseen_buildup(double time, double reynolds_r);
+
+/// Each mode's time at Re_R, T_m / (1 + T_m Re_R) in nu t / R^2: convection ends the build-up of every mode within
+/// about the time the water takes to pass the kernel.
+double self_induced_mode_time(int mode, double reynolds_r);
+
+/// The modes' amplitudes at Re_R: b_m >= 0 with sum phi(Re_R), so that sum_m b_m (1 - exp(-T / T_m(Re_R))) is the
+/// least-squares fit of psi(T, Re_R) over T = 1e-3 to 100 (logarithmic points). At Re_R = 0 it is the Stokes fit
+/// (SelfInducedModes' amplitudes, to the fit's rounding); at large Re_R the fast modes carry what is left: a
+/// uniform phi on every mode, as the Stokes fit scaled, builds the screened disturbance too slowly (by up to a
+/// tenth of it at Re_R = 10). Tabulated in log Re_R on first use, interpolated.
+std::array<double, SelfInducedModes::kCount> self_induced_mode_amplitudes(double reynolds_r);
+
 /// The steady self-induced velocity next to one no-slip plane over the free one, along the plane's normal and
 /// along the plane, for a grain whose centre is `height_over_radius` = h / R from it. The kernel-spread force's
 /// Stokeslet with Blake's (1971, Proc. Camb. Phil. Soc. 70) image system, sampled by the same kernel; both kernels

@@ -85,6 +85,46 @@ TEST_CASE("the three lags reproduce the build-up of the regularised Stokeslet wi
   CHECK(self_induced_buildup(1e4) > 0.99);
 }
 
+TEST_CASE("the unsteady Oseen build-up is the Stokes one at Re_R = 0 and tends to the steady Oseen factor") {
+  for (double t : {1e-3, 0.01, 0.1, 1.0, 10.0})
+    CHECK(self_induced_oseen_buildup(t, 0.0) == doctest::Approx(self_induced_buildup(t)).epsilon(3e-3));
+  for (double re : {1.0, 3.0, 10.0, 100.0})
+    CHECK(self_induced_oseen_buildup(1e3, re) == doctest::Approx(self_induced_oseen_factor(re)).epsilon(5e-3));
+  // Independent values: a python quadrature of the unsteady symbol itself, Re[(1 - exp(-z T)) / z] with
+  // z = kappa^2 + i Re_R kappa c, over kappa (to 120) and c (801 points), not its rate's closed angular integral.
+  CHECK(self_induced_oseen_buildup(0.2, 1.0) == doctest::Approx(0.4891).epsilon(3e-3));
+  CHECK(self_induced_oseen_buildup(1.0, 1.0) == doctest::Approx(0.7280).epsilon(3e-3));
+  CHECK(self_induced_oseen_buildup(0.1, 2.9) == doctest::Approx(0.3510).epsilon(3e-3));
+  CHECK(self_induced_oseen_buildup(1.0, 2.9) == doctest::Approx(0.6300).epsilon(3e-3));
+  CHECK(self_induced_oseen_buildup(0.05, 10.0) == doctest::Approx(0.2153).epsilon(3e-3));
+  CHECK(self_induced_oseen_buildup(0.2, 10.0) == doctest::Approx(0.3284).epsilon(3e-3));
+}
+
+TEST_CASE("the modes' amplitudes sum to the Oseen factor and follow the unsteady build-up at every Re_R") {
+  const auto stokes = self_induced_mode_amplitudes(0.0);
+  for (int m = 0; m < SelfInducedModes::kCount; ++m)
+    CHECK(stokes[static_cast<std::size_t>(m)] == doctest::Approx(SelfInducedModes::amplitude[static_cast<std::size_t>(m)]).epsilon(0.05));
+  for (double re = 1e-3; re < 3e4; re *= 1.9) {
+    CAPTURE(re);
+    const auto b = self_induced_mode_amplitudes(re);
+    const double phi = self_induced_oseen_factor(re);
+    CHECK(b[0] + b[1] + b[2] == doctest::Approx(phi).epsilon(0.01));
+    for (double amplitude : b) CHECK(amplitude >= 0.0);
+    // The fit's worst departure over T = 1e-3 to 100: within 0.04 of the Stokes disturbance (the Stokes fit's own
+    // bound, the 1/sqrt(T) tail three exponentials do not follow) and within a quarter of phi.
+    if (re > 1e3) continue;  // beyond, phi < 1 %: the build-up is over within a mode's time
+    double worst = 0.0;
+    for (double t = 1e-3; t <= 100.0; t *= 1.4) {
+      double fit = 0.0;
+      for (int m = 0; m < SelfInducedModes::kCount; ++m)
+        fit += b[static_cast<std::size_t>(m)] * (1.0 - std::exp(-t / self_induced_mode_time(m, re)));
+      worst = std::max(worst, std::abs(fit - self_induced_oseen_buildup(t, re)));
+    }
+    CHECK(worst < 0.045);
+    CHECK(worst < 0.25 * phi);
+  }
+}
+
 TEST_CASE("the drag and its disturbance solve to the fixed point along the slip") {
   // gain(x) = 0.4 (1 + 0.15 x^0.687): x (1 - gain) = rhs; check the residual and a constant-gain closed form.
   const auto gain = [](double x) { return 0.4 * (1.0 + 0.15 * std::pow(x, 0.687)) / (1.0 + 0.3 * x); };
