@@ -101,8 +101,8 @@ void clear_self_induced_disturbance(GrainDrag& drag, std::size_t grain) {
 // nu. Each mode takes its amplitude and time at its own Reynolds number (the mode times T_m R^2 / (nu (1 + T_m Re)):
 // convection ends each build-up within about the time the water takes to pass the kernel). Measured on a grain
 // settling at Re 1, d/l0 = 1: the MPS water's own disturbance follows the unsteady Oseen response at Re_R within
-// 2-7 % until the walls come near; with Re_near on every mode the steady disturbance came out 10 % high, and with
-// Re_R on every mode the build-up at Re 10, d/l0 = 2 lagged the water's (the terminal speed 3.3 % fast).
+// 8 % until the floor comes near; with Re_near on every mode the model's came out 11-13 % higher, and with Re_R on
+// every mode the build-up at Re 10, d/l0 = 2 lagged the water's (the terminal speed 3.3 % fast; docs/cases/settling.md).
 void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState& grains,
                                              const GrainProperties& properties, const GrainSampledFluid& sampled,
                                              double voidage, double flux_share, double dt, double fluid_step,
