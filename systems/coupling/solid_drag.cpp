@@ -138,12 +138,16 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   const double resistance_per_volume = solid_fraction * known_drag_per_volume / flux_share;
   const double kernel_over_screening = kernel_radius * std::sqrt(resistance_per_volume / viscosity);
   const double brinkman = self_induced_brinkman_factor(kernel_over_screening);
+  // The slow mode is the far field (Re_R); the fast and middle ones the kernel's scale (Re_near).
   const double reynolds_near = (sampled_velocity - velocity).norm() * kernel_radius / nu;
-  const auto mode_reynolds = [&](int m) { return m + 1 < SelfInducedModes::kCount ? reynolds_near : reynolds_r; };
-  std::array<double, SelfInducedModes::kCount> amplitudes = self_induced_mode_amplitudes(reynolds_r);
+  const auto mode_reynolds = [&](int m) { return m + 1 == SelfInducedModes::kCount ? reynolds_r : reynolds_near; };
+  const std::array<double, SelfInducedModes::kCount> far_amplitudes = self_induced_mode_amplitudes(reynolds_r);
   const std::array<double, SelfInducedModes::kCount> near_amplitudes = self_induced_mode_amplitudes(reynolds_near);
-  for (int m = 0; m + 1 < SelfInducedModes::kCount; ++m)
-    amplitudes[static_cast<std::size_t>(m)] = near_amplitudes[static_cast<std::size_t>(m)];
+  std::array<double, SelfInducedModes::kCount> amplitudes{};
+  for (int m = 0; m < SelfInducedModes::kCount; ++m) {
+    const auto i = static_cast<std::size_t>(m);
+    amplitudes[i] = m + 1 == SelfInducedModes::kCount ? far_amplitudes[i] : near_amplitudes[i];
+  }
   const double phi = (amplitudes[0] + amplitudes[1] + amplitudes[2]) * brinkman;
   // The water shows a sub-step's drag about two fluid steps later (spread at the step's end, applied in the next
   // step's prediction, sampled at the start of the one after, used over it): each lag also waits that long (a
@@ -228,8 +232,8 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
       if (share > share_bound) wall_resistance_share[axis][component] *= share_bound / share;
     }
   }
-  // u_self,new = carried - K diag(m) F / flux_share - diag(rho) w, with m_i = alpha phi - the walls' reductions
-  // (at least 0: the walls' lag is the slowest mode's, so (1 - keep) <= alpha) and rho_i the walls' resistance
+  // u_self,new = carried - K diag(m) F / flux_share - diag(rho) w, with m_i = alpha - the walls' reductions
+  // (at least 0: the walls' lag is the slowest mode's, so (1 - keep) phi <= alpha) and rho_i the walls' resistance
   // shares, each through its lag's step (1 - keep).
   Vec3 gain_share = Vec3::Constant(alpha), resistance_gain = Vec3::Zero();
   for (int axis = 0; axis < 3; ++axis) {
