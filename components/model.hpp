@@ -272,8 +272,9 @@ struct FluidModel {
   double min_dt = 1.0e-6;                ///< [s] a step below this stops the run as unstable
   double solver_tolerance = 1.0e-8;      ///< [1] PCG stops at |r| <= tol |b| (1e-6 shifts the sloshing frequency by 1 %)
   std::int64_t solver_max_iterations = 2000;
-  enum class Preconditioner { kJacobi, kTwoLevel };
-  Preconditioner preconditioner = Preconditioner::kTwoLevel;  ///< Jacobi, or Jacobi plus an aggregation coarse solve
+  enum class Preconditioner { kJacobi, kTwoLevel, kBoomerAmg };
+  /// Jacobi, Jacobi plus an aggregation coarse solve (in-house), or hypre's PCG with BoomerAMG (builds with hypre)
+  Preconditioner preconditioner = Preconditioner::kTwoLevel;
   double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
   double narrow_neighbour_skin_ratio = 0.1;  ///< [1] the skin / l0 when the last lists lasted one step (<= the skin)
   std::int64_t sort_every = 20;          ///< [steps] reorder fluid particles by cell this often (memory locality); 0 = never

@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake ninja-build pkg-config
           libtbb-dev libeigen3-dev libcereal-dev libspdlog-dev doctest-dev libcli11-dev libtomlplusplus-dev
-          python3-numpy python3-matplotlib ${EXTRA_PACKAGES:-})
+          libhypre-dev python3-numpy python3-matplotlib ${EXTRA_PACKAGES:-})
 missing=()
 for package in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")

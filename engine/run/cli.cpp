@@ -8,6 +8,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <new>
 
 #include "engine/setup/budget.hpp"
@@ -153,6 +154,18 @@ int run_command(int argc, char** argv);
 
 /// Every failure ends in a documented exit code with a message, never in std::terminate.
 int cli_main(int argc, char** argv) {
+  // riffle runs on one rank: under `mpirun -np N` (N > 1) each rank would run the whole scene into the same output
+  // folder. The launchers' environment tells before any MPI call (Open MPI, then MPICH/Hydra and PMIx).
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"}) {
+    const char* value = std::getenv(variable);
+    if (value != nullptr && std::atoi(value) > 1) {
+      std::fprintf(stderr,
+                   "error: riffle runs on one MPI rank (it was started as one of %s = %s): the domain "
+                   "decomposition over ranks is not built yet; run it without mpirun, with --threads for the cores\n",
+                   variable, value);
+      return kExitUsage;
+    }
+  }
   try {
     return run_command(argc, argv);
   } catch (const std::bad_alloc&) {

@@ -8,6 +8,7 @@
 
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/physics/mps/driven_flow.hpp"
+#include "systems/physics/mps/hypre_pressure_solver.hpp"
 
 namespace riffle {
 
@@ -323,9 +324,13 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.min_dt = fluid.number("min_dt", out.min_dt, "s", Bounds::positive());
   out.solver_tolerance = fluid.number("solver_tolerance", out.solver_tolerance, "1", Bounds{0.0, 1.0, false, false});
   out.solver_max_iterations = fluid.integer("solver_max_iterations", out.solver_max_iterations, 1, 100000000);
-  out.preconditioner = fluid.choice("preconditioner", "two_level", {"two_level", "jacobi"}) == "jacobi"
-                           ? FluidModel::Preconditioner::kJacobi
-                           : FluidModel::Preconditioner::kTwoLevel;
+  const std::string preconditioner = fluid.choice("preconditioner", "two_level", {"two_level", "jacobi", "boomeramg"});
+  out.preconditioner = preconditioner == "jacobi"      ? FluidModel::Preconditioner::kJacobi
+                       : preconditioner == "boomeramg" ? FluidModel::Preconditioner::kBoomerAmg
+                                                       : FluidModel::Preconditioner::kTwoLevel;
+  if (out.preconditioner == FluidModel::Preconditioner::kBoomerAmg && !hypre_available())
+    fluid.problem("preconditioner", "\"boomeramg\" needs a riffle built with hypre: apt install libhypre-dev, then "
+                                    "tools/setup.sh (this build found no hypre)");
   out.neighbour_skin_ratio = fluid.number("neighbour_skin", out.neighbour_skin_ratio, "1", Bounds::closed(0.0, 2.0));
   // Violent flow uses up any skin every step; then a narrow one shortens every pass over the lists.
   out.narrow_neighbour_skin_ratio = fluid.number("neighbour_skin_narrow", std::min(0.1, out.neighbour_skin_ratio), "1",

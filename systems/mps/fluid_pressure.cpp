@@ -14,7 +14,6 @@ void FluidPressureSolve::run(SystemContext& context) {
   const ParticleDensity& densities = context.read<ParticleDensity>();
   ParticlePressure& pressures = context.write<ParticlePressure>();
   const FluidNeighbours& neighbours = context.read<FluidNeighbours>();
-  FluidSummary& summary = context.write<FluidSummary>();
   const std::size_t fluid_count = fluid_slot_count(particles);
   const FluidSchemes& schemes = fluid_.schemes;
   const WendlandKernel kernel = kernel_;
@@ -108,14 +107,20 @@ void FluidPressureSolve::run(SystemContext& context) {
     solution_[row] = std::max(0.0, 2.0 * pressures.pressure[i] - pressures.previous_pressure[i]);
   });
 
+  const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
+                              compact_values_.data()};
+  if (fluid_.preconditioner == FluidModel::Preconditioner::kBoomerAmg) {
+    const PressureSolveOutcome outcome =
+        hypre_.solve(matrix, rhs_, solution_, fluid_.solver_tolerance, fluid_.solver_max_iterations);
+    finish(context, outcome);
+    return;
+  }
   const bool two_level = fluid_.preconditioner == FluidModel::Preconditioner::kTwoLevel;
   if (two_level) {
     row_positions_.resize(unknowns);
     for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = prediction.predicted_position[slot_of_[row]]; });
     // Coarse cells of at least 4 l0, wider for big problems so the coarse factorisation stays small.
     const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
-    const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
-                                compact_values_.data()};
     preconditioner_.setup(matrix, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
   }
   // z = M^-1 r = D^-1 r + P c with c = A_c^-1 P^T r is never stored: r . z = sum r^2 / diag + (P^T r) . c, the
@@ -187,6 +192,19 @@ void FluidPressureSolve::run(SystemContext& context) {
     }
   }
 
+  PressureSolveOutcome outcome;
+  outcome.iterations = iterations;
+  outcome.relative_residual = rhs_norm > 0.0 ? residual_norm / rhs_norm : 0.0;
+  outcome.converged = std::isfinite(residual_norm) && residual_norm <= target;
+  finish(context, outcome);
+}
+
+void FluidPressureSolve::finish(SystemContext& context, const PressureSolveOutcome& outcome) {
+  const ParticleState& particles = context.read<ParticleState>();
+  const ParticleDensity& densities = context.read<ParticleDensity>();
+  ParticlePressure& pressures = context.write<ParticlePressure>();
+  FluidSummary& summary = context.write<FluidSummary>();
+  const std::size_t fluid_count = fluid_slot_count(particles);
   const bool clamp = fluid_.clamp_negative_pressure;
   std::size_t surface = 0;
   for (std::size_t i = 0; i < fluid_count; ++i) surface += densities.free_surface[i] ? 1 : 0;
@@ -200,12 +218,12 @@ void FluidPressureSolve::run(SystemContext& context) {
     FluidNeighbours& halo_owner = context.write<FluidNeighbours>();
     halo_copy(halo_owner.halo, pressures.pressure, halo_owner.ghosts.pressure);
   }
-  summary.solver_iterations = iterations;
-  summary.solver_residual = rhs_norm > 0.0 ? residual_norm / rhs_norm : 0.0;
-  summary.solver_unknowns = unknowns;
-  summary.solver_converged = std::isfinite(residual_norm) && residual_norm <= target;
+  summary.solver_iterations = outcome.iterations;
+  summary.solver_residual = outcome.relative_residual;
+  summary.solver_unknowns = slot_of_.size();
+  summary.solver_converged = outcome.converged;
   summary.surface_count = surface;
-  context.count_items(unknowns);
+  context.count_items(slot_of_.size());
 }
 
 }  // namespace riffle

@@ -1,12 +1,14 @@
 #pragma once
 // The pressure Poisson equation (seed 000 Eqs. 4-7; numerics 2.2-2.5, 3.5 and amendments 1-2), assembled over the
 // fluid particles only (Neumann walls) and solved by CG warm-started from p^k, preconditioned by Jacobi or (default) Jacobi plus
-// an aggregation coarse solve (systems/physics/mps/pressure_preconditioner.hpp).
+// an aggregation coarse solve (systems/physics/mps/pressure_preconditioner.hpp), or handed to hypre's BoomerAMG-PCG
+// (systems/physics/mps/hypre_pressure_solver.hpp).
 #include <vector>
 
 #include "systems/system.hpp"
 #include "systems/physics/mps/mps_common.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/mps/hypre_pressure_solver.hpp"
 #include "systems/physics/mps/pressure_preconditioner.hpp"
 
 namespace riffle {
@@ -34,6 +36,10 @@ class FluidPressureSolve final : public System {
   void run(SystemContext& context) override;
 
  private:
+  /// p^{k+1} from the solution (clamped at zero unless the model keeps negative pressure), the ghosts' copies and
+  /// the solver's summary.
+  void finish(SystemContext& context, const PressureSolveOutcome& outcome);
+
   FluidModel fluid_;
   MpsConstants constants_;
   WendlandKernel kernel_;
@@ -47,6 +53,7 @@ class FluidPressureSolve final : public System {
   std::vector<double> compact_values_;          ///< M_ij
   std::vector<Vec3> row_positions_;
   TwoLevelPreconditioner preconditioner_;
+  HyprePressureSolver hypre_;  ///< used with preconditioner = "boomeramg" only (MPI starts at its first solve)
   std::vector<double> rhs_, solution_, residual_, direction_, product_;
 };
 

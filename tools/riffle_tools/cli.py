@@ -58,6 +58,8 @@ COMMANDS = [
     ("returning-wave", "returning_wave", "the dam break's returning wave against Lobovsky et al. (runs riffle)"),
     ("plot-fluid-accuracy", "plot_fluid_accuracy", "speed against error of the MPS fluid "
                                                    "(riffle_fluid_accuracy's table)"),
+    ("pressure-solver-study", "pressure_solver_study", "one scene's pressure solve under each solver "
+                                                       "(in-house PCG, hypre BoomerAMG), interleaved (runs riffle)"),
     ("ppe-preconditioner-study", "ppe_preconditioner_study", "PCG iterations of one dumped pressure system under "
                                                              "other preconditioners"),
     # the docs against the code

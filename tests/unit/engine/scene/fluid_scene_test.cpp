@@ -17,6 +17,7 @@
 #include "systems/physics/geometry/tank_kinematics.hpp"
 #include "systems/physics/mps/mps_common.hpp"
 #include "tests/support/test_support.hpp"
+#include "systems/physics/mps/hypre_pressure_solver.hpp"
 #include "tests/support/scene_builder.hpp"
 
 using namespace riffle;
@@ -437,4 +438,25 @@ TEST_CASE("the initial velocity profile is the formula at every fluid particle")
     CHECK(between == 16);
     CHECK(above == 16);
   }
+}
+
+TEST_CASE("fluid.preconditioner: two_level by default, jacobi, and boomeramg where the build has hypre") {
+  const std::string plain = test::fluid_scene_text();
+  CHECK(parse_scene(plain, "plain.toml").fluid.preconditioner == FluidModel::Preconditioner::kTwoLevel);
+  const auto with = [&](const std::string& value) {
+    return replace_once(plain, "[fluid]\nspacing = 0.005\n", "[fluid]\nspacing = 0.005\npreconditioner = " + value + "\n");
+  };
+  CHECK(parse_scene(with("\"jacobi\""), "jacobi.toml").fluid.preconditioner == FluidModel::Preconditioner::kJacobi);
+  const std::string amg = with("\"boomeramg\"");
+  if (hypre_available()) {
+    CHECK(parse_scene(amg, "amg.toml").fluid.preconditioner == FluidModel::Preconditioner::kBoomerAmg);
+  } else {
+    const std::vector<std::string> problems = problems_of(amg);
+    REQUIRE(problems.size() == 1);
+    CHECK(problems[0].rfind(location(amg, "\"boomeramg\"", "bad.toml") + "preconditioner: ", 0) == 0);
+    CHECK(problems[0].find("built with hypre") != std::string::npos);
+  }
+  const std::vector<std::string> problems = problems_of(with("\"amg\""));
+  REQUIRE(problems.size() == 1);
+  CHECK(problems[0].find("boomeramg") != std::string::npos);  // the choices are listed
 }

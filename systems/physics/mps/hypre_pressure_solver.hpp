@@ -1,0 +1,48 @@
+#pragma once
+// The pressure equation handed to hypre (Lawrence Livermore's scalable linear solvers, Falgout & Yang 2002):
+// conjugate gradients preconditioned by one V-cycle of BoomerAMG, its algebraic multigrid (Henson & Yang 2002), the
+// solver that particle and mesh codes running on many machines give their pressure equation to. Here at one rank
+// (MPI_COMM_SELF), so that the in-house two-level PCG (pressure_preconditioner.hpp) and the solver a distributed run
+// would use can be measured on the same systems: iterations and time per solve, the same stopping rule.
+//
+// hypre needs MPI: the first solve initialises it (MPI_THREAD_SERIALIZED: the solve runs on whichever oneTBB worker
+// the step graph gives it, one at a time) unless the process already has, and finalises what it started at exit.
+// A build without hypre (CMake did not find libhypre-dev) has hypre_available() false, and the scene reader refuses
+// the choice before a run starts.
+#include <cstdint>
+#include <vector>
+
+#include "systems/physics/mps/pressure_preconditioner.hpp"
+
+namespace riffle {
+
+/// Whether this build links hypre (and MPI).
+bool hypre_available();
+
+/// What one solve did.
+struct PressureSolveOutcome {
+  std::int64_t iterations = 0;
+  double relative_residual = 0.0;  ///< the true |b - M x| / |b| at the end (0 when b = 0)
+  bool converged = false;          ///< the solver's recursive residual met the tolerance
+};
+
+/// BoomerAMG-preconditioned CG for M x = b (M symmetric positive definite: PressureMatrix), to
+/// |b - M x| <= tolerance |b| in the two-norm, the in-house PCG's criterion, from x as given (the warm start).
+/// The matrix changes every step (the particles move), so each solve assembles it and sets BoomerAMG up anew.
+class HyprePressureSolver {
+ public:
+  HyprePressureSolver();
+  ~HyprePressureSolver();
+  HyprePressureSolver(const HyprePressureSolver&) = delete;
+  HyprePressureSolver& operator=(const HyprePressureSolver&) = delete;
+
+  PressureSolveOutcome solve(const PressureMatrix& matrix, const std::vector<double>& rhs, std::vector<double>& solution,
+                             double tolerance, std::int64_t max_iterations);
+
+ private:
+  // hypre's index type per row and the entries' rows, reused between solves (no allocation once sized).
+  std::vector<int> entries_per_row_, rows_, columns_;
+  std::vector<double> values_;
+};
+
+}  // namespace riffle
