@@ -156,7 +156,7 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
   // One V-cycle a CG iteration. The settings follow hypre's advice for 3D Poisson-like problems on many ranks
   // (its user manual, BoomerAMG): HMIS coarsening with extended+i interpolation truncated to 4 entries a row, a
   // strength threshold of 0.5 (3D), and aggressive coarsening on the first level, which keeps the set-up cheap
-  // for the MPS stencil (about 125 neighbours a row at r_e = 3.1 l0; without it the set-up took 2.4 times as
+  // for the MPS stencil (up to 57 entries a row at r_e = 2.4 l0; without it the set-up took 2.5 times as
   // long). The smoother is l1-Jacobi: symmetric, as CG needs, and the same whatever the ranks' partition (hybrid
   // Gauss-Seidel is Gauss-Seidel only inside a rank). Over the first 50 steps of the seed tank at l0 = 5 mm it
   // took 7.8 iterations where l1-Gauss-Seidel took 4.8, but 74 ms a solve against 94 (docs/BENCHMARKS.md, "The
