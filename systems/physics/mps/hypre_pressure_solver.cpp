@@ -28,10 +28,11 @@ namespace {
 bool mpi_started_here = false;
 
 void finalise_hypre_and_mpi() {
-  HYPRE_Finalize();
   int finalised = 0;
   MPI_Finalized(&finalised);
-  if (mpi_started_here && !finalised) MPI_Finalize();
+  if (finalised) return;  // the program started MPI and has finalised it: hypre's memory goes with the process
+  HYPRE_Finalize();
+  if (mpi_started_here) MPI_Finalize();
 }
 
 /// MPI and hypre, once per process (see the header).
@@ -72,11 +73,12 @@ void check(HYPRE_Int code, const char* call) {
 /// hypre's objects of one solve, destroyed however the solve ends.
 struct SolveObjects {
   HYPRE_IJMatrix matrix = nullptr;
-  HYPRE_IJVector rhs = nullptr, solution = nullptr;
+  HYPRE_IJVector rhs = nullptr, solution = nullptr, residual = nullptr;
   HYPRE_Solver pcg = nullptr, amg = nullptr;
   ~SolveObjects() {
     if (pcg) HYPRE_ParCSRPCGDestroy(pcg);
     if (amg) HYPRE_BoomerAMGDestroy(amg);
+    if (residual) HYPRE_IJVectorDestroy(residual);
     if (solution) HYPRE_IJVectorDestroy(solution);
     if (rhs) HYPRE_IJVectorDestroy(rhs);
     if (matrix) HYPRE_IJMatrixDestroy(matrix);
@@ -84,12 +86,14 @@ struct SolveObjects {
   }
 };
 
-HYPRE_ParVector parcsr_vector(HYPRE_IJVector& vector, int rows, const int* indices, const double* values,
-                              const char* what) {
-  check(HYPRE_IJVectorCreate(MPI_COMM_SELF, 0, rows - 1, &vector), what);
+/// A vector over rows [first, last] of this rank (last = first - 1: none), holding `values`.
+HYPRE_ParVector parcsr_vector(HYPRE_IJVector& vector, MPI_Comm communicator, int first, int last, const int* indices,
+                              const double* values, const char* what) {
+  const int rows = last - first + 1;
+  check(HYPRE_IJVectorCreate(communicator, first, last, &vector), what);
   check(HYPRE_IJVectorSetObjectType(vector, HYPRE_PARCSR), what);
   check(HYPRE_IJVectorInitialize(vector), what);
-  check(HYPRE_IJVectorSetValues(vector, rows, indices, values), what);
+  if (rows > 0) check(HYPRE_IJVectorSetValues(vector, rows, indices, values), what);
   check(HYPRE_IJVectorAssemble(vector), what);
   void* object = nullptr;
   check(HYPRE_IJVectorGetObject(vector, &object), what);
@@ -97,30 +101,32 @@ HYPRE_ParVector parcsr_vector(HYPRE_IJVector& vector, int rows, const int* indic
 }
 }  // namespace
 
-HyprePressureSolver::HyprePressureSolver() = default;
+HyprePressureSolver::HyprePressureSolver(Ranks ranks) : ranks_(ranks) {}
 HyprePressureSolver::~HyprePressureSolver() = default;
 
 PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, const std::vector<double>& rhs,
                                                 std::vector<double>& solution, double tolerance,
                                                 std::int64_t max_iterations) {
-  PressureSolveOutcome outcome;
-  if (matrix.rows == 0) {
-    outcome.converged = true;
-    return outcome;
-  }
-  if (matrix.rows > static_cast<std::size_t>(std::numeric_limits<int>::max() / 2))
-    throw std::runtime_error("the hypre pressure solve takes at most 2^30 unknowns per rank (int indices)");
-  double rhs_squared = 0.0;
-  for (const double b : rhs) rhs_squared += b * b;
-  if (rhs_squared == 0.0) {  // as the in-house PCG: M x = 0 has x = 0
-    std::fill(solution.begin(), solution.end(), 0.0);
-    outcome.converged = true;
-    return outcome;
-  }
-  start_hypre();
-  const int rows = static_cast<int>(matrix.rows);
+  return solve(matrix, PressureRowBlock{0, matrix.rows}, rhs, solution, tolerance, max_iterations);
+}
 
-  // Row by row, the diagonal first, then the off-diagonal entries as the CSR holds them.
+PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, const PressureRowBlock& block,
+                                                const std::vector<double>& rhs, std::vector<double>& solution,
+                                                double tolerance, std::int64_t max_iterations) {
+  PressureSolveOutcome outcome;
+  if (block.global_rows == 0) {  // every rank sees the same global size: all return here together
+    outcome.converged = true;
+    return outcome;
+  }
+  if (block.global_rows > static_cast<std::size_t>(std::numeric_limits<int>::max() / 2))
+    throw std::runtime_error("the hypre pressure solve takes at most 2^30 unknowns (int indices)");
+  start_hypre();
+  const MPI_Comm communicator = ranks_ == Ranks::kAll ? MPI_COMM_WORLD : MPI_COMM_SELF;
+  const int rows = static_cast<int>(matrix.rows);
+  const int first = static_cast<int>(block.first_row);
+  const int last = first + rows - 1;  // first - 1 for a rank without rows: hypre's empty range
+
+  // Row by row (global indices), the diagonal first, then the off-diagonal entries as the CSR holds them.
   entries_per_row_.resize(matrix.rows);
   rows_.resize(matrix.rows);
   const std::size_t off_diagonal = matrix.row_start[matrix.rows];
@@ -128,9 +134,9 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
   values_.resize(matrix.rows + off_diagonal);
   std::size_t entry = 0;
   for (std::size_t row = 0; row < matrix.rows; ++row) {
-    rows_[row] = static_cast<int>(row);
+    rows_[row] = first + static_cast<int>(row);
     entries_per_row_[row] = static_cast<int>(1 + matrix.row_start[row + 1] - matrix.row_start[row]);
-    columns_[entry] = static_cast<int>(row);
+    columns_[entry] = rows_[row];
     values_[entry++] = matrix.diagonal[row];
     for (std::size_t k = matrix.row_start[row]; k < matrix.row_start[row + 1]; ++k) {
       columns_[entry] = static_cast<int>(matrix.columns[k]);
@@ -139,7 +145,7 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
   }
 
   SolveObjects objects;
-  check(HYPRE_IJMatrixCreate(MPI_COMM_SELF, 0, rows - 1, 0, rows - 1, &objects.matrix), "IJMatrixCreate");
+  check(HYPRE_IJMatrixCreate(communicator, first, last, first, last, &objects.matrix), "IJMatrixCreate");
   check(HYPRE_IJMatrixSetObjectType(objects.matrix, HYPRE_PARCSR), "IJMatrixSetObjectType");
   check(HYPRE_IJMatrixSetRowSizes(objects.matrix, entries_per_row_.data()), "IJMatrixSetRowSizes");
   check(HYPRE_IJMatrixInitialize(objects.matrix), "IJMatrixInitialize");
@@ -150,8 +156,17 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
   void* parcsr = nullptr;
   check(HYPRE_IJMatrixGetObject(objects.matrix, &parcsr), "IJMatrixGetObject");
   const auto system = static_cast<HYPRE_ParCSRMatrix>(parcsr);
-  const HYPRE_ParVector b = parcsr_vector(objects.rhs, rows, rows_.data(), rhs.data(), "the right-hand side");
-  const HYPRE_ParVector x = parcsr_vector(objects.solution, rows, rows_.data(), solution.data(), "the first guess");
+  const HYPRE_ParVector b =
+      parcsr_vector(objects.rhs, communicator, first, last, rows_.data(), rhs.data(), "the right-hand side");
+  const HYPRE_ParVector x =
+      parcsr_vector(objects.solution, communicator, first, last, rows_.data(), solution.data(), "the first guess");
+  double rhs_squared = 0.0;
+  check(HYPRE_ParVectorInnerProd(b, b, &rhs_squared), "ParVectorInnerProd");
+  if (rhs_squared == 0.0) {  // as the in-house PCG: M x = 0 has x = 0
+    std::fill(solution.begin(), solution.end(), 0.0);
+    outcome.converged = true;
+    return outcome;
+  }
 
   // One V-cycle a CG iteration. The settings follow hypre's advice for 3D Poisson-like problems on many ranks
   // (its user manual, BoomerAMG): HMIS coarsening with extended+i interpolation truncated to 4 entries a row, a
@@ -173,7 +188,7 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
   HYPRE_BoomerAMGSetMaxIter(objects.amg, 1);
   HYPRE_BoomerAMGSetTol(objects.amg, 0.0);
 
-  check(HYPRE_ParCSRPCGCreate(MPI_COMM_SELF, &objects.pcg), "ParCSRPCGCreate");
+  check(HYPRE_ParCSRPCGCreate(communicator, &objects.pcg), "ParCSRPCGCreate");
   HYPRE_PCGSetTol(objects.pcg, tolerance);
   HYPRE_PCGSetAbsoluteTol(objects.pcg, 0.0);
   HYPRE_PCGSetTwoNorm(objects.pcg, 1);  // |r| <= tol |b| in the two-norm, as the in-house PCG
@@ -187,20 +202,17 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
 
   HYPRE_Int iterations = 0;
   HYPRE_PCGGetNumIterations(objects.pcg, &iterations);
-  check(HYPRE_IJVectorGetValues(objects.solution, rows, rows_.data(), solution.data()), "IJVectorGetValues");
-
   // Converged by hypre's test (on its recursive residual, as the in-house PCG's); the residual reported is the
-  // true one, |b - M x| / |b|, recomputed here.
+  // true one, |b - M x| / |b|, recomputed here over all the ranks.
   HYPRE_Int converged = 0;
   HYPRE_PCGGetConverged(objects.pcg, &converged);
+  const HYPRE_ParVector residual =
+      parcsr_vector(objects.residual, communicator, first, last, rows_.data(), rhs.data(), "the residual");
+  check(HYPRE_ParCSRMatrixMatvec(-1.0, system, x, 1.0, residual), "ParCSRMatrixMatvec");
   double residual_squared = 0.0;
-  for (std::size_t row = 0; row < matrix.rows; ++row) {
-    double product = matrix.diagonal[row] * solution[row];
-    for (std::size_t k = matrix.row_start[row]; k < matrix.row_start[row + 1]; ++k)
-      product += matrix.values[k] * solution[matrix.columns[k]];
-    const double residual = rhs[row] - product;
-    residual_squared += residual * residual;
-  }
+  check(HYPRE_ParVectorInnerProd(residual, residual, &residual_squared), "ParVectorInnerProd");
+  if (rows > 0)
+    check(HYPRE_IJVectorGetValues(objects.solution, rows, rows_.data(), solution.data()), "IJVectorGetValues");
   outcome.iterations = iterations;
   outcome.relative_residual = std::sqrt(residual_squared / rhs_squared);
   outcome.converged = converged != 0 && std::isfinite(outcome.relative_residual);
@@ -211,11 +223,18 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
 
 bool hypre_available() { return false; }
 
-HyprePressureSolver::HyprePressureSolver() = default;
+HyprePressureSolver::HyprePressureSolver(Ranks ranks) : ranks_(ranks) {}
 HyprePressureSolver::~HyprePressureSolver() = default;
 
-PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix&, const std::vector<double>&,
-                                                std::vector<double>&, double, std::int64_t) {
+PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, const std::vector<double>& rhs,
+                                                std::vector<double>& solution, double tolerance,
+                                                std::int64_t max_iterations) {
+  return solve(matrix, PressureRowBlock{0, matrix.rows}, rhs, solution, tolerance, max_iterations);
+}
+
+PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix&, const PressureRowBlock&,
+                                                const std::vector<double>&, std::vector<double>&, double,
+                                                std::int64_t) {
   // The scene reader refuses [fluid] preconditioner = "boomeramg" in such a build; a caller that reaches here
   // bypassed it.
   throw std::logic_error("this riffle was built without hypre (install libhypre-dev and configure again)");

@@ -453,7 +453,8 @@ TEST_CASE("fluid.preconditioner: two_level by default, jacobi, and boomeramg whe
   } else {
     const std::vector<std::string> problems = problems_of(amg);
     REQUIRE(problems.size() == 1);
-    CHECK(problems[0].rfind(location(amg, "\"boomeramg\"", "bad.toml") + "preconditioner: ", 0) == 0);
+    CAPTURE(problems[0]);
+    CHECK(problems[0].rfind(location(amg, "\"boomeramg\"", "bad.toml") + "fluid.preconditioner: ", 0) == 0);
     CHECK(problems[0].find("built with hypre") != std::string::npos);
   }
   const std::vector<std::string> problems = problems_of(with("\"amg\""));
