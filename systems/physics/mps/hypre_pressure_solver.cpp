@@ -101,15 +101,6 @@ HYPRE_ParVector parcsr_vector(HYPRE_IJVector& vector, MPI_Comm communicator, int
 }
 }  // namespace
 
-HyprePressureSolver::HyprePressureSolver(Ranks ranks) : ranks_(ranks) {}
-HyprePressureSolver::~HyprePressureSolver() = default;
-
-PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, const std::vector<double>& rhs,
-                                                std::vector<double>& solution, double tolerance,
-                                                std::int64_t max_iterations) {
-  return solve(matrix, PressureRowBlock{0, matrix.rows}, rhs, solution, tolerance, max_iterations);
-}
-
 PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, const PressureRowBlock& block,
                                                 const std::vector<double>& rhs, std::vector<double>& solution,
                                                 double tolerance, std::int64_t max_iterations) {
@@ -223,15 +214,6 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, co
 
 bool hypre_available() { return false; }
 
-HyprePressureSolver::HyprePressureSolver(Ranks ranks) : ranks_(ranks) {}
-HyprePressureSolver::~HyprePressureSolver() = default;
-
-PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, const std::vector<double>& rhs,
-                                                std::vector<double>& solution, double tolerance,
-                                                std::int64_t max_iterations) {
-  return solve(matrix, PressureRowBlock{0, matrix.rows}, rhs, solution, tolerance, max_iterations);
-}
-
 PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix&, const PressureRowBlock&,
                                                 const std::vector<double>&, std::vector<double>&, double,
                                                 std::int64_t) {
@@ -241,5 +223,14 @@ PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix&, const Pre
 }
 
 #endif
+
+HyprePressureSolver::HyprePressureSolver(Ranks ranks) : ranks_(ranks) {}
+HyprePressureSolver::~HyprePressureSolver() = default;
+
+PressureSolveOutcome HyprePressureSolver::solve(const PressureMatrix& matrix, const std::vector<double>& rhs,
+                                                std::vector<double>& solution, double tolerance,
+                                                std::int64_t max_iterations) {
+  return solve(matrix, PressureRowBlock{0, matrix.rows}, rhs, solution, tolerance, max_iterations);
+}
 
 }  // namespace riffle
