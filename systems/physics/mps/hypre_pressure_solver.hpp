@@ -24,7 +24,7 @@ bool hypre_available();
 struct PressureSolveOutcome {
   std::int64_t iterations = 0;
   double relative_residual = 0.0;  ///< the true |b - M x| / |b| at the end (0 when b = 0)
-  bool converged = false;          ///< the solver's recursive residual met the tolerance
+  bool converged = false;          ///< the recursive residual met the tolerance, the true one within 10 times it
 };
 
 /// The rows of the global system one rank holds: [first_row, first_row + rows) of global_rows.
