@@ -86,6 +86,21 @@ void log_escaped(const World& world, const Model& model) {
                fluid.removed_lone_droplet);
 }
 
+/// A warning when the step's pressure solve stopped short of its tolerance (at solver_max_iterations, or a
+/// broken-down iteration): the step went on with that pressure, so the user must know. The 1st, 2nd, 4th, 8th, ...
+/// such step of the run is reported, with the count so far, so that a run that never converges does not flood
+/// the log. `unconverged` counts them over the run.
+void log_unconverged_pressure(const World& world, const Model& model, std::uint64_t& unconverged) {
+  if (!world.fluid_summary || world.fluid_summary->solver_converged) return;
+  ++unconverged;
+  if ((unconverged & (unconverged - 1)) != 0) return;  // not a power of two
+  const FluidSummary& fluid = *world.fluid_summary;
+  spdlog::warn("step {} (t = {} s): the pressure solve stopped at |r|/|b| = {:.3g} after {} iterations, short of "
+               "fluid.solver_tolerance = {:.3g} (fluid.solver_max_iterations = {}); {} such step(s) so far",
+               world.step, format_time(world.time), fluid.solver_residual, fluid.solver_iterations,
+               model.fluid.solver_tolerance, model.fluid.solver_max_iterations, unconverged);
+}
+
 /// "; N fluid particles removed as escaped (M kg, P % of the water)", or "" when none was.
 std::string removed_summary(const World& world, const Model& model) {
   if (!world.fluid_summary || world.fluid_summary->removed_count() == 0) return "";
@@ -538,6 +553,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
   };
 
   double stepping_seconds = 0.0;
+  std::uint64_t unconverged_pressure_steps = 0;
   try {
     DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run,
                                   model_->fluid.body_force.kind != BodyForceModel::Kind::kNone);
@@ -583,6 +599,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
       const double step_seconds = seconds_since(step_start);
       stepping_seconds += step_seconds;
       log_escaped(world_, *model_);
+      log_unconverged_pressure(world_, *model_, unconverged_pressure_steps);
 
       if (!world_.step_status.ok()) {
         outcome.exit_code = kExitUnstable;
@@ -617,6 +634,10 @@ RunOutcome Simulation::run(const RunOptions& options) {
       outcome.last_checkpoint = checkpoints.last_written();
       outcome.message = "finished at t = " + std::to_string(world_.time) + " s after " +
                         std::to_string(world_.step) + " steps" + removed_summary(world_, *model_) +
+                        (unconverged_pressure_steps > 0
+                             ? "; " + std::to_string(unconverged_pressure_steps) +
+                                   " step(s) went on with a pressure solve short of its tolerance"
+                             : std::string()) +
                         "; final checkpoint: " + outcome.last_checkpoint;
     } else if (outcome.exit_code == kExitUnstable) {
       outcome.last_checkpoint = checkpoints.last_good();
