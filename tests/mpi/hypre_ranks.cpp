@@ -5,10 +5,16 @@
 // the same solver on this rank alone (MPI_COMM_SELF), to twice that bound: the two stop at |r| <= tol |b| with
 // different V-cycles (the coarsening depends on the partition), so they agree to the tolerance, not to rounding.
 // Exit 0 when every rank passes; the failing checks are printed with their rank.
+//
+//   mpiexec -n N riffle_mpi_hypre_ranks [n]     n: the lattice's side (default 20: 8,000 rows)
+// Rank 0 also prints the wall time of the N-rank solve (assembly, set-up and solve; the median of three) and of the
+// one-rank solve beside it: the strong scaling of the distributed solve on this machine.
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include "systems/physics/mps/hypre_pressure_solver.hpp"
@@ -29,7 +35,12 @@ int main(int argc, char** argv) {
     }
   };
   const double tolerance = 1e-10;
-  const test::TankLattice lattice(20);  // 8,000 unknowns
+  const long side = argc > 1 ? std::atol(argv[1]) : 20;
+  if (side < 2) {
+    std::fprintf(stderr, "riffle_mpi_hypre_ranks: the lattice's side must be at least 2\n");
+    MPI_Abort(MPI_COMM_WORLD, 2);
+  }
+  const test::TankLattice lattice(side);
   const std::vector<double> rhs = test::TankLattice::varied_rhs(lattice.rows());
   const std::vector<double> exact = lattice.direct_solve(rhs);
 
@@ -43,8 +54,18 @@ int main(int argc, char** argv) {
                                 rhs.begin() + static_cast<std::ptrdiff_t>(first + count));
   std::vector<double> block_solution(count, 0.0);
   HyprePressureSolver over_all(HyprePressureSolver::Ranks::kAll);
-  const PressureSolveOutcome outcome =
-      over_all.solve(block, PressureRowBlock{first, rows}, block_rhs, block_solution, tolerance, 200);
+  // Three solves from the same start, timed; the checks read the last.
+  std::vector<double> seconds;
+  PressureSolveOutcome outcome;
+  for (int repeat = 0; repeat < 3; ++repeat) {
+    std::fill(block_solution.begin(), block_solution.end(), 0.0);
+    MPI_Barrier(MPI_COMM_WORLD);
+    const double start = MPI_Wtime();
+    outcome = over_all.solve(block, PressureRowBlock{first, rows}, block_rhs, block_solution, tolerance, 200);
+    MPI_Barrier(MPI_COMM_WORLD);
+    seconds.push_back(MPI_Wtime() - start);
+  }
+  std::sort(seconds.begin(), seconds.end());
   expect(outcome.converged, "converged over all ranks", static_cast<double>(outcome.iterations));
   expect(outcome.relative_residual <= 1.01 * tolerance, "true residual within the tolerance", outcome.relative_residual);
   expect(outcome.iterations > 0 && outcome.iterations < 40, "iterations few (multigrid)",
@@ -75,17 +96,19 @@ int main(int argc, char** argv) {
   // The same solver on this rank alone, from the same start.
   std::vector<double> alone(rows, 0.0);
   HyprePressureSolver this_one;
+  const double alone_start = MPI_Wtime();
   const PressureSolveOutcome single = this_one.solve(lattice.matrix(), rhs, alone, tolerance, 200);
+  const double alone_seconds = MPI_Wtime() - alone_start;
   for (std::size_t k = 0; k < rows; ++k) error[k] = solution[k] - alone[k];
   const double difference = test::norm(error) / test::norm(alone);
   expect(single.converged, "converged on one rank", static_cast<double>(single.iterations));
   expect(difference < 2e4 * tolerance, "the N-rank solution within the tolerance's bound of the 1-rank one", difference);
 
   if (rank == 0)
-    std::printf("%d rank(s): %lld iterations (one rank alone: %lld), residual %.3g, error against the direct solve "
-                "%.3g, difference from one rank %.3g\n",
-                ranks, static_cast<long long>(outcome.iterations), static_cast<long long>(single.iterations),
-                outcome.relative_residual, error_norm, difference);
+    std::printf("%d rank(s), %zu rows: %lld iterations (one rank alone: %lld), residual %.3g, error against the direct "
+                "solve %.3g, difference from one rank %.3g; %.4f s a solve on %d rank(s), %.4f s alone\n",
+                ranks, rows, static_cast<long long>(outcome.iterations), static_cast<long long>(single.iterations),
+                outcome.relative_residual, error_norm, difference, seconds[1], ranks, alone_seconds);
   int all_failures = 0;
   MPI_Allreduce(&failures, &all_failures, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
   MPI_Finalize();
