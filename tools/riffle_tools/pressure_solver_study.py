@@ -23,7 +23,6 @@ import os
 import statistics
 import subprocess
 import sys
-import time
 
 
 def read_timings(folder):
@@ -79,14 +78,12 @@ def main(argv=None):
                        "--until", str(args.until), "--log-level", "warn", "--set", f"fluid.preconditioner={solver}"]
             for extra in args.set:
                 command += ["--set", extra]
-            started = time.monotonic()
             done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
             if done.returncode != 0:
                 sys.stderr.write(done.stdout)
                 sys.exit(f"pressure_solver_study: {' '.join(command)} exited {done.returncode}")
             pressure, stepping, calls = read_timings(folder)
-            results[solver].append(dict(read_solver(folder), pressure=pressure, stepping=stepping, calls=calls,
-                                        wall=time.monotonic() - started))
+            results[solver].append(dict(read_solver(folder), pressure=pressure, stepping=stepping, calls=calls))
             print(f"# rep {rep} {solver}: {1e3 * pressure:.2f} ms a solve, stepping {stepping:.1f} s", flush=True)
     print(f"\n{args.scene}, --until {args.until}, {args.threads} thread(s), {args.reps} repetitions (medians)\n")
     print("| solver | unknowns | iterations, mean / largest | time a solve [ms] (spread) | stepping [s] | "

@@ -52,7 +52,7 @@ struct Bisection {
       double sum = 0.0;
       std::size_t k = 0;
       while (k < members.size() && sum + weights[members[k]] <= target) sum += weights[members[k++]];
-      if (k < members.size() && (sum + weights[members[k]]) - target < target - sum) sum += weights[members[k++]];
+      if (k < members.size() && (sum + weights[members[k]]) - target < target - sum) ++k;
       // Points with equal coordinates stay on one side: move k to the nearest change of coordinate.
       std::size_t up = k, down = k;
       while (up > 0 && up < members.size() && points[members[up]][axis] == points[members[up - 1]][axis]) ++up;

@@ -16,20 +16,17 @@ using namespace riffle;
 using test::norm;
 using test::TankLattice;
 
-namespace {
-std::vector<double> hydrostatic_like_rhs(std::size_t size) { return TankLattice::varied_rhs(size); }
-}  // namespace
 
 TEST_CASE("BoomerAMG-PCG solves the pressure equation to the in-house criterion, and its answer is the direct one") {
   if (!hypre_available()) {
     HyprePressureSolver solver;
     const TankLattice lattice(4);
     std::vector<double> x(lattice.diagonal.size(), 0.0);
-    CHECK_THROWS_AS(solver.solve(lattice.matrix(), hydrostatic_like_rhs(x.size()), x, 1e-8, 100), std::logic_error);
+    CHECK_THROWS_AS(solver.solve(lattice.matrix(), TankLattice::varied_rhs(x.size()), x, 1e-8, 100), std::logic_error);
     return;
   }
   const TankLattice lattice(16);
-  const std::vector<double> rhs = hydrostatic_like_rhs(lattice.diagonal.size());
+  const std::vector<double> rhs = TankLattice::varied_rhs(lattice.diagonal.size());
   const std::vector<double> exact = lattice.direct_solve(rhs);
   HyprePressureSolver solver;
   for (const double tolerance : {1e-6, 1e-10}) {
@@ -54,7 +51,7 @@ TEST_CASE("BoomerAMG-PCG solves the pressure equation to the in-house criterion,
 TEST_CASE("BoomerAMG-PCG starts from the given guess: the exact answer takes at most one iteration, b = 0 gives x = 0") {
   if (!hypre_available()) return;
   const TankLattice lattice(8);
-  const std::vector<double> rhs = hydrostatic_like_rhs(lattice.diagonal.size());
+  const std::vector<double> rhs = TankLattice::varied_rhs(lattice.diagonal.size());
   std::vector<double> x = lattice.direct_solve(rhs);
   HyprePressureSolver solver;
   const PressureSolveOutcome warm = solver.solve(lattice.matrix(), rhs, x, 1e-8, 100);
@@ -71,7 +68,7 @@ TEST_CASE("BoomerAMG-PCG starts from the given guess: the exact answer takes at 
 TEST_CASE("BoomerAMG-PCG reports a solve that stops at its iteration limit as not converged") {
   if (!hypre_available()) return;
   const TankLattice lattice(12);
-  const std::vector<double> rhs = hydrostatic_like_rhs(lattice.diagonal.size());
+  const std::vector<double> rhs = TankLattice::varied_rhs(lattice.diagonal.size());
   std::vector<double> x(rhs.size(), 0.0);
   HyprePressureSolver solver;
   const PressureSolveOutcome outcome = solver.solve(lattice.matrix(), rhs, x, 1e-14, 2);
