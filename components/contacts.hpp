@@ -52,6 +52,9 @@ struct Contacts {
   // exchanged every sub-step by solid_neighbours.
   Halo halo;
   GrainGhosts ghosts;
+  /// A run spread over MPI ranks: the other ranks' grains near this one's box, whose copies are in `ghosts` too (a
+  /// pair's second slot >= grains is then one of them). Not checkpointed, like the halo.
+  RankHalo ranks;
 
   // Rebuild bookkeeping.
   std::vector<Vec3> build_position;              ///< [m] grain positions at the last rebuild (per slot)

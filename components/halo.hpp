@@ -70,6 +70,40 @@ struct GrainGhosts {
   std::vector<std::int32_t> material;
 };
 
+/// A spring carried by id across a rebuild that has no old list to read it from: a grain that arrived from another
+/// rank brings the springs of its pairs, and a world just split over the ranks keeps those of its own pairs.
+struct CarriedSpring {
+  EntityId lower = 0, higher = 0;  ///< grain ids (pairs: lower < higher), or grain id and wall slot (walls)
+  Vec3 spring = Vec3::Zero();      ///< [m] oriented for `lower` (pairs) or the grain (walls)
+};
+
+/// The grains of other MPI ranks that this rank's grains may touch, in a run spread over ranks
+/// (systems/physics/ranks/grain_ranks.hpp). Each rank owns the grains inside its box (a recursive bisection of the
+/// domain); the grains of other ranks within the neighbour list's reach of its box are its ghosts, held as the
+/// periodic halo's are, in slots [N, N + G) of Contacts::ghosts after the N reals. A pair of a real grain and a
+/// ghost is listed on one rank only, the owner of its lower id, which sends the ghost's share of the force back to
+/// the ghost's owner every sub-step (LAMMPS's "newton on"). Not checkpointed: a checkpoint holds every grain, and a
+/// resumed run is split again.
+struct RankHalo {
+  bool active = false;                     ///< the grains are spread over ranks
+  std::vector<Vec3> box_low, box_high;     ///< [m] [ranks] each rank's box (a grain's owner is the box holding it)
+  std::uint32_t real_count = 0;            ///< N at the last build
+  std::vector<EntityId> ghost_id;          ///< [G] the ghost's id on its owner rank
+  std::vector<std::int32_t> ghost_fixed;   ///< [G] its `fixed` flag
+  std::vector<std::vector<std::uint32_t>> send_slots;  ///< [ranks] the real slots sent to each rank, in order
+  std::vector<std::uint32_t> receive_offsets;          ///< [ranks + 1] the ghosts from rank r: [offsets[r], offsets[r+1])
+  /// Pairs whose second grain is a ghost, grouped by ghost ([G + 1] offsets, ascending pair index within a ghost),
+  /// and each such pair's force and torque on the ghost, from the last contact pass ([pairs]; zero elsewhere).
+  std::vector<std::uint32_t> ghost_pair_offsets, ghost_pairs;
+  std::vector<Vec3> pair_force_on_ghost, pair_torque_on_ghost;
+  /// Springs to restore by id at the next rebuild (arrivals', or those of a world just split).
+  std::vector<CarriedSpring> carried_pair_springs, carried_wall_springs;
+  std::uint64_t grains_sent = 0;      ///< grains this rank has handed to others so far (migrations)
+
+  std::size_t ghost_count() const { return ghost_id.size(); }
+  bool is_ghost(std::uint32_t slot) const { return slot >= real_count; }
+};
+
 /// The MPS particles' ghost copies (fluid, wall and dummy slots alike): what the fluid operators read of a neighbour
 /// (systems/mps/). Each search exchanges the positions it searched at, the velocities and the kinds; the pressure
 /// solve exchanges the pressures it solved for.

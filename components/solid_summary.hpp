@@ -13,6 +13,9 @@ struct SolidSummary {
   double rotational_energy = 0.0;     ///< [J] sum of I |w|^2 / 2
   double potential_energy = 0.0;      ///< [J] sum of -m g . x (relative to the origin)
   double max_speed = 0.0;             ///< [m/s] largest |v|
+  /// The grains are spread over MPI ranks (systems/physics/ranks/grain_ranks.hpp): the sums above are the whole bed's,
+  /// reduced over the ranks in rank order, the same on every rank.
+  bool over_ranks = false;
 };
 
 }  // namespace riffle

@@ -12,6 +12,7 @@
 
 #include "systems/physics/dem/contact_law.hpp"
 #include "systems/physics/dem/contact_slabs.hpp"
+#include "systems/physics/ranks/grain_ranks.hpp"
 
 namespace riffle {
 
@@ -52,6 +53,36 @@ struct RealNeighbours {
   std::int32_t material(std::uint32_t j) const { return material_[j]; }
   bool fixed(std::uint32_t j) const { return fixed_[j] != 0; }
   std::uint32_t owner(std::uint32_t j) const { return j; }
+  static constexpr bool kOtherRanks = false;
+  bool other_rank(std::uint32_t) const { return false; }
+};
+/// A run over MPI ranks: slots from N on are other ranks' grains (components/halo.hpp, RankHalo). Their share of a
+/// pair's force is kept per pair and sent back to their rank after the pass.
+struct RankNeighbours {
+  Ghosted<Vec3> position_, velocity_, angular_velocity_;
+  Ghosted<double> radius_, mass_;
+  Ghosted<std::int32_t> material_, fixed_;
+  std::uint32_t real_count_;
+  RankNeighbours(const GrainState& grains, const GrainProperties& properties, const Contacts& contacts)
+      : position_{grains.position.data(), contacts.ghosts.position.data(), contacts.ranks.real_count},
+        velocity_{grains.velocity.data(), contacts.ghosts.velocity.data(), contacts.ranks.real_count},
+        angular_velocity_{grains.angular_velocity.data(), contacts.ghosts.angular_velocity.data(),
+                          contacts.ranks.real_count},
+        radius_{properties.radius.data(), contacts.ghosts.radius.data(), contacts.ranks.real_count},
+        mass_{properties.mass.data(), contacts.ghosts.mass.data(), contacts.ranks.real_count},
+        material_{properties.material.data(), contacts.ghosts.material.data(), contacts.ranks.real_count},
+        fixed_{properties.fixed.data(), contacts.ranks.ghost_fixed.data(), contacts.ranks.real_count},
+        real_count_(contacts.ranks.real_count) {}
+  const Vec3& position(std::uint32_t j) const { return position_[j]; }
+  const Vec3& velocity(std::uint32_t j) const { return velocity_[j]; }
+  const Vec3& angular_velocity(std::uint32_t j) const { return angular_velocity_[j]; }
+  double radius(std::uint32_t j) const { return radius_[j]; }
+  double mass(std::uint32_t j) const { return mass_[j]; }
+  std::int32_t material(std::uint32_t j) const { return material_[j]; }
+  bool fixed(std::uint32_t j) const { return fixed_[j] != 0; }
+  std::uint32_t owner(std::uint32_t j) const { return j; }
+  static constexpr bool kOtherRanks = true;
+  bool other_rank(std::uint32_t j) const { return j >= real_count_; }
 };
 struct GhostedNeighbours {
   Ghosted<Vec3> position_, velocity_, angular_velocity_;
@@ -76,6 +107,8 @@ struct GhostedNeighbours {
   std::int32_t material(std::uint32_t j) const { return material_[j]; }
   bool fixed(std::uint32_t j) const { return fixed_[halo_->owner_of(j)] != 0; }
   std::uint32_t owner(std::uint32_t j) const { return halo_->owner_of(j); }
+  static constexpr bool kOtherRanks = false;
+  bool other_rank(std::uint32_t) const { return false; }
 };
 
 /// Where a pass adds the contact forces: the grains' sums (GrainContactForce), as raw pointers (see above).
@@ -162,6 +195,13 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     const std::uint32_t i = b.first[p], j = neighbours.owner(b.second[p]);
     sums.force[i] += force;
     sums.torque[i] += Vec3(b.tix[p], b.tiy[p], b.tiz[p]);
+    if constexpr (Neighbours::kOtherRanks) {
+      if (neighbours.other_rank(j)) {  // its rank adds it (return_rank_ghost_forces): kept per pair, no race
+        contacts.ranks.pair_force_on_ghost[k] = -force;
+        contacts.ranks.pair_torque_on_ghost[k] = Vec3(b.tjx[p], b.tjy[p], b.tjz[p]);
+        continue;
+      }
+    }
     sums.force[j] -= force;
     sums.torque[j] += Vec3(b.tjx[p], b.tjy[p], b.tjz[p]);
   }
@@ -315,7 +355,17 @@ void SolidContactForces::run(SystemContext& context) {
     schedule_periodic_ = contacts.slab_periodic;
   }
   // A periodic box: the second grain of a pair may be a ghost (solid_neighbours built and exchanged the halo).
-  if (contacts.halo.valid)
+  if (contacts.ranks.active) {
+    // Over MPI ranks: the other ranks' grains as seconds, and their share of the forces sent back to them (a pair
+    // apart this sub-step is not evaluated, so every share starts at zero).
+    for (const std::uint32_t k : contacts.ranks.ghost_pairs) {
+      contacts.ranks.pair_force_on_ghost[k] = Vec3::Zero();
+      contacts.ranks.pair_torque_on_ghost[k] = Vec3::Zero();
+    }
+    contact_forces(grains, properties, RankNeighbours(grains, properties, contacts), walls, contacts,
+                   context.model.contact, context.dt, contact, schedule_);
+    return_rank_ghost_forces(contacts, contact.contact_force, contact.contact_torque);
+  } else if (contacts.halo.valid)
     contact_forces(grains, properties, GhostedNeighbours(grains, properties, contacts), walls, contacts,
                    context.model.contact, context.dt, contact, schedule_);
   else

@@ -14,6 +14,8 @@
 #include "systems/physics/dem/contact_slabs.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/ranks/grain_ranks.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
 
@@ -71,7 +73,21 @@ struct SearchGrains {
   const std::vector<Vec3>& position;
   const std::vector<double>& radius;
   const Halo* halo = nullptr;  ///< null without periodic axes: every slot is real
+  /// A run over MPI ranks: slots from ranks->real_count on are other ranks' grains (null otherwise).
+  const RankHalo* ranks = nullptr;
+  const std::vector<EntityId>* ids = nullptr;  ///< the reals' ids (with `ranks`)
   std::uint32_t owner_of(std::uint32_t j) const { return halo ? halo->owner_of(j) : j; }
+  bool is_rank_ghost(std::uint32_t j) const { return ranks && j >= ranks->real_count; }
+  /// The id of slot j: a real's, or another rank's grain's.
+  EntityId id_of(std::uint32_t j) const {
+    return is_rank_ghost(j) ? ranks->ghost_id[j - ranks->real_count] : (*ids)[owner_of(j)];
+  }
+  /// Whether this rank lists the pair of real i and slot j: within the reals (or a periodic halo) the side whose
+  /// first grain has the lower slot; with another rank's grain the rank that owns the lower id (each pair on one rank).
+  bool lists(std::size_t i, std::uint32_t j) const {
+    if (is_rank_ghost(j)) return (*ids)[i] < ranks->ghost_id[j - ranks->real_count];
+    return owner_of(j) > i;
+  }
 };
 
 /// Calls visit(j) for every grain j whose owner is > i within r_i + r_j + skin of grain i (plus the lubrication
@@ -92,7 +108,7 @@ void for_each_candidate(const SearchGrains& solids, const GrainBinGrid& grid, do
         const std::size_t cell = grid.linear(x, y, z);
         for (std::uint32_t k = grid.cell_start[cell]; k < grid.cell_start[cell + 1]; ++k) {
           const std::uint32_t j = grid.grains[k];
-          if (solids.owner_of(j) <= i) continue;
+          if (!solids.lists(i, j)) continue;
           const double cutoff = solids.radius[i] + solids.radius[j] + skin +
                                 lubrication_reach(coupling, solids.radius[i], solids.radius[j]);
           if ((solids.position[j] - position).squaredNorm() < cutoff * cutoff) visit(j);
@@ -222,8 +238,11 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
         if (contacts.pair_overlap[k] <= 0.0) continue;
         // The old list's halo maps a ghost to its owner: the history of a pair across the seam is the pair's by id.
         const std::uint32_t second_slot = contacts.pair_second[k];
+        const RankHalo& ranks = contacts.ranks;
+        const bool rank_ghost = ranks.active && second_slot >= ranks.real_count;
         const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(second_slot) : second_slot;
-        const EntityId first = solids.id[i], second = solids.id[j];
+        const EntityId first = solids.id[i];
+        const EntityId second = rank_ghost ? ranks.ghost_id[second_slot - ranks.real_count] : solids.id[j];
         const Vec3& spring = contacts.pair_spring[k];
         saved_pairs.push_back(first < second ? SavedSpring{first, second, spring} : SavedSpring{second, first, -spring});
       }
@@ -232,13 +251,33 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
           saved_walls.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k]});
     }
   }
+  // Over MPI ranks: the springs carried in (a world just split), then the grains that left this rank's box go to
+  // their owners with their springs, and the arrivals bring theirs.
+  RankHalo& ranks = contacts.ranks;
+  if (ranks.active) {
+    std::vector<CarriedSpring> pair_springs = std::move(ranks.carried_pair_springs),
+                               wall_springs = std::move(ranks.carried_wall_springs);
+    ranks.carried_pair_springs.clear();
+    ranks.carried_wall_springs.clear();
+    for (const SavedSpring& spring : saved_pairs) pair_springs.push_back({spring.lower, spring.higher, spring.spring});
+    for (const SavedSpring& spring : saved_walls) wall_springs.push_back({spring.lower, spring.higher, spring.spring});
+    migrate_grains(solids, ranks, pair_springs, wall_springs);
+    saved_pairs.clear();
+    saved_walls.clear();
+    for (const CarriedSpring& spring : pair_springs) saved_pairs.push_back({spring.lower, spring.higher, spring.spring});
+    for (const CarriedSpring& spring : wall_springs) saved_walls.push_back({spring.lower, spring.higher, spring.spring});
+  }
   const SavedSprings saved_pair_springs(std::move(saved_pairs), solids.size());
   const SavedSprings saved_wall_springs(std::move(saved_walls), solids.size());
 
   const std::size_t count = solids.size();
-  const double skin = model.contact.skin > 0.0 ? model.contact.skin : default_skin(solids);
-  const double smallest_radius = count ? *std::min_element(solids.radius.begin(), solids.radius.end()) : 0.0;
-  const double largest_radius = count ? *std::max_element(solids.radius.begin(), solids.radius.end()) : 0.0;
+  double smallest_radius = count ? *std::min_element(solids.radius.begin(), solids.radius.end()) : 0.0;
+  double largest_radius = count ? *std::max_element(solids.radius.begin(), solids.radius.end()) : 0.0;
+  if (ranks.active) {  // every rank's list takes the whole bed's sizes, as one rank's would
+    smallest_radius = -ranks::max(count ? -smallest_radius : -std::numeric_limits<double>::infinity());
+    largest_radius = ranks::max(largest_radius);
+  }
+  const double skin = model.contact.skin > 0.0 ? model.contact.skin : 0.5 * smallest_radius;  // default_skin
   const DomainBox domain = domain_box(model);
   const PeriodicBox box = periodic_box(model);
 
@@ -256,13 +295,21 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   if (box.any()) {
     build_halo(solids.position, solids.id, box, halo_width(solids, model, skin), contacts.halo);
     exchange_grain_halo(solids, contacts);
+  } else if (ranks.active) {
+    // Every other rank's grains within the list's longest candidate distance of this rank's box.
+    build_rank_ghosts(solids, contacts,
+                      2.0 * largest_radius + skin +
+                          lubrication_reach(model.coupling, largest_radius, std::numeric_limits<double>::infinity()));
+  }
+  const bool ghosts = box.any() || ranks.active;
+  if (ghosts) {
     search_position = solids.position;
     search_position.insert(search_position.end(), contacts.ghosts.position.begin(), contacts.ghosts.position.end());
     search_radius = solids.radius;
     search_radius.insert(search_radius.end(), contacts.ghosts.radius.begin(), contacts.ghosts.radius.end());
   }
-  const SearchGrains search{box.any() ? search_position : solids.position, box.any() ? search_radius : solids.radius,
-                            box.any() ? &contacts.halo : nullptr};
+  const SearchGrains search{ghosts ? search_position : solids.position, ghosts ? search_radius : solids.radius,
+                            box.any() ? &contacts.halo : nullptr, ranks.active ? &ranks : nullptr, &solids.id};
   const GrainBinGrid grid = build_grid(search.position, domain, 2.0 * smallest_radius + skin);
   // One search: each block of kGrain grains lists its grains' candidates (each grain's sorted) into its own buffer,
   // and the buffers are joined in grain order, so the list is the same whatever the threads.
@@ -295,14 +342,34 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
 
   // 4. Reverse index: pairs where each grain is second (itself or through a ghost: the force goes to the owner),
   // ascending pair index.
+  // Another rank's grain as second: those pairs are indexed by ghost instead (their forces go back to its rank).
   contacts.second_offsets.assign(count + 1, 0);
-  for (std::size_t k = 0; k < pairs; ++k) ++contacts.second_offsets[search.owner_of(contacts.pair_second[k]) + 1];
+  std::size_t ghost_second = 0;
+  for (std::size_t k = 0; k < pairs; ++k) {
+    if (search.is_rank_ghost(contacts.pair_second[k])) ++ghost_second;
+    else ++contacts.second_offsets[search.owner_of(contacts.pair_second[k]) + 1];
+  }
   for (std::size_t i = 0; i < count; ++i) contacts.second_offsets[i + 1] += contacts.second_offsets[i];
-  contacts.second_pairs.resize(pairs);
+  contacts.second_pairs.resize(pairs - ghost_second);
   {
     std::vector<std::uint32_t> fill(contacts.second_offsets.begin(), contacts.second_offsets.end() - 1);
     for (std::size_t k = 0; k < pairs; ++k)
-      contacts.second_pairs[fill[search.owner_of(contacts.pair_second[k])]++] = static_cast<std::uint32_t>(k);
+      if (!search.is_rank_ghost(contacts.pair_second[k]))
+        contacts.second_pairs[fill[search.owner_of(contacts.pair_second[k])]++] = static_cast<std::uint32_t>(k);
+  }
+  if (ranks.active) {
+    const std::size_t ghost_count = ranks.ghost_count();
+    ranks.ghost_pair_offsets.assign(ghost_count + 1, 0);
+    for (std::size_t k = 0; k < pairs; ++k)
+      if (search.is_rank_ghost(contacts.pair_second[k])) ++ranks.ghost_pair_offsets[contacts.pair_second[k] - count + 1];
+    for (std::size_t g = 0; g < ghost_count; ++g) ranks.ghost_pair_offsets[g + 1] += ranks.ghost_pair_offsets[g];
+    ranks.ghost_pairs.resize(ghost_second);
+    std::vector<std::uint32_t> fill(ranks.ghost_pair_offsets.begin(), ranks.ghost_pair_offsets.end() - 1);
+    for (std::size_t k = 0; k < pairs; ++k)
+      if (search.is_rank_ghost(contacts.pair_second[k]))
+        ranks.ghost_pairs[fill[contacts.pair_second[k] - count]++] = static_cast<std::uint32_t>(k);
+    ranks.pair_force_on_ghost.assign(pairs, Vec3::Zero());
+    ranks.pair_torque_on_ghost.assign(pairs, Vec3::Zero());
   }
 
   // 5. Grain-wall candidates: every wall plane within r + skin (a grain behind a wall is a candidate too).
@@ -333,7 +400,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
           const std::uint32_t j = contacts.pair_second[k];
           const double touching_distance = search.radius[i] + search.radius[j];
           if ((search.position[j] - search.position[i]).squaredNorm() >= touching_distance * touching_distance) continue;
-          const EntityId first = solids.id[i], second = solids.id[search.owner_of(j)];
+          const EntityId first = solids.id[i], second = search.id_of(j);
           const bool first_lower = first < second;
           if (const SavedSpring* found =
                   saved_pair_springs.find(first_lower ? first : second, first_lower ? second : first))
@@ -369,11 +436,15 @@ void SolidNeighbours::run(SystemContext& context) {
   restore_halo_and_slabs(solids, contacts, context.model);
   // A grain past a periodic face is wrapped at the next rebuild, not at once: until its skin is used up its pairs
   // stay the same (ghost = owner + period, so a pair across the seam is the same pair on either side of it).
-  if (neighbour_list_stale(solids, contacts, tank)) {
+  // Over MPI ranks every rank rebuilds when any list is stale (the rebuild moves grains between them).
+  const bool stale = neighbour_list_stale(solids, contacts, tank);
+  if (contacts.ranks.active ? ranks::any(stale) : stale) {
     const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
     rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);
   } else if (box.any()) {
     exchange_grain_halo_motion(solids, contacts);  // the ghosts follow their owners every sub-step
+  } else if (contacts.ranks.active) {
+    exchange_rank_ghost_motion(solids, contacts);  // the other ranks' grains, as their owners moved them
   }
 }
 

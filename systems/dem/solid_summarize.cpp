@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "systems/physics/ranks/rank_comm.hpp"
+
 namespace riffle {
 
 namespace {
@@ -45,6 +47,14 @@ void SolidSummarize::run(SystemContext& context) {
   summary.rotational_energy = sums.rotational;
   summary.potential_energy = sums.potential;
   summary.max_speed = sums.max_speed;
+  if (summary.over_ranks) {  // the whole bed's, the same on every rank (sums in rank order)
+    const std::vector<double> total =
+        ranks::sum_in_rank_order({sums.translational, sums.rotational, sums.potential});
+    summary.translational_energy = total[0];
+    summary.rotational_energy = total[1];
+    summary.potential_energy = total[2];
+    summary.max_speed = ranks::max(sums.max_speed);
+  }
   context.count_items(grains.size());
 }
 

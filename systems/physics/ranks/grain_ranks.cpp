@@ -1,0 +1,351 @@
+#include "systems/physics/ranks/grain_ranks.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/recursive_bisection.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
+
+namespace riffle {
+
+namespace {
+
+/// Plain values into bytes and back; a Vec3 as its three doubles.
+class ByteWriter {
+ public:
+  explicit ByteWriter(std::vector<std::byte>& out) : out_(out) {}
+  template <class T>
+  void put(const T& value) {
+    if constexpr (std::is_same_v<T, Vec3>) {
+      const double xyz[3] = {value.x(), value.y(), value.z()};
+      append(xyz, sizeof xyz);
+    } else {
+      static_assert(std::is_trivially_copyable_v<T>);
+      append(&value, sizeof value);
+    }
+  }
+
+ private:
+  void append(const void* data, std::size_t bytes) {
+    const std::size_t at = out_.size();
+    out_.resize(at + bytes);
+    std::memcpy(out_.data() + at, data, bytes);
+  }
+  std::vector<std::byte>& out_;
+};
+
+class ByteReader {
+ public:
+  explicit ByteReader(const std::vector<std::byte>& in) : in_(in) {}
+  template <class T>
+  T get() {
+    if constexpr (std::is_same_v<T, Vec3>) {
+      double xyz[3];
+      take(xyz, sizeof xyz);
+      return Vec3(xyz[0], xyz[1], xyz[2]);
+    } else {
+      T value;
+      take(&value, sizeof value);
+      return value;
+    }
+  }
+  bool done() const { return at_ == in_.size(); }
+
+ private:
+  void take(void* data, std::size_t bytes) {
+    if (at_ + bytes > in_.size()) throw std::logic_error("grain_ranks: a message ended early");
+    std::memcpy(data, in_.data() + at_, bytes);
+    at_ += bytes;
+  }
+  const std::vector<std::byte>& in_;
+  std::size_t at_ = 0;
+};
+
+/// Every field of grain `slot`, in the table's order.
+void pack_grain(const Solids& solids, std::size_t slot, ByteWriter& out) {
+  Solids::for_each_field(solids, [&](const FieldInfo&, const auto& field) { out.put(field[slot]); });
+}
+
+/// Appends one grain packed by pack_grain (the table already resized: `slot` is the new grain's).
+void unpack_grain(Solids& solids, std::size_t slot, ByteReader& in) {
+  Solids::for_each_field(solids, [&](const FieldInfo&, auto& field) {
+    using Value = typename std::decay_t<decltype(field)>::value_type;
+    field[slot] = in.template get<Value>();
+  });
+}
+
+void pack_spring(const CarriedSpring& spring, ByteWriter& out) {
+  out.put(spring.lower);
+  out.put(spring.higher);
+  out.put(spring.spring);
+}
+
+CarriedSpring unpack_spring(ByteReader& in) {
+  CarriedSpring spring;
+  spring.lower = in.get<EntityId>();
+  spring.higher = in.get<EntityId>();
+  spring.spring = in.get<Vec3>();
+  return spring;
+}
+
+std::vector<PartBox> boxes_of(const RankHalo& ranks) {
+  std::vector<PartBox> boxes(ranks.box_low.size());
+  for (std::size_t r = 0; r < boxes.size(); ++r) boxes[r] = {ranks.box_low[r], ranks.box_high[r]};
+  return boxes;
+}
+
+}  // namespace
+
+int owner_rank(const RankHalo& ranks, const Vec3& position) {
+  const std::vector<PartBox> boxes = boxes_of(ranks);
+  return static_cast<int>(part_of(boxes, position));
+}
+
+void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& domain_low, const Vec3& domain_high) {
+  const int me = ranks::rank(), count = ranks::size();
+  RankHalo& halo = contacts.ranks;
+  halo = RankHalo{};
+  halo.active = true;
+  const std::vector<double> weights(solids.size(), 1.0);
+  const std::vector<PartBox> boxes =
+      recursive_bisection(solids.position, weights, PartBox{domain_low, domain_high}, count);
+  for (const PartBox& box : boxes) {
+    halo.box_low.push_back(box.low);
+    halo.box_high.push_back(box.high);
+  }
+  std::vector<int> owner(solids.size());
+  for (std::size_t i = 0; i < solids.size(); ++i) owner[i] = static_cast<int>(part_of(boxes, solids.position[i]));
+  // The springs of the pairs this rank will list (their lower id is its own) and of its grains' walls, by id.
+  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1 && !contacts.halo.valid) {
+    for (std::size_t i = 0; i < solids.size(); ++i) {
+      for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+        if (contacts.pair_overlap[k] <= 0.0) continue;
+        const std::uint32_t j = contacts.pair_second[k];
+        const EntityId first = solids.id[i], second = solids.id[j];
+        const bool first_lower = first < second;
+        const std::size_t lower_slot = first_lower ? i : j;
+        if (owner[lower_slot] != me) continue;
+        halo.carried_pair_springs.push_back(first_lower ? CarriedSpring{first, second, contacts.pair_spring[k]}
+                                                        : CarriedSpring{second, first, -contacts.pair_spring[k]});
+      }
+      if (owner[i] != me) continue;
+      for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
+        if (contacts.wall_pair_overlap[k] > 0.0)
+          halo.carried_wall_springs.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k]});
+    }
+  }
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < solids.size(); ++i)
+    if (owner[i] == me) kept.push_back(i);
+  keep_fields(solids, kept);
+  // The list named the whole world's slots: the first sub-step rebuilds it (with the springs carried above).
+  RankHalo keep = std::move(halo);
+  contacts = Contacts{};
+  contacts.ranks = std::move(keep);
+}
+
+std::size_t migrate_grains(Solids& solids, RankHalo& halo, std::vector<CarriedSpring>& pair_springs,
+                           std::vector<CarriedSpring>& wall_springs) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const auto me = static_cast<std::size_t>(ranks::rank());
+  const std::vector<PartBox> boxes = boxes_of(halo);
+  std::vector<std::size_t> destination(solids.size());
+  std::vector<std::vector<std::size_t>> leaving(count);
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    destination[i] = part_of(boxes, solids.position[i]);
+    if (destination[i] == me) kept.push_back(i);
+    else leaving[destination[i]].push_back(i);
+  }
+  // Where each leaving grain's springs go: by its id.
+  std::vector<std::pair<EntityId, std::size_t>> leaver_rank;
+  for (std::size_t r = 0; r < count; ++r)
+    for (const std::size_t i : leaving[r]) leaver_rank.emplace_back(solids.id[i], r);
+  std::sort(leaver_rank.begin(), leaver_rank.end());
+  const auto rank_of_leaver = [&](EntityId id) -> std::size_t {
+    const auto it = std::lower_bound(leaver_rank.begin(), leaver_rank.end(), std::make_pair(id, std::size_t{0}));
+    return it != leaver_rank.end() && it->first == id ? it->second : me;
+  };
+  std::vector<std::vector<CarriedSpring>> pair_out(count), wall_out(count);
+  std::vector<CarriedSpring> pair_stay, wall_stay;
+  for (const CarriedSpring& spring : pair_springs) {
+    const std::size_t r = rank_of_leaver(spring.lower);
+    (r == me ? pair_stay : pair_out[r]).push_back(spring);
+  }
+  for (const CarriedSpring& spring : wall_springs) {
+    const std::size_t r = rank_of_leaver(spring.lower);
+    (r == me ? wall_stay : wall_out[r]).push_back(spring);
+  }
+  std::vector<std::vector<std::byte>> outgoing(count);
+  std::size_t left = 0;
+  for (std::size_t r = 0; r < count; ++r) {
+    if (r == me) continue;
+    ByteWriter out(outgoing[r]);
+    out.put(static_cast<std::uint64_t>(leaving[r].size()));
+    for (const std::size_t i : leaving[r]) pack_grain(solids, i, out);
+    out.put(static_cast<std::uint64_t>(pair_out[r].size()));
+    for (const CarriedSpring& spring : pair_out[r]) pack_spring(spring, out);
+    out.put(static_cast<std::uint64_t>(wall_out[r].size()));
+    for (const CarriedSpring& spring : wall_out[r]) pack_spring(spring, out);
+    left += leaving[r].size();
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  keep_fields(solids, kept);
+  pair_springs = std::move(pair_stay);
+  wall_springs = std::move(wall_stay);
+  for (std::size_t r = 0; r < count; ++r) {
+    if (r == me || incoming[r].empty()) continue;
+    ByteReader in(incoming[r]);
+    const auto arriving = static_cast<std::size_t>(in.get<std::uint64_t>());
+    const std::size_t first = solids.size();
+    resize_fields(solids, first + arriving);
+    for (std::size_t k = 0; k < arriving; ++k) unpack_grain(solids, first + k, in);
+    for (auto* springs : {&pair_springs, &wall_springs}) {
+      const auto n = static_cast<std::size_t>(in.get<std::uint64_t>());
+      for (std::size_t k = 0; k < n; ++k) springs->push_back(unpack_spring(in));
+    }
+    if (!in.done()) throw std::logic_error("grain_ranks: a migration message from rank " + std::to_string(r) + " has trailing bytes");
+  }
+  halo.grains_sent += left;
+  return left;
+}
+
+void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const auto me = static_cast<std::size_t>(ranks::rank());
+  RankHalo& halo = contacts.ranks;
+  halo.real_count = static_cast<std::uint32_t>(solids.size());
+  halo.send_slots.assign(count, {});
+  std::vector<std::vector<std::byte>> outgoing(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    if (r == me) continue;
+    std::vector<std::uint32_t>& slots = halo.send_slots[r];
+    for (std::size_t i = 0; i < solids.size(); ++i)
+      if (distance_outside_box(halo.box_low[r], halo.box_high[r], solids.position[i]) < reach)
+        slots.push_back(static_cast<std::uint32_t>(i));
+    ByteWriter out(outgoing[r]);
+    for (const std::uint32_t i : slots) {
+      out.put(solids.id[i]);
+      out.put(solids.position[i]);
+      out.put(solids.velocity[i]);
+      out.put(solids.angular_velocity[i]);
+      out.put(solids.radius[i]);
+      out.put(solids.mass[i]);
+      out.put(solids.material[i]);
+      out.put(solids.fixed[i]);
+    }
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  GrainGhosts& ghosts = contacts.ghosts;
+  ghosts = GrainGhosts{};
+  halo.ghost_id.clear();
+  halo.ghost_fixed.clear();
+  halo.receive_offsets.assign(count + 1, 0);
+  for (std::size_t r = 0; r < count; ++r) {
+    halo.receive_offsets[r] = static_cast<std::uint32_t>(halo.ghost_id.size());
+    if (r == me) continue;
+    ByteReader in(incoming[r]);
+    while (!in.done()) {
+      halo.ghost_id.push_back(in.get<EntityId>());
+      ghosts.position.push_back(in.get<Vec3>());
+      ghosts.velocity.push_back(in.get<Vec3>());
+      ghosts.angular_velocity.push_back(in.get<Vec3>());
+      ghosts.radius.push_back(in.get<double>());
+      ghosts.mass.push_back(in.get<double>());
+      ghosts.material.push_back(in.get<std::int32_t>());
+      halo.ghost_fixed.push_back(in.get<std::int32_t>());
+    }
+  }
+  halo.receive_offsets[count] = static_cast<std::uint32_t>(halo.ghost_id.size());
+}
+
+void exchange_rank_ghost_motion(const Solids& solids, Contacts& contacts) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const RankHalo& halo = contacts.ranks;
+  std::vector<std::vector<std::byte>> outgoing(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteWriter out(outgoing[r]);
+    for (const std::uint32_t i : halo.send_slots[r]) {
+      out.put(solids.position[i]);
+      out.put(solids.velocity[i]);
+      out.put(solids.angular_velocity[i]);
+    }
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  GrainGhosts& ghosts = contacts.ghosts;
+  for (std::size_t r = 0; r < count; ++r) {
+    if (halo.receive_offsets[r] == halo.receive_offsets[r + 1]) continue;
+    ByteReader in(incoming[r]);
+    for (std::uint32_t g = halo.receive_offsets[r]; g < halo.receive_offsets[r + 1]; ++g) {
+      ghosts.position[g] = in.get<Vec3>();
+      ghosts.velocity[g] = in.get<Vec3>();
+      ghosts.angular_velocity[g] = in.get<Vec3>();
+    }
+  }
+}
+
+void return_rank_ghost_forces(const Contacts& contacts, std::vector<Vec3>& force, std::vector<Vec3>& torque) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const RankHalo& halo = contacts.ranks;
+  std::vector<std::vector<std::byte>> outgoing(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteWriter out(outgoing[r]);
+    for (std::uint32_t g = halo.receive_offsets[r]; g < halo.receive_offsets[r + 1]; ++g) {
+      Vec3 ghost_force = Vec3::Zero(), ghost_torque = Vec3::Zero();
+      for (std::uint32_t n = halo.ghost_pair_offsets[g]; n < halo.ghost_pair_offsets[g + 1]; ++n) {
+        const std::uint32_t k = halo.ghost_pairs[n];
+        ghost_force += halo.pair_force_on_ghost[k];
+        ghost_torque += halo.pair_torque_on_ghost[k];
+      }
+      out.put(ghost_force);
+      out.put(ghost_torque);
+    }
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  for (std::size_t r = 0; r < count; ++r) {
+    if (halo.send_slots[r].empty()) continue;
+    ByteReader in(incoming[r]);
+    for (const std::uint32_t i : halo.send_slots[r]) {
+      force[i] += in.get<Vec3>();
+      torque[i] += in.get<Vec3>();
+    }
+  }
+}
+
+Solids gather_grains_at_root(const Solids& solids) {
+  std::vector<std::byte> mine;
+  ByteWriter out(mine);
+  for (std::size_t i = 0; i < solids.size(); ++i) pack_grain(solids, i, out);
+  const std::vector<std::vector<std::byte>> all = ranks::gather_at_root(mine);
+  Solids gathered;
+  if (ranks::rank() != 0) return gathered;
+  std::size_t bytes_per_grain = 0;
+  {
+    std::vector<std::byte> probe;
+    ByteWriter one(probe);
+    Solids sample;
+    resize_fields(sample, 1);
+    pack_grain(sample, 0, one);
+    bytes_per_grain = probe.size();
+  }
+  std::size_t total = 0;
+  for (const auto& bytes : all) total += bytes.size() / bytes_per_grain;
+  resize_fields(gathered, total);
+  std::size_t slot = 0;
+  for (const auto& bytes : all) {
+    ByteReader in(bytes);
+    while (!in.done()) unpack_grain(gathered, slot++, in);
+  }
+  std::vector<std::size_t> order(total);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return gathered.id[a] < gathered.id[b]; });
+  permute_fields(gathered, order);
+  return gathered;
+}
+
+}  // namespace riffle

@@ -1,0 +1,53 @@
+#pragma once
+// The grains of a run spread over MPI ranks (domain decomposition; components/halo.hpp, RankHalo): each rank owns the
+// grains inside its box and integrates them; the other ranks' grains within the neighbour list's reach of its box are
+// its ghosts. What moves between ranks, and when:
+//   - at a neighbour-list rebuild (every rank rebuilds when any rank's list is stale): the grains that left a box go to
+//     the rank that owns their new position, with every field and the springs of their pairs (those of which they
+//     hold the lower id, and their wall pairs); then each rank sends every other the grains within reach of its box,
+//     ghosts for its search (ids, kinematics, radius, mass, material, fixed);
+//   - every sub-step, before the contact pass: the ghosts' positions, velocities and spins from their owners;
+//   - every sub-step, after it: each ghost's share of its pairs' forces and torques back to its owner, which adds them
+//     in rank order (a fixed order: a run is reproducible for a given rank count).
+// A one-rank run never calls these.
+#include <cstddef>
+#include <vector>
+
+#include "components/contacts.hpp"
+#include "components/solids.hpp"
+
+namespace riffle {
+
+/// The rank whose box holds `position` (the nearest box for a point outside all of them).
+int owner_rank(const RankHalo& ranks, const Vec3& position);
+
+/// Splits a world that every rank built whole (the same scene or checkpoint on every rank) over the ranks: boxes by a
+/// recursive bisection of the grains' positions over [domain_low, domain_high] with equal weights, then each rank
+/// keeps the grains in its box and the springs of their pairs (carried to the first rebuild, which every rank then
+/// does). Deterministic: every rank computes the same boxes from the same world, without a message.
+void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& domain_low, const Vec3& domain_high);
+
+/// Sends the grains outside this rank's box to their owners, with their springs (`pair_springs`: springs by id,
+/// oriented for the lower id, of the pairs this rank lists; those whose lower id leaves go with it; `wall_springs`:
+/// those of the leaving grains go with them), and appends the grains that arrive, adding the springs they bring.
+/// Collective. Returns the number of grains that left.
+std::size_t migrate_grains(Solids& solids, RankHalo& ranks, std::vector<CarriedSpring>& pair_springs,
+                           std::vector<CarriedSpring>& wall_springs);
+
+/// Sends every rank this rank's grains within `reach` of its box, and fills `contacts.ghosts` and the RankHalo's ghost
+/// ids, flags, send lists and offsets with what the others send. Collective.
+void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach);
+
+/// The ghosts' positions, velocities and angular velocities from their owners (along the send lists of the last
+/// build). Collective.
+void exchange_rank_ghost_motion(const Solids& solids, Contacts& contacts);
+
+/// Each ghost's share of its pairs' forces and torques (RankHalo::pair_force_on_ghost, summed per ghost in pair order)
+/// sent to its owner and added there to `force` and `torque`, in rank order. Collective.
+void return_rank_ghost_forces(const Contacts& contacts, std::vector<Vec3>& force, std::vector<Vec3>& torque);
+
+/// Every rank's grains at rank 0, ordered by id (a whole world's grains for the outputs); empty on the other ranks.
+/// Collective.
+Solids gather_grains_at_root(const Solids& solids);
+
+}  // namespace riffle

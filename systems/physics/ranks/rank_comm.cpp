@@ -1,0 +1,188 @@
+#include "systems/physics/ranks/rank_comm.hpp"
+
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#ifdef RIFFLE_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace riffle::ranks {
+
+#ifdef RIFFLE_WITH_MPI
+
+namespace {
+bool started_here = false;
+
+void finalise() {
+  int finalised = 0;
+  MPI_Finalized(&finalised);
+  if (!finalised && started_here) MPI_Finalize();
+}
+
+bool running() {
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  return initialised && !finalised;
+}
+
+void check(int code, const char* call) {
+  if (code != MPI_SUCCESS) throw std::runtime_error(std::string(call) + " failed (MPI error " + std::to_string(code) + ")");
+}
+
+int to_int(std::size_t count) {
+  if (count > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::runtime_error("an MPI message of " + std::to_string(count) + " bytes is beyond MPI's int counts");
+  return static_cast<int>(count);
+}
+}  // namespace
+
+bool mpi_built() { return true; }
+
+void start_mpi() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    int initialised = 0;
+    MPI_Initialized(&initialised);
+    if (initialised) return;
+    int provided = 0;
+    if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS)
+      throw std::runtime_error("could not initialise MPI");
+    if (provided < MPI_THREAD_SERIALIZED)
+      throw std::runtime_error("riffle needs MPI_THREAD_SERIALIZED (this MPI gives " + std::to_string(provided) + ")");
+    started_here = true;
+    std::atexit(finalise);
+  });
+}
+
+int rank() {
+  if (!running()) return 0;
+  int value = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &value);
+  return value;
+}
+
+int size() {
+  if (!running()) return 1;
+  int value = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &value);
+  return value;
+}
+
+bool any(bool flag) {
+  if (size() == 1) return flag;
+  int local = flag ? 1 : 0, global = 0;
+  check(MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD), "MPI_Allreduce");
+  return global != 0;
+}
+
+double max(double value) {
+  if (size() == 1) return value;
+  double global = 0.0;
+  check(MPI_Allreduce(&value, &global, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+  return global;
+}
+
+std::vector<double> gather_all(const std::vector<double>& values) {
+  if (size() == 1) return values;
+  const int count = to_int(values.size());
+  std::vector<int> counts(static_cast<std::size_t>(size()));
+  check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  std::vector<int> displacements(counts.size(), 0);
+  for (std::size_t r = 1; r < counts.size(); ++r) displacements[r] = displacements[r - 1] + counts[r - 1];
+  std::vector<double> all(static_cast<std::size_t>(displacements.back() + counts.back()));
+  check(MPI_Allgatherv(values.data(), count, MPI_DOUBLE, all.data(), counts.data(), displacements.data(), MPI_DOUBLE,
+                       MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  return all;
+}
+
+std::vector<double> sum_in_rank_order(const std::vector<double>& values) {
+  if (size() == 1) return values;
+  const std::vector<double> all = gather_all(values);
+  std::vector<double> sum(values.size(), 0.0);
+  for (std::size_t r = 0; r < static_cast<std::size_t>(size()); ++r)
+    for (std::size_t k = 0; k < values.size(); ++k) sum[k] += all[r * values.size() + k];
+  return sum;
+}
+
+std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& outgoing) {
+  const auto ranks = static_cast<std::size_t>(size());
+  if (outgoing.size() != ranks)
+    throw std::logic_error("ranks::exchange: " + std::to_string(outgoing.size()) + " buffers for " +
+                           std::to_string(ranks) + " ranks");
+  if (ranks == 1) return outgoing;
+  std::vector<int> send_counts(ranks), receive_counts(ranks), send_at(ranks, 0), receive_at(ranks, 0);
+  for (std::size_t r = 0; r < ranks; ++r) send_counts[r] = to_int(outgoing[r].size());
+  check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, MPI_COMM_WORLD),
+        "MPI_Alltoall");
+  std::vector<std::byte> send_buffer, receive_buffer;
+  for (std::size_t r = 0; r < ranks; ++r) {
+    send_at[r] = to_int(send_buffer.size());
+    send_buffer.insert(send_buffer.end(), outgoing[r].begin(), outgoing[r].end());
+  }
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < ranks; ++r) {
+    receive_at[r] = to_int(total);
+    total += static_cast<std::size_t>(receive_counts[r]);
+  }
+  receive_buffer.resize(total);
+  check(MPI_Alltoallv(send_buffer.data(), send_counts.data(), send_at.data(), MPI_BYTE, receive_buffer.data(),
+                      receive_counts.data(), receive_at.data(), MPI_BYTE, MPI_COMM_WORLD),
+        "MPI_Alltoallv");
+  std::vector<std::vector<std::byte>> incoming(ranks);
+  for (std::size_t r = 0; r < ranks; ++r)
+    incoming[r].assign(receive_buffer.begin() + receive_at[r],
+                       receive_buffer.begin() + receive_at[r] + receive_counts[r]);
+  return incoming;
+}
+
+std::vector<std::vector<std::byte>> gather_at_root(const std::vector<std::byte>& mine) {
+  const auto ranks = static_cast<std::size_t>(size());
+  if (ranks == 1) return {mine};
+  std::vector<std::vector<std::byte>> outgoing(ranks);
+  outgoing[0] = mine;
+  std::vector<std::vector<std::byte>> incoming = exchange(outgoing);
+  if (rank() != 0) return {};
+  return incoming;
+}
+
+std::vector<std::byte> broadcast_from_root(std::vector<std::byte> bytes) {
+  if (size() == 1) return bytes;
+  unsigned long long count = bytes.size();
+  check(MPI_Bcast(&count, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  bytes.resize(static_cast<std::size_t>(count));
+  check(MPI_Bcast(bytes.data(), to_int(bytes.size()), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  return bytes;
+}
+
+void barrier() {
+  if (size() > 1) check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
+}
+
+#else  // one rank, no MPI
+
+bool mpi_built() { return false; }
+void start_mpi() {}
+int rank() { return 0; }
+int size() { return 1; }
+bool any(bool flag) { return flag; }
+double max(double value) { return value; }
+std::vector<double> sum_in_rank_order(const std::vector<double>& values) { return values; }
+std::vector<double> gather_all(const std::vector<double>& values) { return values; }
+std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& outgoing) {
+  if (outgoing.size() != 1) throw std::logic_error("ranks::exchange: a build without MPI has one rank");
+  return outgoing;
+}
+std::vector<std::vector<std::byte>> gather_at_root(const std::vector<std::byte>& mine) { return {mine}; }
+std::vector<std::byte> broadcast_from_root(std::vector<std::byte> bytes) { return bytes; }
+void barrier() {}
+
+#endif
+
+}  // namespace riffle::ranks

@@ -1,0 +1,47 @@
+#pragma once
+// The MPI ranks of a distributed run, as the systems see them: who this process is, and the few collective
+// operations the grains' decomposition needs (systems/physics/ranks/grain_ranks.hpp). Everything goes over
+// MPI_COMM_WORLD. A build without MPI, or a process started without mpirun, is rank 0 of 1 and every operation is
+// the identity, so one-rank code calls these without asking.
+//
+// Reductions that feed the physics (a sum of energies, the largest displacement) are taken in rank order on every
+// rank (gather, then add in order), never with MPI_Allreduce's unspecified order: a run is reproducible for a given
+// rank count.
+#include <cstddef>
+#include <vector>
+
+namespace riffle::ranks {
+
+/// True when riffle was built with MPI (RIFFLE_HYPRE found hypre and MPI).
+bool mpi_built();
+/// Starts MPI (MPI_THREAD_SERIALIZED: the exchanges run on whichever oneTBB thread runs the system, one at a time),
+/// once per process, and finalises it at exit if it started it. A no-op without MPI.
+void start_mpi();
+/// This process's rank and the rank count; 0 and 1 before start_mpi or without MPI.
+int rank();
+int size();
+/// True if the run is spread over more than one rank.
+inline bool distributed() { return size() > 1; }
+
+/// True on every rank if `flag` is true on any.
+bool any(bool flag);
+/// The largest `value` over the ranks, on every rank (max is exact in any order).
+double max(double value);
+/// Each rank's `values` (the same length on every rank) summed element by element in rank order, on every rank.
+std::vector<double> sum_in_rank_order(const std::vector<double>& values);
+/// Every rank's `values` concatenated in rank order, on every rank.
+std::vector<double> gather_all(const std::vector<double>& values);
+
+/// Sends outgoing[r] to rank r (outgoing.size() == size(); an empty buffer sends nothing) and returns what each rank
+/// sent here, indexed by the sender. Collective: every rank calls it.
+std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& outgoing);
+
+/// Every rank's bytes, in rank order, at rank 0 (empty elsewhere). Collective.
+std::vector<std::vector<std::byte>> gather_at_root(const std::vector<std::byte>& mine);
+/// Rank 0's bytes on every rank. Collective.
+std::vector<std::byte> broadcast_from_root(std::vector<std::byte> bytes);
+
+/// Waits for every rank.
+void barrier();
+
+}  // namespace riffle::ranks
