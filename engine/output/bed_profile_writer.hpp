@@ -22,6 +22,7 @@ class BedProfileWriter {
   void write_if_due(const World& world) {
     if (schedule_.take(world.time)) write(world);
   }
+  bool due(double time) const { return schedule_.due(time); }
 
  private:
   const Model* model_;

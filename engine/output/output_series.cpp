@@ -64,6 +64,8 @@ bool IntervalSchedule::take(double time) {
   return true;
 }
 
+bool IntervalSchedule::due(double time) const { return !(interval_ > 0.0) || index(time) >= next_; }
+
 std::string format_exact(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.17g", value);

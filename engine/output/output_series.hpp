@@ -41,6 +41,8 @@ class IntervalSchedule {
   IntervalSchedule(double interval, double dt, double start_time);
   /// True if a row is due at `time` (the end of the step just taken); marks it done.
   bool take(double time);
+  /// True if take(time) would be (nothing marked).
+  bool due(double time) const;
 
  private:
   double index(double time) const;  ///< floor((time + dt/2) / interval): an integer, held exactly in a double

@@ -109,6 +109,11 @@ class ProbeWriter {
     if (window_) take_reading(world);
     if (schedule_.take(world.time)) write(world);
   }
+  /// True if write_if_due would write a row after the step that ended at `time` (a run over ranks gathers the grains
+  /// for it first).
+  bool due(double time) const { return schedule_.due(time); }
+  /// True if the probe reads every step (a time-averaged transducer), not only when a row is due.
+  bool reads_every_step() const { return window_.has_value(); }
   /// A line for the run's end, or empty: a bedload_transport probe's means over the rows of the run's second half.
   std::string summary() const;
 

@@ -18,6 +18,7 @@
 #include "engine/run/stepper.hpp"
 #include "engine/setup/initial_state.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
 
@@ -154,16 +155,26 @@ int run_command(int argc, char** argv);
 
 /// Every failure ends in a documented exit code with a message, never in std::terminate.
 int cli_main(int argc, char** argv) {
-  // riffle runs on one rank: under `mpirun -np N` (N > 1) each rank would run the whole scene into the same output
-  // folder. The launchers' environment tells before any MPI call (Open MPI, then MPICH/Hydra and PMIx).
+  // Under `mpirun -np N` (N > 1) the grains are spread over the ranks (Simulation::split_over_ranks); a build
+  // without MPI would run the whole scene N times into one folder, so it refuses. The launchers' environment tells
+  // before any MPI call (Open MPI, then MPICH/Hydra and PMIx).
   for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"}) {
     const char* value = std::getenv(variable);
     if (value != nullptr && std::atoi(value) > 1) {
-      std::fprintf(stderr,
-                   "error: riffle runs on one MPI rank (it was started as one of %s = %s): the domain "
-                   "decomposition over ranks is not built yet; run it without mpirun, with --threads for the cores\n",
-                   variable, value);
-      return kExitUsage;
+      if (!ranks::mpi_built()) {
+        std::fprintf(stderr,
+                     "error: this riffle was built without MPI (it was started as one of %s = %s ranks): build it with "
+                     "libhypre-dev installed (tools/setup.sh), or run it without mpirun, with --threads for the cores\n",
+                     variable, value);
+        return kExitUsage;
+      }
+      try {
+        ranks::start_mpi();
+      } catch (const std::exception& error) {
+        std::fprintf(stderr, "error: %s\n", error.what());
+        return kExitUsage;
+      }
+      break;
     }
   }
   try {
@@ -273,6 +284,8 @@ int run_command(int argc, char** argv) {
   spdlog::set_default_logger(console);
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
   spdlog::set_level(spdlog::level::from_str(log_level));
+  // Over MPI ranks rank 0 speaks for the run (it gathers the others' diagnoses); the others say only errors.
+  if (ranks::rank() != 0) spdlog::set_level(spdlog::level::err);
 
   SceneLimits limits;
   limits.memory_limit = memory_limit_gib * 1024.0 * 1024.0 * 1024.0;
@@ -327,6 +340,17 @@ int run_command(int argc, char** argv) {
     // Edges labelled with the components that order them; tests/data/seed_step_graph.dot pins the seed scene's.
     std::printf("%s", graph_only->dot().c_str());
     return kExitOk;
+  }
+
+  if (ranks::distributed()) {
+    const std::string problem = Simulation::over_ranks_problem(simulation->model());
+    if (!problem.empty()) {
+      if (ranks::rank() == 0)
+        std::fprintf(stderr, "error: riffle cannot spread this scene over %d MPI ranks: %s; run it on one rank, with "
+                     "--threads for the cores\n", ranks::size(), problem.c_str());
+      return kExitUsage;
+    }
+    simulation->split_over_ranks();
   }
 
   if (until_given) {

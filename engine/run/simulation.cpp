@@ -9,7 +9,9 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <new>
 #include <sstream>
@@ -23,8 +25,11 @@
 #include "engine/output/replace_file.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/output/vtk_output.hpp"
+#include "systems/dem/solid_neighbours.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/ranks/grain_ranks.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
 #include "systems/physics/time/time_step.hpp"
 
 namespace riffle {
@@ -210,7 +215,11 @@ class CheckpointStore {
 
   /// `interval` checkpoints count towards the schedule and the retention; the others (signal, end) do not.
   void save(const Simulation& simulation, bool interval) {
-    const std::uint64_t step = simulation.checkpoint_step();
+    save(simulation.checkpoint_step(), interval, [&] { return simulation.checkpoint_data(); });
+  }
+  /// The same with the data from `data()`, asked for after the bookkeeping (which is part of it).
+  template <class Data>
+  void save(std::uint64_t step, bool interval, Data&& data) {
     std::vector<std::uint64_t> expired;
     if (interval) {
       ++output_.checkpoints_due;
@@ -221,7 +230,7 @@ class CheckpointStore {
       }
     }
     const fs::path path = directory_ / checkpoint_name(step);
-    write_checkpoint(path.string(), simulation.checkpoint_data());  // after the bookkeeping: it is part of the state
+    write_checkpoint(path.string(), data());  // after the bookkeeping: it is part of the state
     last_written_ = path.string();
     for (std::uint64_t old_step : expired) {
       std::error_code ignored;
@@ -435,19 +444,21 @@ std::unique_ptr<Simulation> Simulation::from_checkpoint_data(CheckpointData data
   return std::unique_ptr<Simulation>(new Simulation(std::move(model), std::move(world), std::move(data.output)));
 }
 
-CheckpointData Simulation::checkpoint_data() const {
+CheckpointData Simulation::checkpoint_data() const { return checkpoint_data_of(world_); }
+
+CheckpointData Simulation::checkpoint_data_of(const World& world) const {
   CheckpointData data;
   data.scene_file = model_->scene_file;
   data.scene_text = model_->scene_text;
-  data.world.time = world_.time;
-  data.world.step = world_.step;
+  data.world.time = world.time;
+  data.world.step = world.step;
   // Every persistent part (World::kParts), so a new component cannot be left out of the checkpoint.
   std::apply(
       [&](auto... members) {
         (
             [&] {
               using Stored = typename detail::member_of<decltype(members)>::type;
-              if constexpr (Stored::kPersistent) data.world.*members = world_.*members;
+              if constexpr (Stored::kPersistent) data.world.*members = world.*members;
             }(),
             ...);
       },
@@ -456,7 +467,78 @@ CheckpointData Simulation::checkpoint_data() const {
   return data;
 }
 
+std::string Simulation::over_ranks_problem(const Model& model) {
+  if (model.fluid.enabled) return "a scene with MPS water ([fluid]): the water is not decomposed over ranks yet";
+  if (model.mean_flow.enabled) return "a scene with the mean-flow fluid ([mean_flow]): it is not decomposed over ranks yet";
+  if (!model.solids.enabled || !model.contact.enabled)
+    return "a scene without grains in contact: only the grains' contacts are decomposed over ranks";
+  if (periodic_box(model).any()) return "a periodic tank ([tank] periodic): periodic seams across ranks are not built yet";
+  return "";
+}
+
+void Simulation::split_over_ranks() {
+  const DomainBox domain = grain_domain_box(*model_);
+  split_grains_over_ranks(*world_.solids, *world_.contacts, domain.low, domain.high);
+  if (world_.solid_summary) world_.solid_summary->over_ranks = true;
+}
+
+World Simulation::gathered_world() const {
+  Solids solids = gather_grains_at_root(*world_.solids);
+  std::vector<CarriedSpring> pair_springs;
+  std::vector<WallContactState> wall_contacts;
+  gather_contacts_at_root(*world_.solids, *world_.contacts, pair_springs, wall_contacts);
+  World whole;
+  if (ranks::rank() != 0) return whole;
+  whole.time = world_.time;
+  whole.step = world_.step;
+  whole.last_step = world_.last_step;
+  whole.walls = world_.walls;
+  whole.tank_motion = world_.tank_motion;
+  whole.solid_summary = world_.solid_summary;
+  if (whole.solid_summary) whole.solid_summary->over_ranks = false;
+  whole.step_status = world_.step_status;
+  whole.solids = std::move(solids);
+  // A one-rank neighbour list over the whole bed, with every touching pair's and wall's spring: what a checkpoint of
+  // a one-rank run holds, so the file resumes on any number of ranks.
+  Contacts contacts;
+  contacts.ranks.carried_pair_springs = std::move(pair_springs);
+  for (const WallContactState& wall : wall_contacts)
+    contacts.ranks.carried_wall_springs.push_back({wall.grain, wall.wall, wall.spring});
+  rebuild_neighbour_list(*whole.solids, contacts, *whole.walls, *whole.tank_motion, *model_, false);
+  contacts.rebuilds = world_.contacts->rebuilds;
+  // The touching pairs' overlaps, as the contact pass left them on the ranks: a resume (and a split) reads a pair with
+  // an overlap as touching, with its spring.
+  const Solids& grains = *whole.solids;
+  for (std::size_t i = 0; i < grains.size(); ++i)
+    for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+      const std::uint32_t j = contacts.pair_second[k];
+      const double gap = (grains.position[j] - grains.position[i]).norm() - grains.radius[i] - grains.radius[j];
+      if (gap < 0.0) contacts.pair_overlap[k] = -gap;
+    }
+  // The wall contacts' forces as the ranks had them (the wall probes read them).
+  std::sort(wall_contacts.begin(), wall_contacts.end(), [](const WallContactState& a, const WallContactState& b) {
+    return a.grain != b.grain ? a.grain < b.grain : a.wall < b.wall;
+  });
+  for (std::size_t i = 0; i < whole.solids->size(); ++i)
+    for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
+      WallContactState probe;
+      probe.grain = whole.solids->id[i];
+      probe.wall = contacts.wall_pair_wall[k];
+      const auto it = std::lower_bound(wall_contacts.begin(), wall_contacts.end(), probe,
+                                       [](const WallContactState& a, const WallContactState& b) {
+                                         return a.grain != b.grain ? a.grain < b.grain : a.wall < b.wall;
+                                       });
+      if (it == wall_contacts.end() || it->grain != probe.grain || it->wall != probe.wall) continue;
+      contacts.wall_pair_force[k] = it->force;
+      contacts.wall_pair_torque[k] = it->torque;
+      contacts.wall_pair_overlap[k] = it->overlap;
+    }
+  whole.contacts = std::move(contacts);
+  return whole;
+}
+
 RunOutcome Simulation::run(const RunOptions& options) {
+  if (over_ranks()) return run_over_ranks(options);
   const fs::path out = options.out_dir;
   const fs::path vtk_dir = out / "vtk";
   const fs::path checkpoint_dir = out / "checkpoints";
@@ -669,6 +751,248 @@ RunOutcome Simulation::run(const RunOptions& options) {
     spdlog::info("{}", outcome.message);
   else
     spdlog::error("{}", outcome.message);
+  return outcome;
+}
+
+namespace {
+
+/// The first non-empty of the ranks' `message`s, in rank order, at rank 0 (empty elsewhere). Collective.
+std::string first_message_at_root(const std::string& message) {
+  std::vector<std::byte> bytes(message.size());
+  std::memcpy(bytes.data(), message.data(), message.size());
+  const std::vector<std::vector<std::byte>> all = ranks::gather_at_root(bytes);
+  for (std::size_t r = 0; r < all.size(); ++r)
+    if (!all[r].empty()) {
+      std::string text(all[r].size(), ' ');
+      std::memcpy(text.data(), all[r].data(), all[r].size());
+      return (all.size() > 1 ? "rank " + std::to_string(r) + ": " : std::string()) + text;
+    }
+  return "";
+}
+
+}  // namespace
+
+RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
+  const bool root = ranks::rank() == 0;
+  const fs::path out = options.out_dir;
+  const fs::path vtk_dir = out / "vtk";
+  const fs::path checkpoint_dir = out / "checkpoints";
+  // Rank 0 alone owns the output folder: it locks it, opens the log, writes every file. The other ranks write nothing
+  // and follow every decision rank 0 or any rank makes (each is a collective), so they all stop at the same step.
+  std::optional<OutputLock> lock;
+  std::shared_ptr<spdlog::sinks::basic_file_sink_mt> file_sink;
+  std::string set_up_problem;
+  if (root) {
+    try {
+      fs::create_directories(out);
+      lock.emplace(out);
+      fs::create_directories(vtk_dir);
+      fs::create_directories(checkpoint_dir);
+      for (const fs::path& directory : {out, vtk_dir, checkpoint_dir}) remove_stale_temporaries(directory);
+      file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((out / "riffle.log").string(), false);
+      replace_file(out / kSceneAsRunFile, model_->scene_text, Durability::kFlush);
+    } catch (const std::exception& error) {
+      set_up_problem = "cannot set up the output folder '" + out.string() + "': " + error.what();
+    }
+  }
+  if (ranks::any(!set_up_problem.empty())) {
+    if (root) spdlog::error("{}", set_up_problem);
+    return RunOutcome{kExitIoError, set_up_problem, ""};
+  }
+  auto logger = spdlog::default_logger();
+  if (file_sink) logger->sinks().push_back(file_sink);
+  struct SinkGuard {
+    std::shared_ptr<spdlog::logger> logger;
+    bool added;
+    ~SinkGuard() {
+      if (added) logger->sinks().pop_back();
+    }
+  } sink_guard{logger, file_sink != nullptr};
+
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  const double end_time = options.until.value_or(model_->end_time);
+  const bool fresh_run = world_.step == 0 && output_.frame_times.empty();
+  const std::vector<double> owned = ranks::gather_all({static_cast<double>(world_.solids->size())});
+  if (root) {
+    std::string shares;
+    for (const double count : owned) shares += (shares.empty() ? "" : ", ") + std::to_string(static_cast<long long>(count));
+    spdlog::info("{} '{}' from {}: t = {} s to {} s, dt = {} s, {} solid sub-steps, over {} MPI ranks of {} threads; "
+                 "grains per rank: {}",
+                 fresh_run ? "starting" : "resuming", model_->name, model_->scene_file, world_.time, end_time,
+                 model_->dt, model_->solid_substeps, ranks::size(), threads, shares);
+  }
+  double min_radius = world_.solids->size() ? *std::min_element(world_.solids->radius.begin(), world_.solids->radius.end())
+                                            : std::numeric_limits<double>::infinity();
+  min_radius = -ranks::max(-min_radius);
+  CheckpointStore checkpoints(checkpoint_dir, output_, model_->output.checkpoint_keep);
+  const double dt = model_->dt;
+  auto due = [&](double interval, std::size_t done) {
+    return interval > 0.0 && world_.time >= static_cast<double>(done) * interval - 0.5 * dt;
+  };
+  RunOutcome outcome;
+  // Rank 0's output errors end every rank: whether one happened is shared after each write.
+  std::string output_problem;
+  const auto write_on_root = [&](auto&& write) {
+    if (root && output_problem.empty()) {
+      try {
+        write();
+      } catch (const std::exception& error) {
+        output_problem = error.what();
+      }
+    }
+    return !ranks::any(!output_problem.empty());
+  };
+  // The checkpoint bookkeeping (output_) is kept on every rank alike, so every rank's schedule agrees.
+  const auto save_checkpoint = [&](bool interval) {
+    const World whole = gathered_world();
+    if (root) {
+      try {
+        checkpoints.save(world_.step, interval, [&] { return checkpoint_data_of(whole); });
+      } catch (const std::exception& error) {
+        output_problem = error.what();
+      }
+    } else if (interval) {
+      ++output_.checkpoints_due;
+    }
+    return !ranks::any(!output_problem.empty());
+  };
+
+  double stepping_seconds = 0.0;
+  std::optional<DiagnosticsWriter> diagnostics;
+  std::vector<ProbeWriter> probes;
+  std::optional<BedProfileWriter> bed_profile;
+  bool outputs_ok = true;  // false once rank 0 failed to write (every rank knows: write_on_root shares it)
+  {
+    const World whole = gathered_world();
+    outputs_ok = write_on_root([&] {
+      diagnostics.emplace(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run, false);
+      for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, whole, fresh_run);
+      if (model_->output.bed_profile_interval > 0.0) bed_profile.emplace(*model_, out, whole, fresh_run);
+      if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
+        write_vtk_frame(out, whole, *model_, output_);
+      if (fresh_run) {
+        for (ProbeWriter& probe : probes) probe.write(whole);
+        if (bed_profile) bed_profile->write(whole);
+      }
+    });
+    if (!root && fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
+      output_.frame_times.push_back(world_.time);
+  }
+
+  ProgressReporter progress(options.progress && root, world_.step, end_time, dt);
+  while (outputs_ok && world_.time < end_time - 0.5 * dt) {
+    if (ranks::any(stop_requested() != 0)) {
+      const int signal_number = stop_requested() != 0 ? stop_requested() : SIGTERM;
+      outputs_ok = save_checkpoint(false);
+      outcome.exit_code = signal_number == SIGINT ? kExitInterrupted : kExitTerminated;
+      outcome.message = std::string("stopped by ") + (signal_number == SIGINT ? "SIGINT" : "SIGTERM") + " at t = " +
+                        std::to_string(world_.time) + " s; checkpoint: " + checkpoints.last_written();
+      outcome.last_checkpoint = checkpoints.last_written();
+      break;
+    }
+    const auto step_start = Clock::now();
+    std::string step_error;
+    try {
+      stepper_->step();
+    } catch (const std::exception& error) {
+      // The other ranks wait in this step's exchanges for one that has left it: nothing but ending them all helps.
+      spdlog::error("rank {}: internal error in step {}: {}; ending every rank", ranks::rank(), world_.step + 1,
+                    error.what());
+      ranks::abort(kExitUnstable);
+    }
+    stepping_seconds += seconds_since(step_start);
+    // A grain lost or non-finite on any rank ends the run on every rank, with that rank's diagnosis.
+    const bool failed_here = !world_.step_status.ok();
+    if (ranks::any(failed_here)) {
+      const std::string message = first_message_at_root(failed_here ? diagnosis(world_, *model_) : std::string());
+      const World whole = gathered_world();
+      outcome.exit_code = kExitUnstable;
+      outcome.message = message;
+      write_on_root([&] {
+        write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*whole.solids, periodic_box(*model_)));
+      });
+      break;
+    }
+    if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0 &&
+        !(outputs_ok = write_on_root(
+              [&] { diagnostics->row(world_, *model_, min_radius, seconds_since(step_start), stepper_->timers()); })))
+      break;
+    // Rank 0 knows which outputs are due (the probes keep their own schedules): it tells the others whether to gather.
+    bool gather = due(model_->output.vtk_interval, output_.frame_times.size()) ||
+                  due(model_->output.checkpoint_interval, output_.checkpoints_due + 1);
+    if (root) {
+      for (const ProbeWriter& probe : probes) gather = gather || probe.due(world_.time) || probe.reads_every_step();
+      if (bed_profile) gather = gather || bed_profile->due(world_.time);
+    }
+    if (!ranks::any(gather)) {
+      progress.tick(world_);
+      continue;
+    }
+    const World whole = gathered_world();
+    const bool frame = due(model_->output.vtk_interval, output_.frame_times.size());
+    outputs_ok = write_on_root([&] {
+      if (frame) write_vtk_frame(out, whole, *model_, output_);
+      for (ProbeWriter& probe : probes) probe.write_if_due(whole);
+      if (bed_profile) bed_profile->write_if_due(whole);
+    });
+    if (!root && frame) output_.frame_times.push_back(world_.time);
+    if (outputs_ok && due(model_->output.checkpoint_interval, output_.checkpoints_due + 1))
+      outputs_ok = save_checkpoint(true);
+    progress.tick(world_);
+  }
+  if (!outputs_ok)
+    outcome = {kExitIoError, "output failed" + (output_problem.empty() ? std::string(" on rank 0") : ": " + output_problem),
+               checkpoints.last_written()};
+  write_on_root([&] {
+    for (const ProbeWriter& probe : probes)
+      if (const std::string line = probe.summary(); !line.empty()) spdlog::info("{}", line);
+  });
+
+  if (outcome.exit_code == kExitOk) {
+    if (save_checkpoint(false) && write_on_root([&] { checkpoints.copy_as_final(); })) {
+      outcome.last_checkpoint = checkpoints.last_written();
+      outcome.message = "finished at t = " + std::to_string(world_.time) + " s after " + std::to_string(world_.step) +
+                        " steps over " + std::to_string(ranks::size()) + " MPI ranks; final checkpoint: " +
+                        outcome.last_checkpoint;
+    } else {
+      outcome = {kExitIoError, "final checkpoint failed: " + output_problem, checkpoints.last_written()};
+    }
+  } else if (outcome.exit_code == kExitUnstable) {
+    outcome.last_checkpoint = checkpoints.last_good();
+    outcome.message += "; last good checkpoint: " +
+                       (outcome.last_checkpoint.empty() ? std::string("none written yet (set output.checkpoint_interval)")
+                                                        : outcome.last_checkpoint);
+  }
+
+  // Each rank's stepping time and grains: the balance of the decomposition.
+  const std::vector<double> seconds = ranks::gather_all({stepping_seconds, static_cast<double>(world_.solids->size())});
+  std::vector<SystemTimer> timers = stepper_->timers();
+  for (const SystemTimer& branch : stepper_->branch_timers())
+    if (branch.calls > 0) timers.push_back(branch);
+  if (root) {
+    std::string balance;
+    double longest = 0.0, sum = 0.0;
+    for (std::size_t r = 0; r < seconds.size() / 2; ++r) {
+      balance += "\n  rank " + std::to_string(r) + ": " + std::to_string(static_cast<long long>(seconds[2 * r + 1])) +
+                 " grains, stepping " + format_time(seconds[2 * r]) + " s";
+      longest = std::max(longest, seconds[2 * r]);
+      sum += seconds[2 * r];
+    }
+    const double mean = sum / static_cast<double>(seconds.size() / 2);
+    spdlog::info("ranks' stepping (imbalance: the longest over the mean, {:.3f}):{}", mean > 0.0 ? longest / mean : 1.0,
+                 balance);
+    try {
+      write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
+    } catch (const std::exception& error) {
+      spdlog::error("{}", error.what());
+    }
+    spdlog::info("per-system timings of rank 0 ({} threads):\n{}", threads, format_timing_table(timers, stepping_seconds));
+    if (outcome.exit_code == kExitOk)
+      spdlog::info("{}", outcome.message);
+    else
+      spdlog::error("{}", outcome.message);
+  }
   return outcome;
 }
 

@@ -76,8 +76,26 @@ class Simulation {
   CheckpointData checkpoint_data() const;
   std::uint64_t checkpoint_step() const { return world_.step; }
 
+  /// A run over several MPI ranks (mpirun -np N): what in `model` keeps it from being spread over them, or "" if
+  /// nothing does. Today the grains alone are decomposed (systems/physics/ranks/grain_ranks.hpp): a scene of grains
+  /// with contacts, without water (MPS or mean flow), without periodic axes.
+  static std::string over_ranks_problem(const Model& model);
+  /// Keeps this rank's share of the grains: every rank built the same world (scene or checkpoint), and each keeps the
+  /// grains in its box of a recursive bisection (no message needed). The run then exchanges grains every sub-step.
+  void split_over_ranks();
+  /// True once split_over_ranks has run.
+  bool over_ranks() const { return world_.contacts && world_.contacts->ranks.active; }
+  /// The whole world at rank 0, for the outputs of a run over ranks: every rank's grains (ordered by id), a neighbour
+  /// list over them with every touching pair's spring, the wall contacts as the ranks had them. Collective; an empty
+  /// world on the other ranks.
+  World gathered_world() const;
+  /// The checkpoint of `world` (this run's model and output bookkeeping): the gathered world of a run over ranks.
+  CheckpointData checkpoint_data_of(const World& world) const;
+
  private:
   Simulation(Model model, World world, OutputState output);
+  /// run() for a run over ranks: every rank steps its grains; rank 0 alone writes, from the gathered world.
+  RunOutcome run_over_ranks(const RunOptions& options);
 
   std::unique_ptr<const Model> model_;
   World world_;

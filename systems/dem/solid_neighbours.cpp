@@ -253,12 +253,17 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   }
   // Over MPI ranks: the springs carried in (a world just split), then the grains that left this rank's box go to
   // their owners with their springs, and the arrivals bring theirs.
+  // Springs carried in by id without an old list (a world just split over the ranks, or gathered from them for a
+  // checkpoint) join the saved ones.
   RankHalo& ranks = contacts.ranks;
+  for (const CarriedSpring& spring : ranks.carried_pair_springs)
+    saved_pairs.push_back({spring.lower, spring.higher, spring.spring});
+  for (const CarriedSpring& spring : ranks.carried_wall_springs)
+    saved_walls.push_back({spring.lower, spring.higher, spring.spring});
+  ranks.carried_pair_springs.clear();
+  ranks.carried_wall_springs.clear();
   if (ranks.active) {
-    std::vector<CarriedSpring> pair_springs = std::move(ranks.carried_pair_springs),
-                               wall_springs = std::move(ranks.carried_wall_springs);
-    ranks.carried_pair_springs.clear();
-    ranks.carried_wall_springs.clear();
+    std::vector<CarriedSpring> pair_springs, wall_springs;
     for (const SavedSpring& spring : saved_pairs) pair_springs.push_back({spring.lower, spring.higher, spring.spring});
     for (const SavedSpring& spring : saved_walls) wall_springs.push_back({spring.lower, spring.higher, spring.spring});
     migrate_grains(solids, ranks, pair_springs, wall_springs);

@@ -317,6 +317,63 @@ void return_rank_ghost_forces(const Contacts& contacts, std::vector<Vec3>& force
   }
 }
 
+void gather_contacts_at_root(const Solids& solids, const Contacts& contacts, std::vector<CarriedSpring>& pair_springs,
+                             std::vector<WallContactState>& walls) {
+  std::vector<std::byte> mine;
+  ByteWriter out(mine);
+  std::vector<CarriedSpring> pairs;
+  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
+    const RankHalo& halo = contacts.ranks;
+    for (std::size_t i = 0; i < solids.size(); ++i)
+      for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
+        if (contacts.pair_overlap[k] <= 0.0) continue;
+        const std::uint32_t j = contacts.pair_second[k];
+        const EntityId first = solids.id[i];
+        const EntityId second = halo.active && j >= halo.real_count ? halo.ghost_id[j - halo.real_count]
+                                                                     : solids.id[contacts.halo.valid ? contacts.halo.owner_of(j) : j];
+        pairs.push_back(first < second ? CarriedSpring{first, second, contacts.pair_spring[k]}
+                                       : CarriedSpring{second, first, -contacts.pair_spring[k]});
+      }
+  }
+  out.put(static_cast<std::uint64_t>(pairs.size()));
+  for (const CarriedSpring& spring : pairs) pack_spring(spring, out);
+  std::vector<WallContactState> touching;
+  if (contacts.valid && contacts.wall_pair_offsets.size() == solids.size() + 1)
+    for (std::size_t i = 0; i < solids.size(); ++i)
+      for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
+        if (contacts.wall_pair_overlap[k] > 0.0)
+          touching.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k],
+                              contacts.wall_pair_force[k], contacts.wall_pair_torque[k], contacts.wall_pair_overlap[k]});
+  out.put(static_cast<std::uint64_t>(touching.size()));
+  for (const WallContactState& wall : touching) {
+    out.put(wall.grain);
+    out.put(wall.wall);
+    out.put(wall.spring);
+    out.put(wall.force);
+    out.put(wall.torque);
+    out.put(wall.overlap);
+  }
+  const std::vector<std::vector<std::byte>> all = ranks::gather_at_root(mine);
+  pair_springs.clear();
+  walls.clear();
+  for (const auto& bytes : all) {
+    ByteReader in(bytes);
+    const auto pair_count = static_cast<std::size_t>(in.get<std::uint64_t>());
+    for (std::size_t n = 0; n < pair_count; ++n) pair_springs.push_back(unpack_spring(in));
+    const auto wall_count = static_cast<std::size_t>(in.get<std::uint64_t>());
+    for (std::size_t n = 0; n < wall_count; ++n) {
+      WallContactState wall;
+      wall.grain = in.get<EntityId>();
+      wall.wall = in.get<std::uint32_t>();
+      wall.spring = in.get<Vec3>();
+      wall.force = in.get<Vec3>();
+      wall.torque = in.get<Vec3>();
+      wall.overlap = in.get<double>();
+      walls.push_back(wall);
+    }
+  }
+}
+
 Solids gather_grains_at_root(const Solids& solids) {
   std::vector<std::byte> mine;
   ByteWriter out(mine);
@@ -324,6 +381,7 @@ Solids gather_grains_at_root(const Solids& solids) {
   const std::vector<std::vector<std::byte>> all = ranks::gather_at_root(mine);
   Solids gathered;
   if (ranks::rank() != 0) return gathered;
+  gathered.next_id = solids.next_id;  // every rank's: all built the same world, and no grain is added after
   std::size_t bytes_per_grain = 0;
   {
     std::vector<std::byte> probe;

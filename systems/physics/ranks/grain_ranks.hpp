@@ -46,6 +46,19 @@ void exchange_rank_ghost_motion(const Solids& solids, Contacts& contacts);
 /// sent to its owner and added there to `force` and `torque`, in rank order. Collective.
 void return_rank_ghost_forces(const Contacts& contacts, std::vector<Vec3>& force, std::vector<Vec3>& torque);
 
+/// A grain's touching wall contact as a checkpoint and the wall probes need it.
+struct WallContactState {
+  EntityId grain = 0;
+  std::uint32_t wall = 0;
+  Vec3 spring = Vec3::Zero(), force = Vec3::Zero(), torque = Vec3::Zero();
+  double overlap = 0.0;
+};
+
+/// Every rank's touching pairs (their springs by id, for the lower id) and its grains' touching wall contacts, at
+/// rank 0 in rank order (empty elsewhere). Collective.
+void gather_contacts_at_root(const Solids& solids, const Contacts& contacts, std::vector<CarriedSpring>& pair_springs,
+                             std::vector<WallContactState>& walls);
+
 /// Every rank's grains at rank 0, ordered by id (a whole world's grains for the outputs); empty on the other ranks.
 /// Collective.
 Solids gather_grains_at_root(const Solids& solids);

@@ -165,6 +165,11 @@ void barrier() {
   if (size() > 1) check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
 }
 
+void abort(int code) {
+  if (running()) MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
+}
+
 #else  // one rank, no MPI
 
 bool mpi_built() { return false; }
@@ -182,6 +187,7 @@ std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::
 std::vector<std::vector<std::byte>> gather_at_root(const std::vector<std::byte>& mine) { return {mine}; }
 std::vector<std::byte> broadcast_from_root(std::vector<std::byte> bytes) { return bytes; }
 void barrier() {}
+void abort(int code) { std::exit(code); }
 
 #endif
 

@@ -44,4 +44,8 @@ std::vector<std::byte> broadcast_from_root(std::vector<std::byte> bytes);
 /// Waits for every rank.
 void barrier();
 
+/// Ends every rank at once with `code` (MPI_Abort): for a rank that cannot go on while the others wait for it in an
+/// exchange. Without MPI, std::exit(code).
+[[noreturn]] void abort(int code);
+
 }  // namespace riffle::ranks
