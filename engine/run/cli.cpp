@@ -197,7 +197,9 @@ int run_command(int argc, char** argv) {
   CLI::App app{"riffle: sediment moved by water. DEM grains coupled to an MPS free-surface fluid.", "riffle"};
   app.footer(kExitCodes);
   app.require_subcommand(1);
-  app.set_version_flag("--version", RIFFLE_VERSION);
+  // Whether this build can spread a run over MPI ranks (and solve with hypre): scripts and tests ask here.
+  app.set_version_flag("--version", std::string(RIFFLE_VERSION) +
+                                        (ranks::mpi_built() ? " (MPI: grains over ranks, hypre)" : " (no MPI)"));
   std::string log_level = "info";
   // Accepted before and after the subcommand (riffle --log-level debug run ... / riffle run ... --log-level debug).
   auto add_log_level = [&log_level](CLI::App* command) {

@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# `mpirun -np N riffle run|resume` for a scene of grains (Simulation::split_over_ranks): a dry bed dropped into a
+# shaken tank run on 2 ranks against 1, its checkpoint resumed on 1, 2 and 3 ranks against the run that went on, and a
+# scene with water refused with its reason. Tolerances: the ranks add each grain's contact forces in another order,
+# so the runs agree to rounding until the granular flow amplifies it (tests/mpi/grain_ranks.cpp measures the
+# growth); the rows compared here are before that, at 1e-9 relative.
+#   tests/mpi/run_over_ranks.sh RIFFLE MPIEXEC SOURCE_DIR WORK_DIR
+set -u
+RIFFLE=$1 MPIEXEC=$2 SRC=$3 WORK=$4
+rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK" || exit 2
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+failures=0
+check() {  # check DESCRIPTION COMMAND...
+  local description=$1
+  shift
+  if "$@"; then echo "ok: $description"; else echo "FAILED: $description"; failures=$((failures + 1)); fi
+}
+ranks() {  # ranks N ARGS...: riffle on N ranks (1: without mpiexec)
+  local n=$1
+  shift
+  if [ "$n" = 1 ]; then timeout -k 5 120 "$RIFFLE" "$@"; else timeout -k 5 120 "$MPIEXEC" -n "$n" "$RIFFLE" "$@"; fi
+}
+
+cat >shaken.toml <<'SCENE'
+[run]
+name = "shaken_over_ranks"
+end_time = 0.2
+dt = 1.0e-3
+
+[materials.grain]
+density = 1318.0
+young_modulus = 1.0e7
+poisson_ratio = 0.3
+
+[contact]
+law = "hertz_mindlin"
+restitution = 0.5
+friction = 0.4
+rolling_friction = 0.05
+max_impact_speed = 0.5
+
+[tank]
+size = [0.08, 0.05, 0.08]
+open_faces = ["z_max"]
+wall_material = "grain"
+
+[tank.motion]
+kind = "sinusoidal"
+direction = [1.0, 0.0, 0.0]
+amplitude = 0.005
+frequency = 4.0
+ramp_time = 0.0
+
+[solids]
+[[solids.layered_beds]]
+layers = 2
+layer_thickness = 0.008
+loose_factor = 1.5
+seed = 3
+
+[[solids.layered_beds.classes]]
+diameter = 0.006
+count = 120
+material = "grain"
+size_class = 1
+arrangement = "random"
+
+[[solids.layered_beds.classes]]
+diameter = 0.004
+count = 400
+material = "grain"
+size_class = 0
+arrangement = "random"
+
+[output]
+vtk_interval = 0.05
+checkpoint_interval = 0.1
+diagnostics_every = 5
+
+[[output.probes]]
+kind = "wall_forces"
+interval = 0.01
+SCENE
+
+ranks 1 run shaken.toml --out one --threads 1 >one.out 2>&1
+check "one rank runs the shaken bed" [ $? = 0 ]
+ranks 2 run shaken.toml --out two --threads 1 >two.out 2>&1
+check "two ranks run it (exit 0)" [ $? = 0 ]
+check "... rank 0 wrote the outputs once: log, diagnostics, the probe, frames, checkpoints" \
+  bash -c "[ -s two/diagnostics.csv ] && [ -s two/probe_wall_forces.csv ] && [ -s two/vtk/solids_000004.vtp ] &&
+           [ -s two/checkpoints/final.ckpt ] && [ \$(grep -c 'finished at' two/riffle.log) = 1 ]"
+check "... and reported each rank's grains and stepping time" grep -qF "rank 1:" two/riffle.log
+
+# compare A B STEPS...: the bed's energies in diagnostics.csv at STEPS agree to 1e-9 relative.
+compare() {
+  /usr/bin/python3 - "$@" <<'PY'
+import csv, sys
+a, b, steps = sys.argv[1], sys.argv[2], sys.argv[3:]
+def rows(path):
+    lines = list(csv.reader(open(path)))
+    header = lines[0]
+    return header, {row[0]: dict(zip(header, row)) for row in lines[1:]}
+_, ra = rows(a)
+_, rb = rows(b)
+worst = 0.0
+for step in steps:
+    for key in ("solid_translational_energy_J", "solid_rotational_energy_J", "solid_potential_energy_J"):
+        x, y = float(ra[step][key]), float(rb[step][key])
+        worst = max(worst, abs(x - y) / max(abs(x), 1e-300))
+print(f"{a} against {b} at steps {' '.join(steps)}: largest relative difference {worst:.3g}")
+sys.exit(0 if worst < 1e-9 else 1)
+PY
+}
+check "two ranks against one: the bed's energies to 1e-9 over the first 80 steps" \
+  compare one/diagnostics.csv two/diagnostics.csv 10 20 40 60 80
+for n in 1 2 3; do
+  ranks "$n" resume two/checkpoints/step_0000000100.ckpt --out "resumed$n" --threads 1 >"resumed$n.out" 2>&1
+  check "the two ranks' checkpoint at t = 0.1 s resumes on $n rank(s)" [ $? = 0 ]
+  check "... and goes on as the run that wrote it did, to 1e-9 over 20 steps" \
+    compare two/diagnostics.csv "resumed$n/diagnostics.csv" 105 110 115 120
+done
+
+ranks 2 run "$SRC/scenes/dam_break.toml" --out water --until 0.01 >water.out 2>&1
+rc=$?
+check "a scene with water on two ranks exits 1" [ $rc = 1 ]
+check "... naming why, with nothing written" \
+  bash -c "grep -qF 'cannot spread this scene over 2 MPI ranks' water.out && [ ! -e water ]"
+
+echo "$failures check(s) failed"
+[ "$failures" = 0 ]
