@@ -317,11 +317,13 @@ int run_command(int argc, char** argv) {
       if (out_dir.empty()) out_dir = default_out_dir(simulation->model());
     }
   } catch (const SceneError& error) {
-    for (const std::string& problem : error.problems()) std::fprintf(stderr, "error: %s\n", problem.c_str());
-    std::fprintf(stderr, "%zu problem(s) found; nothing was run\n", error.problems().size());
+    if (ranks::rank() == 0) {  // every rank read the same scene: one says what is wrong
+      for (const std::string& problem : error.problems()) std::fprintf(stderr, "error: %s\n", problem.c_str());
+      std::fprintf(stderr, "%zu problem(s) found; nothing was run\n", error.problems().size());
+    }
     return kExitInvalidInput;
   } catch (const CheckpointError& error) {
-    std::fprintf(stderr, "error: %s\n", error.what());
+    if (ranks::rank() == 0) std::fprintf(stderr, "error: %s\n", error.what());
     return kExitInvalidInput;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "error: out of memory while setting up the run (std::bad_alloc): the scene needs more "

@@ -120,6 +120,51 @@ for n in 1 2 3; do
     compare two/diagnostics.csv "resumed$n/diagnostics.csv" 105 110 115 120
 done
 
+# A grain thrown out through the open top on the second rank: every rank stops, rank 0 reports that rank's diagnosis.
+cat >lost.toml <<'SCENE'
+[run]
+name = "lost_over_ranks"
+end_time = 0.5
+dt = 1.0e-3
+
+[materials.grain]
+density = 1318.0
+young_modulus = 1.0e7
+poisson_ratio = 0.3
+
+[contact]
+law = "hertz_mindlin"
+restitution = 0.5
+friction = 0.4
+
+[tank]
+size = [0.10, 0.08, 0.10]
+open_faces = ["z_max"]
+wall_material = "grain"
+
+[solids]
+[[solids.spheres]]
+position = [0.02, 0.04, 0.01]
+radius = 0.004
+material = "grain"
+
+[[solids.spheres]]
+position = [0.08, 0.04, 0.01]
+velocity = [0.0, 0.0, 3.0]
+radius = 0.004
+material = "grain"
+
+[output]
+checkpoint_interval = 0.01
+SCENE
+ranks 2 run lost.toml --out lost --threads 1 >lost.out 2>&1
+rc=$?
+check "a grain lost on rank 1 of 2 stops the run (exit 3)" [ $rc = 3 ]
+check "... rank 0 naming rank 1's grain and the last good checkpoint, with the gathered grains written" \
+  bash -c "grep -qF 'rank 1: run stopped at step 51' lost/riffle.log &&
+           grep -qF 'last good checkpoint: lost/checkpoints/step_0000000050.ckpt' lost/riffle.log &&
+           [ -s lost/vtk/solids_failed.vtp ]"
+
 ranks 2 run "$SRC/scenes/dam_break.toml" --out water --until 0.01 >water.out 2>&1
 rc=$?
 check "a scene with water on two ranks exits 1" [ $rc = 1 ]
