@@ -2,8 +2,9 @@
 # The dry DEM against LAMMPS on the same machine, interleaved: the settled seed bed (7,490 x 5 mm, 537 x 10 mm and
 # 135 x 15 mm spheres, 8,162 in all) shaken dry with Hertz-Mindlin at a sub-step of 1e-5 s, riffle's
 # scenes/dry_shaken_tank.toml against the LAMMPS GRANULAR deck of ../shared/peers/lammps (the same physics; see its
-# README), at 1 thread / 1 rank and 2 threads / 2 ranks, in the order riffle, LAMMPS, riffle, LAMMPS, ... so that both
-# see the same machine state. Reports particle-steps per second per run, the medians, and riffle / LAMMPS.
+# README), at 1 thread / 1 rank and 2 threads / 2 ranks (riffle both ways at 2: one rank of 2 threads, and 2 MPI ranks of
+# one thread, "riffle-ranks"), in the order riffle, riffle-ranks, LAMMPS, riffle, ... so that all see the same machine
+# state. Reports particle-steps per second per run, the medians, and riffle / LAMMPS.
 #
 #   tools/bench_dem_peer.sh [build-dir] [reps] [substeps]     defaults: build, 3, 5000
 #
@@ -49,6 +50,13 @@ run_riffle() {  # threads -> seconds of stepping
     { echo "bench_dem_peer: riffle failed, see $out.log" >&2; exit 1; }
   awk '$1 == "stepping" && $2 == "(wall)" { print $3 }' "$out.log"
 }
+run_riffle-ranks() {  # ranks (one thread each) -> seconds of stepping (rank 0's, which waits for the others)
+  local out=$work/riffle_ranks_$1_$2
+  [ "$1" = 1 ] && { run_riffle 1 "$2-ranks"; return; }
+  mpirun --allow-run-as-root --oversubscribe -np "$1" "$work/riffle" run scenes/dry_shaken_tank.toml --until "$until" \
+    --threads 1 --out "$out" >"$out.log" 2>&1 || { echo "bench_dem_peer: riffle over ranks failed, see $out.log" >&2; exit 1; }
+  awk '$1 == "stepping" && $2 == "(wall)" { print $3 }' "$out.log"
+}
 run_lammps() {  # ranks -> seconds of the loop
   local log=$work/lammps_$1_$2.log
   (cd "$peer_work" && if [ "$1" = 1 ]; then
@@ -67,7 +75,9 @@ echo "# $grains grains x $substeps sub-steps of 1e-5 s; $reps repetitions, riffl
 : >"$work/results.txt"
 for rep in $(seq "$reps"); do
   for n in 1 2; do
-    for code in riffle lammps; do
+    codes="riffle lammps"
+    [ "$n" = 2 ] && codes="riffle riffle-ranks lammps"
+    for code in $codes; do
       seconds=$("run_$code" "$n" "$rep")
       [ -n "$seconds" ] || { echo "bench_dem_peer: no timing from $code" >&2; exit 1; }
       echo "$code $n $rep $seconds" >>"$work/results.txt"
@@ -81,12 +91,16 @@ done
 import statistics, sys
 rows = [line.split() for line in open(sys.argv[1])]
 work = int(sys.argv[2]) * int(sys.argv[3])
-print(f"{'threads/ranks':<14} {'riffle [p-steps/s]':>24} {'LAMMPS [p-steps/s]':>24} {'riffle/LAMMPS':>14}")
+print(f"{'threads/ranks':<14} {'riffle [p-steps/s]':>24} {'riffle ranks [p-steps/s]':>26} {'LAMMPS [p-steps/s]':>24} "
+      f"{'riffle/LAMMPS':>14} {'ranks/LAMMPS':>13}")
 for n in ("1", "2"):
-    rates = {code: [work / float(r[3]) for r in rows if r[0] == code and r[1] == n] for code in ("riffle", "lammps")}
-    text = {code: f"{statistics.median(v):.3g} ({min(v):.3g}-{max(v):.3g})" for code, v in rates.items()}
+    rates = {code: [work / float(r[3]) for r in rows if r[0] == code and r[1] == n]
+             for code in ("riffle", "riffle-ranks", "lammps")}
+    text = {code: f"{statistics.median(v):.3g} ({min(v):.3g}-{max(v):.3g})" if v else "-" for code, v in rates.items()}
     ratio = statistics.median(rates["riffle"]) / statistics.median(rates["lammps"])
-    print(f"{n:<14} {text['riffle']:>24} {text['lammps']:>24} {ratio:>14.2f}")
+    ranks = (f"{statistics.median(rates['riffle-ranks']) / statistics.median(rates['lammps']):13.2f}"
+             if rates["riffle-ranks"] else f"{'-':>13}")
+    print(f"{n:<14} {text['riffle']:>24} {text['riffle-ranks']:>26} {text['lammps']:>24} {ratio:>14.2f} {ranks}")
 EOF
 rm -rf "$work"
 }

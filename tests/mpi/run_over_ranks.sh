@@ -90,6 +90,9 @@ check "... rank 0 wrote the outputs once: log, diagnostics, the probe, frames, c
   bash -c "[ -s two/diagnostics.csv ] && [ -s two/probe_wall_forces.csv ] && [ -s two/vtk/solids_000004.vtp ] &&
            [ -s two/checkpoints/final.ckpt ] && [ \$(grep -c 'finished at' two/riffle.log) = 1 ]"
 check "... and reported each rank's grains and stepping time" grep -qF "rank 1:" two/riffle.log
+ranks 2 run shaken.toml --out two_threads --threads 2 >two_threads.out 2>&1
+check "two ranks of two threads each end in the same checkpoint as of one thread, byte for byte" \
+  cmp -s two/checkpoints/final.ckpt two_threads/checkpoints/final.ckpt
 
 # compare A B STEPS...: the bed's energies in diagnostics.csv at STEPS agree to 1e-9 relative.
 compare() {
