@@ -91,6 +91,9 @@ struct RankHalo {
   std::vector<EntityId> ghost_id;          ///< [G] the ghost's id on its owner rank
   std::vector<std::int32_t> ghost_fixed;   ///< [G] its `fixed` flag
   std::vector<std::vector<std::uint32_t>> send_slots;  ///< [ranks] the real slots sent to each rank, in order
+  /// [ranks] the periodic image each sent copy is (ghost position = the real's + shift; zero without periodic axes).
+  /// A rank's own grains near a periodic face come back to it this way, as images.
+  std::vector<std::vector<Vec3>> send_shift;
   std::vector<std::uint32_t> receive_offsets;          ///< [ranks + 1] the ghosts from rank r: [offsets[r], offsets[r+1])
   /// Pairs whose second grain is a ghost, grouped by ghost ([G + 1] offsets, ascending pair index within a ghost),
   /// and each such pair's force and torque on the ghost, from the last contact pass ([pairs]; zero elsewhere).

@@ -49,6 +49,9 @@ struct MeanFlowColumn {
   double bed_surface = 0.0;            ///< [m] where phi falls through half its largest value (column.hpp)
   double floor_stress = 0.0;           ///< [Pa] the water's stress on the floor along x after the last step
   double top_stress = 0.0;             ///< [Pa] the lid's stress on the water along x (0 for a free top)
+  /// The grains are spread over MPI ranks: each rank holds the same column, and the grains' volume and drag impulse
+  /// in it are summed over the ranks in rank order (not checkpointed: a run is split anew).
+  bool over_ranks = false;
 
   std::size_t size() const { return velocity_x.size(); }
 

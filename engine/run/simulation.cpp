@@ -469,17 +469,30 @@ CheckpointData Simulation::checkpoint_data_of(const World& world) const {
 
 std::string Simulation::over_ranks_problem(const Model& model) {
   if (model.fluid.enabled) return "a scene with MPS water ([fluid]): the water is not decomposed over ranks yet";
-  if (model.mean_flow.enabled) return "a scene with the mean-flow fluid ([mean_flow]): it is not decomposed over ranks yet";
   if (!model.solids.enabled || !model.contact.enabled)
     return "a scene without grains in contact: only the grains' contacts are decomposed over ranks";
-  if (periodic_box(model).any()) return "a periodic tank ([tank] periodic): periodic seams across ranks are not built yet";
+  if (model.coupling.enabled && model.coupling.lubrication)
+    return "[coupling] lubrication: its pair forces across ranks are not built yet";
   return "";
 }
 
 void Simulation::split_over_ranks() {
-  const DomainBox domain = grain_domain_box(*model_);
+  // The boxes tile the grains' domain; along a periodic axis the period itself (a grain past a face is wrapped
+  // before it is given to a rank, and the images across the faces come as ghosts).
+  DomainBox domain = grain_domain_box(*model_);
+  const PeriodicBox box = periodic_box(*model_);
+  for (int axis = 0; axis < 3; ++axis)
+    if (box.periodic[static_cast<std::size_t>(axis)]) {
+      domain.low[axis] = box.low[axis];
+      domain.high[axis] = box.low[axis] + box.length[axis];
+    }
+  // A list read from a checkpoint names periodic ghosts by slot: the halo says whose they are.
+  restore_halo_and_slabs(*world_.solids, *world_.contacts, *model_);
+  if (box.any())
+    for (Vec3& position : world_.solids->position) position = box.wrap(position);
   split_grains_over_ranks(*world_.solids, *world_.contacts, domain.low, domain.high);
   if (world_.solid_summary) world_.solid_summary->over_ranks = true;
+  if (world_.mean_flow) world_.mean_flow->over_ranks = true;
 }
 
 World Simulation::gathered_world() const {
@@ -494,6 +507,8 @@ World Simulation::gathered_world() const {
   whole.last_step = world_.last_step;
   whole.walls = world_.walls;
   whole.tank_motion = world_.tank_motion;
+  whole.mean_flow = world_.mean_flow;  // the same column on every rank
+  if (whole.mean_flow) whole.mean_flow->over_ranks = false;
   whole.solid_summary = world_.solid_summary;
   if (whole.solid_summary) whole.solid_summary->over_ranks = false;
   whole.step_status = world_.step_status;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "systems/physics/ranks/rank_comm.hpp"
 #include "systems/physics/time/time_step.hpp"
 
 namespace riffle {
@@ -67,9 +68,11 @@ void Stepper::step() {
   const double start = world_.time;
   // The water's relaxation under the grains' drag, from the grains as the last step left them (as the Courant
   // limit reads the water's speeds as they are).
-  const double drag_rate = (world_.fluid || world_.mean_flow) && world_.solids ? water_drag_rate(model_, *world_.solids, *world_.solids,
+  double drag_rate = (world_.fluid || world_.mean_flow) && world_.solids ? water_drag_rate(model_, *world_.solids, *world_.solids,
                                                                             *world_.solids, *world_.solids)
                                                          : 0.0;
+  // Over MPI ranks every rank takes the same step: the fastest relaxation of any rank's grains.
+  if (world_.contacts && world_.contacts->ranks.active) drag_rate = ranks::max(drag_rate);
   world_.last_step = decide_step_lengths(model_, world_.fluid ? &*world_.fluid : nullptr, drag_rate);
   const double dt = world_.last_step.dt;
   if (world_.fluid && dt < model_.fluid.min_dt) {

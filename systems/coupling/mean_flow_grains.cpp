@@ -8,6 +8,7 @@
 #include "systems/physics/mean_flow/column.hpp"
 #include "systems/physics/mean_flow/grain_forces.hpp"
 #include "systems/physics/math/counter_random.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
 
@@ -29,6 +30,14 @@ void MeanFlowDragReaction::run(SystemContext& context) {
   const ColumnGrid grid = column_grid(model_.mean_flow);
   const double area = column_plan_area(model_);
   slices_.assign(grid.cells, 0.0);
+  // Over MPI ranks each rank's grains give their impulse to a local sum first, added to the column in rank order.
+  std::vector<double> local_x, local_y;
+  if (column.over_ranks) {
+    local_x.assign(grid.cells, 0.0);
+    local_y.assign(grid.cells, 0.0);
+  }
+  double* const impulse_x = column.over_ranks ? local_x.data() : column.impulse_x.data();
+  double* const impulse_y = column.over_ranks ? local_y.data() : column.impulse_y.data();
   for (std::size_t grain = 0; grain < grains.size(); ++grain) {
     Vec3& impulse = drag.drag_impulse[grain];
     if (impulse.isZero(0.0)) continue;  // no water reached it (above the surface)
@@ -40,12 +49,20 @@ void MeanFlowDragReaction::run(SystemContext& context) {
       const CellSpan span = sphere_cells(grid, centre, radius);
       for (std::size_t i = span.first; i <= span.last; ++i) {
         const double share = slices_[i] / (inside * area);
-        column.impulse_x[i] += share * impulse.x();
-        column.impulse_y[i] += share * impulse.y();
+        impulse_x[i] += share * impulse.x();
+        impulse_y[i] += share * impulse.y();
         slices_[i] = 0.0;
       }
     }
     impulse = Vec3::Zero();
+  }
+  if (column.over_ranks) {
+    local_x.insert(local_x.end(), local_y.begin(), local_y.end());
+    const std::vector<double> total = ranks::sum_in_rank_order(local_x);
+    for (std::size_t i = 0; i < grid.cells; ++i) {
+      column.impulse_x[i] += total[i];
+      column.impulse_y[i] += total[grid.cells + i];
+    }
   }
   context.count_items(grains.size());
 }

@@ -220,7 +220,8 @@ void slice_contact_slabs(const Solids& solids, Contacts& contacts, const Model& 
 void restore_halo_and_slabs(const Solids& solids, Contacts& contacts, const Model& model) {
   if (!contacts.valid || contacts.build_position.size() != solids.size()) return;
   const PeriodicBox box = periodic_box(model);
-  if (box.any() && !contacts.halo.valid) {
+  // (Over MPI ranks the periodic images come as ghosts from the ranks: no halo of its own.)
+  if (box.any() && !contacts.halo.valid && !contacts.ranks.active) {
     build_halo(contacts.build_position, solids.id, box, halo_width(solids, model, contacts.skin), contacts.halo);
     exchange_grain_halo(solids, contacts);
   }
@@ -266,6 +267,9 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
     std::vector<CarriedSpring> pair_springs, wall_springs;
     for (const SavedSpring& spring : saved_pairs) pair_springs.push_back({spring.lower, spring.higher, spring.spring});
     for (const SavedSpring& spring : saved_walls) wall_springs.push_back({spring.lower, spring.higher, spring.spring});
+    // Wrapped first: a grain past a periodic face belongs to the rank whose box holds it once wrapped.
+    if (const PeriodicBox periodic = periodic_box(model); periodic.any())
+      for (Vec3& position : solids.position) position = periodic.wrap(position);
     migrate_grains(solids, ranks, pair_springs, wall_springs);
     saved_pairs.clear();
     saved_walls.clear();
@@ -297,14 +301,16 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   contacts.halo.clear();
   std::vector<Vec3> search_position;
   std::vector<double> search_radius;
-  if (box.any()) {
-    build_halo(solids.position, solids.id, box, halo_width(solids, model, skin), contacts.halo);
-    exchange_grain_halo(solids, contacts);
-  } else if (ranks.active) {
-    // Every other rank's grains within the list's longest candidate distance of this rank's box.
+  if (ranks.active) {
+    // Every other rank's grains within the list's longest candidate distance of this rank's box, and the periodic
+    // images of any grain (its own too) that come within it.
     build_rank_ghosts(solids, contacts,
                       2.0 * largest_radius + skin +
-                          lubrication_reach(model.coupling, largest_radius, std::numeric_limits<double>::infinity()));
+                          lubrication_reach(model.coupling, largest_radius, std::numeric_limits<double>::infinity()),
+                      box);
+  } else if (box.any()) {
+    build_halo(solids.position, solids.id, box, halo_width(solids, model, skin), contacts.halo);
+    exchange_grain_halo(solids, contacts);
   }
   const bool ghosts = box.any() || ranks.active;
   if (ghosts) {
@@ -314,7 +320,8 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
     search_radius.insert(search_radius.end(), contacts.ghosts.radius.begin(), contacts.ghosts.radius.end());
   }
   const SearchGrains search{ghosts ? search_position : solids.position, ghosts ? search_radius : solids.radius,
-                            box.any() ? &contacts.halo : nullptr, ranks.active ? &ranks : nullptr, &solids.id};
+                            box.any() && !ranks.active ? &contacts.halo : nullptr, ranks.active ? &ranks : nullptr,
+                            &solids.id};
   const GrainBinGrid grid = build_grid(search.position, domain, 2.0 * smallest_radius + skin);
   // One search: each block of kGrain grains lists its grains' candidates (each grain's sorted) into its own buffer,
   // and the buffers are joined in grain order, so the list is the same whatever the threads.
@@ -446,10 +453,10 @@ void SolidNeighbours::run(SystemContext& context) {
   if (contacts.ranks.active ? ranks::any(stale) : stale) {
     const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
     rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);
+  } else if (contacts.ranks.active) {
+    exchange_rank_ghost_motion(solids, contacts);  // the other ranks' grains (and images), as their owners moved them
   } else if (box.any()) {
     exchange_grain_halo_motion(solids, contacts);  // the ghosts follow their owners every sub-step
-  } else if (contacts.ranks.active) {
-    exchange_rank_ghost_motion(solids, contacts);  // the other ranks' grains, as their owners moved them
   }
 }
 

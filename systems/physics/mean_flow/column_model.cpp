@@ -1,5 +1,7 @@
 #include "systems/physics/mean_flow/column_model.hpp"
 
+#include "systems/physics/ranks/rank_comm.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -33,6 +35,7 @@ void fill_solid_fraction(const Model& model, const GrainState& grains, const Gra
   scratch.assign(grid.cells, 0.0);
   for (std::size_t grain = 0; grain < grains.size(); ++grain)
     deposit_sphere(grid, grains.position[grain].z(), properties.radius[grain], 1.0, scratch);
+  if (column.over_ranks) scratch = ranks::sum_in_rank_order(scratch);  // every rank's grains
   const double cell_volume = column_plan_area(model) * grid.cell_height;
   // The water keeps at least min_voidage of a cell (the drag law's own bound): the overlaps of a compressed bed
   // cannot leave a cell without water.

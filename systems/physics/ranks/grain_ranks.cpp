@@ -121,11 +121,13 @@ void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& dom
   std::vector<int> owner(solids.size());
   for (std::size_t i = 0; i < solids.size(); ++i) owner[i] = static_cast<int>(part_of(boxes, solids.position[i]));
   // The springs of the pairs this rank will list (their lower id is its own) and of its grains' walls, by id.
-  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1 && !contacts.halo.valid) {
+  // (In a periodic box the list's ghosts name their owners through the halo, which the caller has restored.)
+  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
     for (std::size_t i = 0; i < solids.size(); ++i) {
       for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
         if (contacts.pair_overlap[k] <= 0.0) continue;
-        const std::uint32_t j = contacts.pair_second[k];
+        const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(contacts.pair_second[k])
+                                                    : contacts.pair_second[k];
         const EntityId first = solids.id[i], second = solids.id[j];
         const bool first_lower = first < second;
         const std::size_t lower_slot = first_lower ? i : j;
@@ -215,23 +217,42 @@ std::size_t migrate_grains(Solids& solids, RankHalo& halo, std::vector<CarriedSp
   return left;
 }
 
-void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach) {
+void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach, const PeriodicBox& box) {
   const auto count = static_cast<std::size_t>(ranks::size());
   const auto me = static_cast<std::size_t>(ranks::rank());
   RankHalo& halo = contacts.ranks;
   halo.real_count = static_cast<std::uint32_t>(solids.size());
   halo.send_slots.assign(count, {});
+  halo.send_shift.assign(count, {});
+  // The images a grain may have: every sum of -1, 0 or +1 period along the periodic axes (the zero shift first).
+  std::vector<Vec3> shifts = {Vec3::Zero()};
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!box.periodic[static_cast<std::size_t>(axis)]) continue;
+    const std::size_t before = shifts.size();
+    for (const double sign : {1.0, -1.0})
+      for (std::size_t k = 0; k < before; ++k) {
+        Vec3 shifted = shifts[k];
+        shifted[axis] += sign * box.length[axis];
+        shifts.push_back(shifted);
+      }
+  }
   std::vector<std::vector<std::byte>> outgoing(count);
   for (std::size_t r = 0; r < count; ++r) {
-    if (r == me) continue;
     std::vector<std::uint32_t>& slots = halo.send_slots[r];
+    std::vector<Vec3>& sent_shift = halo.send_shift[r];
     for (std::size_t i = 0; i < solids.size(); ++i)
-      if (distance_outside_box(halo.box_low[r], halo.box_high[r], solids.position[i]) < reach)
-        slots.push_back(static_cast<std::uint32_t>(i));
+      for (const Vec3& shift : shifts) {
+        if (r == me && shift.isZero(0.0)) continue;  // its own grains are reals here
+        if (distance_outside_box(halo.box_low[r], halo.box_high[r], solids.position[i] + shift) < reach) {
+          slots.push_back(static_cast<std::uint32_t>(i));
+          sent_shift.push_back(shift);
+        }
+      }
     ByteWriter out(outgoing[r]);
-    for (const std::uint32_t i : slots) {
+    for (std::size_t n = 0; n < slots.size(); ++n) {
+      const std::uint32_t i = slots[n];
       out.put(solids.id[i]);
-      out.put(solids.position[i]);
+      out.put(Vec3(solids.position[i] + sent_shift[n]));
       out.put(solids.velocity[i]);
       out.put(solids.angular_velocity[i]);
       out.put(solids.radius[i]);
@@ -248,7 +269,6 @@ void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach) {
   halo.receive_offsets.assign(count + 1, 0);
   for (std::size_t r = 0; r < count; ++r) {
     halo.receive_offsets[r] = static_cast<std::uint32_t>(halo.ghost_id.size());
-    if (r == me) continue;
     ByteReader in(incoming[r]);
     while (!in.done()) {
       halo.ghost_id.push_back(in.get<EntityId>());
@@ -270,8 +290,10 @@ void exchange_rank_ghost_motion(const Solids& solids, Contacts& contacts) {
   std::vector<std::vector<std::byte>> outgoing(count);
   for (std::size_t r = 0; r < count; ++r) {
     ByteWriter out(outgoing[r]);
-    for (const std::uint32_t i : halo.send_slots[r]) {
-      out.put(solids.position[i]);
+    const std::vector<std::uint32_t>& slots = halo.send_slots[r];
+    for (std::size_t n = 0; n < slots.size(); ++n) {
+      const std::uint32_t i = slots[n];
+      out.put(Vec3(solids.position[i] + halo.send_shift[r][n]));
       out.put(solids.velocity[i]);
       out.put(solids.angular_velocity[i]);
     }

@@ -15,6 +15,7 @@
 
 #include "components/contacts.hpp"
 #include "components/solids.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 
 namespace riffle {
 
@@ -35,8 +36,10 @@ std::size_t migrate_grains(Solids& solids, RankHalo& ranks, std::vector<CarriedS
                            std::vector<CarriedSpring>& wall_springs);
 
 /// Sends every rank this rank's grains within `reach` of its box, and fills `contacts.ghosts` and the RankHalo's ghost
-/// ids, flags, send lists and offsets with what the others send. Collective.
-void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach);
+/// ids, flags, send lists and offsets with what the others send. In a periodic box each grain's images across the
+/// periodic faces go too (to this rank as well): a ghost is an image, its position the real's plus whole periods.
+/// Collective.
+void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach, const PeriodicBox& box);
 
 /// The ghosts' positions, velocities and angular velocities from their owners (along the send lists of the last
 /// build). Collective.
