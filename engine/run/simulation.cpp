@@ -874,6 +874,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   };
 
   double stepping_seconds = 0.0;
+  ranks::CallTimes stepping_calls;  // the MPI calls' share of stepping_seconds
   std::optional<DiagnosticsWriter> diagnostics;
   std::vector<ProbeWriter> probes;
   std::optional<BedProfileWriter> bed_profile;
@@ -907,7 +908,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       break;
     }
     const auto step_start = Clock::now();
-    std::string step_error;
+    const ranks::CallTimes calls_before = ranks::call_times();
     try {
       stepper_->step();
     } catch (const std::exception& error) {
@@ -917,6 +918,11 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       ranks::abort(kExitUnstable);
     }
     stepping_seconds += seconds_since(step_start);
+    const ranks::CallTimes& calls_after = ranks::call_times();
+    stepping_calls.exchange_seconds += calls_after.exchange_seconds - calls_before.exchange_seconds;
+    stepping_calls.reduce_seconds += calls_after.reduce_seconds - calls_before.reduce_seconds;
+    stepping_calls.exchanges += calls_after.exchanges - calls_before.exchanges;
+    stepping_calls.reductions += calls_after.reductions - calls_before.reductions;
     // A grain lost or non-finite on any rank ends the run on every rank, with that rank's diagnosis.
     const bool failed_here = !world_.step_status.ok();
     if (ranks::any(failed_here)) {
@@ -980,23 +986,36 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
                                                         : outcome.last_checkpoint);
   }
 
-  // Each rank's stepping time and grains: the balance of the decomposition.
-  const std::vector<double> seconds = ranks::gather_all({stepping_seconds, static_cast<double>(world_.solids->size())});
+  // Each rank's stepping time, its MPI calls' share (waiting for the others included) and grains: the balance of the
+  // decomposition is that of the time outside the calls.
+  const std::vector<double> seconds =
+      ranks::gather_all({stepping_seconds, static_cast<double>(world_.solids->size()), stepping_calls.exchange_seconds,
+                         stepping_calls.reduce_seconds, static_cast<double>(stepping_calls.exchanges),
+                         static_cast<double>(stepping_calls.reductions)});
   std::vector<SystemTimer> timers = stepper_->timers();
   for (const SystemTimer& branch : stepper_->branch_timers())
     if (branch.calls > 0) timers.push_back(branch);
   if (root) {
+    constexpr std::size_t kFields = 6;
+    const std::size_t rank_count = seconds.size() / kFields;
     std::string balance;
     double longest = 0.0, sum = 0.0;
-    for (std::size_t r = 0; r < seconds.size() / 2; ++r) {
-      balance += "\n  rank " + std::to_string(r) + ": " + std::to_string(static_cast<long long>(seconds[2 * r + 1])) +
-                 " grains, stepping " + format_time(seconds[2 * r]) + " s";
-      longest = std::max(longest, seconds[2 * r]);
-      sum += seconds[2 * r];
+    for (std::size_t r = 0; r < rank_count; ++r) {
+      const double* row = &seconds[kFields * r];
+      const double computing = row[0] - row[2] - row[3];
+      char text[320];
+      std::snprintf(text, sizeof text,
+                    "\n  rank %zu: %lld grains, stepping %.3f s: computing %.3f s, exchanging %.3f s (%.0f calls), "
+                    "reducing %.3f s (%.0f calls)",
+                    r, static_cast<long long>(row[1]), row[0], computing, row[2], row[4], row[3], row[5]);
+      balance += text;
+      longest = std::max(longest, computing);
+      sum += computing;
     }
-    const double mean = sum / static_cast<double>(seconds.size() / 2);
-    spdlog::info("ranks' stepping (imbalance: the longest over the mean, {:.3f}):{}", mean > 0.0 ? longest / mean : 1.0,
-                 balance);
+    const double mean = sum / static_cast<double>(rank_count);
+    spdlog::info("ranks' stepping (imbalance, the longest computing time over the mean: {:.3f}; the MPI calls' times "
+                 "include waiting for the slowest rank):{}",
+                 mean > 0.0 ? longest / mean : 1.0, balance);
     try {
       write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
     } catch (const std::exception& error) {

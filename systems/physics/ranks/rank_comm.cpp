@@ -1,5 +1,6 @@
 #include "systems/physics/ranks/rank_comm.hpp"
 
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -12,6 +13,26 @@
 #endif
 
 namespace riffle::ranks {
+
+namespace {
+CallTimes times;
+
+/// Adds the wall time of its life to one of `times`' totals.
+class CallTimer {
+ public:
+  CallTimer(double& seconds, std::uint64_t& calls)
+      : seconds_(seconds), start_(std::chrono::steady_clock::now()) {
+    ++calls;
+  }
+  ~CallTimer() { seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  double& seconds_;
+  std::chrono::steady_clock::time_point start_;
+};
+}  // namespace
+
+const CallTimes& call_times() { return times; }
 
 #ifdef RIFFLE_WITH_MPI
 
@@ -76,6 +97,7 @@ int size() {
 
 bool any(bool flag) {
   if (size() == 1) return flag;
+  const CallTimer timer(times.reduce_seconds, times.reductions);
   int local = flag ? 1 : 0, global = 0;
   check(MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD), "MPI_Allreduce");
   return global != 0;
@@ -83,6 +105,7 @@ bool any(bool flag) {
 
 double max(double value) {
   if (size() == 1) return value;
+  const CallTimer timer(times.reduce_seconds, times.reductions);
   double global = 0.0;
   check(MPI_Allreduce(&value, &global, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
   return global;
@@ -90,6 +113,7 @@ double max(double value) {
 
 std::vector<double> gather_all(const std::vector<double>& values) {
   if (size() == 1) return values;
+  const CallTimer timer(times.reduce_seconds, times.reductions);
   const int count = to_int(values.size());
   std::vector<int> counts(static_cast<std::size_t>(size()));
   check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
@@ -117,6 +141,7 @@ std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::
     throw std::logic_error("ranks::exchange: " + std::to_string(outgoing.size()) + " buffers for " +
                            std::to_string(ranks) + " ranks");
   if (ranks == 1) return outgoing;
+  const CallTimer timer(times.exchange_seconds, times.exchanges);
   std::vector<int> send_counts(ranks), receive_counts(ranks), send_at(ranks, 0), receive_at(ranks, 0);
   for (std::size_t r = 0; r < ranks; ++r) send_counts[r] = to_int(outgoing[r].size());
   check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, MPI_COMM_WORLD),

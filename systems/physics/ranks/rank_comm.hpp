@@ -8,6 +8,7 @@
 // rank (gather, then add in order), never with MPI_Allreduce's unspecified order: a run is reproducible for a given
 // rank count.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace riffle::ranks {
@@ -43,6 +44,15 @@ std::vector<std::byte> broadcast_from_root(std::vector<std::byte> bytes);
 
 /// Waits for every rank.
 void barrier();
+
+/// The time this process has spent in the calls above, waiting included (a rank that waits for a slower one spends
+/// it here): what a run over ranks reports beside its stepping time, to tell the work's imbalance from the talk.
+struct CallTimes {
+  double exchange_seconds = 0.0;  ///< exchange and the gathers
+  double reduce_seconds = 0.0;    ///< any, max and the sums
+  std::uint64_t exchanges = 0, reductions = 0;
+};
+const CallTimes& call_times();
 
 /// Ends every rank at once with `code` (MPI_Abort): for a rank that cannot go on while the others wait for it in an
 /// exchange. Without MPI, std::exit(code).
