@@ -495,7 +495,7 @@ void Simulation::split_over_ranks() {
   if (world_.mean_flow) world_.mean_flow->over_ranks = true;
 }
 
-World Simulation::gathered_world() const {
+World Simulation::gathered_world(bool pairs) const {
   Solids solids = gather_grains_at_root(*world_.solids);
   std::vector<CarriedSpring> pair_springs;
   std::vector<WallContactState> wall_contacts;
@@ -513,9 +513,33 @@ World Simulation::gathered_world() const {
   if (whole.solid_summary) whole.solid_summary->over_ranks = false;
   whole.step_status = world_.step_status;
   whole.solids = std::move(solids);
+  std::sort(wall_contacts.begin(), wall_contacts.end(), [](const WallContactState& a, const WallContactState& b) {
+    return a.grain != b.grain ? a.grain < b.grain : a.wall < b.wall;
+  });
+  Contacts contacts;
+  if (!pairs) {
+    // The touching wall contacts alone, grain by grain in the gathered (id) order.
+    const Solids& grains = *whole.solids;
+    contacts.pair_offsets.assign(grains.size() + 1, 0);
+    contacts.wall_pair_offsets.assign(grains.size() + 1, 0);
+    std::size_t next = 0;
+    for (std::size_t i = 0; i < grains.size(); ++i) {
+      for (; next < wall_contacts.size() && wall_contacts[next].grain == grains.id[i]; ++next) {
+        const WallContactState& wall = wall_contacts[next];
+        contacts.wall_pair_wall.push_back(wall.wall);
+        contacts.wall_pair_spring.push_back(wall.spring);
+        contacts.wall_pair_force.push_back(wall.force);
+        contacts.wall_pair_torque.push_back(wall.torque);
+        contacts.wall_pair_overlap.push_back(wall.overlap);
+      }
+      contacts.wall_pair_offsets[i + 1] = static_cast<std::uint32_t>(contacts.wall_pair_wall.size());
+    }
+    contacts.valid = true;
+    whole.contacts = std::move(contacts);
+    return whole;
+  }
   // A one-rank neighbour list over the whole bed, with every touching pair's and wall's spring: what a checkpoint of
   // a one-rank run holds, so the file resumes on any number of ranks.
-  Contacts contacts;
   contacts.ranks.carried_pair_springs = std::move(pair_springs);
   for (const WallContactState& wall : wall_contacts)
     contacts.ranks.carried_wall_springs.push_back({wall.grain, wall.wall, wall.spring});
@@ -531,9 +555,6 @@ World Simulation::gathered_world() const {
       if (gap < 0.0) contacts.pair_overlap[k] = -gap;
     }
   // The wall contacts' forces as the ranks had them (the wall probes read them).
-  std::sort(wall_contacts.begin(), wall_contacts.end(), [](const WallContactState& a, const WallContactState& b) {
-    return a.grain != b.grain ? a.grain < b.grain : a.wall < b.wall;
-  });
   for (std::size_t i = 0; i < whole.solids->size(); ++i)
     for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
       WallContactState probe;
@@ -939,27 +960,27 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
         !(outputs_ok = write_on_root(
               [&] { diagnostics->row(world_, *model_, min_radius, seconds_since(step_start), stepper_->timers()); })))
       break;
-    // Rank 0 knows which outputs are due (the probes keep their own schedules): it tells the others whether to gather.
-    bool gather = due(model_->output.vtk_interval, output_.frame_times.size()) ||
-                  due(model_->output.checkpoint_interval, output_.checkpoints_due + 1);
+    // Rank 0 knows which outputs are due (the probes keep their own schedules): it tells the others whether to gather,
+    // and whether the pairs are wanted (the bed profile counts contacts; a checkpoint holds them).
+    const bool checkpoint_due = due(model_->output.checkpoint_interval, output_.checkpoints_due + 1);
+    bool gather = due(model_->output.vtk_interval, output_.frame_times.size());
+    bool pairs = false;
     if (root) {
       for (const ProbeWriter& probe : probes) gather = gather || probe.due(world_.time) || probe.reads_every_step();
-      if (bed_profile) gather = gather || bed_profile->due(world_.time);
+      pairs = bed_profile && bed_profile->due(world_.time);
     }
-    if (!ranks::any(gather)) {
-      progress.tick(world_);
-      continue;
+    const double wanted = ranks::max(pairs ? 2.0 : gather ? 1.0 : 0.0);  // the same on every rank
+    if (wanted > 0.0) {
+      const World whole = gathered_world(wanted == 2.0);
+      const bool frame = due(model_->output.vtk_interval, output_.frame_times.size());
+      outputs_ok = write_on_root([&] {
+        if (frame) write_vtk_frame(out, whole, *model_, output_);
+        for (ProbeWriter& probe : probes) probe.write_if_due(whole);
+        if (bed_profile) bed_profile->write_if_due(whole);
+      });
+      if (!root && frame) output_.frame_times.push_back(world_.time);
     }
-    const World whole = gathered_world();
-    const bool frame = due(model_->output.vtk_interval, output_.frame_times.size());
-    outputs_ok = write_on_root([&] {
-      if (frame) write_vtk_frame(out, whole, *model_, output_);
-      for (ProbeWriter& probe : probes) probe.write_if_due(whole);
-      if (bed_profile) bed_profile->write_if_due(whole);
-    });
-    if (!root && frame) output_.frame_times.push_back(world_.time);
-    if (outputs_ok && due(model_->output.checkpoint_interval, output_.checkpoints_due + 1))
-      outputs_ok = save_checkpoint(true);
+    if (outputs_ok && checkpoint_due) outputs_ok = save_checkpoint(true);
     progress.tick(world_);
   }
   if (!outputs_ok)

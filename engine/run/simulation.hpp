@@ -87,8 +87,9 @@ class Simulation {
   bool over_ranks() const { return world_.contacts && world_.contacts->ranks.active; }
   /// The whole world at rank 0, for the outputs of a run over ranks: every rank's grains (ordered by id), a neighbour
   /// list over them with every touching pair's spring, the wall contacts as the ranks had them. Collective; an empty
-  /// world on the other ranks.
-  World gathered_world() const;
+  /// world on the other ranks. Without `pairs` the list holds the wall contacts alone (what frames and probes read;
+  /// a checkpoint and the bed profile's coordination numbers need the pairs, whose list costs a rebuild).
+  World gathered_world(bool pairs = true) const;
   /// The checkpoint of `world` (this run's model and output bookkeeping): the gathered world of a run over ranks.
   CheckpointData checkpoint_data_of(const World& world) const;
 
