@@ -1,5 +1,5 @@
 // The grains over several MPI ranks (CTest runs it under mpiexec with 1, 2 and 4 ranks): a small dry bed dropped
-// into a tank shaken sideways, split over the ranks by systems/physics/ranks/grain_ranks.hpp, stepped, and gathered at
+// into a tank shaken sideways (tests/data/shaken_bed.toml), split over the ranks by systems/physics/ranks/grain_ranks.hpp, stepped, and gathered at
 // rank 0 after every step, where the same scene runs whole on that rank alone (no rank exchange) beside it. The two
 // evaluate the same contacts with the same laws; only the order in which a grain's contact forces are added differs
 // (the ranks' slot orders, and the forces that come back from other ranks added last), so they agree to rounding at
@@ -13,6 +13,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "engine/run/simulation.hpp"
@@ -23,57 +26,13 @@
 
 namespace {
 
-const char* kScene = R"(
-[run]
-name = "grain_ranks"
-end_time = 1.0
-dt = 1.0e-3
-
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.4
-rolling_friction = 0.05
-max_impact_speed = 0.5
-
-[tank]
-size = [0.08, 0.05, 0.08]
-open_faces = ["z_max"]
-wall_material = "grain"
-
-[tank.motion]
-kind = "sinusoidal"
-direction = [1.0, 0.0, 0.0]
-amplitude = 0.005
-frequency = 4.0
-ramp_time = 0.0
-
-[solids]
-[[solids.layered_beds]]
-layers = 2
-layer_thickness = 0.008
-loose_factor = 1.5
-seed = 3
-
-[[solids.layered_beds.classes]]
-diameter = 0.006
-count = 120
-material = "grain"
-size_class = 1
-arrangement = "random"
-
-[[solids.layered_beds.classes]]
-diameter = 0.004
-count = 400
-material = "grain"
-size_class = 0
-arrangement = "random"
-)";
+/// The scene of tests/data/shaken_bed.toml (its outputs unused: this test steps it itself).
+std::string shaken_bed() {
+  std::ifstream file(RIFFLE_SOURCE_DIR "/tests/data/shaken_bed.toml");
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
 
 }  // namespace
 
@@ -89,13 +48,13 @@ int main(int argc, char** argv) {
       ++failures;
     }
   };
-  auto distributed = Simulation::from_model(parse_scene(kScene, "grain_ranks"));
+  auto distributed = Simulation::from_model(parse_scene(shaken_bed(), "shaken_bed.toml"));
   const std::size_t total = distributed->world().solids->size();
   const DomainBox domain = grain_domain_box(distributed->model());
   split_grains_over_ranks(*distributed->world().solids, *distributed->world().contacts, domain.low, domain.high);
   distributed->world().solid_summary->over_ranks = true;
   std::unique_ptr<Simulation> whole;
-  if (rank == 0) whole = Simulation::from_model(parse_scene(kScene, "grain_ranks"));
+  if (rank == 0) whole = Simulation::from_model(parse_scene(shaken_bed(), "shaken_bed.toml"));
   const std::vector<double> local = {static_cast<double>(distributed->world().solids->size())};
   const std::vector<double> owned = ranks::gather_all(local);
   if (rank == 0) {

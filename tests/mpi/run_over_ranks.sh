@@ -23,67 +23,7 @@ ranks() {  # ranks N ARGS...: riffle on N ranks (1: without mpiexec)
   if [ "$n" = 1 ]; then timeout -k 5 120 "$RIFFLE" "$@"; else timeout -k 5 120 "$MPIEXEC" -n "$n" "$RIFFLE" "$@"; fi
 }
 
-cat >shaken.toml <<'SCENE'
-[run]
-name = "shaken_over_ranks"
-end_time = 0.2
-dt = 1.0e-3
-
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.4
-rolling_friction = 0.05
-max_impact_speed = 0.5
-
-[tank]
-size = [0.08, 0.05, 0.08]
-open_faces = ["z_max"]
-wall_material = "grain"
-
-[tank.motion]
-kind = "sinusoidal"
-direction = [1.0, 0.0, 0.0]
-amplitude = 0.005
-frequency = 4.0
-ramp_time = 0.0
-
-[solids]
-[[solids.layered_beds]]
-layers = 2
-layer_thickness = 0.008
-loose_factor = 1.5
-seed = 3
-
-[[solids.layered_beds.classes]]
-diameter = 0.006
-count = 120
-material = "grain"
-size_class = 1
-arrangement = "random"
-
-[[solids.layered_beds.classes]]
-diameter = 0.004
-count = 400
-material = "grain"
-size_class = 0
-arrangement = "random"
-
-[output]
-vtk_interval = 0.05
-checkpoint_interval = 0.1
-diagnostics_every = 5
-bed_profile_interval = 0.02
-
-[[output.probes]]
-kind = "wall_forces"
-interval = 0.01
-SCENE
+cp "$SRC/tests/data/shaken_bed.toml" shaken.toml
 
 ranks 1 run shaken.toml --out one --threads 1 >one.out 2>&1
 check "one rank runs the shaken bed" [ $? = 0 ]

@@ -17,59 +17,9 @@ using namespace riffle;
 
 namespace {
 
-// A bed of 4 and 6 mm grains dropped into a tank shaken sideways: falling, colliding and sliding along the floor,
-// with springs on grain pairs and walls.
-const char* kShakenBed = R"(
-[run]
-name = "grains_over_ranks"
-end_time = 1.0
-dt = 1.0e-3
-
-[materials.grain]
-density = 1318.0
-young_modulus = 1.0e7
-poisson_ratio = 0.3
-
-[contact]
-law = "hertz_mindlin"
-restitution = 0.5
-friction = 0.4
-rolling_friction = 0.05
-max_impact_speed = 0.5
-
-[tank]
-size = [0.06, 0.04, 0.06]
-open_faces = ["z_max"]
-wall_material = "grain"
-
-[tank.motion]
-kind = "sinusoidal"
-direction = [1.0, 0.0, 0.0]
-amplitude = 0.005
-frequency = 4.0
-ramp_time = 0.0
-
-[solids]
-[[solids.layered_beds]]
-layers = 2
-layer_thickness = 0.006
-loose_factor = 1.7
-seed = 5
-
-[[solids.layered_beds.classes]]
-diameter = 0.006
-count = 30
-material = "grain"
-size_class = 1
-arrangement = "random"
-
-[[solids.layered_beds.classes]]
-diameter = 0.004
-count = 120
-material = "grain"
-size_class = 0
-arrangement = "random"
-)";
+/// tests/data/shaken_bed.toml: 520 grains of 4 and 6 mm dropped into a tank shaken sideways, falling, colliding and
+/// sliding along the floor, with springs on grain pairs and walls.
+Model shaken_bed() { return load_scene_file(RIFFLE_SOURCE_DIR "/tests/data/shaken_bed.toml"); }
 
 /// slot of each id
 std::map<EntityId, std::size_t> slots_by_id(const Solids& solids) {
@@ -104,11 +54,11 @@ std::map<std::pair<EntityId, EntityId>, Vec3> touching_springs(const Solids& sol
 TEST_CASE("a bed split over the one rank of a process runs as the bed unsplit, to rounding") {
   // The split drops the neighbour list and carries the springs by id to the first rebuild; with one rank nothing
   // migrates and no ghost comes, so every force is the same but for the order of a grain's sum (that rebuild, a step
-  // earlier than the unsplit run's, reorders the slots): rounding, amplified by the colliding bed over 60 steps to
-  // 8e-14 m here; 1e-12 m allows that growth and catches any lost spring or contact (a spring's force on these grains
-  // moves them by more than 1e-9 m in a step).
-  auto whole = Simulation::from_model(parse_scene(kShakenBed, "grains_over_ranks"));
-  auto split = Simulation::from_model(parse_scene(kShakenBed, "grains_over_ranks"));
+  // earlier than the unsplit run's, reorders the slots): rounding, which the colliding bed amplifies about tenfold
+  // every 10 steps (tests/mpi/grain_ranks.cpp), 2e-15 m after 20 steps here; 1e-12 m allows that growth and catches
+  // any lost spring or contact (a spring's force on these grains moves them by more than 1e-9 m in a step).
+  auto whole = Simulation::from_model(shaken_bed());
+  auto split = Simulation::from_model(shaken_bed());
   for (int step = 0; step < 100; ++step) {  // falling, then the first collisions: springs on pairs and walls
     whole->step();
     split->step();
@@ -117,17 +67,19 @@ TEST_CASE("a bed split over the one rank of a process runs as the bed unsplit, t
   split->split_over_ranks();
   CHECK(split->over_ranks());
   CHECK(split->world().solids->size() == whole->world().solids->size());
-  for (int step = 0; step < 60; ++step) {
+  for (int step = 0; step < 20; ++step) {
     whole->step();
     split->step();
   }
+  MESSAGE("largest position difference after 20 steps: ",
+          largest_position_difference(*whole->world().solids, *split->world().solids), " m");
   CHECK(largest_position_difference(*whole->world().solids, *split->world().solids) < 1e-12);
   CHECK(split->world().solid_summary->translational_energy ==
         doctest::Approx(whole->world().solid_summary->translational_energy).epsilon(1e-9));
 }
 
 TEST_CASE("the gathered world holds every grain and touching spring, and its checkpoint resumes the run") {
-  auto run = Simulation::from_model(parse_scene(kShakenBed, "grains_over_ranks"));
+  auto run = Simulation::from_model(shaken_bed());
   for (int step = 0; step < 80; ++step) run->step();
   run->split_over_ranks();
   for (int step = 0; step < 40; ++step) run->step();
@@ -156,12 +108,14 @@ TEST_CASE("the gathered world holds every grain and touching spring, and its che
   CHECK((wall_force - gathered_wall_force).norm() <= 1e-12 * wall_force.norm());
   CHECK(wall_force.norm() > 0.0);
   // Resumed from the gathered checkpoint, the bed goes on as the run does: to rounding (the resumed list is built at
-  // another time, so its slots, hence its sums' order, differ) over the next 20 steps of colliding grains.
+  // another time, so its slots, hence its sums' order, differ) over the next 10 steps of colliding grains (8e-16 m).
   auto resumed = Simulation::from_checkpoint_data(run->checkpoint_data_of(whole), "gathered");
   CHECK_FALSE(resumed->over_ranks());
-  for (int step = 0; step < 20; ++step) {
+  for (int step = 0; step < 10; ++step) {
     run->step();
     resumed->step();
   }
+  MESSAGE("largest position difference after 10 steps: ",
+          largest_position_difference(*run->world().solids, *resumed->world().solids), " m");
   CHECK(largest_position_difference(*run->world().solids, *resumed->world().solids) < 1e-12);
 }
