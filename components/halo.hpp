@@ -104,7 +104,6 @@ struct RankHalo {
   std::uint64_t grains_sent = 0;      ///< grains this rank has handed to others so far (migrations)
 
   std::size_t ghost_count() const { return ghost_id.size(); }
-  bool is_ghost(std::uint32_t slot) const { return slot >= real_count; }
 };
 
 /// The MPS particles' ghost copies (fluid, wall and dummy slots alike): what the fluid operators read of a neighbour

@@ -101,11 +101,6 @@ std::vector<PartBox> boxes_of(const RankHalo& ranks) {
 
 }  // namespace
 
-int owner_rank(const RankHalo& ranks, const Vec3& position) {
-  const std::vector<PartBox> boxes = boxes_of(ranks);
-  return static_cast<int>(part_of(boxes, position));
-}
-
 void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& domain_low, const Vec3& domain_high) {
   const int me = ranks::rank(), count = ranks::size();
   RankHalo& halo = contacts.ranks;

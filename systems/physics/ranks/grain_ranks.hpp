@@ -19,9 +19,6 @@
 
 namespace riffle {
 
-/// The rank whose box holds `position` (the nearest box for a point outside all of them).
-int owner_rank(const RankHalo& ranks, const Vec3& position);
-
 /// Splits a world that every rank built whole (the same scene or checkpoint on every rank) over the ranks: boxes by a
 /// recursive bisection of the grains' positions over [domain_low, domain_high] with equal weights, then each rank
 /// keeps the grains in its box and the springs of their pairs (carried to the first rebuild, which every rank then
