@@ -547,11 +547,15 @@ World Simulation::gathered_world(bool pairs) const {
   contacts.rebuilds = world_.contacts->rebuilds;
   // The touching pairs' overlaps, as the contact pass left them on the ranks: a resume (and a split) reads a pair with
   // an overlap as touching, with its spring.
+  // In a periodic tank a pair's second slot may be an image across a face (a ghost, after the reals).
   const Solids& grains = *whole.solids;
+  const auto reals = static_cast<std::uint32_t>(grains.size());  // a closed tank has no halo (real_count 0)
+  const Ghosted<Vec3> position{grains.position.data(), contacts.ghosts.position.data(), reals};
+  const Ghosted<double> radius{grains.radius.data(), contacts.ghosts.radius.data(), reals};
   for (std::size_t i = 0; i < grains.size(); ++i)
     for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
       const std::uint32_t j = contacts.pair_second[k];
-      const double gap = (grains.position[j] - grains.position[i]).norm() - grains.radius[i] - grains.radius[j];
+      const double gap = (position[j] - grains.position[i]).norm() - grains.radius[i] - radius[j];
       if (gap < 0.0) contacts.pair_overlap[k] = -gap;
     }
   // The wall contacts' forces as the ranks had them (the wall probes read them).

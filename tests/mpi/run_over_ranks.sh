@@ -99,6 +99,13 @@ for n in 1 2; do
     >"channel$n.out" 2>&1
   check "the bed-load channel (mean-flow water, periodic) runs on $n rank(s)" [ $? = 0 ]
 done
+ranks 2 run "$SRC/scenes/bedload_channel.toml" --out channel2_threads --until 0.04 --threads 2 \
+  --set "solids.initial_state=\"$WORK/settle1/checkpoints/final.ckpt\"" --set mean_flow.shields_number=0.2 \
+  >channel2_threads.out 2>&1
+# The checkpoint holds the gathered pair list, with the image pairs across the periodic faces: byte for byte the same
+# again (another run, other threads) only if nothing in it is read from beyond the grains.
+check "... its checkpoint the same byte for byte when run again on 2 ranks of 2 threads" \
+  cmp -s channel2/checkpoints/final.ckpt channel2_threads/checkpoints/final.ckpt
 check "... its bed-load probe the same on 2 ranks as on 1 over 40 steps (Theta, u*, bed surface, q*)" \
   bash -c "cut -d, -f1-8 channel1/probe_bedload_transport.csv > c1 && cut -d, -f1-8 channel2/probe_bedload_transport.csv > c2 &&
            [ \$(wc -l < c1) -ge 4 ] && cmp -s c1 c2"
