@@ -86,6 +86,7 @@ struct CarriedSpring {
 /// resumed run is split again.
 struct RankHalo {
   bool active = false;                     ///< the grains are spread over ranks
+  Vec3 domain_low = Vec3::Zero(), domain_high = Vec3::Zero();  ///< [m] the domain the boxes tile
   std::vector<Vec3> box_low, box_high;     ///< [m] [ranks] each rank's box (a grain's owner is the box holding it)
   std::uint32_t real_count = 0;            ///< N at the last build
   std::vector<EntityId> ghost_id;          ///< [G] the ghost's id on its owner rank
@@ -102,6 +103,7 @@ struct RankHalo {
   /// Springs to restore by id at the next rebuild (arrivals', or those of a world just split).
   std::vector<CarriedSpring> carried_pair_springs, carried_wall_springs;
   std::uint64_t grains_sent = 0;      ///< grains this rank has handed to others so far (migrations)
+  std::uint64_t rebalances = 0;       ///< times the boxes were cut anew since the split (the same on every rank)
 
   std::size_t ghost_count() const { return ghost_id.size(); }
 };

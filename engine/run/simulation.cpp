@@ -1039,8 +1039,8 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
     }
     const double mean = sum / static_cast<double>(rank_count);
     spdlog::info("ranks' stepping (imbalance, the longest computing time over the mean: {:.3f}; the MPI calls' times "
-                 "include waiting for the slowest rank):{}",
-                 mean > 0.0 ? longest / mean : 1.0, balance);
+                 "include waiting for the slowest rank; the boxes cut anew {} time(s) as the bed moved):{}",
+                 mean > 0.0 ? longest / mean : 1.0, world_.contacts->ranks.rebalances, balance);
     try {
       write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
     } catch (const std::exception& error) {

@@ -270,6 +270,9 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
     // Wrapped first: a grain past a periodic face belongs to the rank whose box holds it once wrapped.
     if (const PeriodicBox periodic = periodic_box(model); periodic.any())
       for (Vec3& position : solids.position) position = periodic.wrap(position);
+    // A bed that has moved far from the split (a slide, a flume's bed load) gets new boxes; the migration below moves
+    // its grains to them.
+    rebalance_grain_ranks(solids, ranks, kRebalanceAbove);
     migrate_grains(solids, ranks, pair_springs, wall_springs);
     saved_pairs.clear();
     saved_walls.clear();

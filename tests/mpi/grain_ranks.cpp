@@ -8,7 +8,8 @@
 // its kinetic energy after the whole run (grains fallen, collided and shaken) within 1e-6 relative of the one-rank
 // run's. Rank 0 prints the largest position difference per step: how rounding differences grow in the flow.
 //
-//   mpiexec -n N riffle_mpi_grain_ranks [steps]     (default 120 steps of 1 ms)
+//   mpiexec -n N riffle_mpi_grain_ranks [steps [scene [--expect-rebalance]]]
+//     (default 120 steps of 1 ms of tests/data/shaken_bed.toml; a scene is named within tests/data/)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,9 +27,9 @@
 
 namespace {
 
-/// The scene of tests/data/shaken_bed.toml (its outputs unused: this test steps it itself).
-std::string shaken_bed() {
-  std::ifstream file(RIFFLE_SOURCE_DIR "/tests/data/shaken_bed.toml");
+/// A scene of tests/data/ (its outputs unused: this test steps it itself).
+std::string scene_text(const std::string& name) {
+  std::ifstream file(std::string(RIFFLE_SOURCE_DIR "/tests/data/") + name);
   std::stringstream text;
   text << file.rdbuf();
   return text.str();
@@ -41,6 +42,9 @@ int main(int argc, char** argv) {
   ranks::start_mpi();
   const int rank = ranks::rank(), count = ranks::size();
   const long steps = argc > 1 ? std::atol(argv[1]) : 120;
+  const std::string scene = argc > 2 ? argv[2] : "shaken_bed.toml";
+  // A bed that moves far from where it was split must have its boxes cut anew on several ranks.
+  const bool expect_rebalance = argc > 3 && std::string(argv[3]) == "--expect-rebalance";
   int failures = 0;
   const auto expect = [&](bool condition, const char* what, double value) {
     if (!condition) {
@@ -48,13 +52,13 @@ int main(int argc, char** argv) {
       ++failures;
     }
   };
-  auto distributed = Simulation::from_model(parse_scene(shaken_bed(), "shaken_bed.toml"));
+  auto distributed = Simulation::from_model(parse_scene(scene_text(scene), scene));
   const std::size_t total = distributed->world().solids->size();
   const DomainBox domain = grain_domain_box(distributed->model());
   split_grains_over_ranks(*distributed->world().solids, *distributed->world().contacts, domain.low, domain.high);
   distributed->world().solid_summary->over_ranks = true;
   std::unique_ptr<Simulation> whole;
-  if (rank == 0) whole = Simulation::from_model(parse_scene(shaken_bed(), "shaken_bed.toml"));
+  if (rank == 0) whole = Simulation::from_model(parse_scene(scene_text(scene), scene));
   const std::vector<double> local = {static_cast<double>(distributed->world().solids->size())};
   const std::vector<double> owned = ranks::gather_all(local);
   if (rank == 0) {
@@ -66,9 +70,18 @@ int main(int argc, char** argv) {
   for (const double n : owned) sum += n;
   expect(sum == static_cast<double>(total), "grains owned over all ranks == grains", sum);
 
-  double largest_early = 0.0;
+  // The boxes of the split, kept to tell how unequal the ranks would be had the boxes not followed the bed.
+  const RankHalo split_boxes = distributed->world().contacts->ranks;
+  double largest_early = 0.0, worst_imbalance = 1.0;
   for (long step = 1; step <= steps; ++step) {
     distributed->step();
+    const std::vector<double> held = ranks::gather_all({static_cast<double>(distributed->world().solids->size())});
+    const double mean = static_cast<double>(total) / count;
+    const double most = *std::max_element(held.begin(), held.end());
+    worst_imbalance = std::max(worst_imbalance, most / mean);
+    // A migration at each rebuild leaves each rank what its box holds; a rebuild cuts anew above kRebalanceAbove.
+    expect(most <= std::max(kRebalanceAbove * mean, mean + 2.0), "the ranks' grain counts within the rebalance limit",
+           most / mean);
     const Solids gathered = gather_grains_at_root(*distributed->world().solids);
     double difference = 0.0;
     if (rank == 0) {
@@ -117,6 +130,17 @@ int main(int argc, char** argv) {
       ranks::sum_in_rank_order({static_cast<double>(distributed->world().contacts->ranks.grains_sent)});
   if (rank == 0) std::printf("grains handed between ranks: %g\n", sent[0]);
   if (count > 1) expect(sent[0] > 0.0, "grains migrated between ranks", sent[0]);
+  // The bed fell and spread: the split's boxes would now hold unequal shares.
+  const std::vector<double> in_split_boxes = grains_per_box(*distributed->world().solids, split_boxes);
+  const double split_imbalance =
+      *std::max_element(in_split_boxes.begin(), in_split_boxes.end()) * count / static_cast<double>(total);
+  const auto rebalances = distributed->world().contacts->ranks.rebalances;
+  if (rank == 0)
+    std::printf("boxes cut anew %llu time(s); the largest rank's grains over the mean: at most %.3f over the run, "
+                "%.3f now in the split's boxes\n",
+                static_cast<unsigned long long>(rebalances), worst_imbalance, split_imbalance);
+  if (count > 1 && expect_rebalance)
+    expect(rebalances > 0, "the boxes followed the moving bed", static_cast<double>(rebalances));
   const bool failed = ranks::any(failures > 0);
   if (rank == 0) std::printf("%s\n", failed ? "FAILED" : "passed");
   return failed ? 1 : 0;

@@ -106,6 +106,8 @@ void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& dom
   RankHalo& halo = contacts.ranks;
   halo = RankHalo{};
   halo.active = true;
+  halo.domain_low = domain_low;
+  halo.domain_high = domain_high;
   const std::vector<double> weights(solids.size(), 1.0);
   const std::vector<PartBox> boxes =
       recursive_bisection(solids.position, weights, PartBox{domain_low, domain_high}, count);
@@ -144,6 +146,45 @@ void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& dom
   RankHalo keep = std::move(halo);
   contacts = Contacts{};
   contacts.ranks = std::move(keep);
+}
+
+double grain_rank_imbalance(const Solids& solids) {
+  const std::vector<double> counts = ranks::gather_all({static_cast<double>(solids.size())});
+  const double total = std::accumulate(counts.begin(), counts.end(), 0.0);
+  if (total == 0.0) return 1.0;
+  return *std::max_element(counts.begin(), counts.end()) * static_cast<double>(counts.size()) / total;
+}
+
+std::vector<double> grains_per_box(const Solids& solids, const RankHalo& halo) {
+  const std::vector<PartBox> boxes = boxes_of(halo);
+  std::vector<double> mine(boxes.size(), 0.0);
+  for (const Vec3& position : solids.position) mine[part_of(boxes, position)] += 1.0;
+  return ranks::sum_in_rank_order(mine);
+}
+
+bool rebalance_grain_ranks(const Solids& solids, RankHalo& halo, double above) {
+  // What each rank would own after this rebuild's migration, in the present boxes.
+  const std::vector<double> counts = grains_per_box(solids, halo);
+  const double total = std::accumulate(counts.begin(), counts.end(), 0.0);
+  const double mean = total / static_cast<double>(counts.size());
+  const double largest = *std::max_element(counts.begin(), counts.end());
+  if (total == 0.0 || largest <= above * mean || largest < mean + 2.0) return false;
+  // Every rank's positions, in rank order: the same points (and so the same cuts) on every rank.
+  std::vector<double> mine;
+  mine.reserve(3 * solids.size());
+  for (const Vec3& position : solids.position) mine.insert(mine.end(), {position.x(), position.y(), position.z()});
+  const std::vector<double> all = ranks::gather_all(mine);
+  std::vector<Vec3> points(all.size() / 3);
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] = Vec3(all[3 * i], all[3 * i + 1], all[3 * i + 2]);
+  const std::vector<double> weights(points.size(), 1.0);
+  const std::vector<PartBox> boxes = recursive_bisection(points, weights, PartBox{halo.domain_low, halo.domain_high},
+                                                         static_cast<int>(counts.size()));
+  for (std::size_t r = 0; r < boxes.size(); ++r) {
+    halo.box_low[r] = boxes[r].low;
+    halo.box_high[r] = boxes[r].high;
+  }
+  ++halo.rebalances;
+  return true;
 }
 
 std::size_t migrate_grains(Solids& solids, RankHalo& halo, std::vector<CarriedSpring>& pair_springs,

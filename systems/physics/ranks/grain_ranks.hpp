@@ -25,6 +25,25 @@ namespace riffle {
 /// does). Deterministic: every rank computes the same boxes from the same world, without a message.
 void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& domain_low, const Vec3& domain_high);
 
+/// The largest rank's grain count over the mean count (1 when every rank holds as many). Collective.
+double grain_rank_imbalance(const Solids& solids);
+
+/// The grains every rank's box holds (the rank's position in `ranks`' boxes), summed over the ranks: what each rank
+/// owns after a migration. Collective.
+std::vector<double> grains_per_box(const Solids& solids, const RankHalo& ranks);
+
+/// The imbalance above which a rebuild cuts the boxes anew (LAMMPS's customary `fix balance` threshold): at 1.1 the
+/// slowest rank does at most about a tenth more than the mean before the boxes follow the bed.
+inline constexpr double kRebalanceAbove = 1.1;
+
+/// Cuts the boxes anew when the imbalance of the grain counts the boxes hold (grains_per_box) passes `above`, and
+/// the largest holds at least two grains more than the mean (so that a few grains over few ranks do not cut at every
+/// rebuild): the same recursive bisection as the split, over every rank's grain positions gathered on every rank (the
+/// same boxes everywhere, without a choice left to any rank; a bisection of distributed points would replace the
+/// gather past about 10^7 grains). The next migrate_grains moves the grains to their new owners. Collective. Returns
+/// true if it cut.
+bool rebalance_grain_ranks(const Solids& solids, RankHalo& ranks, double above);
+
 /// Sends the grains outside this rank's box to their owners, with their springs (`pair_springs`: springs by id,
 /// oriented for the lower id, of the pairs this rank lists; those whose lower id leaves go with it; `wall_springs`:
 /// those of the leaving grains go with them), and appends the grains that arrive, adding the springs they bring.
