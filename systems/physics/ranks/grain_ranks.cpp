@@ -334,7 +334,12 @@ void exchange_rank_ghost_motion(const Solids& solids, Contacts& contacts) {
       out.put(solids.angular_velocity[i]);
     }
   }
-  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  // Both sides know the counts from the ghosts' build: point to point, with the neighbours only.
+  constexpr std::size_t kMotionBytes = 9 * sizeof(double);  // position, velocity, spin
+  std::vector<std::size_t> incoming_bytes(count);
+  for (std::size_t r = 0; r < count; ++r)
+    incoming_bytes[r] = kMotionBytes * (halo.receive_offsets[r + 1] - halo.receive_offsets[r]);
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
   GrainGhosts& ghosts = contacts.ghosts;
   for (std::size_t r = 0; r < count; ++r) {
     if (halo.receive_offsets[r] == halo.receive_offsets[r + 1]) continue;
@@ -364,7 +369,10 @@ void return_rank_ghost_forces(const Contacts& contacts, std::vector<Vec3>& force
       out.put(ghost_torque);
     }
   }
-  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  constexpr std::size_t kForceBytes = 6 * sizeof(double);  // force, torque
+  std::vector<std::size_t> incoming_bytes(count);
+  for (std::size_t r = 0; r < count; ++r) incoming_bytes[r] = kForceBytes * halo.send_slots[r].size();
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
   for (std::size_t r = 0; r < count; ++r) {
     if (halo.send_slots[r].empty()) continue;
     ByteReader in(incoming[r]);

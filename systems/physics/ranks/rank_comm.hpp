@@ -37,6 +37,13 @@ std::vector<double> gather_all(const std::vector<double>& values);
 /// sent here, indexed by the sender. Collective: every rank calls it.
 std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& outgoing);
 
+/// The same as exchange when both sides already know how much each pair sends (incoming_bytes[r]: the bytes rank r
+/// sends here): messages go only between the ranks that have something for each other, point to point, with no
+/// count exchanged and no call that every rank joins. What a decomposed run does every sub-step, where a rank
+/// talks to its few neighbours whatever the rank count. Collective over the ranks that send to or receive from each
+/// other.
+std::vector<std::vector<std::byte>> exchange_known(const std::vector<std::vector<std::byte>>& outgoing,
+                                                   const std::vector<std::size_t>& incoming_bytes);
 /// Every rank's bytes, in rank order, at rank 0 (empty elsewhere). Collective.
 std::vector<std::vector<std::byte>> gather_at_root(const std::vector<std::byte>& mine);
 /// Rank 0's bytes on every rank. Collective.
