@@ -12,6 +12,7 @@
 #include "systems/physics/geometry/cell_index.hpp"
 #include "systems/dem/solid_cell_sort.hpp"
 #include "systems/physics/dem/contact_slabs.hpp"
+#include "systems/physics/dem/touching_springs.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/ranks/grain_ranks.hpp"
@@ -116,35 +117,27 @@ void for_each_candidate(const SearchGrains& solids, const GrainBinGrid& grid, do
       }
 }
 
-struct SavedSpring {
-  EntityId lower, higher;  ///< grain ids (pairs) or grain id and wall slot (walls)
-  Vec3 spring;             ///< oriented for `lower` (pairs) or the grain (walls)
-  bool operator<(const SavedSpring& other) const {
-    return lower != other.lower ? lower < other.lower : higher < other.higher;
-  }
-};
-
 /// The springs saved at a rebuild, sorted by (lower, higher), with an index by the lower id: a lookup is one read and
 /// a scan of that grain's few touching pairs, not a binary search over every saved pair. Ids are dense in practice
 /// (given in creation order, never reused); where they are not (the largest id far above the count), the index is
 /// left empty and the lookup searches the sorted list.
 class SavedSprings {
  public:
-  explicit SavedSprings(std::vector<SavedSpring> saved, std::size_t grains) : saved_(std::move(saved)) {
-    std::sort(saved_.begin(), saved_.end());
+  explicit SavedSprings(std::vector<CarriedSpring> saved, std::size_t grains) : saved_(std::move(saved)) {
+    std::sort(saved_.begin(), saved_.end(), spring_order);
     if (saved_.empty()) return;
     EntityId largest = 0;
-    for (const SavedSpring& spring : saved_) largest = std::max(largest, spring.lower);
+    for (const CarriedSpring& spring : saved_) largest = std::max(largest, spring.lower);
     if (largest > 16 * static_cast<EntityId>(grains) + 65536) return;
     start_.assign(static_cast<std::size_t>(largest) + 2, 0);
-    for (const SavedSpring& spring : saved_) ++start_[static_cast<std::size_t>(spring.lower) + 1];
+    for (const CarriedSpring& spring : saved_) ++start_[static_cast<std::size_t>(spring.lower) + 1];
     for (std::size_t id = 0; id + 1 < start_.size(); ++id) start_[id + 1] += start_[id];
   }
   bool empty() const { return saved_.empty(); }
-  const SavedSpring* find(EntityId lower, EntityId higher) const {
+  const CarriedSpring* find(EntityId lower, EntityId higher) const {
     if (start_.empty()) {
-      const SavedSpring probe{lower, higher, Vec3::Zero()};
-      auto it = std::lower_bound(saved_.begin(), saved_.end(), probe);
+      const CarriedSpring probe{lower, higher, Vec3::Zero()};
+      auto it = std::lower_bound(saved_.begin(), saved_.end(), probe, spring_order);
       return it != saved_.end() && it->lower == lower && it->higher == higher ? &*it : nullptr;
     }
     if (lower + 1 >= start_.size()) return nullptr;
@@ -154,7 +147,7 @@ class SavedSprings {
   }
 
  private:
-  std::vector<SavedSpring> saved_;
+  std::vector<CarriedSpring> saved_;
   std::vector<std::uint32_t> start_;  ///< lower id -> first saved spring; empty when the ids are too sparse
 };
 
@@ -231,53 +224,27 @@ void restore_halo_and_slabs(const Solids& solids, Contacts& contacts, const Mode
 void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& walls, const TankMotion& tank,
                             const Model& model, bool reorder) {
   restore_halo_and_slabs(solids, contacts, model);  // the old list's ghosts name the pairs whose springs are kept below
-  // 1. Save the springs of touching pairs by id, before slots change.
-  std::vector<SavedSpring> saved_pairs, saved_walls;
-  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
-    for (std::size_t i = 0; i < solids.size(); ++i) {
-      for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
-        if (contacts.pair_overlap[k] <= 0.0) continue;
-        // The old list's halo maps a ghost to its owner: the history of a pair across the seam is the pair's by id.
-        const std::uint32_t second_slot = contacts.pair_second[k];
-        const RankHalo& ranks = contacts.ranks;
-        const bool rank_ghost = ranks.active && second_slot >= ranks.real_count;
-        const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(second_slot) : second_slot;
-        const EntityId first = solids.id[i];
-        const EntityId second = rank_ghost ? ranks.ghost_id[second_slot - ranks.real_count] : solids.id[j];
-        const Vec3& spring = contacts.pair_spring[k];
-        saved_pairs.push_back(first < second ? SavedSpring{first, second, spring} : SavedSpring{second, first, -spring});
-      }
-      for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
-        if (contacts.wall_pair_overlap[k] > 0.0)
-          saved_walls.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k]});
-    }
-  }
-  // Over MPI ranks: the springs carried in (a world just split), then the grains that left this rank's box go to
-  // their owners with their springs, and the arrivals bring theirs.
+  // 1. Save the springs of touching pairs by id, before slots change (the old list's halo maps a ghost to its owner:
+  // the history of a pair across the seam is the pair's by id).
+  std::vector<CarriedSpring> saved_pairs = touching_pair_springs(solids, contacts);
+  std::vector<CarriedSpring> saved_walls = touching_wall_springs(solids, contacts);
   // Springs carried in by id without an old list (a world just split over the ranks, or gathered from them for a
   // checkpoint) join the saved ones.
   RankHalo& ranks = contacts.ranks;
-  for (const CarriedSpring& spring : ranks.carried_pair_springs)
-    saved_pairs.push_back({spring.lower, spring.higher, spring.spring});
-  for (const CarriedSpring& spring : ranks.carried_wall_springs)
-    saved_walls.push_back({spring.lower, spring.higher, spring.spring});
+  saved_pairs.insert(saved_pairs.end(), ranks.carried_pair_springs.begin(), ranks.carried_pair_springs.end());
+  saved_walls.insert(saved_walls.end(), ranks.carried_wall_springs.begin(), ranks.carried_wall_springs.end());
   ranks.carried_pair_springs.clear();
   ranks.carried_wall_springs.clear();
+  // Over MPI ranks: the grains that left this rank's box go to their owners with their springs, and the arrivals
+  // bring theirs.
   if (ranks.active) {
-    std::vector<CarriedSpring> pair_springs, wall_springs;
-    for (const SavedSpring& spring : saved_pairs) pair_springs.push_back({spring.lower, spring.higher, spring.spring});
-    for (const SavedSpring& spring : saved_walls) wall_springs.push_back({spring.lower, spring.higher, spring.spring});
     // Wrapped first: a grain past a periodic face belongs to the rank whose box holds it once wrapped.
     if (const PeriodicBox periodic = periodic_box(model); periodic.any())
       for (Vec3& position : solids.position) position = periodic.wrap(position);
     // A bed that has moved far from the split (a slide, a flume's bed load) gets new boxes; the migration below moves
     // its grains to them.
     rebalance_grain_ranks(solids, ranks, kRebalanceAbove);
-    migrate_grains(solids, ranks, pair_springs, wall_springs);
-    saved_pairs.clear();
-    saved_walls.clear();
-    for (const CarriedSpring& spring : pair_springs) saved_pairs.push_back({spring.lower, spring.higher, spring.spring});
-    for (const CarriedSpring& spring : wall_springs) saved_walls.push_back({spring.lower, spring.higher, spring.spring});
+    migrate_grains(solids, ranks, saved_pairs, saved_walls);
   }
   const SavedSprings saved_pair_springs(std::move(saved_pairs), solids.size());
   const SavedSprings saved_wall_springs(std::move(saved_walls), solids.size());
@@ -417,14 +384,14 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
           if ((search.position[j] - search.position[i]).squaredNorm() >= touching_distance * touching_distance) continue;
           const EntityId first = solids.id[i], second = search.id_of(j);
           const bool first_lower = first < second;
-          if (const SavedSpring* found =
+          if (const CarriedSpring* found =
                   saved_pair_springs.find(first_lower ? first : second, first_lower ? second : first))
             contacts.pair_spring[k] = first_lower ? found->spring : Vec3(-found->spring);
         }
         for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
           const std::uint32_t wall = contacts.wall_pair_wall[k];
           if ((solids.position[i] - walls.point[wall]).dot(walls.normal[wall]) >= solids.radius[i]) continue;
-          if (const SavedSpring* found = saved_wall_springs.find(solids.id[i], wall))
+          if (const CarriedSpring* found = saved_wall_springs.find(solids.id[i], wall))
             contacts.wall_pair_spring[k] = found->spring;
         }
       }

@@ -7,6 +7,7 @@
 #include <string>
 #include <type_traits>
 
+#include "systems/physics/dem/touching_springs.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/recursive_bisection.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
@@ -103,6 +104,10 @@ std::vector<PartBox> boxes_of(const RankHalo& ranks) {
 
 void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& domain_low, const Vec3& domain_high) {
   const int me = ranks::rank(), count = ranks::size();
+  // The whole world's touching springs, read before the rank halo below takes over (in a periodic box the list's
+  // ghosts name their owners through the halo, which the caller has restored).
+  const std::vector<CarriedSpring> pair_springs = touching_pair_springs(solids, contacts);
+  const std::vector<CarriedSpring> wall_springs = touching_wall_springs(solids, contacts);
   RankHalo& halo = contacts.ranks;
   halo = RankHalo{};
   halo.active = true;
@@ -117,27 +122,18 @@ void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& dom
   }
   std::vector<int> owner(solids.size());
   for (std::size_t i = 0; i < solids.size(); ++i) owner[i] = static_cast<int>(part_of(boxes, solids.position[i]));
-  // The springs of the pairs this rank will list (their lower id is its own) and of its grains' walls, by id.
-  // (In a periodic box the list's ghosts name their owners through the halo, which the caller has restored.)
-  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
-    for (std::size_t i = 0; i < solids.size(); ++i) {
-      for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
-        if (contacts.pair_overlap[k] <= 0.0) continue;
-        const std::uint32_t j = contacts.halo.valid ? contacts.halo.owner_of(contacts.pair_second[k])
-                                                    : contacts.pair_second[k];
-        const EntityId first = solids.id[i], second = solids.id[j];
-        const bool first_lower = first < second;
-        const std::size_t lower_slot = first_lower ? i : j;
-        if (owner[lower_slot] != me) continue;
-        halo.carried_pair_springs.push_back(first_lower ? CarriedSpring{first, second, contacts.pair_spring[k]}
-                                                        : CarriedSpring{second, first, -contacts.pair_spring[k]});
-      }
-      if (owner[i] != me) continue;
-      for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
-        if (contacts.wall_pair_overlap[k] > 0.0)
-          halo.carried_wall_springs.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k]});
-    }
-  }
+  // The springs of the pairs this rank will list (their lower id is its own) and of its grains' walls.
+  std::vector<std::pair<EntityId, int>> owner_by_id(solids.size());
+  for (std::size_t i = 0; i < solids.size(); ++i) owner_by_id[i] = {solids.id[i], owner[i]};
+  std::sort(owner_by_id.begin(), owner_by_id.end());
+  const auto mine = [&](EntityId id) {
+    const auto it = std::lower_bound(owner_by_id.begin(), owner_by_id.end(), std::make_pair(id, 0));
+    return it != owner_by_id.end() && it->first == id && it->second == me;
+  };
+  for (const CarriedSpring& spring : pair_springs)
+    if (mine(spring.lower)) halo.carried_pair_springs.push_back(spring);
+  for (const CarriedSpring& spring : wall_springs)
+    if (mine(spring.lower)) halo.carried_wall_springs.push_back(spring);
   std::vector<std::size_t> kept;
   for (std::size_t i = 0; i < solids.size(); ++i)
     if (owner[i] == me) kept.push_back(i);
@@ -387,20 +383,7 @@ void gather_contacts_at_root(const Solids& solids, const Contacts& contacts, std
                              std::vector<WallContactState>& walls) {
   std::vector<std::byte> mine;
   ByteWriter out(mine);
-  std::vector<CarriedSpring> pairs;
-  if (contacts.valid && contacts.pair_offsets.size() == solids.size() + 1) {
-    const RankHalo& halo = contacts.ranks;
-    for (std::size_t i = 0; i < solids.size(); ++i)
-      for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
-        if (contacts.pair_overlap[k] <= 0.0) continue;
-        const std::uint32_t j = contacts.pair_second[k];
-        const EntityId first = solids.id[i];
-        const EntityId second = halo.active && j >= halo.real_count ? halo.ghost_id[j - halo.real_count]
-                                                                     : solids.id[contacts.halo.valid ? contacts.halo.owner_of(j) : j];
-        pairs.push_back(first < second ? CarriedSpring{first, second, contacts.pair_spring[k]}
-                                       : CarriedSpring{second, first, -contacts.pair_spring[k]});
-      }
-  }
+  const std::vector<CarriedSpring> pairs = touching_pair_springs(solids, contacts);
   out.put(static_cast<std::uint64_t>(pairs.size()));
   for (const CarriedSpring& spring : pairs) pack_spring(spring, out);
   std::vector<WallContactState> touching;
