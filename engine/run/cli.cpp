@@ -286,6 +286,9 @@ int run_command(int argc, char** argv) {
   spdlog::set_default_logger(console);
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
   spdlog::set_level(spdlog::level::from_str(log_level));
+  // Every line reaches riffle.log as it is logged: a run killed from outside (a job's time limit, mpirun ending the
+  // ranks when one dies) keeps its log up to that moment. The lines are few (outputs, progress, the end).
+  spdlog::flush_on(spdlog::level::info);
   // Over MPI ranks rank 0 speaks for the run (it gathers the others' diagnoses); the others say only errors.
   if (ranks::rank() != 0) spdlog::set_level(spdlog::level::err);
 

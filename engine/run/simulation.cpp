@@ -1,6 +1,8 @@
 #include "engine/run/simulation.hpp"
 
+#include <fcntl.h>
 #include <spdlog/sinks/basic_file_sink.h>
+#include <unistd.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -42,6 +44,50 @@ std::atomic<int> g_stop_signal{0};
 /// [s] How long a step may go on after a stop request before it is abandoned (without a checkpoint of it).
 constexpr double kStopGraceSeconds = 2.0;
 static_assert(std::atomic<int>::is_always_lock_free, "the stop flag must be usable from a signal handler");
+
+/// What rank 0 of a run over MPI ranks writes when a signal comes from outside. When one rank dies, mpirun ends the
+/// others with SIGTERM; they may be waiting for the dead one in an exchange and never reach the step's end, where a
+/// stop request is shared, so the handler itself names the last checkpoint written whole, on stderr (which mpirun
+/// passes on) and at the end of riffle.log. The text is made ready at each checkpoint in the buffer the handler is
+/// not reading, and the handler only reads the other and calls write(2): async-signal-safe.
+struct SignalNote {
+  static constexpr std::size_t kSize = 1536;
+  char text[2][kSize] = {};
+  std::size_t length[2] = {0, 0};
+  std::atomic<int> ready{-1};       ///< the buffer the handler writes, -1: none (not a run over ranks)
+  std::atomic<int> log_file{-1};    ///< riffle.log opened for appending, -1: none
+};
+SignalNote g_signal_note;
+static_assert(std::atomic<int>::is_always_lock_free, "the note's index must be usable from a signal handler");
+
+/// Makes ready the text a signal writes: the last checkpoint written whole (`path`, empty if none yet).
+void prepare_signal_note(const std::string& path, double time, std::uint64_t step) {
+  const int next = g_signal_note.ready.load() == 0 ? 1 : 0;
+  const int written =
+      path.empty()
+          ? std::snprintf(g_signal_note.text[next], SignalNote::kSize,
+                          "riffle: rank 0 of %d ranks received a signal to stop; no checkpoint has been written yet "
+                          "by this run\n",
+                          ranks::size())
+          : std::snprintf(g_signal_note.text[next], SignalNote::kSize,
+                          "riffle: rank 0 of %d ranks received a signal to stop; the last checkpoint written whole is "
+                          "%s (t = %.9g s, step %llu): resume from it unless the run ends with its own final "
+                          "checkpoint (a rank that has died stops them all before that)\n",
+                          ranks::size(), path.c_str(), time, static_cast<unsigned long long>(step));
+  g_signal_note.length[next] =
+      written < 0 ? 0 : std::min(static_cast<std::size_t>(written), SignalNote::kSize - 1);
+  g_signal_note.ready.store(next);
+}
+
+/// From the signal handler (request_stop): the prepared note, if any, to stderr and riffle.log.
+void write_signal_note() {
+  const int index = g_signal_note.ready.load();
+  if (index < 0) return;
+  const char* text = g_signal_note.text[index];
+  const std::size_t length = g_signal_note.length[index];
+  [[maybe_unused]] ssize_t ignored = ::write(STDERR_FILENO, text, length);
+  if (const int log = g_signal_note.log_file.load(); log >= 0) ignored = ::write(log, text, length);
+}
 
 std::string format_vec(const Vec3& v) {
   char text[96];
@@ -387,7 +433,10 @@ class ProgressReporter {
 
 }  // namespace
 
-void request_stop(int signal_number) { g_stop_signal.store(signal_number); }
+void request_stop(int signal_number) {
+  const bool first = g_stop_signal.exchange(signal_number) == 0;
+  if (first) write_signal_note();  // a run over ranks (rank 0) only; once
+}
 int stop_requested() { return g_stop_signal.load(); }
 
 Simulation::Simulation(Model model, World world, OutputState output)
@@ -848,6 +897,19 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       if (added) logger->sinks().pop_back();
     }
   } sink_guard{logger, file_sink != nullptr};
+  // Rank 0 names the last whole checkpoint if a signal ends the ranks from outside (SignalNote).
+  struct SignalNoteGuard {
+    explicit SignalNoteGuard(const fs::path& log) {
+      g_signal_note.log_file.store(::open(log.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC));
+      prepare_signal_note("", 0.0, 0);
+    }
+    ~SignalNoteGuard() {
+      g_signal_note.ready.store(-1);
+      if (const int log = g_signal_note.log_file.exchange(-1); log >= 0) ::close(log);
+    }
+  };
+  std::optional<SignalNoteGuard> signal_note;
+  if (root && file_sink) signal_note.emplace(out / "riffle.log");
 
   const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
@@ -889,6 +951,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
     if (root) {
       try {
         checkpoints.save(world_.step, interval, [&] { return checkpoint_data_of(whole); });
+        prepare_signal_note(checkpoints.last_written(), world_.time, world_.step);
       } catch (const std::exception& error) {
         output_problem = error.what();
       }

@@ -155,6 +155,29 @@ check "... rank 0 naming rank 1's grain and the last good checkpoint, with the g
            grep -qF 'last good checkpoint: lost/checkpoints/step_0000000050.ckpt' lost/riffle.log &&
            [ -s lost/vtk/solids_failed.vtp ]"
 
+# A rank killed mid-run (a node lost): mpirun ends the other rank with SIGTERM while it waits for the dead one; rank 0
+# names the last checkpoint written whole, on stderr and in riffle.log, and that checkpoint resumes.
+( ranks 2 run "$SRC/tests/data/column_collapse.toml" --out "$WORK/killed" --until 5 --threads 1 \
+    --set output.checkpoint_interval=0.05 >killed.out 2>&1
+  echo $? >killed.rc ) &
+for _ in $(seq 600); do
+  [ "$(ls killed/checkpoints/step_*.ckpt 2>/dev/null | wc -l)" -ge 2 ] && break
+  sleep 0.1
+done
+for pid in $(pgrep -f -- "--out $WORK/killed"); do
+  grep -qz '^OMPI_COMM_WORLD_RANK=1$' "/proc/$pid/environ" 2>/dev/null && kill -9 "$pid"
+done
+wait
+check "a rank killed mid-run ends the run (exit not 0)" [ "$(cat killed.rc)" != 0 ]
+named=$(grep -o 'the last checkpoint written whole is [^ ]*' killed.out | head -1 | awk '{print $NF}')
+named_time=$(grep -o 'written whole is [^ ]* (t = [0-9.e+-]*' killed.out | head -1 | awk '{print $NF}')
+check "... rank 0 names the last checkpoint written whole on stderr ($named) and in riffle.log" \
+  bash -c "[ -n '$named' ] && [ -s '$named' ] && grep -qF 'last checkpoint written whole is $named' killed/riffle.log"
+check "... and the log kept its lines up to then" grep -qF "starting 'column_collapse'" killed/riffle.log
+ranks 1 resume "$named" --out after_kill --threads 1 \
+  --until "$(awk -v t="$named_time" 'BEGIN { print t + 0.01 }')" >after_kill.out 2>&1
+check "... which resumes" [ $? = 0 ]
+
 ranks 2 run "$SRC/scenes/dam_break.toml" --out water --until 0.01 >water.out 2>&1
 rc=$?
 check "a scene with water on two ranks exits 1" [ $rc = 1 ]
