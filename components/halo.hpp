@@ -108,6 +108,23 @@ struct RankHalo {
   std::size_t ghost_count() const { return ghost_id.size(); }
 };
 
+/// The MPS particles of other MPI ranks within the fluid operators' reach (r_e + skin) of this rank's box, in a run
+/// whose water is spread over ranks (systems/physics/ranks/fluid_ranks.hpp): held in slots [N, N + G) after the N
+/// reals, as the periodic halo's ghosts are, with their fields in FluidGhosts. The MPS operators add nothing back to a
+/// neighbour (each particle sums its own neighbours' terms), so nothing returns to the owners: the ghosts' fields go
+/// one way, at the points the periodic halo's are copied. Not checkpointed: a checkpoint holds every particle.
+struct FluidRankHalo {
+  bool active = false;                     ///< the particles are spread over ranks
+  Vec3 domain_low = Vec3::Zero(), domain_high = Vec3::Zero();  ///< [m] the domain the boxes tile
+  std::vector<Vec3> box_low, box_high;     ///< [m] [ranks] each rank's box (a particle's owner is the box holding it)
+  std::uint32_t real_count = 0;            ///< N at the last build
+  std::vector<EntityId> ghost_id;          ///< [G] the ghost's id on its owner rank
+  std::vector<std::vector<std::uint32_t>> send_slots;  ///< [ranks] the real slots sent to each rank, in order
+  std::vector<std::uint32_t> receive_offsets;          ///< [ranks + 1] the ghosts from rank r: [offsets[r], offsets[r+1])
+  std::uint64_t particles_sent = 0;        ///< particles this rank has handed to others so far (migrations)
+  std::size_t ghost_count() const { return ghost_id.size(); }
+};
+
 /// The MPS particles' ghost copies (fluid, wall and dummy slots alike): what the fluid operators read of a neighbour
 /// (systems/mps/). Each search exchanges the positions it searched at, the velocities and the kinds; the pressure
 /// solve exchanges the pressures it solved for.

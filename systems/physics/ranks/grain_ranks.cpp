@@ -11,74 +11,11 @@
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/recursive_bisection.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
+#include "systems/physics/ranks/rank_messages.hpp"
 
 namespace riffle {
 
 namespace {
-
-/// Plain values into bytes and back; a Vec3 as its three doubles.
-class ByteWriter {
- public:
-  explicit ByteWriter(std::vector<std::byte>& out) : out_(out) {}
-  template <class T>
-  void put(const T& value) {
-    if constexpr (std::is_same_v<T, Vec3>) {
-      const double xyz[3] = {value.x(), value.y(), value.z()};
-      append(xyz, sizeof xyz);
-    } else {
-      static_assert(std::is_trivially_copyable_v<T>);
-      append(&value, sizeof value);
-    }
-  }
-
- private:
-  void append(const void* data, std::size_t bytes) {
-    const std::size_t at = out_.size();
-    out_.resize(at + bytes);
-    std::memcpy(out_.data() + at, data, bytes);
-  }
-  std::vector<std::byte>& out_;
-};
-
-class ByteReader {
- public:
-  explicit ByteReader(const std::vector<std::byte>& in) : in_(in) {}
-  template <class T>
-  T get() {
-    if constexpr (std::is_same_v<T, Vec3>) {
-      double xyz[3];
-      take(xyz, sizeof xyz);
-      return Vec3(xyz[0], xyz[1], xyz[2]);
-    } else {
-      T value;
-      take(&value, sizeof value);
-      return value;
-    }
-  }
-  bool done() const { return at_ == in_.size(); }
-
- private:
-  void take(void* data, std::size_t bytes) {
-    if (at_ + bytes > in_.size()) throw std::logic_error("grain_ranks: a message ended early");
-    std::memcpy(data, in_.data() + at_, bytes);
-    at_ += bytes;
-  }
-  const std::vector<std::byte>& in_;
-  std::size_t at_ = 0;
-};
-
-/// Every field of grain `slot`, in the table's order.
-void pack_grain(const Solids& solids, std::size_t slot, ByteWriter& out) {
-  Solids::for_each_field(solids, [&](const FieldInfo&, const auto& field) { out.put(field[slot]); });
-}
-
-/// Appends one grain packed by pack_grain (the table already resized: `slot` is the new grain's).
-void unpack_grain(Solids& solids, std::size_t slot, ByteReader& in) {
-  Solids::for_each_field(solids, [&](const FieldInfo&, auto& field) {
-    using Value = typename std::decay_t<decltype(field)>::value_type;
-    field[slot] = in.template get<Value>();
-  });
-}
 
 void pack_spring(const CarriedSpring& spring, ByteWriter& out) {
   out.put(spring.lower);
@@ -221,7 +158,7 @@ std::size_t migrate_grains(Solids& solids, RankHalo& halo, std::vector<CarriedSp
     if (r == me) continue;
     ByteWriter out(outgoing[r]);
     out.put(static_cast<std::uint64_t>(leaving[r].size()));
-    for (const std::size_t i : leaving[r]) pack_grain(solids, i, out);
+    for (const std::size_t i : leaving[r]) pack_entity(solids, i, out);
     out.put(static_cast<std::uint64_t>(pair_out[r].size()));
     for (const CarriedSpring& spring : pair_out[r]) pack_spring(spring, out);
     out.put(static_cast<std::uint64_t>(wall_out[r].size()));
@@ -238,7 +175,7 @@ std::size_t migrate_grains(Solids& solids, RankHalo& halo, std::vector<CarriedSp
     const auto arriving = static_cast<std::size_t>(in.get<std::uint64_t>());
     const std::size_t first = solids.size();
     resize_fields(solids, first + arriving);
-    for (std::size_t k = 0; k < arriving; ++k) unpack_grain(solids, first + k, in);
+    for (std::size_t k = 0; k < arriving; ++k) unpack_entity(solids, first + k, in);
     for (auto* springs : {&pair_springs, &wall_springs}) {
       const auto n = static_cast<std::size_t>(in.get<std::uint64_t>());
       for (std::size_t k = 0; k < n; ++k) springs->push_back(unpack_spring(in));
@@ -423,36 +360,6 @@ void gather_contacts_at_root(const Solids& solids, const Contacts& contacts, std
   }
 }
 
-Solids gather_grains_at_root(const Solids& solids) {
-  std::vector<std::byte> mine;
-  ByteWriter out(mine);
-  for (std::size_t i = 0; i < solids.size(); ++i) pack_grain(solids, i, out);
-  const std::vector<std::vector<std::byte>> all = ranks::gather_at_root(mine);
-  Solids gathered;
-  if (ranks::rank() != 0) return gathered;
-  gathered.next_id = solids.next_id;  // every rank's: all built the same world, and no grain is added after
-  std::size_t bytes_per_grain = 0;
-  {
-    std::vector<std::byte> probe;
-    ByteWriter one(probe);
-    Solids sample;
-    resize_fields(sample, 1);
-    pack_grain(sample, 0, one);
-    bytes_per_grain = probe.size();
-  }
-  std::size_t total = 0;
-  for (const auto& bytes : all) total += bytes.size() / bytes_per_grain;
-  resize_fields(gathered, total);
-  std::size_t slot = 0;
-  for (const auto& bytes : all) {
-    ByteReader in(bytes);
-    while (!in.done()) unpack_grain(gathered, slot++, in);
-  }
-  std::vector<std::size_t> order(total);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return gathered.id[a] < gathered.id[b]; });
-  permute_fields(gathered, order);
-  return gathered;
-}
+Solids gather_grains_at_root(const Solids& solids) { return gather_entities_at_root(solids); }
 
 }  // namespace riffle

@@ -1,0 +1,137 @@
+#include "systems/physics/ranks/fluid_ranks.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "systems/physics/geometry/recursive_bisection.hpp"
+
+namespace riffle {
+
+namespace {
+
+std::vector<PartBox> boxes_of(const FluidRankHalo& ranks) {
+  std::vector<PartBox> boxes(ranks.box_low.size());
+  for (std::size_t r = 0; r < boxes.size(); ++r) boxes[r] = {ranks.box_low[r], ranks.box_high[r]};
+  return boxes;
+}
+
+/// Reorders the table so that the fluid comes first, each kind keeping its order (a stable partition).
+void fluid_first(FluidParticles& particles) {
+  const auto fluid = static_cast<std::int32_t>(FluidKind::kFluid);
+  if (std::is_partitioned(particles.kind.begin(), particles.kind.end(), [&](std::int32_t kind) { return kind == fluid; }))
+    return;
+  std::vector<std::size_t> order;
+  order.reserve(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (particles.kind[i] == fluid) order.push_back(i);
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (particles.kind[i] != fluid) order.push_back(i);
+  permute_fields(particles, order);
+}
+
+}  // namespace
+
+void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& halo, const Vec3& domain_low,
+                            const Vec3& domain_high) {
+  const int me = ranks::rank(), count = ranks::size();
+  halo = FluidRankHalo{};
+  halo.active = true;
+  halo.domain_low = domain_low;
+  halo.domain_high = domain_high;
+  std::vector<double> weights(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    weights[i] = particles.kind[i] == static_cast<std::int32_t>(FluidKind::kFluid) ? 1.0 : kFluidWallWeight;
+  const std::vector<PartBox> boxes =
+      recursive_bisection(particles.position, weights, PartBox{domain_low, domain_high}, count);
+  for (const PartBox& box : boxes) {
+    halo.box_low.push_back(box.low);
+    halo.box_high.push_back(box.high);
+  }
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (static_cast<int>(part_of(boxes, particles.position[i])) == me) kept.push_back(i);
+  keep_fields(particles, kept);  // keeps the order: the fluid stays first
+}
+
+std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& halo) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const auto me = static_cast<std::size_t>(ranks::rank());
+  const std::vector<PartBox> boxes = boxes_of(halo);
+  std::vector<std::vector<std::size_t>> leaving(count);
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const std::size_t destination = part_of(boxes, particles.position[i]);
+    if (destination == me) kept.push_back(i);
+    else leaving[destination].push_back(i);
+  }
+  std::vector<std::vector<std::byte>> outgoing(count);
+  std::size_t left = 0;
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteWriter out(outgoing[r]);
+    for (const std::size_t i : leaving[r]) pack_entity(particles, i, out);
+    left += leaving[r].size();
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  keep_fields(particles, kept);
+  const std::size_t bytes_per_particle = packed_entity_bytes<FluidParticles>();
+  for (std::size_t r = 0; r < count; ++r) {
+    if (r == me || incoming[r].empty()) continue;
+    if (incoming[r].size() % bytes_per_particle != 0)
+      throw std::logic_error("fluid_ranks: a migration message from rank " + std::to_string(r) + " is not whole particles");
+    const std::size_t first = particles.size(), arriving = incoming[r].size() / bytes_per_particle;
+    resize_fields(particles, first + arriving);
+    ByteReader in(incoming[r]);
+    for (std::size_t k = 0; k < arriving; ++k) unpack_entity(particles, first + k, in);
+  }
+  fluid_first(particles);
+  halo.particles_sent += left;
+  return left;
+}
+
+void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<Vec3>& positions, double reach,
+                             FluidRankHalo& halo, FluidGhosts& ghosts) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const auto me = static_cast<std::size_t>(ranks::rank());
+  if (positions.size() != particles.size())
+    throw std::logic_error("build_fluid_rank_ghosts: " + std::to_string(positions.size()) + " positions for " +
+                           std::to_string(particles.size()) + " particles");
+  halo.real_count = static_cast<std::uint32_t>(particles.size());
+  halo.send_slots.assign(count, {});
+  std::vector<std::vector<std::byte>> outgoing(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    if (r == me) continue;
+    const PartBox box{halo.box_low[r], halo.box_high[r]};
+    std::vector<std::uint32_t>& slots = halo.send_slots[r];
+    ByteWriter out(outgoing[r]);
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      if (distance_to_box(box, positions[i]) >= reach) continue;
+      slots.push_back(static_cast<std::uint32_t>(i));
+      out.put(particles.id[i]);
+      out.put(particles.kind[i]);
+      out.put(positions[i]);
+      out.put(particles.velocity[i]);
+    }
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
+  ghosts.position.clear();
+  ghosts.velocity.clear();
+  ghosts.kind.clear();
+  halo.ghost_id.clear();
+  halo.receive_offsets.assign(count + 1, 0);
+  for (std::size_t r = 0; r < count; ++r) {
+    halo.receive_offsets[r] = static_cast<std::uint32_t>(halo.ghost_id.size());
+    ByteReader in(incoming[r]);
+    while (!in.done()) {
+      halo.ghost_id.push_back(in.get<EntityId>());
+      ghosts.kind.push_back(in.get<std::int32_t>());
+      ghosts.position.push_back(in.get<Vec3>());
+      ghosts.velocity.push_back(in.get<Vec3>());
+    }
+  }
+  halo.receive_offsets[count] = static_cast<std::uint32_t>(halo.ghost_id.size());
+}
+
+FluidParticles gather_fluid_at_root(const FluidParticles& particles) { return gather_entities_at_root(particles); }
+
+}  // namespace riffle

@@ -1,0 +1,71 @@
+#pragma once
+// The MPS particles of a run spread over MPI ranks (domain decomposition; components/halo.hpp, FluidRankHalo): each
+// rank owns the particles (fluid, wall and dummy) inside its box and computes their operators; the other ranks'
+// particles within the operators' reach of its box (r_e + the lists' skin) are its ghosts, after its reals in the
+// neighbour lists' slots, as a periodic tank's ghosts are. What moves between ranks, and when:
+//   - at a neighbour-list rebuild at the step's start: the particles that left a box go to the rank that owns their
+//     new position, with every field (migrate_fluid_particles); then each rank sends every other its particles
+//     within reach of that rank's box (build_fluid_rank_ghosts: ids, kinds, the searched positions, velocities);
+//   - where a periodic tank copies its ghosts' fields (the searches' positions and velocities, the pressures after
+//     the solve): the same fields from their owners, point to point (exchange_fluid_ghost_field).
+// The fluid slots stay first in every rank's table (fluid_slot_count: the neighbour lists are built for them).
+// The first piece of the water over ranks: these functions and their test (tests/mpi/fluid_ranks.cpp); the systems
+// do not call them yet (docs/SCALING.md, "Not built yet").
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "components/fluid.hpp"
+#include "components/halo.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
+#include "systems/physics/ranks/rank_messages.hpp"
+
+namespace riffle {
+
+/// The work weight of a wall or dummy particle relative to a fluid particle's in the split: walls are searched as
+/// neighbours but have no list, no pressure row and no update of their own.
+inline constexpr double kFluidWallWeight = 0.25;
+
+/// Splits a table that every rank built whole (the same scene or checkpoint on every rank) over the ranks: boxes by a
+/// recursive bisection of the particles' positions over [domain_low, domain_high] (fluid weighing 1, walls and
+/// dummies kFluidWallWeight), each rank keeping the particles in its box, fluid first. Deterministic: every rank
+/// computes the same boxes from the same table, without a message.
+void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& ranks, const Vec3& domain_low,
+                            const Vec3& domain_high);
+
+/// Sends the particles outside this rank's box to their owners with every field, and appends those that arrive,
+/// keeping the fluid slots first (each kind in its old order, the arrivals after, in rank order). Collective.
+/// Returns the number of particles that left.
+std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& ranks);
+
+/// Sends every rank this rank's particles within `reach` of its box (their ids, kinds, `positions` and velocities)
+/// and fills `ghosts` (position, velocity, kind) and the FluidRankHalo's ghost ids, send lists and offsets with what
+/// the others send. `positions` are those the search uses (r^k or r*). Collective.
+void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<Vec3>& positions, double reach,
+                             FluidRankHalo& ranks, FluidGhosts& ghosts);
+
+/// ghost[g] = the owner's real[slot] for every ghost, along the send lists of the last build, point to point (the
+/// sizes are known on both sides). T: Vec3, double or std::int32_t. Collective.
+template <class T>
+void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo& ranks, std::vector<T>& ghost) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  constexpr std::size_t kBytes = std::is_same_v<T, Vec3> ? 3 * sizeof(double) : sizeof(T);
+  std::vector<std::vector<std::byte>> outgoing(count);
+  std::vector<std::size_t> incoming_bytes(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteWriter out(outgoing[r]);
+    for (const std::uint32_t slot : ranks.send_slots[r]) out.put(real[slot]);
+    incoming_bytes[r] = kBytes * (ranks.receive_offsets[r + 1] - ranks.receive_offsets[r]);
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
+  ghost.resize(ranks.ghost_count());
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteReader in(incoming[r]);
+    for (std::uint32_t g = ranks.receive_offsets[r]; g < ranks.receive_offsets[r + 1]; ++g) ghost[g] = in.get<T>();
+  }
+}
+
+/// Every rank's particles at rank 0, ordered by id (the whole water for the outputs); empty elsewhere. Collective.
+FluidParticles gather_fluid_at_root(const FluidParticles& particles);
+
+}  // namespace riffle

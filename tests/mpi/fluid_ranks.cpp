@@ -1,0 +1,169 @@
+// The MPS particles over several MPI ranks (systems/physics/ranks/fluid_ranks.hpp; CTest runs it under mpiexec with
+// 1, 2 and 4 ranks): a tank of still water's particles (scenes/hydrostatic.toml: water filling the tank, so that every
+// cut runs through it; walls and dummies) built whole on every rank, split over the
+// ranks, moved, migrated, and given ghosts, checked against the whole table every rank still holds:
+//   - every particle on exactly one rank, inside its box, the fluid slots first; gathered at rank 0, every field of
+//     every particle equal, bit for bit, to the whole table's (after the split, and after a migration);
+//   - the ghosts complete: every owned particle (fluid, wall or dummy) sees, among its rank's reals and ghosts,
+//     exactly the particles the whole table has within r_e of it (the same ids), at the moved positions;
+//   - a field exchanged to the ghosts (a value of each particle's id) equal to their owners'.
+//   mpiexec -n N riffle_mpi_fluid_ranks
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/run/simulation.hpp"
+#include "engine/scene/scene.hpp"
+#include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/recursive_bisection.hpp"
+#include "systems/physics/ranks/fluid_ranks.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
+
+namespace {
+
+std::string scene_text(const std::string& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+/// A displacement of up to `size` in each direction, a fixed function of the id: the same on every rank.
+riffle::Vec3 jiggle(riffle::EntityId id, double size) {
+  const auto hash = [](std::uint64_t x) {
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ULL;
+    x ^= x >> 33;
+    return static_cast<double>(x % 2001) / 1000.0 - 1.0;
+  };
+  return size * riffle::Vec3(hash(3 * id + 1), hash(3 * id + 2), hash(3 * id + 3));
+}
+
+/// Every field of the gathered table equal to the whole table's (both ordered by id).
+bool same_tables(const riffle::FluidParticles& a, const riffle::FluidParticles& b) {
+  if (a.size() != b.size()) return false;
+  bool same = true;
+  std::vector<const void*> fields_a;
+  riffle::FluidParticles::for_each_field(a, [&](const riffle::FieldInfo&, const auto& field) { fields_a.push_back(&field); });
+  std::size_t k = 0;
+  riffle::FluidParticles::for_each_field(b, [&](const riffle::FieldInfo&, const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    same = same && *static_cast<const Field*>(fields_a[k++]) == field;
+  });
+  return same;
+}
+
+}  // namespace
+
+int main() {
+  using namespace riffle;
+  ranks::start_mpi();
+  const int rank = ranks::rank(), count = ranks::size();
+  int failures = 0;
+  const auto expect = [&](bool condition, const char* what, double value) {
+    if (!condition) {
+      std::fprintf(stderr, "rank %d of %d: FAILED %s (%g)\n", rank, count, what, value);
+      ++failures;
+    }
+  };
+  const std::string path = RIFFLE_SOURCE_DIR "/scenes/hydrostatic.toml";
+  auto simulation = Simulation::from_model(parse_scene(scene_text(path), path));
+  const Model& model = simulation->model();
+  FluidParticles whole = *simulation->world().fluid;  // every rank's copy of the whole table
+  const std::size_t total = whole.size();
+  const double reach = model.fluid.effective_radius();
+  const DomainBox domain = domain_box(model);
+  std::vector<std::size_t> by_id(total);
+  for (std::size_t i = 0; i < total; ++i) by_id[i] = i;
+  std::sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return whole.id[a] < whole.id[b]; });
+  permute_fields(whole, by_id);  // ordered by id, as the gathers are
+
+  FluidParticles mine = whole;
+  FluidRankHalo halo;
+  split_fluid_over_ranks(mine, halo, domain.low, domain.high);
+  const auto check_ownership = [&](const char* when) {
+    const std::vector<double> owned = ranks::gather_all({static_cast<double>(mine.size())});
+    double sum = 0.0;
+    for (const double n : owned) sum += n;
+    expect(sum == static_cast<double>(total), "every particle on one rank", sum);
+    std::vector<PartBox> boxes;
+    for (std::size_t r = 0; r < halo.box_low.size(); ++r) boxes.push_back({halo.box_low[r], halo.box_high[r]});
+    std::size_t outside = 0;
+    for (const Vec3& position : mine.position) outside += part_of(boxes, position) != static_cast<std::size_t>(rank);
+    expect(outside == 0, "every particle inside its rank's box", static_cast<double>(outside));
+    const auto fluid = static_cast<std::int32_t>(FluidKind::kFluid);
+    expect(std::is_partitioned(mine.kind.begin(), mine.kind.end(), [&](std::int32_t k) { return k == fluid; }),
+           "the fluid slots first", 0.0);
+    const FluidParticles gathered = gather_fluid_at_root(mine);
+    if (rank == 0) {
+      std::printf("%s: %zu particles over %d rank(s):", when, total, count);
+      for (const double n : owned) std::printf(" %g", n);
+      std::printf("\n");
+      expect(same_tables(gathered, whole), "gathered at rank 0: every field of every particle as the whole table's", 0.0);
+    }
+  };
+  check_ownership("split");
+
+  // Every particle moved by up to 2 l0 (its id decides how), on every rank's whole table and on the owned ones alike:
+  // some leave their box, and the ghosts must follow the new positions.
+  const double spacing = model.fluid.spacing;
+  for (std::size_t i = 0; i < whole.size(); ++i) whole.position[i] += jiggle(whole.id[i], 2.0 * spacing);
+  for (std::size_t i = 0; i < mine.size(); ++i) mine.position[i] += jiggle(mine.id[i], 2.0 * spacing);
+  const std::size_t left = migrate_fluid_particles(mine, halo);
+  const std::vector<double> moved = ranks::sum_in_rank_order({static_cast<double>(left)});
+  if (rank == 0) std::printf("particles handed between ranks: %g\n", moved[0]);
+  if (count > 1) expect(moved[0] > 0.0, "particles migrated between ranks", moved[0]);
+  check_ownership("migrated");
+
+  // Ghosts within r_e + a skin of 0.2 l0 of each box; every owned fluid particle's neighbours within r_e, among the
+  // reals and ghosts, against the whole table's.
+  FluidGhosts ghosts;
+  build_fluid_rank_ghosts(mine, mine.position, reach + 0.2 * spacing, halo, ghosts);
+  std::vector<Vec3> all_position = mine.position;
+  all_position.insert(all_position.end(), ghosts.position.begin(), ghosts.position.end());
+  std::vector<EntityId> all_id = mine.id;
+  all_id.insert(all_id.end(), halo.ghost_id.begin(), halo.ghost_id.end());
+  std::size_t checked = 0, wrong = 0, pairs = 0;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    std::vector<EntityId> seen, expected;
+    for (std::size_t j = 0; j < all_position.size(); ++j)
+      if (j != i && (all_position[j] - mine.position[i]).norm() < reach) seen.push_back(all_id[j]);
+    for (std::size_t j = 0; j < whole.size(); ++j)  // ordered by id
+      if (whole.id[j] != mine.id[i] && (whole.position[j] - mine.position[i]).norm() < reach) expected.push_back(whole.id[j]);
+    std::sort(seen.begin(), seen.end());
+    wrong += seen != expected;
+    pairs += seen.size();
+    ++checked;
+  }
+  expect(wrong == 0, "every owned particle's neighbours within r_e among reals and ghosts as in the whole table",
+         static_cast<double>(wrong));
+  const std::vector<double> counts = ranks::sum_in_rank_order(
+      {static_cast<double>(checked), static_cast<double>(pairs), static_cast<double>(halo.ghost_count())});
+  if (rank == 0)
+    std::printf("neighbours within r_e checked for %g particles (%g pairs); ghosts on all ranks: %g\n", counts[0],
+                counts[1], counts[2]);
+
+  // A field sent to the ghosts: each particle's value a function of its id.
+  std::vector<double> value(mine.size());
+  for (std::size_t i = 0; i < mine.size(); ++i) value[i] = 0.5 * static_cast<double>(mine.id[i]) + 1.0;
+  std::vector<double> ghost_value;
+  exchange_fluid_ghost_field(value, halo, ghost_value);
+  std::vector<Vec3> ghost_velocity;
+  exchange_fluid_ghost_field(mine.velocity, halo, ghost_velocity);
+  std::size_t mismatched = 0;
+  for (std::size_t g = 0; g < halo.ghost_count(); ++g) {
+    mismatched += ghost_value[g] != 0.5 * static_cast<double>(halo.ghost_id[g]) + 1.0;
+    mismatched += ghost_velocity[g] != ghosts.velocity[g];
+  }
+  expect(mismatched == 0, "the exchanged ghost fields equal their owners'", static_cast<double>(mismatched));
+
+  const bool failed = ranks::any(failures > 0);
+  if (rank == 0) std::printf("%s\n", failed ? "FAILED" : "passed");
+  return failed ? 1 : 0;
+}
