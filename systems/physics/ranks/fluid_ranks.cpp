@@ -118,18 +118,12 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
   ghosts.velocity.clear();
   ghosts.kind.clear();
   halo.ghost_id.clear();
-  halo.receive_offsets.assign(count + 1, 0);
-  for (std::size_t r = 0; r < count; ++r) {
-    halo.receive_offsets[r] = static_cast<std::uint32_t>(halo.ghost_id.size());
-    ByteReader in(incoming[r]);
-    while (!in.done()) {
-      halo.ghost_id.push_back(in.get<EntityId>());
-      ghosts.kind.push_back(in.get<std::int32_t>());
-      ghosts.position.push_back(in.get<Vec3>());
-      ghosts.velocity.push_back(in.get<Vec3>());
-    }
-  }
-  halo.receive_offsets[count] = static_cast<std::uint32_t>(halo.ghost_id.size());
+  halo.receive_offsets = read_ghost_records(incoming, [&](ByteReader& in) {
+    halo.ghost_id.push_back(in.get<EntityId>());
+    ghosts.kind.push_back(in.get<std::int32_t>());
+    ghosts.position.push_back(in.get<Vec3>());
+    ghosts.velocity.push_back(in.get<Vec3>());
+  });
 }
 
 FluidParticles gather_fluid_at_root(const FluidParticles& particles) { return gather_entities_at_root(particles); }

@@ -235,22 +235,16 @@ void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach, c
   ghosts = GrainGhosts{};
   halo.ghost_id.clear();
   halo.ghost_fixed.clear();
-  halo.receive_offsets.assign(count + 1, 0);
-  for (std::size_t r = 0; r < count; ++r) {
-    halo.receive_offsets[r] = static_cast<std::uint32_t>(halo.ghost_id.size());
-    ByteReader in(incoming[r]);
-    while (!in.done()) {
-      halo.ghost_id.push_back(in.get<EntityId>());
-      ghosts.position.push_back(in.get<Vec3>());
-      ghosts.velocity.push_back(in.get<Vec3>());
-      ghosts.angular_velocity.push_back(in.get<Vec3>());
-      ghosts.radius.push_back(in.get<double>());
-      ghosts.mass.push_back(in.get<double>());
-      ghosts.material.push_back(in.get<std::int32_t>());
-      halo.ghost_fixed.push_back(in.get<std::int32_t>());
-    }
-  }
-  halo.receive_offsets[count] = static_cast<std::uint32_t>(halo.ghost_id.size());
+  halo.receive_offsets = read_ghost_records(incoming, [&](ByteReader& in) {
+    halo.ghost_id.push_back(in.get<EntityId>());
+    ghosts.position.push_back(in.get<Vec3>());
+    ghosts.velocity.push_back(in.get<Vec3>());
+    ghosts.angular_velocity.push_back(in.get<Vec3>());
+    ghosts.radius.push_back(in.get<double>());
+    ghosts.mass.push_back(in.get<double>());
+    ghosts.material.push_back(in.get<std::int32_t>());
+    halo.ghost_fixed.push_back(in.get<std::int32_t>());
+  });
 }
 
 void exchange_rank_ghost_motion(const Solids& solids, Contacts& contacts) {

@@ -3,6 +3,7 @@
 // fluid_ranks.hpp): plain values as bytes and back, an entity's every field (a table's for_each_field order), and
 // a whole table gathered at rank 0 in id order for the outputs.
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -66,6 +67,21 @@ class ByteReader {
   const std::vector<std::byte>& in_;
   std::size_t at_ = 0;
 };
+
+/// Reads the ghosts each rank sent, in rank order, one record at a time (`read_one(in)` appends one ghost's fields)
+/// and returns where each rank's ghosts start ([ranks + 1] offsets).
+template <class ReadOne>
+std::vector<std::uint32_t> read_ghost_records(const std::vector<std::vector<std::byte>>& incoming, ReadOne&& read_one) {
+  std::vector<std::uint32_t> offsets(incoming.size() + 1, 0);
+  std::uint32_t read = 0;
+  for (std::size_t r = 0; r < incoming.size(); ++r) {
+    offsets[r] = read;
+    ByteReader in(incoming[r]);
+    for (; !in.done(); ++read) read_one(in);
+  }
+  offsets[incoming.size()] = read;
+  return offsets;
+}
 
 /// Every field of entity `slot` of an entity table, in the table's order.
 template <class Table>
