@@ -126,6 +126,22 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
   });
 }
 
+RankRows number_rows_over_ranks(const std::vector<std::int32_t>& local_row, const FluidRankHalo& halo) {
+  std::size_t own = 0;
+  for (const std::int32_t row : local_row) own += row >= 0 ? 1 : 0;
+  const std::vector<double> counts = ranks::gather_all({static_cast<double>(own)});
+  RankRows rows;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    if (static_cast<int>(r) < ranks::rank()) rows.first_row += static_cast<std::size_t>(counts[r]);
+    rows.global_rows += static_cast<std::size_t>(counts[r]);
+  }
+  std::vector<std::int64_t> global_row(local_row.size());
+  for (std::size_t i = 0; i < local_row.size(); ++i)
+    global_row[i] = local_row[i] >= 0 ? static_cast<std::int64_t>(rows.first_row) + local_row[i] : -1;
+  exchange_fluid_ghost_field(global_row, halo, rows.ghost_row);
+  return rows;
+}
+
 FluidParticles gather_fluid_at_root(const FluidParticles& particles) { return gather_entities_at_root(particles); }
 
 }  // namespace riffle

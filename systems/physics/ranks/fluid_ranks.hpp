@@ -45,7 +45,7 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
                              FluidRankHalo& ranks, FluidGhosts& ghosts);
 
 /// ghost[g] = the owner's real[slot] for every ghost, along the send lists of the last build, point to point (the
-/// sizes are known on both sides). T: Vec3, double or std::int32_t. Collective.
+/// sizes are known on both sides). T: Vec3 or a plain number type. Collective.
 template <class T>
 void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo& ranks, std::vector<T>& ghost) {
   const auto count = static_cast<std::size_t>(ranks::size());
@@ -64,6 +64,19 @@ void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo&
     for (std::uint32_t g = ranks.receive_offsets[r]; g < ranks.receive_offsets[r + 1]; ++g) ghost[g] = in.get<T>();
   }
 }
+
+/// The unknowns of a system with one row per particle of some (the pressure equation's: the fluid particles off the
+/// free surface), numbered over all the ranks: this rank's rows follow the lower ranks' (rows [first_row,
+/// first_row + own) of global_rows). `local_row[i]`: particle i's row on this rank, or -1 for none.
+struct RankRows {
+  std::size_t first_row = 0;
+  std::size_t global_rows = 0;
+  std::vector<std::int64_t> ghost_row;  ///< [G] each ghost's global row on its owner, or -1 for none
+};
+
+/// Numbers the rows over the ranks (one gather of the counts) and sends each ghost its owner's global row (a ghost
+/// field along the last build's send lists). Collective.
+RankRows number_rows_over_ranks(const std::vector<std::int32_t>& local_row, const FluidRankHalo& ranks);
 
 /// Every rank's particles at rank 0, ordered by id (the whole water for the outputs); empty elsewhere. Collective.
 FluidParticles gather_fluid_at_root(const FluidParticles& particles);
