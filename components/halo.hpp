@@ -120,6 +120,9 @@ struct FluidRankHalo {
   std::uint32_t real_count = 0;            ///< N at the last build
   std::vector<EntityId> ghost_id;          ///< [G] the ghost's id on its owner rank
   std::vector<std::vector<std::uint32_t>> send_slots;  ///< [ranks] the real slots sent to each rank, in order
+  /// [ranks] the periodic image each sent copy is (its position the real's + shift; zero without periodic axes). A
+  /// rank's own particles near a periodic face come back to it this way, as images.
+  std::vector<std::vector<Vec3>> send_shift;
   std::vector<std::uint32_t> receive_offsets;          ///< [ranks + 1] the ghosts from rank r: [offsets[r], offsets[r+1])
   std::uint64_t particles_sent = 0;        ///< particles this rank has handed to others so far (migrations)
   std::size_t ghost_count() const { return ghost_id.size(); }

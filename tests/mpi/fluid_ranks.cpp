@@ -9,7 +9,9 @@
 //   - a field exchanged to the ghosts (a value of each particle's id) equal to their owners';
 //   - a system with a row per fluid particle and the pressure equation's pattern, assembled per rank with global
 //     columns and solved by hypre over the ranks, as the whole table's solved alone (to 1e-9).
-//   mpiexec -n N riffle_mpi_fluid_ranks
+// A periodic tank (scenes/sheared_water_block.toml, periodic along x and y) the same way, distances then taken to the
+// nearest image, the ghosts including the images across the periodic faces (a rank's own particles' too).
+//   mpiexec -n N riffle_mpi_fluid_ranks [scene in scenes/, default hydrostatic.toml]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +23,7 @@
 #include "engine/run/simulation.hpp"
 #include "engine/scene/scene.hpp"
 #include "systems/physics/geometry/domain.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/geometry/recursive_bisection.hpp"
 #include "systems/physics/mps/hypre_pressure_solver.hpp"
 #include "systems/physics/ranks/fluid_ranks.hpp"
@@ -64,7 +67,7 @@ bool same_tables(const riffle::FluidParticles& a, const riffle::FluidParticles& 
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   using namespace riffle;
   ranks::start_mpi();
   const int rank = ranks::rank(), count = ranks::size();
@@ -75,13 +78,21 @@ int main() {
       ++failures;
     }
   };
-  const std::string path = RIFFLE_SOURCE_DIR "/scenes/hydrostatic.toml";
+  const std::string path = std::string(RIFFLE_SOURCE_DIR "/scenes/") + (argc > 1 ? argv[1] : "hydrostatic.toml");
   auto simulation = Simulation::from_model(parse_scene(scene_text(path), path));
   const Model& model = simulation->model();
   FluidParticles whole = *simulation->world().fluid;  // every rank's copy of the whole table
   const std::size_t total = whole.size();
   const double reach = model.fluid.effective_radius();
   const DomainBox domain = domain_box(model);
+  const PeriodicBox box = periodic_box(model);
+  // The separation from a to b, to b's nearest image along the periodic axes.
+  const auto separation = [&](const Vec3& a, const Vec3& b) {
+    Vec3 d = b - a;
+    for (int axis = 0; axis < 3; ++axis)
+      if (box.periodic[static_cast<std::size_t>(axis)]) d[axis] -= box.length[axis] * std::round(d[axis] / box.length[axis]);
+    return d.norm();
+  };
   std::vector<std::size_t> by_id(total);
   for (std::size_t i = 0; i < total; ++i) by_id[i] = i;
   std::sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return whole.id[a] < whole.id[b]; });
@@ -116,8 +127,8 @@ int main() {
   // Every particle moved by up to 2 l0 (its id decides how), on every rank's whole table and on the owned ones alike:
   // some leave their box, and the ghosts must follow the new positions.
   const double spacing = model.fluid.spacing;
-  for (std::size_t i = 0; i < whole.size(); ++i) whole.position[i] += jiggle(whole.id[i], 2.0 * spacing);
-  for (std::size_t i = 0; i < mine.size(); ++i) mine.position[i] += jiggle(mine.id[i], 2.0 * spacing);
+  for (std::size_t i = 0; i < whole.size(); ++i) whole.position[i] = box.wrap(whole.position[i] + jiggle(whole.id[i], 2.0 * spacing));
+  for (std::size_t i = 0; i < mine.size(); ++i) mine.position[i] = box.wrap(mine.position[i] + jiggle(mine.id[i], 2.0 * spacing));
   const std::size_t left = migrate_fluid_particles(mine, halo);
   const std::vector<double> moved = ranks::sum_in_rank_order({static_cast<double>(left)});
   if (rank == 0) std::printf("particles handed between ranks: %g\n", moved[0]);
@@ -127,7 +138,7 @@ int main() {
   // Ghosts within r_e + a skin of 0.2 l0 of each box; every owned fluid particle's neighbours within r_e, among the
   // reals and ghosts, against the whole table's.
   FluidGhosts ghosts;
-  build_fluid_rank_ghosts(mine, mine.position, reach + 0.2 * spacing, halo, ghosts);
+  build_fluid_rank_ghosts(mine, mine.position, reach + 0.2 * spacing, box, halo, ghosts);
   std::vector<Vec3> all_position = mine.position;
   all_position.insert(all_position.end(), ghosts.position.begin(), ghosts.position.end());
   std::vector<EntityId> all_id = mine.id;
@@ -138,7 +149,8 @@ int main() {
     for (std::size_t j = 0; j < all_position.size(); ++j)
       if (j != i && (all_position[j] - mine.position[i]).norm() < reach) seen.push_back(all_id[j]);
     for (std::size_t j = 0; j < whole.size(); ++j)  // ordered by id
-      if (whole.id[j] != mine.id[i] && (whole.position[j] - mine.position[i]).norm() < reach) expected.push_back(whole.id[j]);
+      if (whole.id[j] != mine.id[i] && separation(mine.position[i], whole.position[j]) < reach)
+        expected.push_back(whole.id[j]);
     std::sort(seen.begin(), seen.end());
     wrong += seen != expected;
     pairs += seen.size();
@@ -159,8 +171,11 @@ int main() {
   exchange_fluid_ghost_field(value, halo, ghost_value);
   std::vector<Vec3> ghost_velocity;
   exchange_fluid_ghost_field(mine.velocity, halo, ghost_velocity);
+  std::vector<Vec3> ghost_position;
+  exchange_fluid_ghost_positions(mine.position, halo, ghost_position);
   std::size_t mismatched = 0;
   for (std::size_t g = 0; g < halo.ghost_count(); ++g) {
+    mismatched += ghost_position[g] != ghosts.position[g];
     mismatched += ghost_value[g] != 0.5 * static_cast<double>(halo.ghost_id[g]) + 1.0;
     mismatched += ghost_velocity[g] != ghosts.velocity[g];
   }
@@ -186,14 +201,16 @@ int main() {
     std::vector<std::uint32_t> columns;
     std::vector<EntityId> row_id;
   };
+  // `nearest_image`: distances to the nearest periodic image (the whole table) or as placed (reals and ghosts).
   const auto assemble = [&](const std::vector<Vec3>& position, std::size_t reals, const std::vector<EntityId>& id,
-                            const std::vector<std::int32_t>& kind, const auto& column_of) {
+                            const std::vector<std::int32_t>& kind, bool nearest_image, const auto& column_of) {
     System system;
     for (std::size_t i = 0; i < reals; ++i) {
       if (kind[i] != fluid) continue;
       double diagonal = 1.0;
       for (std::size_t j = 0; j < position.size(); ++j) {
-        const double distance = (position[j] - position[i]).norm();
+        const double distance =
+            nearest_image ? separation(position[i], position[j]) : (position[j] - position[i]).norm();
         if (j == i || distance >= reach || kind[j] != fluid) continue;
         const std::int64_t column = column_of(j);
         expect(column >= 0, "a fluid neighbour has a row", static_cast<double>(j));
@@ -210,7 +227,7 @@ int main() {
   };
   std::vector<std::int32_t> all_kind = mine.kind;
   all_kind.insert(all_kind.end(), ghosts.kind.begin(), ghosts.kind.end());
-  const System split_system = assemble(all_position, mine.size(), all_id, all_kind, [&](std::size_t j) {
+  const System split_system = assemble(all_position, mine.size(), all_id, all_kind, false, [&](std::size_t j) {
     return j < mine.size() ? (local_row[j] >= 0 ? static_cast<std::int64_t>(rows.first_row) + local_row[j] : -1)
                            : rows.ghost_row[j - mine.size()];
   });
@@ -232,7 +249,7 @@ int main() {
     for (std::size_t i = 0; i < whole.size(); ++i)
       if (whole.kind[i] == fluid) whole_row[i] = next++;
     const System whole_system =
-        assemble(whole.position, whole.size(), whole.id, whole.kind, [&](std::size_t j) { return whole_row[j]; });
+        assemble(whole.position, whole.size(), whole.id, whole.kind, true, [&](std::size_t j) { return whole_row[j]; });
     HyprePressureSolver alone(HyprePressureSolver::Ranks::kThisOne);
     std::vector<double> reference(whole_system.rhs.size(), 0.0);
     const PressureMatrix whole_matrix{whole_system.rhs.size(), whole_system.diagonal.data(),

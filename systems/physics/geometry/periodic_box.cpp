@@ -78,4 +78,19 @@ void build_halo(const std::vector<Vec3>& positions, const std::vector<EntityId>&
   halo.valid = true;
 }
 
+std::vector<Vec3> periodic_image_shifts(const PeriodicBox& box) {
+  std::vector<Vec3> shifts = {Vec3::Zero()};
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!box.periodic[static_cast<std::size_t>(axis)]) continue;
+    const std::size_t before = shifts.size();
+    for (const double sign : {1.0, -1.0})
+      for (std::size_t k = 0; k < before; ++k) {
+        Vec3 shifted = shifts[k];
+        shifted[axis] += sign * box.length[axis];
+        shifts.push_back(shifted);
+      }
+  }
+  return shifts;
+}
+
 }  // namespace riffle

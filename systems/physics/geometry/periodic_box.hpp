@@ -33,6 +33,10 @@ struct PeriodicBox {
 
 PeriodicBox periodic_box(const Model& model);
 
+/// Every shift by -1, 0 or +1 period along each periodic axis, the zero shift first (one element without periodic
+/// axes): the images a decomposed run's ghosts may be (systems/physics/ranks/).
+std::vector<Vec3> periodic_image_shifts(const PeriodicBox& box);
+
 /// Whether every period exceeds 2 cutoff: then a particle meets at most one image of another, never its own, and
 /// each pair across the seam is seen once from each side.
 bool periodic_cutoff_fits(const PeriodicBox& box, double cutoff);

@@ -90,7 +90,7 @@ std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& ha
 }
 
 void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<Vec3>& positions, double reach,
-                             FluidRankHalo& halo, FluidGhosts& ghosts) {
+                             const PeriodicBox& box, FluidRankHalo& halo, FluidGhosts& ghosts) {
   const auto count = static_cast<std::size_t>(ranks::size());
   const auto me = static_cast<std::size_t>(ranks::rank());
   if (positions.size() != particles.size())
@@ -98,20 +98,26 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
                            std::to_string(particles.size()) + " particles");
   halo.real_count = static_cast<std::uint32_t>(particles.size());
   halo.send_slots.assign(count, {});
+  halo.send_shift.assign(count, {});
+  const std::vector<Vec3> shifts = periodic_image_shifts(box);
   std::vector<std::vector<std::byte>> outgoing(count);
   for (std::size_t r = 0; r < count; ++r) {
-    if (r == me) continue;
-    const PartBox box{halo.box_low[r], halo.box_high[r]};
+    const PartBox target{halo.box_low[r], halo.box_high[r]};
     std::vector<std::uint32_t>& slots = halo.send_slots[r];
+    std::vector<Vec3>& sent_shift = halo.send_shift[r];
     ByteWriter out(outgoing[r]);
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      if (distance_to_box(box, positions[i]) >= reach) continue;
-      slots.push_back(static_cast<std::uint32_t>(i));
-      out.put(particles.id[i]);
-      out.put(particles.kind[i]);
-      out.put(positions[i]);
-      out.put(particles.velocity[i]);
-    }
+    for (std::size_t i = 0; i < particles.size(); ++i)
+      for (const Vec3& shift : shifts) {
+        if (r == me && shift.isZero(0.0)) continue;  // its own particles are reals here
+        const Vec3 image = positions[i] + shift;
+        if (distance_to_box(target, image) >= reach) continue;
+        slots.push_back(static_cast<std::uint32_t>(i));
+        sent_shift.push_back(shift);
+        out.put(particles.id[i]);
+        out.put(particles.kind[i]);
+        out.put(image);
+        out.put(particles.velocity[i]);
+      }
   }
   const std::vector<std::vector<std::byte>> incoming = ranks::exchange(outgoing);
   ghosts.position.clear();
@@ -124,6 +130,25 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
     ghosts.position.push_back(in.get<Vec3>());
     ghosts.velocity.push_back(in.get<Vec3>());
   });
+}
+
+void exchange_fluid_ghost_positions(const std::vector<Vec3>& real, const FluidRankHalo& halo, std::vector<Vec3>& ghost) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  constexpr std::size_t kBytes = 3 * sizeof(double);
+  std::vector<std::vector<std::byte>> outgoing(count);
+  std::vector<std::size_t> incoming_bytes(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteWriter out(outgoing[r]);
+    for (std::size_t n = 0; n < halo.send_slots[r].size(); ++n)
+      out.put(Vec3(real[halo.send_slots[r][n]] + halo.send_shift[r][n]));
+    incoming_bytes[r] = kBytes * (halo.receive_offsets[r + 1] - halo.receive_offsets[r]);
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
+  ghost.resize(halo.ghost_count());
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteReader in(incoming[r]);
+    for (std::uint32_t g = halo.receive_offsets[r]; g < halo.receive_offsets[r + 1]; ++g) ghost[g] = in.get<Vec3>();
+  }
 }
 
 RankRows number_rows_over_ranks(const std::vector<std::int32_t>& local_row, const FluidRankHalo& halo) {

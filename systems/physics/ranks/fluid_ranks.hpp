@@ -2,7 +2,8 @@
 // The MPS particles of a run spread over MPI ranks (domain decomposition; components/halo.hpp, FluidRankHalo): each
 // rank owns the particles (fluid, wall and dummy) inside its box and computes their operators; the other ranks'
 // particles within the operators' reach of its box (r_e + the lists' skin) are its ghosts, after its reals in the
-// neighbour lists' slots, as a periodic tank's ghosts are. What moves between ranks, and when:
+// neighbour lists' slots, as a periodic tank's ghosts are (in a periodic tank the images across its faces are ghosts
+// too, from any rank, its own included). What moves between ranks, and when:
 //   - at a neighbour-list rebuild at the step's start: the particles that left a box go to the rank that owns their
 //     new position, with every field (migrate_fluid_particles); then each rank sends every other its particles
 //     within reach of that rank's box (build_fluid_rank_ghosts: ids, kinds, the searched positions, velocities);
@@ -17,6 +18,7 @@
 
 #include "components/fluid.hpp"
 #include "components/halo.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 #include "systems/physics/ranks/rank_messages.hpp"
 
@@ -40,12 +42,19 @@ std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& ra
 
 /// Sends every rank this rank's particles within `reach` of its box (their ids, kinds, `positions` and velocities)
 /// and fills `ghosts` (position, velocity, kind) and the FluidRankHalo's ghost ids, send lists and offsets with what
-/// the others send. `positions` are those the search uses (r^k or r*). Collective.
+/// the others send. `positions` are those the search uses (r^k or r*). In a periodic tank each particle's images
+/// across the periodic faces go too (to this rank as well, so the ranks' ghosts replace the periodic halo): a ghost is
+/// then an image, its position the real's plus whole periods. Collective.
 void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<Vec3>& positions, double reach,
-                             FluidRankHalo& ranks, FluidGhosts& ghosts);
+                             const PeriodicBox& box, FluidRankHalo& ranks, FluidGhosts& ghosts);
+
+/// The ghosts' positions from their owners' `real` positions (r^k or r*) plus each copy's periodic shift, along the
+/// last build's send lists, point to point. Collective.
+void exchange_fluid_ghost_positions(const std::vector<Vec3>& real, const FluidRankHalo& ranks, std::vector<Vec3>& ghost);
 
 /// ghost[g] = the owner's real[slot] for every ghost, along the send lists of the last build, point to point (the
-/// sizes are known on both sides). T: Vec3 or a plain number type. Collective.
+/// sizes are known on both sides): a field that does not move with a periodic image (not a position). T: Vec3 or a
+/// plain number type. Collective.
 template <class T>
 void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo& ranks, std::vector<T>& ghost) {
   const auto count = static_cast<std::size_t>(ranks::size());

@@ -194,17 +194,7 @@ void build_rank_ghosts(const Solids& solids, Contacts& contacts, double reach, c
   halo.send_slots.assign(count, {});
   halo.send_shift.assign(count, {});
   // The images a grain may have: every sum of -1, 0 or +1 period along the periodic axes (the zero shift first).
-  std::vector<Vec3> shifts = {Vec3::Zero()};
-  for (int axis = 0; axis < 3; ++axis) {
-    if (!box.periodic[static_cast<std::size_t>(axis)]) continue;
-    const std::size_t before = shifts.size();
-    for (const double sign : {1.0, -1.0})
-      for (std::size_t k = 0; k < before; ++k) {
-        Vec3 shifted = shifts[k];
-        shifted[axis] += sign * box.length[axis];
-        shifts.push_back(shifted);
-      }
-  }
+  const std::vector<Vec3> shifts = periodic_image_shifts(box);
   std::vector<std::vector<std::byte>> outgoing(count);
   for (std::size_t r = 0; r < count; ++r) {
     std::vector<std::uint32_t>& slots = halo.send_slots[r];
