@@ -132,8 +132,18 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
   });
 }
 
+void check_fluid_ghost_build(std::size_t reals, const FluidRankHalo& halo) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  if (halo.receive_offsets.size() != count + 1 || halo.send_slots.size() != count || halo.send_shift.size() != count)
+    throw std::logic_error("fluid_ranks: a ghost field sent before the ghosts were built");
+  if (reals != halo.real_count)
+    throw std::logic_error("fluid_ranks: a ghost field of " + std::to_string(reals) + " values for the " +
+                           std::to_string(halo.real_count) + " particles the ghosts were built for");
+}
+
 void exchange_fluid_ghost_positions(const std::vector<Vec3>& real, const FluidRankHalo& halo, std::vector<Vec3>& ghost) {
   const auto count = static_cast<std::size_t>(ranks::size());
+  check_fluid_ghost_build(real.size(), halo);
   constexpr std::size_t kBytes = 3 * sizeof(double);
   std::vector<std::vector<std::byte>> outgoing(count);
   std::vector<std::size_t> incoming_bytes(count);
@@ -153,7 +163,13 @@ void exchange_fluid_ghost_positions(const std::vector<Vec3>& real, const FluidRa
 
 RankRows number_rows_over_ranks(const std::vector<std::int32_t>& local_row, const FluidRankHalo& halo) {
   std::size_t own = 0;
-  for (const std::int32_t row : local_row) own += row >= 0 ? 1 : 0;
+  std::int64_t largest = -1;
+  for (const std::int32_t row : local_row) {
+    own += row >= 0 ? 1 : 0;
+    largest = std::max<std::int64_t>(largest, row);
+  }
+  if (largest + 1 != static_cast<std::int64_t>(own))
+    throw std::logic_error("number_rows_over_ranks: the rows are not numbered 0 .. " + std::to_string(own) + " - 1");
   const std::vector<double> counts = ranks::gather_all({static_cast<double>(own)});
   RankRows rows;
   for (std::size_t r = 0; r < counts.size(); ++r) {

@@ -36,7 +36,8 @@ void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& ranks, con
                             const Vec3& domain_high);
 
 /// Sends the particles outside this rank's box to their owners with every field, and appends those that arrive,
-/// keeping the fluid slots first (each kind in its old order, the arrivals after, in rank order). Collective.
+/// keeping the fluid slots first (each kind in its old order, the arrivals after, in rank order). In a periodic tank
+/// the caller wraps the positions first: a particle past a face belongs to the box holding it wrapped. Collective.
 /// Returns the number of particles that left.
 std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& ranks);
 
@@ -52,12 +53,17 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
 /// last build's send lists, point to point. Collective.
 void exchange_fluid_ghost_positions(const std::vector<Vec3>& real, const FluidRankHalo& ranks, std::vector<Vec3>& ghost);
 
+/// Throws unless the ghosts were built (build_fluid_rank_ghosts) for a table of `reals` particles: a field sent to
+/// them holds one value per particle, walls and dummies included.
+void check_fluid_ghost_build(std::size_t reals, const FluidRankHalo& ranks);
+
 /// ghost[g] = the owner's real[slot] for every ghost, along the send lists of the last build, point to point (the
 /// sizes are known on both sides): a field that does not move with a periodic image (not a position). T: Vec3 or a
 /// plain number type. Collective.
 template <class T>
 void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo& ranks, std::vector<T>& ghost) {
   const auto count = static_cast<std::size_t>(ranks::size());
+  check_fluid_ghost_build(real.size(), ranks);
   constexpr std::size_t kBytes = std::is_same_v<T, Vec3> ? 3 * sizeof(double) : sizeof(T);
   std::vector<std::vector<std::byte>> outgoing(count);
   std::vector<std::size_t> incoming_bytes(count);
@@ -84,7 +90,8 @@ struct RankRows {
 };
 
 /// Numbers the rows over the ranks (one gather of the counts) and sends each ghost its owner's global row (a ghost
-/// field along the last build's send lists). Collective.
+/// field along the last build's send lists). `local_row` holds one entry per particle and numbers this rank's rows
+/// 0 .. own - 1 without gaps. Collective.
 RankRows number_rows_over_ranks(const std::vector<std::int32_t>& local_row, const FluidRankHalo& ranks);
 
 /// Every rank's particles at rank 0, ordered by id (the whole water for the outputs); empty elsewhere. Collective.

@@ -81,13 +81,6 @@ void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& dom
   contacts.ranks = std::move(keep);
 }
 
-double grain_rank_imbalance(const Solids& solids) {
-  const std::vector<double> counts = ranks::gather_all({static_cast<double>(solids.size())});
-  const double total = std::accumulate(counts.begin(), counts.end(), 0.0);
-  if (total == 0.0) return 1.0;
-  return *std::max_element(counts.begin(), counts.end()) * static_cast<double>(counts.size()) / total;
-}
-
 std::vector<double> grains_per_box(const Solids& solids, const RankHalo& halo) {
   const std::vector<PartBox> boxes = boxes_of(halo);
   std::vector<double> mine(boxes.size(), 0.0);

@@ -25,9 +25,6 @@ namespace riffle {
 /// does). Deterministic: every rank computes the same boxes from the same world, without a message.
 void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& domain_low, const Vec3& domain_high);
 
-/// The largest rank's grain count over the mean count (1 when every rank holds as many). Collective.
-double grain_rank_imbalance(const Solids& solids);
-
 /// The grains every rank's box holds (the rank's position in `ranks`' boxes), summed over the ranks: what each rank
 /// owns after a migration. Collective.
 std::vector<double> grains_per_box(const Solids& solids, const RankHalo& ranks);

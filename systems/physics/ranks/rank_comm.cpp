@@ -185,9 +185,11 @@ std::vector<std::vector<std::byte>> exchange_known(const std::vector<std::vector
   // same sequence of exchanges.
   constexpr int kTag = 7;
   std::vector<MPI_Request> requests;
+  std::vector<std::size_t> received_from;  // the ranks of the first requests, in order
   for (std::size_t r = 0; r < ranks; ++r) {
     if (r == me || incoming_bytes[r] == 0) continue;
     incoming[r].resize(incoming_bytes[r]);
+    received_from.push_back(r);
     requests.emplace_back();
     check(MPI_Irecv(incoming[r].data(), to_int(incoming_bytes[r]), MPI_BYTE, static_cast<int>(r), kTag,
                     MPI_COMM_WORLD, &requests.back()),
@@ -203,6 +205,15 @@ std::vector<std::vector<std::byte>> exchange_known(const std::vector<std::vector
   std::vector<MPI_Status> statuses(requests.size());
   const int code = MPI_Waitall(static_cast<int>(requests.size()), requests.data(), statuses.data());
   check(code, "MPI_Waitall");
+  // A shorter message than expected would leave the rest of the buffer as it was: the two sides disagree.
+  for (std::size_t k = 0; k < received_from.size(); ++k) {
+    int received = 0;
+    check(MPI_Get_count(&statuses[k], MPI_BYTE, &received), "MPI_Get_count");
+    if (static_cast<std::size_t>(received) != incoming_bytes[received_from[k]])
+      throw std::logic_error("ranks::exchange_known: rank " + std::to_string(received_from[k]) + " sent " +
+                             std::to_string(received) + " bytes where " +
+                             std::to_string(incoming_bytes[received_from[k]]) + " were expected");
+  }
   return incoming;
 }
 

@@ -2,6 +2,7 @@
 // What the decompositions over MPI ranks put in their messages (systems/physics/ranks/grain_ranks.hpp,
 // fluid_ranks.hpp): plain values as bytes and back, an entity's every field (a table's for_each_field order), and
 // a whole table gathered at rank 0 in id order for the outputs.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -122,7 +123,10 @@ Table gather_entities_at_root(const Table& table) {
   if (ranks::rank() != 0) return gathered;
   const std::size_t bytes_per_entity = packed_entity_bytes<Table>();
   std::size_t total = 0;
-  for (const auto& bytes : all) total += bytes.size() / bytes_per_entity;
+  for (const auto& bytes : all) {
+    if (bytes.size() % bytes_per_entity != 0) throw std::logic_error("gather_entities_at_root: a message of part entities");
+    total += bytes.size() / bytes_per_entity;
+  }
   resize_fields(gathered, total);
   std::size_t slot = 0;
   for (const auto& bytes : all) {
