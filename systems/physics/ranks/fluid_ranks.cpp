@@ -142,23 +142,9 @@ void check_fluid_ghost_build(std::size_t reals, const FluidRankHalo& halo) {
 }
 
 void exchange_fluid_ghost_positions(const std::vector<Vec3>& real, const FluidRankHalo& halo, std::vector<Vec3>& ghost) {
-  const auto count = static_cast<std::size_t>(ranks::size());
   check_fluid_ghost_build(real.size(), halo);
-  constexpr std::size_t kBytes = 3 * sizeof(double);
-  std::vector<std::vector<std::byte>> outgoing(count);
-  std::vector<std::size_t> incoming_bytes(count);
-  for (std::size_t r = 0; r < count; ++r) {
-    ByteWriter out(outgoing[r]);
-    for (std::size_t n = 0; n < halo.send_slots[r].size(); ++n)
-      out.put(Vec3(real[halo.send_slots[r][n]] + halo.send_shift[r][n]));
-    incoming_bytes[r] = kBytes * (halo.receive_offsets[r + 1] - halo.receive_offsets[r]);
-  }
-  const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
-  ghost.resize(halo.ghost_count());
-  for (std::size_t r = 0; r < count; ++r) {
-    ByteReader in(incoming[r]);
-    for (std::uint32_t g = halo.receive_offsets[r]; g < halo.receive_offsets[r + 1]; ++g) ghost[g] = in.get<Vec3>();
-  }
+  send_to_fluid_ghosts<Vec3>(
+      halo, [&](std::size_t r, std::size_t n) { return Vec3(real[halo.send_slots[r][n]] + halo.send_shift[r][n]); }, ghost);
 }
 
 RankRows number_rows_over_ranks(const std::vector<std::int32_t>& local_row, const FluidRankHalo& halo) {

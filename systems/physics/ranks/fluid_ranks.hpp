@@ -57,19 +57,17 @@ void exchange_fluid_ghost_positions(const std::vector<Vec3>& real, const FluidRa
 /// them holds one value per particle, walls and dummies included.
 void check_fluid_ghost_build(std::size_t reals, const FluidRankHalo& ranks);
 
-/// ghost[g] = the owner's real[slot] for every ghost, along the send lists of the last build, point to point (the
-/// sizes are known on both sides): a field that does not move with a periodic image (not a position). T: Vec3 or a
-/// plain number type. Collective.
-template <class T>
-void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo& ranks, std::vector<T>& ghost) {
+/// ghost[g] for every ghost from `sent(r, n)`, the value of the n-th copy sent to rank r along the last build's send
+/// lists, point to point (the sizes are known on both sides). Collective.
+template <class T, class Sent>
+void send_to_fluid_ghosts(const FluidRankHalo& ranks, const Sent& sent, std::vector<T>& ghost) {
   const auto count = static_cast<std::size_t>(ranks::size());
-  check_fluid_ghost_build(real.size(), ranks);
   constexpr std::size_t kBytes = std::is_same_v<T, Vec3> ? 3 * sizeof(double) : sizeof(T);
   std::vector<std::vector<std::byte>> outgoing(count);
   std::vector<std::size_t> incoming_bytes(count);
   for (std::size_t r = 0; r < count; ++r) {
     ByteWriter out(outgoing[r]);
-    for (const std::uint32_t slot : ranks.send_slots[r]) out.put(real[slot]);
+    for (std::size_t n = 0; n < ranks.send_slots[r].size(); ++n) out.put(T(sent(r, n)));
     incoming_bytes[r] = kBytes * (ranks.receive_offsets[r + 1] - ranks.receive_offsets[r]);
   }
   const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
@@ -78,6 +76,14 @@ void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo&
     ByteReader in(incoming[r]);
     for (std::uint32_t g = ranks.receive_offsets[r]; g < ranks.receive_offsets[r + 1]; ++g) ghost[g] = in.get<T>();
   }
+}
+
+/// ghost[g] = the owner's real[slot] for every ghost: a field that does not move with a periodic image (not a
+/// position). T: Vec3 or a plain number type. Collective.
+template <class T>
+void exchange_fluid_ghost_field(const std::vector<T>& real, const FluidRankHalo& ranks, std::vector<T>& ghost) {
+  check_fluid_ghost_build(real.size(), ranks);
+  send_to_fluid_ghosts<T>(ranks, [&](std::size_t r, std::size_t n) { return real[ranks.send_slots[r][n]]; }, ghost);
 }
 
 /// The unknowns of a system with one row per particle of some (the pressure equation's: the fluid particles off the
