@@ -320,6 +320,10 @@ struct FluidNeighbours {
   /// Invalid (and empty) otherwise.
   Halo halo;
   FluidGhosts ghosts;
+  /// In a run whose water is spread over MPI ranks: this rank's box, and the other ranks' particles (and a periodic
+  /// tank's images) within the lists' reach, held in slots [N, N + G) with their fields in `ghosts`, in place of the
+  /// periodic halo (which is then invalid). Inactive otherwise.
+  FluidRankHalo ranks;
 
   std::size_t particle_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };

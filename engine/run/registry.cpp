@@ -16,6 +16,8 @@
 #include "systems/coupling/fluid_sample_copy.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
 #include "systems/mps/fluid_predict.hpp"
+#include "systems/mps/fluid_rank_migration.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
 #include "systems/mps/fluid_pressure.hpp"
 #include "systems/mps/fluid_shift.hpp"
 #include "systems/mps/fluid_wall_motion.hpp"
@@ -40,6 +42,8 @@ Pipeline build_pipeline(const Model& model) {
     const double narrow_skin = fluid.narrow_neighbour_skin_ratio * fluid.spacing;
     using At = FluidNeighbourSearch::Positions;
     const PeriodicBox box = periodic_box(model);  // no periodic axis: the searches build no halo
+    // Over MPI ranks the particles go to the ranks whose boxes hold them before the step-start search rebuilds.
+    if (ranks::distributed()) pipeline.step.push_back(std::make_unique<FluidRankMigration>(fluid.effective_radius(), box));
     pipeline.step.push_back(
         std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent, box));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));

@@ -30,6 +30,8 @@
 #include "systems/dem/solid_neighbours.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/mps/hypre_pressure_solver.hpp"
+#include "systems/physics/ranks/fluid_ranks.hpp"
 #include "systems/physics/ranks/grain_ranks.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 #include "systems/physics/time/time_step.hpp"
@@ -517,7 +519,19 @@ CheckpointData Simulation::checkpoint_data_of(const World& world) const {
 }
 
 std::string Simulation::over_ranks_problem(const Model& model) {
-  if (model.fluid.enabled) return "a scene with MPS water ([fluid]): the water is not decomposed over ranks yet";
+  if (model.fluid.enabled) {
+    // The water alone is spread over ranks; what reads across a rank's edge beyond the MPS operators is not yet.
+    const FluidModel& fluid = model.fluid;
+    if (model.solids.enabled) return "grains in MPS water ([fluid] with [solids]): only water alone is spread over ranks yet";
+    if (!hypre_available()) return "MPS water over ranks solves its pressure with hypre, and this build has no hypre";
+    if (std::any_of(fluid.wall_boxes.begin(), fluid.wall_boxes.end(), [](const ParticleBoxModel& box) { return box.lid; }))
+      return "a moving lid ([[fluid.wall_boxes]] lid): its force on the water across ranks is not built yet";
+    if (fluid.turbulence == FluidModel::Turbulence::kSps)
+      return "[fluid] turbulence = \"sps\": its eddy viscosity across ranks is not built yet";
+    if (fluid.body_force.kind == BodyForceModel::Kind::kBulkVelocity)
+      return "a body force holding the bulk velocity: its mean over the water across ranks is not built yet";
+    return "";
+  }
   if (!model.solids.enabled || !model.contact.enabled)
     return "a scene without grains in contact: only the grains' contacts are decomposed over ranks";
   if (model.coupling.enabled && model.coupling.lubrication)
@@ -526,10 +540,23 @@ std::string Simulation::over_ranks_problem(const Model& model) {
 }
 
 void Simulation::split_over_ranks() {
+  const PeriodicBox box = periodic_box(*model_);
+  if (world_.fluid) {
+    // The water's boxes tile the domain; along a periodic axis the period (a particle past a face is wrapped first).
+    DomainBox domain = domain_box(*model_);
+    for (int axis = 0; axis < 3; ++axis)
+      if (box.periodic[static_cast<std::size_t>(axis)]) {
+        domain.low[axis] = box.low[axis];
+        domain.high[axis] = box.low[axis] + box.length[axis];
+      }
+    if (box.any())
+      for (Vec3& position : world_.fluid->position) position = box.wrap(position);
+    split_fluid_over_ranks(*world_.fluid, world_.fluid_neighbours->ranks, domain.low, domain.high);
+  }
+  if (!world_.solids || !world_.contacts) return;
   // The boxes tile the grains' domain; along a periodic axis the period itself (a grain past a face is wrapped
   // before it is given to a rank, and the images across the faces come as ghosts).
   DomainBox domain = grain_domain_box(*model_);
-  const PeriodicBox box = periodic_box(*model_);
   for (int axis = 0; axis < 3; ++axis)
     if (box.periodic[static_cast<std::size_t>(axis)]) {
       domain.low[axis] = box.low[axis];
@@ -545,12 +572,43 @@ void Simulation::split_over_ranks() {
 }
 
 World Simulation::gathered_world(bool pairs) const {
+  World whole;
+  if (world_.fluid) {
+    // The water ordered by id with its fluid first (as every table keeps it), the summary's totals already the
+    // water's (fluid_checks sums them over the ranks).
+    FluidParticles fluid = gather_fluid_at_root(*world_.fluid);
+    if (ranks::rank() == 0) {
+      std::vector<std::size_t> order;
+      order.reserve(fluid.size());
+      for (std::size_t i = 0; i < fluid.size(); ++i)
+        if (fluid.kind[i] == kFluidKind) order.push_back(i);
+      for (std::size_t i = 0; i < fluid.size(); ++i)
+        if (fluid.kind[i] != kFluidKind) order.push_back(i);
+      permute_fields(fluid, order);
+      fluid.next_id = world_.fluid->next_id;
+      whole.fluid = std::move(fluid);
+      whole.fluid_summary = world_.fluid_summary;
+      if (world_.fluid_neighbours) whole.fluid_neighbours.emplace();
+      if (world_.fluid_sample) whole.fluid_sample.emplace();
+    }
+  }
+  if (!world_.solids || !world_.contacts) {
+    if (ranks::rank() != 0) return World{};
+    whole.time = world_.time;
+    whole.step = world_.step;
+    whole.last_step = world_.last_step;
+    whole.walls = world_.walls;
+    whole.tank_motion = world_.tank_motion;
+    whole.solids = world_.solids;
+    whole.solid_summary = world_.solid_summary;
+    whole.step_status = world_.step_status;
+    return whole;
+  }
   Solids solids = gather_grains_at_root(*world_.solids);
   std::vector<CarriedSpring> pair_springs;
   std::vector<WallContactState> wall_contacts;
   gather_contacts_at_root(*world_.solids, *world_.contacts, pair_springs, wall_contacts);
-  World whole;
-  if (ranks::rank() != 0) return whole;
+  if (ranks::rank() != 0) return World{};
   whole.time = world_.time;
   whole.step = world_.step;
   whole.last_step = world_.last_step;
@@ -915,17 +973,22 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   tbb::global_control thread_limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   const double end_time = options.until.value_or(model_->end_time);
   const bool fresh_run = world_.step == 0 && output_.frame_times.empty();
-  const std::vector<double> owned = ranks::gather_all({static_cast<double>(world_.solids->size())});
+  // What each rank holds: its grains, or in a scene of water alone its MPS particles (fluid, walls and dummies).
+  const bool grains = world_.solids.has_value();
+  const char* held = grains ? "grains" : "MPS particles";
+  const auto held_here = [&] { return static_cast<double>(grains ? world_.solids->size() : world_.fluid->size()); };
+  const std::vector<double> owned = ranks::gather_all({held_here()});
   if (root) {
     std::string shares;
     for (const double count : owned) shares += (shares.empty() ? "" : ", ") + std::to_string(static_cast<long long>(count));
     spdlog::info("{} '{}' from {}: t = {} s to {} s, dt = {} s, {} solid sub-steps, over {} MPI ranks of {} threads; "
-                 "grains per rank: {}",
+                 "{} per rank: {}",
                  fresh_run ? "starting" : "resuming", model_->name, model_->scene_file, world_.time, end_time,
-                 model_->dt, model_->solid_substeps, ranks::size(), threads, shares);
+                 model_->dt, model_->solid_substeps, ranks::size(), threads, held, shares);
   }
-  double min_radius = world_.solids->size() ? *std::min_element(world_.solids->radius.begin(), world_.solids->radius.end())
-                                            : std::numeric_limits<double>::infinity();
+  double min_radius = grains && world_.solids->size()
+                          ? *std::min_element(world_.solids->radius.begin(), world_.solids->radius.end())
+                          : std::numeric_limits<double>::infinity();
   min_radius = -ranks::max(-min_radius);
   CheckpointStore checkpoints(checkpoint_dir, output_, model_->output.checkpoint_keep);
   const double dt = model_->dt;
@@ -1019,7 +1082,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       outcome.exit_code = kExitUnstable;
       outcome.message = message;
       write_on_root([&] {
-        write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*whole.solids, periodic_box(*model_)));
+        if (whole.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*whole.solids, periodic_box(*model_)));
       });
       break;
     }
@@ -1077,7 +1140,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   // Each rank's stepping time, its MPI calls' share (waiting for the others included) and grains: the balance of the
   // decomposition is that of the time outside the calls.
   const std::vector<double> seconds =
-      ranks::gather_all({stepping_seconds, static_cast<double>(world_.solids->size()), stepping_calls.exchange_seconds,
+      ranks::gather_all({stepping_seconds, held_here(), stepping_calls.exchange_seconds,
                          stepping_calls.reduce_seconds, static_cast<double>(stepping_calls.exchanges),
                          static_cast<double>(stepping_calls.reductions)});
   std::vector<SystemTimer> timers = stepper_->timers();
@@ -1093,17 +1156,22 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       const double computing = row[0] - row[2] - row[3];
       char text[320];
       std::snprintf(text, sizeof text,
-                    "\n  rank %zu: %lld grains, stepping %.3f s: computing %.3f s, exchanging %.3f s (%.0f calls), "
+                    "\n  rank %zu: %lld %s, stepping %.3f s: computing %.3f s, exchanging %.3f s (%.0f calls), "
                     "reducing %.3f s (%.0f calls)",
-                    r, static_cast<long long>(row[1]), row[0], computing, row[2], row[4], row[3], row[5]);
+                    r, static_cast<long long>(row[1]), held, row[0], computing, row[2], row[4], row[3], row[5]);
       balance += text;
       longest = std::max(longest, computing);
       sum += computing;
     }
     const double mean = sum / static_cast<double>(rank_count);
-    spdlog::info("ranks' stepping (imbalance, the longest computing time over the mean: {:.3f}; the MPI calls' times "
-                 "include waiting for the slowest rank; the boxes cut anew {} time(s) as the bed moved):{}",
-                 mean > 0.0 ? longest / mean : 1.0, world_.contacts->ranks.rebalances, balance);
+    if (grains)
+      spdlog::info("ranks' stepping (imbalance, the longest computing time over the mean: {:.3f}; the MPI calls' times "
+                   "include waiting for the slowest rank; the boxes cut anew {} time(s) as the bed moved):{}",
+                   mean > 0.0 ? longest / mean : 1.0, world_.contacts->ranks.rebalances, balance);
+    else
+      spdlog::info("ranks' stepping (imbalance, the longest computing time over the mean: {:.3f}; the MPI calls' times "
+                   "include waiting for the slowest rank, hypre's pressure solve not among them):{}",
+                   mean > 0.0 ? longest / mean : 1.0, balance);
     try {
       write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
     } catch (const std::exception& error) {

@@ -84,7 +84,10 @@ class Simulation {
   /// grains in its box of a recursive bisection (no message needed). The run then exchanges grains every sub-step.
   void split_over_ranks();
   /// True once split_over_ranks has run.
-  bool over_ranks() const { return world_.contacts && world_.contacts->ranks.active; }
+  bool over_ranks() const {
+    return (world_.contacts && world_.contacts->ranks.active) ||
+           (world_.fluid_neighbours && world_.fluid_neighbours->ranks.active);
+  }
   /// The whole world at rank 0, for the outputs of a run over ranks: every rank's grains (ordered by id), a neighbour
   /// list over them with every touching pair's spring, the wall contacts as the ranks had them. Collective; an empty
   /// world on the other ranks. Without `pairs` the list holds the wall contacts alone (what frames and probes read;

@@ -73,7 +73,14 @@ void Stepper::step() {
                                                          : 0.0;
   // Over MPI ranks every rank takes the same step: the fastest relaxation of any rank's grains.
   if (world_.contacts && world_.contacts->ranks.active) drag_rate = ranks::max(drag_rate);
-  world_.last_step = decide_step_lengths(model_, world_.fluid ? &*world_.fluid : nullptr, drag_rate);
+  std::optional<double> fluid_max_speed_squared;
+  if (world_.fluid) {
+    fluid_max_speed_squared = max_squared_speed(*world_.fluid);
+    // Over MPI ranks with the water spread over them: the fastest particle of any rank's.
+    if (world_.fluid_neighbours && world_.fluid_neighbours->ranks.active)
+      fluid_max_speed_squared = ranks::max(*fluid_max_speed_squared);
+  }
+  world_.last_step = decide_step_lengths(model_, fluid_max_speed_squared, drag_rate);
   const double dt = world_.last_step.dt;
   if (world_.fluid && dt < model_.fluid.min_dt) {
     // Name the fastest fluid particle: that is where the flow blew up.

@@ -1,5 +1,7 @@
 #include "systems/mps/fluid_checks.hpp"
 
+#include "systems/physics/ranks/rank_comm.hpp"
+
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -42,14 +44,24 @@ void FluidChecks::run(SystemContext& context) {
     return densities.free_surface[i] || !(densities.number_density[i] > 0.0) ? volume
                                                                              : volume * n0 / densities.number_density[i];
   });
-  const std::size_t interior = fluid_count - std::min(fluid_count, summary.surface_count);
-  summary.mean_density_ratio =
-      interior == 0 ? 1.0
-                    : deterministic_sum(fluid_count, [&](std::size_t i) {
-                        return densities.free_surface[i] ? 0.0 : densities.number_density[i] / n0;
-                      }) / static_cast<double>(interior);
+  double density_ratio_sum = deterministic_sum(fluid_count, [&](std::size_t i) {
+    return densities.free_surface[i] ? 0.0 : densities.number_density[i] / n0;
+  });
   double max_speed_squared = 0.0;
   for (std::size_t i = 0; i < fluid_count; ++i) max_speed_squared = std::max(max_speed_squared, particles.velocity[i].squaredNorm());
+  // Over MPI ranks the water's totals: each rank's sums added in rank order (the same for a given rank count).
+  // fluid_pressure has summed the surface count already.
+  if (over_ranks_) {
+    const std::vector<double> totals = ranks::sum_in_rank_order(
+        {static_cast<double>(fluid_count), summary.kinetic_energy, summary.volume, density_ratio_sum});
+    summary.fluid_count = static_cast<std::size_t>(totals[0]);
+    summary.kinetic_energy = totals[1];
+    summary.volume = totals[2];
+    density_ratio_sum = totals[3];
+    max_speed_squared = ranks::max(max_speed_squared);
+  }
+  const std::size_t interior = summary.fluid_count - std::min(summary.fluid_count, summary.surface_count);
+  summary.mean_density_ratio = interior == 0 ? 1.0 : density_ratio_sum / static_cast<double>(interior);
   summary.max_speed = std::sqrt(max_speed_squared);
   summary.courant = summary.max_speed * context.dt / constants_.spacing;
   context.count_items(fluid_count);

@@ -7,12 +7,14 @@
 
 #include "systems/system.hpp"
 #include "systems/physics/mps/mps_common.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
 
 class FluidChecks final : public System {
  public:
-  explicit FluidChecks(const FluidModel& fluid) : constants_(mps_constants(fluid)) {}
+  /// Over MPI ranks (the water spread over them) the summary's totals are summed over all the ranks.
+  explicit FluidChecks(const FluidModel& fluid) : constants_(mps_constants(fluid)), over_ranks_(ranks::distributed()) {}
   std::string_view name() const override { return "fluid_checks"; }
   Access access() const override {
     return {component_ids<ParticleState, ParticleDensity>(), component_ids<FluidSummary, StepStatus>()};
@@ -21,6 +23,7 @@ class FluidChecks final : public System {
 
  private:
   MpsConstants constants_;
+  bool over_ranks_ = false;
 };
 
 }  // namespace riffle

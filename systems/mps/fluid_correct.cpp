@@ -1,5 +1,7 @@
 #include "systems/mps/fluid_correct.hpp"
 
+#include "systems/physics/ranks/rank_comm.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -47,6 +49,10 @@ void FluidCorrect::run(SystemContext& context) {
   // The ghosts' p^{k+1} come from fluid_pressure's exchange, which runs only if that solve was built periodic (it
   // takes the model, as the searches' box does): a pipeline whose searches built a halo but whose solve did not
   // exchange would read past the ghost pressures. Refuse it by name rather than read garbage.
+  if (neighbours.ranks.active && neighbours.ghosts.pressure.size() != neighbours.ranks.ghost_count())
+    throw std::logic_error("fluid_correct: the neighbour lists hold " + std::to_string(neighbours.ranks.ghost_count()) +
+                           " ghosts from other ranks but fluid_pressure sent " +
+                           std::to_string(neighbours.ghosts.pressure.size()) + " ghost pressures");
   if (neighbours.halo.valid && neighbours.ghosts.pressure.size() != neighbours.halo.size())
     throw std::logic_error("fluid_correct: the neighbour lists hold " + std::to_string(neighbours.halo.size()) +
                            " periodic ghosts but fluid_pressure exchanged " +
@@ -78,6 +84,8 @@ void FluidCorrect::run(SystemContext& context) {
     for (std::size_t i = 0; i < fluid_count; ++i)
       reduced_minimum =
           std::min(reduced_minimum, pressures.pressure[i] - split_gradient.dot(prediction.predicted_position[i]));
+    // Over MPI ranks the minimum over all the water (a min is exact in any order).
+    if (neighbours.ranks.active) reduced_minimum = -ranks::max(-reduced_minimum);
   }
 
   for_each_particle(fluid_count, [&](std::size_t i) {

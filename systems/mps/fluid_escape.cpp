@@ -1,5 +1,7 @@
 #include "systems/mps/fluid_escape.hpp"
 
+#include "systems/physics/ranks/rank_comm.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
@@ -38,7 +40,10 @@ void FluidEscape::run(SystemContext& context) {
       },
       [](bool a, bool b) { return a || b; });
   context.count_items(fluid_count);
-  if (!any) return;
+  // Over MPI ranks every rank adds the removals of all (the counts stay the water's); the list is this rank's.
+  FluidNeighbours& neighbours = context.write<FluidNeighbours>();
+  const bool spread = neighbours.ranks.active;
+  if (!(spread ? ranks::any(any) : any)) return;
 
   std::vector<std::size_t> kept;
   kept.reserve(particles.size());
@@ -50,14 +55,21 @@ void FluidEscape::run(SystemContext& context) {
       summary.escaped.push_back(EscapedParticle{particles.id[i], particles.position[i], particles.velocity[i],
                                                 why == FluidEscapeKind::kLeftDomain});
   }
-  for (const EscapedParticle& particle : summary.escaped)
-    ++(particle.left_domain ? summary.removed_left_domain : summary.removed_lone_droplet);
+  std::size_t left_domain = 0, lone_droplet = 0;
+  for (const EscapedParticle& particle : summary.escaped) ++(particle.left_domain ? left_domain : lone_droplet);
+  if (spread) {
+    const std::vector<double> removed =
+        ranks::sum_in_rank_order({static_cast<double>(left_domain), static_cast<double>(lone_droplet)});
+    left_domain = static_cast<std::size_t>(removed[0]);
+    lone_droplet = static_cast<std::size_t>(removed[1]);
+  }
+  summary.removed_left_domain += left_domain;
+  summary.removed_lone_droplet += lone_droplet;
   for (std::size_t i = fluid_count; i < particles.size(); ++i) kept.push_back(i);
   const std::size_t before = particles.size();
   keep_fields(particles, kept);
   // The lists hold slots of the old table: the next search rebuilds them (its sizes no longer match). The built
   // positions follow the particles, so that it still measures how far each one moved since the build.
-  FluidNeighbours& neighbours = context.write<FluidNeighbours>();
   if (neighbours.built_positions.size() == before) keep_slots(neighbours.built_positions, kept);
   neighbours.reordered = true;
 }

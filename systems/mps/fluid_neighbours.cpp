@@ -2,6 +2,7 @@
 
 #include "systems/physics/geometry/cell_index.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/ranks/fluid_ranks.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -436,38 +437,69 @@ void FluidNeighbourSearch::exchange_ghosts(const ParticleState& particles, const
   halo_copy(halo, particles.kind, neighbours.ghosts.kind);
 }
 
+bool FluidNeighbourSearch::lists_still_valid(const std::vector<Vec3>& positions, std::size_t queries,
+                                             const FluidNeighbours& neighbours, double effective_radius,
+                                             const Vec3& tank_displacement) {
+  // Every pair within r_e now was within r_e + skin at the build if no particle has moved more than skin / 2.
+  const double built_skin = neighbours.radius - effective_radius;
+  if (!(built_skin >= 0.0 && neighbours.built_positions.size() == positions.size() &&
+        neighbours.particle_count() == queries))
+    return false;
+  const double limit = 0.25 * built_skin * built_skin;
+  const Vec3 frame_shift = tank_displacement - neighbours.built_tank_displacement;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, positions.size(), 4096), true,
+      [&](const tbb::blocked_range<std::size_t>& range, bool ok) {
+        for (std::size_t i = range.begin(); ok && i < range.end(); ++i)
+          ok = (positions[i] - neighbours.built_positions[i] - frame_shift).squaredNorm() <= limit;
+        return ok;
+      },
+      [](bool a, bool b) { return a && b; });
+}
+
+void FluidNeighbourSearch::exchange_rank_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions,
+                                                FluidNeighbours& neighbours) const {
+  FluidGhosts& ghosts = neighbours.ghosts;
+  exchange_fluid_ghost_positions(positions, neighbours.ranks,
+                                 at_ == Positions::kCurrent ? ghosts.position : ghosts.predicted_position);
+  exchange_fluid_ghost_field(particles.velocity, neighbours.ranks, ghosts.velocity);
+}
+
+void FluidNeighbourSearch::build_rank_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions,
+                                             double radius, FluidNeighbours& neighbours) const {
+  const double overflow = fluid_box_overflow(positions, neighbours.ranks);
+  FluidGhosts built;
+  build_fluid_rank_ghosts(particles, positions, radius + overflow, box_, neighbours.ranks, built);
+  FluidGhosts& ghosts = neighbours.ghosts;
+  (at_ == Positions::kCurrent ? ghosts.position : ghosts.predicted_position) = std::move(built.position);
+  ghosts.velocity = std::move(built.velocity);
+  ghosts.kind = std::move(built.kind);
+}
+
 void FluidNeighbourSearch::run(SystemContext& context) {
   const ParticleState& particles = context.read<ParticleState>();
   const ParticlePrediction& prediction = context.read<ParticlePrediction>();
   FluidNeighbours& neighbours = context.write<FluidNeighbours>();
   const std::vector<Vec3>& positions = at_ == Positions::kCurrent ? particles.position : prediction.predicted_position;
-  const bool periodic = box_.any();
+  const bool over_ranks = neighbours.ranks.active;
+  const bool periodic = box_.any() && !over_ranks;  // over ranks the images across the faces are rank ghosts
   const std::size_t queries = fluid_slot_count(particles);
   // Displacements are measured in the tank's frame: pair distances do not change under a common translation, and
   // the walls, which ride with the tank, then never use up the skin (otherwise the tank alone forces a rebuild
   // every few steps).
   const double time = at_ == Positions::kCurrent ? context.time : context.time + context.dt;
   const Vec3 tank_displacement = tank_kinematics(context.model.tank.motion, time).displacement;
-  // Every pair within r_e now was within r_e + skin at the build if no particle has moved more than skin / 2.
   const double built_skin = neighbours.radius - effective_radius_;
-  bool valid = built_skin >= 0.0 && neighbours.built_positions.size() == positions.size() &&
-               neighbours.particle_count() == queries;
-  if (valid) {
-    const double limit = 0.25 * built_skin * built_skin;
-    const Vec3 frame_shift = tank_displacement - neighbours.built_tank_displacement;
-    valid = tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, positions.size(), 4096), true,
-        [&](const tbb::blocked_range<std::size_t>& range, bool ok) {
-          for (std::size_t i = range.begin(); ok && i < range.end(); ++i)
-            ok = (positions[i] - neighbours.built_positions[i] - frame_shift).squaredNorm() <= limit;
-          return ok;
-        },
-        [](bool a, bool b) { return a && b; });
-  }
-  if (valid && !neighbours.reordered) {
-    if (periodic) exchange_ghosts(particles, positions, neighbours);
+  bool valid = lists_still_valid(positions, queries, neighbours, effective_radius_, tank_displacement);
+  // Over ranks the ghosts are built together: every rank rebuilds when any must.
+  bool keep = valid && !neighbours.reordered;
+  if (over_ranks) keep = !ranks::any(!keep);
+  if (keep) {
+    if (over_ranks) exchange_rank_ghosts(particles, positions, neighbours);
+    else if (periodic) exchange_ghosts(particles, positions, neighbours);
     return;
   }
+  if (over_ranks) valid = !ranks::any(!valid);  // the same skin on every rank
   context.count_items(positions.size());
   // A rebuild forced only by a reordering (FluidCellSort) says nothing about the flow: it keeps the last skin.
   const bool reordered_only = valid && neighbours.builds > 0;
@@ -477,7 +509,7 @@ void FluidNeighbourSearch::run(SystemContext& context) {
   // The grid rides with the tank, on the lattice (cells of the wide skin's radius) FluidCellSort orders the
   // particles by.
   const Vec3 grid_anchor = context.model.tank.origin + tank_displacement;
-  if (!periodic) {
+  if (!periodic && !over_ranks) {
     build_fluid_neighbours(positions, effective_radius_ + skin, neighbours, queries, grid_anchor,
                            effective_radius_ + skin_);
   } else {
@@ -485,8 +517,12 @@ void FluidNeighbourSearch::run(SystemContext& context) {
     // when a rebuild happens changes no result (a resumed run rebuilds at its first step): fluid_correct wraps r^k
     // at every step, and r* lies at most a step's travel beyond a face, where image_shifts still gives the one
     // image that comes back into the box.
-    build_halo(positions, particles.id, box_, effective_radius_ + skin, neighbours.halo);
-    exchange_ghosts(particles, positions, neighbours);
+    if (over_ranks) {
+      build_rank_ghosts(particles, positions, effective_radius_ + skin, neighbours);
+    } else {
+      build_halo(positions, particles.id, box_, effective_radius_ + skin, neighbours.halo);
+      exchange_ghosts(particles, positions, neighbours);
+    }
     const std::vector<Vec3>& ghost_positions =
         at_ == Positions::kCurrent ? neighbours.ghosts.position : neighbours.ghosts.predicted_position;
     std::vector<Vec3> all = positions;

@@ -55,6 +55,12 @@ FluidSearchSimd fluid_search_simd();
 /// a face jumps by one period, which uses up any skin and so forces the next rebuild. The halo reaches r_e + skin:
 /// a particle that comes within r_e of a face before the next rebuild was within r_e + skin / 2 of it at the build,
 /// as for the lists themselves.
+///
+/// Over MPI ranks (FluidNeighbours::ranks active) a rebuild is decided over all the ranks (any rank's particle past
+/// half the skin), and the ghosts are the other ranks' particles (and the images across periodic faces) within the
+/// list radius of this rank's box, widened by how far any rank's particle lies outside its box
+/// (fluid_box_overflow); between rebuilds their positions and velocities come from their owners. fluid_rank_migration
+/// has handed the particles to the ranks whose boxes hold them just before the step-start search rebuilds.
 class FluidNeighbourSearch final : public System {
  public:
   enum class Positions { kCurrent, kPredicted };
@@ -70,10 +76,23 @@ class FluidNeighbourSearch final : public System {
   }
   void run(SystemContext& context) override;
 
+  /// Whether the lists in `neighbours` still hold every pair within `effective_radius` of the particles at
+  /// `positions` (no particle, in the tank's frame, past half the skin they were built with; the same particles).
+  /// This rank's answer only; fluid_rank_migration asks it of the step-start search.
+  static bool lists_still_valid(const std::vector<Vec3>& positions, std::size_t queries,
+                                const FluidNeighbours& neighbours, double effective_radius,
+                                const Vec3& tank_displacement);
+
  private:
   /// Ghost positions (the ones searched at: r^k or r*), velocities and kinds from the reals.
   void exchange_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions,
                        FluidNeighbours& neighbours) const;
+  /// The same over MPI ranks: positions and velocities from the ghosts' owners (kinds come with the build).
+  void exchange_rank_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions,
+                            FluidNeighbours& neighbours) const;
+  /// Over MPI ranks: the ghosts within `radius` (widened by the boxes' overflow) of this rank's box, at `positions`.
+  void build_rank_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions, double radius,
+                         FluidNeighbours& neighbours) const;
 
   double effective_radius_;
   double skin_;

@@ -28,7 +28,15 @@ void FluidPressureSolve::run(SystemContext& context) {
       fluid_ghosted(prediction.predicted_position, neighbours.ghosts.predicted_position, neighbours);
   const Ghosted<Vec3> velocity_of = fluid_ghosted(particles.velocity, neighbours.ghosts.velocity, neighbours);
   const Ghosted<std::int32_t> kind_of = fluid_ghosted(particles.kind, neighbours.ghosts.kind, neighbours);
-  const auto row_of = [&](std::uint32_t j) { return row_of_[fluid_owner_of(neighbours, j)]; };
+  // Over MPI ranks (the water spread over them) the columns are global rows: this rank's after the lower ranks', a
+  // ghost's its owner's.
+  const bool spread = neighbours.ranks.active;
+  const std::uint32_t reals = static_cast<std::uint32_t>(particles.id.size());
+  const auto row_of = [&](std::uint32_t j) -> std::int64_t {
+    if (!spread) return row_of_[fluid_owner_of(neighbours, j)];
+    if (j >= reals) return rank_rows_.ghost_row[j - reals];
+    return row_of_[j] >= 0 ? static_cast<std::int64_t>(rank_rows_.first_row) + row_of_[j] : -1;
+  };
 
   // Unknowns: fluid particles off the free surface, in slot order (so the system is the same for any thread count).
   row_of_.assign(fluid_count, -1);
@@ -39,6 +47,11 @@ void FluidPressureSolve::run(SystemContext& context) {
     slot_of_.push_back(static_cast<std::uint32_t>(i));
   }
   const std::size_t unknowns = slot_of_.size();
+  if (spread) {
+    local_rows_.assign(reals, -1);
+    std::copy(row_of_.begin(), row_of_.end(), local_rows_.begin());
+    rank_rows_ = number_rows_over_ranks(local_rows_, neighbours.ranks);
+  }
   // Off-diagonal entries per row: the near neighbours (within r_e at r*) that are unknowns. Counting them first lets
   // the assembly write the compact rows in place.
   row_start_.resize(unknowns + 1);
@@ -109,6 +122,13 @@ void FluidPressureSolve::run(SystemContext& context) {
 
   const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
                               compact_values_.data()};
+  if (spread) {
+    const PressureSolveOutcome outcome =
+        hypre_over_ranks_.solve(matrix, PressureRowBlock{rank_rows_.first_row, rank_rows_.global_rows}, rhs_, solution_,
+                                fluid_.solver_tolerance, fluid_.solver_max_iterations);
+    finish(context, outcome);
+    return;
+  }
   if (fluid_.preconditioner == FluidModel::Preconditioner::kBoomerAmg) {
     const PressureSolveOutcome outcome =
         hypre_.solve(matrix, rhs_, solution_, fluid_.solver_tolerance, fluid_.solver_max_iterations);
@@ -214,6 +234,17 @@ void FluidPressureSolve::finish(SystemContext& context, const PressureSolveOutco
     pressures.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
   });
   // The exchange of p^{k+1}: fluid_correct reads the ghosts' pressures.
+  if (over_ranks_ && context.read<FluidNeighbours>().ranks.active) {
+    FluidNeighbours& halo_owner = context.write<FluidNeighbours>();
+    exchange_fluid_ghost_field(pressures.pressure, halo_owner.ranks, halo_owner.ghosts.pressure);
+    summary.solver_iterations = outcome.iterations;
+    summary.solver_residual = outcome.relative_residual;
+    summary.solver_unknowns = rank_rows_.global_rows;
+    summary.solver_converged = outcome.converged;
+    summary.surface_count = static_cast<std::size_t>(ranks::sum_in_rank_order({static_cast<double>(surface)})[0]);
+    context.count_items(slot_of_.size());
+    return;
+  }
   if (periodic_) {
     FluidNeighbours& halo_owner = context.write<FluidNeighbours>();
     halo_copy(halo_owner.halo, pressures.pressure, halo_owner.ghosts.pressure);

@@ -10,6 +10,7 @@
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/mps/hypre_pressure_solver.hpp"
 #include "systems/physics/mps/pressure_preconditioner.hpp"
+#include "systems/physics/ranks/fluid_ranks.hpp"
 
 namespace riffle {
 
@@ -24,10 +25,11 @@ class FluidPressureSolve final : public System {
       : fluid_(model.fluid),
         constants_(mps_constants(model.fluid)),
         kernel_(constants_.effective_radius),
-        periodic_(periodic_box(model).any()) {}
+        periodic_(periodic_box(model).any()),
+        over_ranks_(ranks::distributed()) {}
   std::string_view name() const override { return "fluid_pressure"; }
   Access access() const override {
-    if (periodic_)
+    if (periodic_ || over_ranks_)
       return {component_ids<ParticleState, ParticlePrediction, ParticleDensity>(),
               component_ids<ParticlePressure, FluidSummary, FluidNeighbours>()};
     return {component_ids<FluidNeighbours, ParticleState, ParticlePrediction, ParticleDensity>(),
@@ -44,6 +46,12 @@ class FluidPressureSolve final : public System {
   MpsConstants constants_;
   WendlandKernel kernel_;
   bool periodic_ = false;
+  /// A run over MPI ranks (the water may be spread over them): the solve then goes to hypre over all the ranks, each
+  /// rank's rows after the lower ranks' (number_rows_over_ranks), and the ghosts' pressures come from their owners.
+  bool over_ranks_ = false;
+  RankRows rank_rows_;                    ///< over ranks: this rank's first row, the global count, the ghosts' rows
+  std::vector<std::int32_t> local_rows_;  ///< over ranks: each particle's row on this rank (-1: none)
+  HyprePressureSolver hypre_over_ranks_{HyprePressureSolver::Ranks::kAll};
   std::vector<std::int32_t> row_of_;      ///< fluid slot -> unknown index, -1 on the surface
   std::vector<std::uint32_t> slot_of_;    ///< unknown index -> fluid slot
   std::vector<double> diagonal_, inverse_diagonal_;

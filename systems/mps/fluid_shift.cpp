@@ -1,5 +1,7 @@
 #include "systems/mps/fluid_shift.hpp"
 
+#include "systems/physics/ranks/fluid_ranks.hpp"
+
 #include <cmath>
 
 #include "systems/physics/mps/mps_operators.hpp"
@@ -38,6 +40,31 @@ void FluidShift::run(SystemContext& context) {
   };
   shift_.assign(fluid_count, Vec3::Zero());
   velocity_.resize(fluid_count);
+  // A neighbour slot's owner's displacement, velocity, kind and free-surface flag: the real's (a periodic ghost's
+  // owner's), or over MPI ranks a ghost's as its owner sent them.
+  const bool spread = neighbours.ranks.active;
+  const std::uint32_t reals = static_cast<std::uint32_t>(particles.id.size());
+  if (spread) {
+    displacement_.resize(reals);
+    for_each_particle(reals, [&](std::size_t i) { displacement_[i] = displacement(static_cast<std::uint32_t>(i)); });
+    exchange_fluid_ghost_field(displacement_, neighbours.ranks, ghost_displacement_);
+    exchange_fluid_ghost_field(particles.velocity, neighbours.ranks, ghost_velocity_);
+    exchange_fluid_ghost_field(densities.free_surface, neighbours.ranks, ghost_free_surface_);
+  }
+  const auto displacement_of = [&](std::uint32_t j) {
+    return spread && j >= reals ? ghost_displacement_[j - reals] : displacement(fluid_owner_of(neighbours, j));
+  };
+  const auto velocity_of = [&](std::uint32_t j) -> const Vec3& {
+    return spread && j >= reals ? ghost_velocity_[j - reals] : particles.velocity[fluid_owner_of(neighbours, j)];
+  };
+  const auto fluid_at = [&](std::uint32_t j) {
+    return (spread && j >= reals ? neighbours.ghosts.kind[j - reals] : particles.kind[fluid_owner_of(neighbours, j)]) ==
+           kFluidKind;
+  };
+  const auto surface_at = [&](std::uint32_t j) {
+    return (spread && j >= reals ? ghost_free_surface_[j - reals]
+                                 : densities.free_surface[fluid_owner_of(neighbours, j)]) != 0;
+  };
 
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = prediction.predicted_position[i] + displacement(static_cast<std::uint32_t>(i));
@@ -47,19 +74,18 @@ void FluidShift::run(SystemContext& context) {
     GradientMoment moment;
     bool near_surface = densities.free_surface[i] != 0;
     for (const std::uint32_t j : neighbours_of(neighbours, i)) {
-      const std::uint32_t owner = fluid_owner_of(neighbours, j);
-      const Vec3 offset = predicted_of[j] + displacement(owner) - position;
+      const Vec3 offset = predicted_of[j] + displacement_of(j) - position;
       const double distance_squared = offset.squaredNorm();
       if (distance_squared >= radius_squared || distance_squared == 0.0) continue;
       const double distance = std::sqrt(distance_squared);
       const double weight = kernel.weight(distance);
       concentration_gradient += concentration_gradient_term(kernel.derivative_over_distance(distance), offset);
       outward -= weight * offset;
-      const bool fluid_partner = particles.kind[owner] == kFluidKind;
-      if (fluid_partner && densities.free_surface[owner] != 0) near_surface = true;
+      const bool fluid_partner = fluid_at(j);
+      if (fluid_partner && surface_at(j)) near_surface = true;
       if (carry_velocity) {
         const double weight_over_squared = weight / distance_squared;
-        velocity_sum += (weight_over_squared * (particles.velocity[owner] - velocity)) * offset.transpose();
+        velocity_sum += (weight_over_squared * (velocity_of(j) - velocity)) * offset.transpose();
         moment.add(weight, weight_over_squared, offset);
       }
     }
@@ -75,8 +101,7 @@ void FluidShift::run(SystemContext& context) {
     // may come to one), so that a shift never carries water into a wall, whatever grad C says there.
     const double guard_squared = std::pow(stabilisation_distance + max_length, 2);
     for (const std::uint32_t j : neighbours_of(neighbours, i)) {
-      const std::uint32_t owner = fluid_owner_of(neighbours, j);
-      if (particles.kind[owner] == kFluidKind) continue;
+      if (fluid_at(j)) continue;
       const Vec3 offset = predicted_of[j] - position;  // walls and dummies: r* is r^{k+1}
       if (offset.squaredNorm() >= guard_squared) continue;
       shift = shift_off_wall(shift, offset);

@@ -28,6 +28,10 @@ class FluidShift final : public System {
   MpsConstants constants_;
   WendlandKernel kernel_;
   std::vector<Vec3> shift_, velocity_;  // scratch: every shift is computed before any particle moves
+  // Over MPI ranks, what a ghost's owner on another rank holds and the shift reads: its correction's displacement,
+  // its corrected velocity and its free-surface flag (the reals' displacements in `displacement_`).
+  std::vector<Vec3> displacement_, ghost_displacement_, ghost_velocity_;
+  std::vector<std::int32_t> ghost_free_surface_;
 };
 
 }  // namespace riffle

@@ -70,13 +70,17 @@ inline NeighbourRange near_neighbours_of(const FluidNeighbours& neighbours, std:
 }
 
 /// A field of the MPS particles over the slots a neighbour list holds: [0, N) the reals, [N, N + G) the ghost copies
-/// of a periodic tank's halo (FluidNeighbours::halo, ::ghosts). Without a halo every slot is real.
+/// of a periodic tank's halo (FluidNeighbours::halo, ::ghosts) or, over MPI ranks, of the other ranks' particles
+/// (FluidNeighbours::ranks). Without either every slot is real.
 template <class T>
 Ghosted<T> fluid_ghosted(const std::vector<T>& real, const std::vector<T>& ghost, const FluidNeighbours& neighbours) {
   return {real.data(), ghost.data(),
-          neighbours.halo.valid ? neighbours.halo.real_count : std::numeric_limits<std::uint32_t>::max()};
+          neighbours.ranks.active ? neighbours.ranks.real_count
+          : neighbours.halo.valid ? neighbours.halo.real_count
+                                  : std::numeric_limits<std::uint32_t>::max()};
 }
-/// The real particle behind a neighbour slot (the slot itself without a halo).
+/// The real particle behind a neighbour slot (the slot itself without a halo). Over MPI ranks a ghost's owner is on
+/// another rank: its fields come as ghost fields (fluid_ranks.hpp), and this is not to be asked.
 inline std::uint32_t fluid_owner_of(const FluidNeighbours& neighbours, std::uint32_t j) {
   return neighbours.halo.valid ? neighbours.halo.owner_of(j) : j;
 }

@@ -89,14 +89,15 @@ std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& ha
   return left;
 }
 
-void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<Vec3>& positions, double reach,
+void build_fluid_rank_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions, double reach,
                              const PeriodicBox& box, FluidRankHalo& halo, FluidGhosts& ghosts) {
   const auto count = static_cast<std::size_t>(ranks::size());
   const auto me = static_cast<std::size_t>(ranks::rank());
-  if (positions.size() != particles.size())
+  const std::size_t reals = particles.id.size();
+  if (positions.size() != reals)
     throw std::logic_error("build_fluid_rank_ghosts: " + std::to_string(positions.size()) + " positions for " +
-                           std::to_string(particles.size()) + " particles");
-  halo.real_count = static_cast<std::uint32_t>(particles.size());
+                           std::to_string(reals) + " particles");
+  halo.real_count = static_cast<std::uint32_t>(reals);
   halo.send_slots.assign(count, {});
   halo.send_shift.assign(count, {});
   const std::vector<Vec3> shifts = periodic_image_shifts(box);
@@ -106,7 +107,7 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
     std::vector<std::uint32_t>& slots = halo.send_slots[r];
     std::vector<Vec3>& sent_shift = halo.send_shift[r];
     ByteWriter out(outgoing[r]);
-    for (std::size_t i = 0; i < particles.size(); ++i)
+    for (std::size_t i = 0; i < reals; ++i)
       for (const Vec3& shift : shifts) {
         if (r == me && shift.isZero(0.0)) continue;  // its own particles are reals here
         const Vec3 image = positions[i] + shift;
@@ -130,6 +131,14 @@ void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<
     ghosts.position.push_back(in.get<Vec3>());
     ghosts.velocity.push_back(in.get<Vec3>());
   });
+}
+
+double fluid_box_overflow(const std::vector<Vec3>& positions, const FluidRankHalo& halo) {
+  const auto me = static_cast<std::size_t>(ranks::rank());
+  const PartBox own{halo.box_low[me], halo.box_high[me]};
+  double overflow = 0.0;
+  for (const Vec3& position : positions) overflow = std::max(overflow, distance_to_box(own, position));
+  return ranks::max(overflow);
 }
 
 void check_fluid_ghost_build(std::size_t reals, const FluidRankHalo& halo) {

@@ -10,8 +10,8 @@
 //   - where a periodic tank copies its ghosts' fields (the searches' positions and velocities, the pressures after
 //     the solve): the same fields from their owners, point to point (exchange_fluid_ghost_field).
 // The fluid slots stay first in every rank's table (fluid_slot_count: the neighbour lists are built for them).
-// The first piece of the water over ranks: these functions and their test (tests/mpi/fluid_ranks.cpp); the systems
-// do not call them yet (docs/SCALING.md, "Not built yet").
+// The systems call them where the water meets the ranks (systems/mps/: fluid_rank_migration, the searches, the
+// pressure solve, the correction, the shifting); tests/mpi/fluid_ranks.cpp tests them alone.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -46,8 +46,14 @@ std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& ra
 /// the others send. `positions` are those the search uses (r^k or r*). In a periodic tank each particle's images
 /// across the periodic faces go too (to this rank as well, so the ranks' ghosts replace the periodic halo): a ghost is
 /// then an image, its position the real's plus whole periods. Collective.
-void build_fluid_rank_ghosts(const FluidParticles& particles, const std::vector<Vec3>& positions, double reach,
+void build_fluid_rank_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions, double reach,
                              const PeriodicBox& box, FluidRankHalo& ranks, FluidGhosts& ghosts);
+
+/// How far the farthest of any rank's particles lies outside its rank's box at `positions` (0 when all are inside),
+/// the same on every rank. A particle leaves its box between migrations (the lists' skin allows half a skin) and r*
+/// may lie up to a step's travel past a periodic face: the ghosts' reach grows by this, so that every particle within
+/// the lists' radius of a real is a real or a ghost whatever box the real sits in. Collective.
+double fluid_box_overflow(const std::vector<Vec3>& positions, const FluidRankHalo& ranks);
 
 /// The ghosts' positions from their owners' `real` positions (r^k or r*) plus each copy's periodic shift, along the
 /// last build's send lists, point to point. Collective.

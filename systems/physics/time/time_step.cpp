@@ -9,8 +9,6 @@
 
 namespace riffle {
 
-namespace {
-
 /// Largest squared speed of the fluid particles (slots [0, F)); max is exact, so the reduction order does not matter.
 double max_squared_speed(const ParticleState& particles) {
   const std::size_t fluid_count = fluid_slot_count(particles);
@@ -23,6 +21,8 @@ double max_squared_speed(const ParticleState& particles) {
       },
       [](double a, double b) { return std::max(a, b); });
 }
+
+namespace {
 
 /// Takes `candidate` when it is shorter (std::min's rule: ties keep the current step), naming the limit.
 void shorten(StepLengths& lengths, double candidate, StepLimit limit) {
@@ -61,12 +61,16 @@ double water_drag_rate(const Model& model, const GrainState& grains, const Grain
 }
 
 StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid, double drag_rate) {
+  return decide_step_lengths(model, fluid ? std::optional<double>(max_squared_speed(*fluid)) : std::nullopt, drag_rate);
+}
+
+StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_max_speed_squared, double drag_rate) {
   StepLengths lengths;
   lengths.dt = model.dt;
   lengths.drag_rate = drag_rate;
-  if (fluid) {
+  if (fluid_max_speed_squared) {
     const FluidModel& water = model.fluid;
-    const double max_speed_squared = max_squared_speed(*fluid);
+    const double max_speed_squared = *fluid_max_speed_squared;
     if (max_speed_squared > 0.0)
       shorten(lengths, water.courant * water.spacing / std::sqrt(max_speed_squared), StepLimit::kCourant);
     if (water.kinematic_viscosity > 0.0)

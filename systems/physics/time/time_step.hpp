@@ -4,6 +4,7 @@
 // by the water's relaxation under the grains' drag (docs/COUPLING.md, "The drag's step limit"), then split into
 // sub-steps no longer than the scene's solid_dt(). The stepper asks once per step and stores the
 // answer in the World; the diagnostics print it.
+#include <optional>
 #include <cstdint>
 
 #include "components/model.hpp"
@@ -32,5 +33,10 @@ double water_drag_rate(const Model& model, const GrainState& grains, const Grain
 /// step is at most coupling.drag_number / drag_rate. A step below fluid.min_dt is returned as it is; the stepper
 /// stops on it.
 StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid, double drag_rate = 0.0);
+/// The same from the water's largest squared speed (none: no water), given where it is not this table's: over MPI
+/// ranks, the largest of every rank's (max_squared_speed).
+StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_max_speed_squared, double drag_rate);
+/// The largest |u|^2 of the table's fluid particles (0 without any).
+double max_squared_speed(const ParticleState& particles);
 
 }  // namespace riffle

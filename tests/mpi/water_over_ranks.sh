@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# `mpirun -np N riffle run|resume` for scenes of water alone (the MPS particles spread over the ranks: fluid_ranks.hpp,
+# fluid_rank_migration, the searches' rank ghosts, the pressure solved by hypre over all the ranks): each run on 2 and
+# 4 ranks against 1 rank, particle by particle (matched by id) in its ParaView frames, a checkpoint of 2 ranks resumed
+# on 1 and 3, and a scene of grains in water refused with its reason.
+#
+# Tolerances: one rank solves the same pressure equation with hypre alone (the scenes ask for "boomeramg"), the ranks
+# with hypre over all of them; both stop at |r| <= 1e-8 |b| (fluid.solver_tolerance), at other iterates, so each
+# step's pressures differ by about that fraction and the flows by its accumulation over the steps. The bounds
+# (1e-8 m = 4e-6 l0 in position, 1e-6 of the largest speed, 1e-5 of the largest pressure) are far above rounding and
+# that accumulation over these runs' 80-200 steps, and far below anything a flow of these sizes shows (a wrong ghost
+# or a missed neighbour moves a particle by a fraction of l0 within a few steps).
+#   tests/mpi/water_over_ranks.sh RIFFLE MPIEXEC SOURCE_DIR WORK_DIR
+set -u
+RIFFLE=$1 MPIEXEC=$2 SRC=$3 WORK=$4
+rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK" || exit 2
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+export OMPI_MCA_mpi_yield_when_idle=1
+failures=0
+check() {  # check DESCRIPTION COMMAND...
+  local description=$1
+  shift
+  if "$@"; then echo "ok: $description"; else echo "FAILED: $description"; failures=$((failures + 1)); fi
+}
+ranks() {  # ranks N ARGS...: riffle on N ranks (1: without mpiexec)
+  local n=$1
+  shift
+  if [ "$n" = 1 ]; then timeout -k 5 300 "$RIFFLE" "$@"; else timeout -k 5 300 "$MPIEXEC" -n "$n" "$RIFFLE" "$@"; fi
+}
+compare() { /usr/bin/python3 "$SRC/tests/mpi/compare_fluid_frames.py" "$@"; }
+
+# Periodic water over a block (periodic along x and y, a free surface, shifting): 0.06 s, 120 steps.
+block="$SRC/tests/data/periodic_water_over_block.toml"
+for n in 1 2 4; do
+  ranks "$n" run "$block" --out "block$n" --until 0.06 --threads 1 >"block$n.out" 2>&1
+  check "the periodic water over a block runs on $n rank(s)" [ $? = 0 ]
+done
+check "... rank 0 wrote the outputs once and reported each rank's particles" \
+  bash -c "[ -s block2/diagnostics.csv ] && [ -s block2/checkpoints/final.ckpt ] &&
+           [ \$(grep -c 'finished at' block2/riffle.log) = 1 ] && grep -qF 'MPS particles, stepping' block2/riffle.log"
+for n in 2 4; do
+  check "... on $n ranks as on one, particle by particle, at t = 0.02, 0.04, 0.06 s" compare block1 "block$n" 1 2 3
+done
+check "... the water's totals in diagnostics.csv: the same particle count and volume to 1e-9" \
+  /usr/bin/python3 -c "
+import csv
+rows = [list(csv.DictReader(open(f'block{n}/diagnostics.csv')))[-1] for n in (1, 2, 4)]
+for row in rows[1:]:
+    assert row['fluid_particles'] == rows[0]['fluid_particles'], row['fluid_particles']
+    assert row['ppe_unknowns'] == rows[0]['ppe_unknowns'] or abs(int(row['ppe_unknowns']) - int(rows[0]['ppe_unknowns'])) <= 2
+    assert abs(float(row['fluid_volume_m3']) / float(rows[0]['fluid_volume_m3']) - 1) < 1e-9
+"
+
+# A checkpoint of 2 ranks (t = 0.05 s) resumed on 1 and 3 ranks goes on as the 2-rank run did.
+for n in 1 3; do
+  ranks "$n" resume block2/checkpoints/step_0000000100.ckpt --out "resumed$n" --until 0.06 --threads 1 \
+    >"resumed$n.out" 2>&1
+  check "the 2-rank checkpoint at t = 0.05 s resumes on $n rank(s)" [ $? = 0 ]
+  check "... and reaches t = 0.06 s as the 2-rank run did" compare block2 "resumed$n" 3
+done
+
+# The dam break (3,200 fluid particles in a column at one end of a 0.5 m tank of 42,800 wall and dummy particles):
+# over 4 ranks the boxes cut the column itself (over 2 the one cut lies beyond the water until the front reaches
+# it, at about 0.1 s). 0.04 s, 40 steps.
+sed 's/^spacing = 0.005 .*/spacing = 0.005\npreconditioner = "boomeramg"/' "$SRC/scenes/dam_break.toml" >dam.toml
+for n in 1 4; do
+  ranks "$n" run dam.toml --out "dam$n" --until 0.04 --threads 1 >"dam$n.out" 2>&1
+  check "the dam break runs on $n rank(s)" [ $? = 0 ]
+done
+check "... on 4 ranks as on one, particle by particle, at t = 0.02 and 0.04 s" compare dam1 dam4 1 2
+
+ranks 2 run "$SRC/scenes/ergun_plug.toml" --out grains_in_water --until 0.01 >grains_in_water.out 2>&1
+rc=$?
+check "a scene of grains in water on two ranks exits 1" [ $rc = 1 ]
+check "... naming why, with nothing written" \
+  bash -c "grep -qF 'cannot spread this scene over 2 MPI ranks' grains_in_water.out && [ ! -e grains_in_water ]"
+
+echo "$failures check(s) failed"
+[ "$failures" = 0 ]
