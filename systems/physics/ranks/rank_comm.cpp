@@ -56,6 +56,16 @@ void check(int code, const char* call) {
   if (code != MPI_SUCCESS) throw std::runtime_error(std::string(call) + " failed (MPI error " + std::to_string(code) + ")");
 }
 
+/// The rank layer's own communicator: MPI_COMM_WORLD duplicated at the first exchange or reduction (every rank makes
+/// the same calls in the same order, so the first is collective). hypre's solves run on MPI_COMM_WORLD and may post
+/// receives from any source: on a communicator of their own, the point-to-point exchanges here can never be taken
+/// by one of them, whatever their tags.
+MPI_Comm comm() {
+  static MPI_Comm duplicate = MPI_COMM_NULL;
+  if (duplicate == MPI_COMM_NULL) check(MPI_Comm_dup(MPI_COMM_WORLD, &duplicate), "MPI_Comm_dup");
+  return duplicate;
+}
+
 int to_int(std::size_t count) {
   if (count > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::runtime_error("an MPI message of " + std::to_string(count) + " bytes is beyond MPI's int counts");
@@ -99,7 +109,7 @@ bool any(bool flag) {
   if (size() == 1) return flag;
   const CallTimer timer(times.reduce_seconds, times.reductions);
   int local = flag ? 1 : 0, global = 0;
-  check(MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD), "MPI_Allreduce");
+  check(MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_LOR, comm()), "MPI_Allreduce");
   return global != 0;
 }
 
@@ -107,7 +117,7 @@ double max(double value) {
   if (size() == 1) return value;
   const CallTimer timer(times.reduce_seconds, times.reductions);
   double global = 0.0;
-  check(MPI_Allreduce(&value, &global, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+  check(MPI_Allreduce(&value, &global, 1, MPI_DOUBLE, MPI_MAX, comm()), "MPI_Allreduce");
   return global;
 }
 
@@ -116,12 +126,12 @@ std::vector<double> gather_all(const std::vector<double>& values) {
   const CallTimer timer(times.reduce_seconds, times.reductions);
   const int count = to_int(values.size());
   std::vector<int> counts(static_cast<std::size_t>(size()));
-  check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather");
+  check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm()), "MPI_Allgather");
   std::vector<int> displacements(counts.size(), 0);
   for (std::size_t r = 1; r < counts.size(); ++r) displacements[r] = displacements[r - 1] + counts[r - 1];
   std::vector<double> all(static_cast<std::size_t>(displacements.back() + counts.back()));
   check(MPI_Allgatherv(values.data(), count, MPI_DOUBLE, all.data(), counts.data(), displacements.data(), MPI_DOUBLE,
-                       MPI_COMM_WORLD),
+                       comm()),
         "MPI_Allgatherv");
   return all;
 }
@@ -144,7 +154,7 @@ std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::
   const CallTimer timer(times.exchange_seconds, times.exchanges);
   std::vector<int> send_counts(ranks), receive_counts(ranks), send_at(ranks, 0), receive_at(ranks, 0);
   for (std::size_t r = 0; r < ranks; ++r) send_counts[r] = to_int(outgoing[r].size());
-  check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, MPI_COMM_WORLD),
+  check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, receive_counts.data(), 1, MPI_INT, comm()),
         "MPI_Alltoall");
   std::vector<std::byte> send_buffer, receive_buffer;
   for (std::size_t r = 0; r < ranks; ++r) {
@@ -158,7 +168,7 @@ std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::
   }
   receive_buffer.resize(total);
   check(MPI_Alltoallv(send_buffer.data(), send_counts.data(), send_at.data(), MPI_BYTE, receive_buffer.data(),
-                      receive_counts.data(), receive_at.data(), MPI_BYTE, MPI_COMM_WORLD),
+                      receive_counts.data(), receive_at.data(), MPI_BYTE, comm()),
         "MPI_Alltoallv");
   std::vector<std::vector<std::byte>> incoming(ranks);
   for (std::size_t r = 0; r < ranks; ++r)
@@ -192,14 +202,14 @@ std::vector<std::vector<std::byte>> exchange_known(const std::vector<std::vector
     received_from.push_back(r);
     requests.emplace_back();
     check(MPI_Irecv(incoming[r].data(), to_int(incoming_bytes[r]), MPI_BYTE, static_cast<int>(r), kTag,
-                    MPI_COMM_WORLD, &requests.back()),
+                    comm(), &requests.back()),
           "MPI_Irecv");
   }
   for (std::size_t r = 0; r < ranks; ++r) {
     if (r == me || outgoing[r].empty()) continue;
     requests.emplace_back();
     check(MPI_Isend(outgoing[r].data(), to_int(outgoing[r].size()), MPI_BYTE, static_cast<int>(r), kTag,
-                    MPI_COMM_WORLD, &requests.back()),
+                    comm(), &requests.back()),
           "MPI_Isend");
   }
   std::vector<MPI_Status> statuses(requests.size());
@@ -230,14 +240,14 @@ std::vector<std::vector<std::byte>> gather_at_root(const std::vector<std::byte>&
 std::vector<std::byte> broadcast_from_root(std::vector<std::byte> bytes) {
   if (size() == 1) return bytes;
   unsigned long long count = bytes.size();
-  check(MPI_Bcast(&count, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  check(MPI_Bcast(&count, 1, MPI_UNSIGNED_LONG_LONG, 0, comm()), "MPI_Bcast");
   bytes.resize(static_cast<std::size_t>(count));
-  check(MPI_Bcast(bytes.data(), to_int(bytes.size()), MPI_BYTE, 0, MPI_COMM_WORLD), "MPI_Bcast");
+  check(MPI_Bcast(bytes.data(), to_int(bytes.size()), MPI_BYTE, 0, comm()), "MPI_Bcast");
   return bytes;
 }
 
 void barrier() {
-  if (size() > 1) check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier");
+  if (size() > 1) check(MPI_Barrier(comm()), "MPI_Barrier");
 }
 
 void abort(int code) {
