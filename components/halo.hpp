@@ -125,6 +125,7 @@ struct FluidRankHalo {
   std::vector<std::vector<Vec3>> send_shift;
   std::vector<std::uint32_t> receive_offsets;          ///< [ranks + 1] the ghosts from rank r: [offsets[r], offsets[r+1])
   std::uint64_t particles_sent = 0;        ///< particles this rank has handed to others so far (migrations)
+  std::uint64_t rebalances = 0;            ///< times the boxes were cut anew since the split (the same on every rank)
   std::size_t ghost_count() const { return ghost_id.size(); }
 };
 

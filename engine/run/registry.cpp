@@ -43,7 +43,7 @@ Pipeline build_pipeline(const Model& model) {
     using At = FluidNeighbourSearch::Positions;
     const PeriodicBox box = periodic_box(model);  // no periodic axis: the searches build no halo
     // Over MPI ranks the particles go to the ranks whose boxes hold them before the step-start search rebuilds.
-    if (ranks::distributed()) pipeline.step.push_back(std::make_unique<FluidRankMigration>(fluid.effective_radius(), box));
+    if (ranks::distributed()) pipeline.step.push_back(std::make_unique<FluidRankMigration>(fluid.effective_radius(), fluid.effective_radius() + skin, box));
     pipeline.step.push_back(
         std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent, box));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));

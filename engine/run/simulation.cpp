@@ -551,7 +551,8 @@ void Simulation::split_over_ranks() {
       }
     if (box.any())
       for (Vec3& position : world_.fluid->position) position = box.wrap(position);
-    split_fluid_over_ranks(*world_.fluid, world_.fluid_neighbours->ranks, domain.low, domain.high);
+    const double reach = model_->fluid.effective_radius() + model_->fluid.neighbour_skin_ratio * model_->fluid.spacing;
+    split_fluid_over_ranks(*world_.fluid, world_.fluid_neighbours->ranks, domain.low, domain.high, reach);
   }
   if (!world_.solids || !world_.contacts) return;
   // The boxes tile the grains' domain; along a periodic axis the period itself (a grain past a face is wrapped
@@ -1170,8 +1171,9 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
                    mean > 0.0 ? longest / mean : 1.0, world_.contacts->ranks.rebalances, balance);
     else
       spdlog::info("ranks' stepping (imbalance, the longest computing time over the mean: {:.3f}; the MPI calls' times "
-                   "include waiting for the slowest rank, hypre's pressure solve not among them):{}",
-                   mean > 0.0 ? longest / mean : 1.0, balance);
+                   "include waiting for the slowest rank, hypre's pressure solve not among them; the boxes cut anew "
+                   "{} time(s) as the water moved):{}",
+                   mean > 0.0 ? longest / mean : 1.0, world_.fluid_neighbours->ranks.rebalances, balance);
     try {
       write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
     } catch (const std::exception& error) {

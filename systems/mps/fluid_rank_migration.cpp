@@ -3,6 +3,7 @@
 #include "systems/mps/fluid_neighbours.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
 #include "systems/physics/ranks/fluid_ranks.hpp"
+#include "systems/physics/ranks/grain_ranks.hpp"
 
 namespace riffle {
 
@@ -21,6 +22,7 @@ void FluidRankMigration::run(SystemContext& context) {
   // A particle past a periodic face belongs to the box that holds it wrapped (fluid_correct wraps r^k already).
   if (box_.any())
     for (Vec3& position : particles.position) position = box_.wrap(position);
+  rebalance_fluid_ranks(particles, neighbours.ranks, reach_, kRebalanceAbove);
   const std::size_t left = migrate_fluid_particles(particles, neighbours.ranks);
   context.count_items(left);
   // The lists and built positions hold the old slots: the search rebuilds them.

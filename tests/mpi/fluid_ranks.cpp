@@ -6,6 +6,8 @@
 //     every particle equal, bit for bit, to the whole table's (after the split, and after a migration);
 //   - the ghosts complete: every owned particle (fluid, wall or dummy) sees, among its rank's reals and ghosts,
 //     exactly the particles the whole table has within r_e of it (the same ids), at the moved positions;
+//   - the water squeezed into the domain's lower corner: the boxes cut anew by the work they hold, the particles migrated into
+//     them, every box within 1.1 of the mean work;
 //   - a field exchanged to the ghosts (a value of each particle's id) equal to their owners';
 //   - a system with a row per fluid particle and the pressure equation's pattern, assembled per rank with global
 //     columns and solved by hypre over the ranks, as the whole table's solved alone (to 1e-9).
@@ -27,6 +29,7 @@
 #include "systems/physics/geometry/recursive_bisection.hpp"
 #include "systems/physics/mps/hypre_pressure_solver.hpp"
 #include "systems/physics/ranks/fluid_ranks.hpp"
+#include "systems/physics/ranks/grain_ranks.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 
 namespace {
@@ -273,6 +276,30 @@ int main(int argc, char** argv) {
                 rows.global_rows, static_cast<long long>(outcome.iterations), difference / largest);
     // Both solves stop at |r| <= 1e-12 |b|, the system's condition number is a few tens: 1e-9 is far above either's error.
     expect(difference <= 1e-9 * largest, "the solution over the ranks as the whole table's to 1e-9", difference / largest);
+  }
+
+  // The water pushed into the lower corner of the domain (every axis halved toward its low end): the boxes' work
+  // grows unequal whichever way they were cut, they are cut anew (rebalance_fluid_ranks) and the particles migrate
+  // into them; then every particle is on one rank again, in its box, and no box holds more than 1.1 times the mean.
+  {
+    const auto squeeze = [&](const Vec3& position) -> Vec3 { return domain.low + 0.5 * (position - domain.low); };
+    for (Vec3& position : whole.position) position = squeeze(position);
+    for (Vec3& position : mine.position) position = squeeze(position);
+    const double work_reach = reach + 0.2 * spacing;
+    const bool cut = rebalance_fluid_ranks(mine, halo, work_reach, kRebalanceAbove);
+    if (count > 1) expect(cut, "the boxes cut anew once the water is squeezed into a corner", 0.0);
+    migrate_fluid_particles(mine, halo);
+    check_ownership("rebalanced");
+    const std::vector<double> work = fluid_work_per_box(mine, halo, work_reach);
+    double total = 0.0, largest = 0.0;
+    for (const double w : work) {
+      total += w;
+      largest = std::max(largest, w);
+    }
+    const double imbalance = largest / (total / static_cast<double>(work.size()));
+    if (rank == 0) std::printf("after the rebalance: the largest box's work over the mean %.4f\n", imbalance);
+    // The bisection cuts at weighted medians: off by at most a few particles' weight a cut.
+    expect(imbalance <= kRebalanceAbove, "the boxes' work within 1.1 of the mean after the rebalance", imbalance);
   }
 
   const bool failed = ranks::any(failures > 0);

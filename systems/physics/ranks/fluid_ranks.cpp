@@ -1,8 +1,12 @@
 #include "systems/physics/ranks/fluid_ranks.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
 
 #include "systems/physics/geometry/recursive_bisection.hpp"
 
@@ -32,16 +36,51 @@ void fluid_first(FluidParticles& particles) {
 
 }  // namespace
 
+std::vector<double> fluid_work_weights(const ParticleState& particles, double reach) {
+  const std::size_t count = particles.id.size();
+  const auto fluid = static_cast<std::int32_t>(FluidKind::kFluid);
+  std::vector<double> weights(count, kFluidWallWeight);
+  // The cells of `reach` that hold fluid; a wall or dummy is near the water when one of the 27 around its own does.
+  std::unordered_set<std::int64_t> wet;
+  const auto cell_of = [&](const Vec3& position) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(position.x() / reach)),
+                                       static_cast<std::int64_t>(std::floor(position.y() / reach)),
+                                       static_cast<std::int64_t>(std::floor(position.z() / reach))};
+  };
+  const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+    constexpr std::int64_t kSpan = std::int64_t{1} << 20;  // cells per axis a key tells apart (wraps beyond)
+    return ((x & (kSpan - 1)) << 40) | ((y & (kSpan - 1)) << 20) | (z & (kSpan - 1));
+  };
+  if (reach > 0.0)
+    for (std::size_t i = 0; i < count; ++i)
+      if (particles.kind[i] == fluid) {
+        const auto c = cell_of(particles.position[i]);
+        wet.insert(key(c[0], c[1], c[2]));
+      }
+  for (std::size_t i = 0; i < count; ++i) {
+    if (particles.kind[i] == fluid) {
+      weights[i] = 1.0;
+      continue;
+    }
+    if (!(reach > 0.0)) continue;
+    const auto c = cell_of(particles.position[i]);
+    bool near = false;
+    for (std::int64_t dz = -1; dz <= 1 && !near; ++dz)
+      for (std::int64_t dy = -1; dy <= 1 && !near; ++dy)
+        for (std::int64_t dx = -1; dx <= 1 && !near; ++dx) near = wet.count(key(c[0] + dx, c[1] + dy, c[2] + dz)) > 0;
+    weights[i] = near ? kFluidWallWeight : kFluidFarWallWeight;
+  }
+  return weights;
+}
+
 void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& halo, const Vec3& domain_low,
-                            const Vec3& domain_high) {
+                            const Vec3& domain_high, double reach) {
   const int me = ranks::rank(), count = ranks::size();
   halo = FluidRankHalo{};
   halo.active = true;
   halo.domain_low = domain_low;
   halo.domain_high = domain_high;
-  std::vector<double> weights(particles.size());
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    weights[i] = particles.kind[i] == static_cast<std::int32_t>(FluidKind::kFluid) ? 1.0 : kFluidWallWeight;
+  const std::vector<double> weights = fluid_work_weights(particles, reach);
   const std::vector<PartBox> boxes =
       recursive_bisection(particles.position, weights, PartBox{domain_low, domain_high}, count);
   for (const PartBox& box : boxes) {
@@ -52,6 +91,46 @@ void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& halo, cons
   for (std::size_t i = 0; i < particles.size(); ++i)
     if (static_cast<int>(part_of(boxes, particles.position[i])) == me) kept.push_back(i);
   keep_fields(particles, kept);  // keeps the order: the fluid stays first
+}
+
+std::vector<double> fluid_work_per_box(const ParticleState& particles, const FluidRankHalo& halo, double reach) {
+  const std::vector<PartBox> boxes = boxes_of(halo);
+  const std::vector<double> weights = fluid_work_weights(particles, reach);
+  std::vector<double> mine(boxes.size(), 0.0);
+  for (std::size_t i = 0; i < weights.size(); ++i) mine[part_of(boxes, particles.position[i])] += weights[i];
+  return ranks::sum_in_rank_order(mine);
+}
+
+bool rebalance_fluid_ranks(const ParticleState& particles, FluidRankHalo& halo, double reach, double above) {
+  const std::vector<double> work = fluid_work_per_box(particles, halo, reach);
+  const double total = std::accumulate(work.begin(), work.end(), 0.0);
+  const double mean = total / static_cast<double>(work.size());
+  const double largest = *std::max_element(work.begin(), work.end());
+  if (total == 0.0 || largest <= above * mean || largest < mean + 2.0) return false;
+  // Every rank's positions and weights, in rank order: the same points (and so the same cuts) on every rank. A wall
+  // by water on another rank weighs as a far one here: the weights guide the cuts, they need not be exact.
+  const std::vector<double> weights = fluid_work_weights(particles, reach);
+  std::vector<double> mine;
+  mine.reserve(4 * weights.size());
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    const Vec3& position = particles.position[i];
+    mine.insert(mine.end(), {position.x(), position.y(), position.z(), weights[i]});
+  }
+  const std::vector<double> all = ranks::gather_all(mine);
+  std::vector<Vec3> points(all.size() / 4);
+  std::vector<double> all_weights(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i] = Vec3(all[4 * i], all[4 * i + 1], all[4 * i + 2]);
+    all_weights[i] = all[4 * i + 3];
+  }
+  const std::vector<PartBox> boxes = recursive_bisection(points, all_weights, PartBox{halo.domain_low, halo.domain_high},
+                                                         static_cast<int>(work.size()));
+  for (std::size_t r = 0; r < boxes.size(); ++r) {
+    halo.box_low[r] = boxes[r].low;
+    halo.box_high[r] = boxes[r].high;
+  }
+  ++halo.rebalances;
+  return true;
 }
 
 std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& halo) {

@@ -27,13 +27,32 @@ namespace riffle {
 /// The work weight of a wall or dummy particle relative to a fluid particle's in the split: walls are searched as
 /// neighbours but have no list, no pressure row and no update of their own.
 inline constexpr double kFluidWallWeight = 0.25;
+/// ... and of one with no fluid of its table within the reach given: the searches' grids leave it out, so it costs
+/// only its memory (a dam break's tank is mostly empty walls). Not zero, so that a region of walls alone still
+/// counts for something in the cuts.
+inline constexpr double kFluidFarWallWeight = 0.02;
+
+/// Each particle's work weight: 1 for fluid; for a wall or dummy, kFluidWallWeight where the table holds a fluid
+/// particle within about `reach` (cells of `reach`, the 27 around its own), kFluidFarWallWeight elsewhere. With
+/// `reach` <= 0 every wall and dummy weighs kFluidWallWeight.
+std::vector<double> fluid_work_weights(const ParticleState& particles, double reach);
 
 /// Splits a table that every rank built whole (the same scene or checkpoint on every rank) over the ranks: boxes by a
-/// recursive bisection of the particles' positions over [domain_low, domain_high] (fluid weighing 1, walls and
-/// dummies kFluidWallWeight), each rank keeping the particles in its box, fluid first. Deterministic: every rank
-/// computes the same boxes from the same table, without a message.
+/// recursive bisection of the particles' positions over [domain_low, domain_high] weighted by fluid_work_weights
+/// (`reach`), each rank keeping the particles in its box, fluid first. Deterministic: every rank computes the same
+/// boxes from the same table, without a message.
 void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& ranks, const Vec3& domain_low,
-                            const Vec3& domain_high);
+                            const Vec3& domain_high, double reach = 0.0);
+
+/// The work (fluid_work_weights, `reach`) each rank's box holds, summed over all the ranks' particles in rank order:
+/// the same on every rank. Collective.
+std::vector<double> fluid_work_per_box(const ParticleState& particles, const FluidRankHalo& ranks, double reach);
+
+/// Cuts the boxes anew when the largest box's work (fluid_work_per_box) passes `above` times the mean and the mean
+/// by two fluid particles' worth: the split's bisection over every rank's positions and weights gathered on every
+/// rank (the same boxes everywhere). Call before a migration, which then moves the particles. Returns whether it
+/// cut; counts the cuts in ranks.rebalances. Collective.
+bool rebalance_fluid_ranks(const ParticleState& particles, FluidRankHalo& ranks, double reach, double above);
 
 /// Sends the particles outside this rank's box to their owners with every field, and appends those that arrive,
 /// keeping the fluid slots first (each kind in its old order, the arrivals after, in rank order). In a periodic tank
