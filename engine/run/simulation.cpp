@@ -524,12 +524,6 @@ std::string Simulation::over_ranks_problem(const Model& model) {
     const FluidModel& fluid = model.fluid;
     if (model.solids.enabled) return "grains in MPS water ([fluid] with [solids]): only water alone is spread over ranks yet";
     if (!hypre_available()) return "MPS water over ranks solves its pressure with hypre, and this build has no hypre";
-    if (std::any_of(fluid.wall_boxes.begin(), fluid.wall_boxes.end(), [](const ParticleBoxModel& box) { return box.lid; }))
-      return "a moving lid ([[fluid.wall_boxes]] lid): its force on the water across ranks is not built yet";
-    if (fluid.turbulence == FluidModel::Turbulence::kSps)
-      return "[fluid] turbulence = \"sps\": its eddy viscosity across ranks is not built yet";
-    if (fluid.body_force.kind == BodyForceModel::Kind::kBulkVelocity)
-      return "a body force holding the bulk velocity: its mean over the water across ranks is not built yet";
     return "";
   }
   if (!model.solids.enabled || !model.contact.enabled)

@@ -9,6 +9,7 @@
 #include "systems/physics/mps/fluid_pair_batch.hpp"
 #include "systems/physics/mps/mps_operators.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/ranks/fluid_ranks.hpp"
 
 namespace riffle {
 
@@ -88,8 +89,14 @@ double FluidPredict::body_force(SystemContext& context, const ParticleState& par
     return summary.body_force;
   }
   // The bulk velocity: the mean of the fluid particles' u_x at the step start (each stands for the volume l0^3).
-  const double sum = deterministic_sum(fluid_count, [&](std::size_t i) { return particles.velocity[i].x(); });
-  summary.bulk_velocity = fluid_count > 0 ? sum / static_cast<double>(fluid_count) : 0.0;
+  double sum = deterministic_sum(fluid_count, [&](std::size_t i) { return particles.velocity[i].x(); });
+  double count = static_cast<double>(fluid_count);
+  if (context.read<FluidNeighbours>().ranks.active) {  // over MPI ranks: the mean over all the water
+    const std::vector<double> totals = ranks::sum_in_rank_order({sum, count});
+    sum = totals[0];
+    count = totals[1];
+  }
+  summary.bulk_velocity = count > 0.0 ? sum / count : 0.0;
   BulkVelocityController controller{summary.body_force_integral, 0.0};
   summary.body_force = controller.step(model, summary.bulk_velocity, context.dt);
   summary.body_force_integral = controller.integral;
@@ -117,7 +124,8 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
     if (fluid_.wall_boxes[b].lid) lid_boxes.push_back(b);
   const std::size_t lid_count = lid_boxes.size();
   const std::size_t real_count = particles.size();
-  lid_of_.assign(real_count + neighbours.halo.size(), -1);
+  const bool spread = neighbours.ranks.active;
+  lid_of_.assign(real_count + neighbours.halo.size() + (spread ? neighbours.ranks.ghost_count() : 0), -1);
   if (lid_count > 0) {
     const double tolerance = 1e-9 * std::max(1.0, context.model.tank.size.maxCoeff());
     for_each_particle(particles.size() - fluid_count, [&](std::size_t k) {
@@ -131,9 +139,14 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
         }
       }
     });
-    // A periodic tank's ghost slots belong to their owner's lid.
+    // A periodic tank's ghost slots belong to their owner's lid; over MPI ranks, to the lid their owner sends.
     for (std::size_t g = 0; g < neighbours.halo.size(); ++g)
       lid_of_[real_count + g] = lid_of_[neighbours.halo.owner[g]];
+    if (spread) {
+      real_lid_.assign(lid_of_.begin(), lid_of_.begin() + static_cast<std::ptrdiff_t>(real_count));
+      exchange_fluid_ghost_field(real_lid_, neighbours.ranks, ghost_lid_);
+      std::copy(ghost_lid_.begin(), ghost_lid_.end(), lid_of_.begin() + static_cast<std::ptrdiff_t>(real_count));
+    }
   }
   std::vector<bool> free_slip(lid_count);
   std::vector<double> plane_low(lid_count), plane_high(lid_count);
@@ -174,7 +187,14 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   if (sps) sps_eddy_viscosity(particles, neighbours, fluid_count, constants_, fluid_.smagorinsky_constant, eddy_viscosity_);
   // nu_t of a neighbour slot: a fluid slot's own, a periodic ghost's owner's (the exchange of nu_t: it lives and
   // dies within this system), 0 for walls.
+  // Over MPI ranks a ghost's nu_t comes from its owner (0 for walls).
+  if (sps && spread) {
+    real_eddy_.assign(real_count, 0.0);
+    std::copy(eddy_viscosity_.begin(), eddy_viscosity_.end(), real_eddy_.begin());
+    exchange_fluid_ghost_field(real_eddy_, neighbours.ranks, ghost_eddy_);
+  }
   const auto eddy_of = [&](std::uint32_t j) {
+    if (spread && j >= real_count) return ghost_eddy_[j - real_count];
     const std::uint32_t owner = j < real_count ? j : neighbours.halo.owner[j - real_count];
     return owner < fluid_count ? eddy_viscosity_[owner] : 0.0;
   };
@@ -233,6 +253,13 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
         return std::array<double, 3>{force.x(), force.y(), force.z()};
       });
       summary.lid_force[l] = Vec3(total[0], total[1], total[2]);
+    }
+    if (spread) {  // over MPI ranks: every rank's share, added in rank order
+      std::vector<double> shares;
+      for (const Vec3& force : summary.lid_force) shares.insert(shares.end(), {force.x(), force.y(), force.z()});
+      const std::vector<double> totals = ranks::sum_in_rank_order(shares);
+      for (std::size_t l = 0; l < lid_count; ++l)
+        summary.lid_force[l] = Vec3(totals[3 * l], totals[3 * l + 1], totals[3 * l + 2]);
     }
   }
 }

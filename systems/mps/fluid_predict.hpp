@@ -46,6 +46,9 @@ class FluidPredict final : public System {
   std::vector<double> eddy_viscosity_;  ///< [m^2/s] nu_t per fluid slot (turbulence = sps)
   std::vector<std::int32_t> lid_of_;    ///< per slot: the lid (index among the lid boxes) or -1
   std::vector<Vec3> lid_force_;         ///< [N] per fluid slot and lid: the lid's viscous force on the particle
+  /// Over MPI ranks: each real's lid and nu_t (0 for walls) as sent to the other ranks' ghosts, and the ghosts' own.
+  std::vector<std::int32_t> real_lid_, ghost_lid_;
+  std::vector<double> real_eddy_, ghost_eddy_;
 };
 
 }  // namespace riffle

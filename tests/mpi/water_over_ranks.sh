@@ -2,7 +2,8 @@
 # `mpirun -np N riffle run|resume` for scenes of water alone (the MPS particles spread over the ranks: fluid_ranks.hpp,
 # fluid_rank_migration, the searches' rank ghosts, the pressure solved by hypre over all the ranks): each run on 2 and
 # 4 ranks against 1 rank, particle by particle (matched by id) in its ParaView frames, a checkpoint of 2 ranks resumed
-# on 1 and 3, and a scene of grains in water refused with its reason.
+# on 1 and 3, a lid with SPS and a bulk-velocity controller on 2 ranks against 1, and a scene of grains in water
+# refused with its reason.
 #
 # Tolerances: one rank solves the same pressure equation with hypre alone (the scenes ask for "boomeramg"), the ranks
 # with hypre over all of them; both stop at |r| <= 1e-8 |b| (fluid.solver_tolerance), at other iterates, so each
@@ -68,6 +69,43 @@ for n in 1 4; do
   check "the dam break runs on $n rank(s)" [ $? = 0 ]
 done
 check "... on 4 ranks as on one, particle by particle, at t = 0.02 and 0.04 s" compare dam1 dam4 1 2
+
+# The sheared water block (periodic along x and y, a no-slip lid at 1 m/s, SPS eddy viscosity; 4,352 particles): the
+# lid's particles and the eddy viscosity seen across the ranks, the lid's force summed over them. 0.02 s, 40 steps.
+for n in 1 2; do
+  ranks "$n" run "$SRC/scenes/sheared_water_block.toml" --out "sheared$n" --until 0.02 --threads 1 \
+    --set 'fluid.preconditioner="boomeramg"' --set output.vtk_interval=0.01 >"sheared$n.out" 2>&1
+  check "the sheared water block (a lid, SPS) runs on $n rank(s)" [ $? = 0 ]
+done
+check "... on 2 ranks as on one, particle by particle, at t = 0.01 and 0.02 s" compare sheared1 sheared2 1 2
+# columns: time, step, body force, bulk velocity, then the lid's force and shear stress
+compare_columns() {  # compare_columns A B FIRST_COLUMN: each row's values from FIRST_COLUMN on, to 1e-6 of the row's largest
+  /usr/bin/python3 - "$@" <<'PY'
+import csv, sys
+a, b, first = list(csv.reader(open(sys.argv[1])))[1:], list(csv.reader(open(sys.argv[2])))[1:], int(sys.argv[3])
+assert len(a) == len(b) >= 2, (len(a), len(b))
+worst = 0.0
+for ra, rb in zip(a, b):
+    pairs = [(float(x), float(y)) for x, y in zip(ra[first:], rb[first:]) if x != "" or y != ""]
+    scale = max([abs(x) for x, _ in pairs] + [1e-300])
+    worst = max([worst] + [abs(x - y) / scale for x, y in pairs])
+print(f"{sys.argv[1]} against {sys.argv[2]}: largest difference {worst:.3g} of the row's largest value")
+sys.exit(0 if worst < 1e-6 else 1)
+PY
+}
+check "... the lid's force on the water the same to 1e-6" \
+  compare_columns sheared1/probe_driven_flow.csv sheared2/probe_driven_flow.csv 4
+
+# The periodic block driven to a bulk velocity of 0.1 m/s (a controller on the mean u_x of all the water).
+sed 's/^kind = "constant"/kind = "bulk_velocity"/; s/^acceleration = 2.0 .*/target_velocity = 0.1\nresponse_time = 0.01/' \
+  "$block" >bulk.toml
+printf '\n[[output.probes]]\nkind = "driven_flow"\ninterval = 0.01\n' >>bulk.toml
+for n in 1 2; do
+  ranks "$n" run bulk.toml --out "bulk$n" --until 0.03 --threads 1 >"bulk$n.out" 2>&1
+  check "the block driven to a bulk velocity runs on $n rank(s)" [ $? = 0 ]
+done
+check "... its body force and bulk velocity the same on 2 ranks as on one, to 1e-6" \
+  compare_columns bulk1/probe_driven_flow.csv bulk2/probe_driven_flow.csv 2
 
 ranks 2 run "$SRC/scenes/ergun_plug.toml" --out grains_in_water --until 0.01 >grains_in_water.out 2>&1
 rc=$?
