@@ -567,43 +567,19 @@ void Simulation::split_over_ranks() {
 }
 
 World Simulation::gathered_world(bool pairs) const {
-  World whole;
-  if (world_.fluid) {
-    // The water ordered by id with its fluid first (as every table keeps it), the summary's totals already the
-    // water's (fluid_checks sums them over the ranks).
-    FluidParticles fluid = gather_fluid_at_root(*world_.fluid);
-    if (ranks::rank() == 0) {
-      std::vector<std::size_t> order;
-      order.reserve(fluid.size());
-      for (std::size_t i = 0; i < fluid.size(); ++i)
-        if (fluid.kind[i] == kFluidKind) order.push_back(i);
-      for (std::size_t i = 0; i < fluid.size(); ++i)
-        if (fluid.kind[i] != kFluidKind) order.push_back(i);
-      permute_fields(fluid, order);
-      fluid.next_id = world_.fluid->next_id;
-      whole.fluid = std::move(fluid);
-      whole.fluid_summary = world_.fluid_summary;
-      if (world_.fluid_neighbours) whole.fluid_neighbours.emplace();
-      if (world_.fluid_sample) whole.fluid_sample.emplace();
-    }
-  }
-  if (!world_.solids || !world_.contacts) {
-    if (ranks::rank() != 0) return World{};
-    whole.time = world_.time;
-    whole.step = world_.step;
-    whole.last_step = world_.last_step;
-    whole.walls = world_.walls;
-    whole.tank_motion = world_.tank_motion;
-    whole.solids = world_.solids;
-    whole.solid_summary = world_.solid_summary;
-    whole.step_status = world_.step_status;
-    return whole;
-  }
-  Solids solids = gather_grains_at_root(*world_.solids);
+  // Gathers are collective: every rank takes part, rank 0 alone keeps the result.
+  std::optional<FluidParticles> fluid;
+  if (world_.fluid) fluid = gather_fluid_at_root(*world_.fluid);
+  const bool with_grains = world_.solids && world_.contacts;
+  std::optional<Solids> solids;
   std::vector<CarriedSpring> pair_springs;
   std::vector<WallContactState> wall_contacts;
-  gather_contacts_at_root(*world_.solids, *world_.contacts, pair_springs, wall_contacts);
+  if (with_grains) {
+    solids = gather_grains_at_root(*world_.solids);
+    gather_contacts_at_root(*world_.solids, *world_.contacts, pair_springs, wall_contacts);
+  }
   if (ranks::rank() != 0) return World{};
+  World whole;
   whole.time = world_.time;
   whole.step = world_.step;
   whole.last_step = world_.last_step;
@@ -614,7 +590,21 @@ World Simulation::gathered_world(bool pairs) const {
   whole.solid_summary = world_.solid_summary;
   if (whole.solid_summary) whole.solid_summary->over_ranks = false;
   whole.step_status = world_.step_status;
-  whole.solids = std::move(solids);
+  if (fluid) {
+    // The water ordered by id with its fluid first (as every table keeps it); the summary's totals are the water's
+    // already (fluid_checks sums them over the ranks).
+    put_fluid_first(*fluid);
+    fluid->next_id = world_.fluid->next_id;
+    whole.fluid = std::move(fluid);
+    whole.fluid_summary = world_.fluid_summary;
+    if (world_.fluid_neighbours) whole.fluid_neighbours.emplace();
+    if (world_.fluid_sample) whole.fluid_sample.emplace();
+  }
+  if (!with_grains) {
+    whole.solids = world_.solids;
+    return whole;
+  }
+  whole.solids = std::move(*solids);
   std::sort(wall_contacts.begin(), wall_contacts.end(), [](const WallContactState& a, const WallContactState& b) {
     return a.grain != b.grain ? a.grain < b.grain : a.wall < b.wall;
   });

@@ -8,21 +8,7 @@
 #   tests/mpi/run_over_ranks.sh RIFFLE MPIEXEC SOURCE_DIR WORK_DIR
 set -u
 RIFFLE=$1 MPIEXEC=$2 SRC=$3 WORK=$4
-rm -rf "$WORK" && mkdir -p "$WORK" && cd "$WORK" || exit 2
-# Root allowed (CI runs as root), more ranks than cores allowed, and ranks that yield while they wait for another.
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-export OMPI_MCA_mpi_yield_when_idle=1
-failures=0
-check() {  # check DESCRIPTION COMMAND...
-  local description=$1
-  shift
-  if "$@"; then echo "ok: $description"; else echo "FAILED: $description"; failures=$((failures + 1)); fi
-}
-ranks() {  # ranks N ARGS...: riffle on N ranks (1: without mpiexec)
-  local n=$1
-  shift
-  if [ "$n" = 1 ]; then timeout -k 5 120 "$RIFFLE" "$@"; else timeout -k 5 120 "$MPIEXEC" -n "$n" "$RIFFLE" "$@"; fi
-}
+source "$SRC/tests/mpi/over_ranks_common.sh"
 
 cp "$SRC/tests/data/shaken_bed.toml" shaken.toml
 

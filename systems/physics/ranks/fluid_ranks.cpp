@@ -20,8 +20,9 @@ std::vector<PartBox> boxes_of(const FluidRankHalo& ranks) {
   return boxes;
 }
 
-/// Reorders the table so that the fluid comes first, each kind keeping its order (a stable partition).
-void fluid_first(FluidParticles& particles) {
+}  // namespace
+
+void put_fluid_first(FluidParticles& particles) {
   const auto fluid = static_cast<std::int32_t>(FluidKind::kFluid);
   if (std::is_partitioned(particles.kind.begin(), particles.kind.end(), [&](std::int32_t kind) { return kind == fluid; }))
     return;
@@ -33,8 +34,6 @@ void fluid_first(FluidParticles& particles) {
     if (particles.kind[i] != fluid) order.push_back(i);
   permute_fields(particles, order);
 }
-
-}  // namespace
 
 std::vector<double> fluid_work_weights(const ParticleState& particles, double reach) {
   const std::size_t count = particles.id.size();
@@ -163,7 +162,7 @@ std::size_t migrate_fluid_particles(FluidParticles& particles, FluidRankHalo& ha
     ByteReader in(incoming[r]);
     for (std::size_t k = 0; k < arriving; ++k) unpack_entity(particles, first + k, in);
   }
-  fluid_first(particles);
+  put_fluid_first(particles);
   halo.particles_sent += left;
   return left;
 }

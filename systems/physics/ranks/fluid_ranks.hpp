@@ -125,6 +125,10 @@ struct RankRows {
 /// 0 .. own - 1 without gaps. Collective.
 RankRows number_rows_over_ranks(const std::vector<std::int32_t>& local_row, const FluidRankHalo& ranks);
 
+/// Reorders the table so that the fluid comes first, each kind keeping its order (a stable partition): what the
+/// neighbour lists need (fluid_slot_count).
+void put_fluid_first(FluidParticles& particles);
+
 /// Every rank's particles at rank 0, ordered by id (the whole water for the outputs); empty elsewhere. Collective.
 FluidParticles gather_fluid_at_root(const FluidParticles& particles);
 
