@@ -535,28 +535,25 @@ std::string Simulation::over_ranks_problem(const Model& model) {
 
 void Simulation::split_over_ranks() {
   const PeriodicBox box = periodic_box(*model_);
-  if (world_.fluid) {
-    // The water's boxes tile the domain; along a periodic axis the period (a particle past a face is wrapped first).
-    DomainBox domain = domain_box(*model_);
+  // Along a periodic axis the boxes tile the period itself (a particle or grain past a face is wrapped first, and the
+  // images across the faces come as ghosts).
+  const auto over_the_period = [&](DomainBox domain) {
     for (int axis = 0; axis < 3; ++axis)
       if (box.periodic[static_cast<std::size_t>(axis)]) {
         domain.low[axis] = box.low[axis];
         domain.high[axis] = box.low[axis] + box.length[axis];
       }
+    return domain;
+  };
+  if (world_.fluid) {
+    const DomainBox domain = over_the_period(domain_box(*model_));
     if (box.any())
       for (Vec3& position : world_.fluid->position) position = box.wrap(position);
     const double reach = model_->fluid.effective_radius() + model_->fluid.neighbour_skin_ratio * model_->fluid.spacing;
     split_fluid_over_ranks(*world_.fluid, world_.fluid_neighbours->ranks, domain.low, domain.high, reach);
   }
   if (!world_.solids || !world_.contacts) return;
-  // The boxes tile the grains' domain; along a periodic axis the period itself (a grain past a face is wrapped
-  // before it is given to a rank, and the images across the faces come as ghosts).
-  DomainBox domain = grain_domain_box(*model_);
-  for (int axis = 0; axis < 3; ++axis)
-    if (box.periodic[static_cast<std::size_t>(axis)]) {
-      domain.low[axis] = box.low[axis];
-      domain.high[axis] = box.low[axis] + box.length[axis];
-    }
+  const DomainBox domain = over_the_period(grain_domain_box(*model_));
   // A list read from a checkpoint names periodic ghosts by slot: the halo says whose they are.
   restore_halo_and_slabs(*world_.solids, *world_.contacts, *model_);
   if (box.any())

@@ -186,8 +186,7 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   eddy_viscosity_.assign(sps ? fluid_count : 0, 0.0);
   if (sps) sps_eddy_viscosity(particles, neighbours, fluid_count, constants_, fluid_.smagorinsky_constant, eddy_viscosity_);
   // nu_t of a neighbour slot: a fluid slot's own, a periodic ghost's owner's (the exchange of nu_t: it lives and
-  // dies within this system), 0 for walls.
-  // Over MPI ranks a ghost's nu_t comes from its owner (0 for walls).
+  // dies within this system), over MPI ranks a ghost's as its owner sends it; 0 for walls.
   if (sps && spread) {
     real_eddy_.assign(real_count, 0.0);
     std::copy(eddy_viscosity_.begin(), eddy_viscosity_.end(), real_eddy_.begin());

@@ -92,23 +92,30 @@ void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& halo, cons
   keep_fields(particles, kept);  // keeps the order: the fluid stays first
 }
 
-std::vector<double> fluid_work_per_box(const ParticleState& particles, const FluidRankHalo& halo, double reach) {
+namespace {
+/// The work `weights` (one per particle) each box holds, summed over the ranks in rank order. Collective.
+std::vector<double> work_per_box(const ParticleState& particles, const FluidRankHalo& halo,
+                                 const std::vector<double>& weights) {
   const std::vector<PartBox> boxes = boxes_of(halo);
-  const std::vector<double> weights = fluid_work_weights(particles, reach);
   std::vector<double> mine(boxes.size(), 0.0);
   for (std::size_t i = 0; i < weights.size(); ++i) mine[part_of(boxes, particles.position[i])] += weights[i];
   return ranks::sum_in_rank_order(mine);
 }
+}  // namespace
+
+std::vector<double> fluid_work_per_box(const ParticleState& particles, const FluidRankHalo& halo, double reach) {
+  return work_per_box(particles, halo, fluid_work_weights(particles, reach));
+}
 
 bool rebalance_fluid_ranks(const ParticleState& particles, FluidRankHalo& halo, double reach, double above) {
-  const std::vector<double> work = fluid_work_per_box(particles, halo, reach);
+  const std::vector<double> weights = fluid_work_weights(particles, reach);
+  const std::vector<double> work = work_per_box(particles, halo, weights);
   const double total = std::accumulate(work.begin(), work.end(), 0.0);
   const double mean = total / static_cast<double>(work.size());
   const double largest = *std::max_element(work.begin(), work.end());
   if (total == 0.0 || largest <= above * mean || largest < mean + 2.0) return false;
   // Every rank's positions and weights, in rank order: the same points (and so the same cuts) on every rank. A wall
   // by water on another rank weighs as a far one here: the weights guide the cuts, they need not be exact.
-  const std::vector<double> weights = fluid_work_weights(particles, reach);
   std::vector<double> mine;
   mine.reserve(4 * weights.size());
   for (std::size_t i = 0; i < weights.size(); ++i) {
