@@ -521,7 +521,6 @@ CheckpointData Simulation::checkpoint_data_of(const World& world) const {
 std::string Simulation::over_ranks_problem(const Model& model) {
   if (model.fluid.enabled) {
     // The water alone is spread over ranks; what reads across a rank's edge beyond the MPS operators is not yet.
-    const FluidModel& fluid = model.fluid;
     if (model.solids.enabled) return "grains in MPS water ([fluid] with [solids]): only water alone is spread over ranks yet";
     if (!hypre_available()) return "MPS water over ranks solves its pressure with hypre, and this build has no hypre";
     return "";

@@ -170,7 +170,7 @@ void apply_scene_overrides(toml::table& root, const std::vector<std::string>& ov
       continue;
     }
     if (!is_utf8(text)) {
-      problems.lines.push_back("--set: an override is not valid UTF-8 text");
+      problems.lines.emplace_back("--set: an override is not valid UTF-8 text");
       continue;
     }
     const std::size_t equals = text.find('=');

@@ -17,7 +17,6 @@
 namespace riffle {
 
 namespace {
-constexpr std::size_t kGrain = 256;
 
 // Touching grain-grain pairs are evaluated in batches: pass 1 walks the candidates, tests the distance and copies
 // the inputs of the touching ones into structure-of-arrays scratch; pass 2 evaluates the batch with the vectorised
@@ -158,8 +157,9 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     b.sz[p] = spring.z();
     b.mass_i[p] = properties.mass[i];
     b.mass_j[p] = neighbours.mass(j);
-    any_fixed |= (properties.fixed[i] != 0) | neighbours.fixed(j);
-    one_material_pair &= (properties.material[i] == first_material_i) & (neighbours.material(j) == first_material_j);
+    any_fixed |= static_cast<int>(properties.fixed[i] != 0) | static_cast<int>(neighbours.fixed(j));
+    one_material_pair &= static_cast<int>(properties.material[i] == first_material_i) &
+                         static_cast<int>(neighbours.material(j) == first_material_j);
   }
   if (any_fixed) {
     for (std::size_t p = 0; p < count; ++p)

@@ -10,7 +10,6 @@
 namespace riffle {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 /// The water's share of cell i.
 double water_share(const std::vector<double>& solid_fraction, std::size_t i) { return 1.0 - solid_fraction[i]; }

@@ -55,7 +55,7 @@ class HyprePressureSolver {
                              std::vector<double>& solution, double tolerance, std::int64_t max_iterations);
 
  private:
-  Ranks ranks_;
+  [[maybe_unused]] Ranks ranks_;  // read only by the hypre build
   // hypre's index type per row and the entries' rows, reused between solves (no allocation once sized).
   std::vector<int> entries_per_row_, rows_, columns_;
   std::vector<double> values_;
