@@ -3,22 +3,18 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <unordered_set>
 
 #include "systems/physics/geometry/recursive_bisection.hpp"
+#include "systems/physics/ranks/rank_boxes.hpp"
 
 namespace riffle {
 
 namespace {
 
-std::vector<PartBox> boxes_of(const FluidRankHalo& ranks) {
-  std::vector<PartBox> boxes(ranks.box_low.size());
-  for (std::size_t r = 0; r < boxes.size(); ++r) boxes[r] = {ranks.box_low[r], ranks.box_high[r]};
-  return boxes;
-}
+std::vector<PartBox> boxes_of(const FluidRankHalo& ranks) { return rank_boxes(ranks.box_low, ranks.box_high); }
 
 }  // namespace
 
@@ -82,59 +78,24 @@ void split_fluid_over_ranks(FluidParticles& particles, FluidRankHalo& halo, cons
   const std::vector<double> weights = fluid_work_weights(particles, reach);
   const std::vector<PartBox> boxes =
       recursive_bisection(particles.position, weights, PartBox{domain_low, domain_high}, count);
-  for (const PartBox& box : boxes) {
-    halo.box_low.push_back(box.low);
-    halo.box_high.push_back(box.high);
-  }
+  store_rank_boxes(boxes, halo.box_low, halo.box_high);
   std::vector<std::size_t> kept;
   for (std::size_t i = 0; i < particles.size(); ++i)
     if (static_cast<int>(part_of(boxes, particles.position[i])) == me) kept.push_back(i);
   keep_fields(particles, kept);  // keeps the order: the fluid stays first
 }
 
-namespace {
-/// The work `weights` (one per particle) each box holds, summed over the ranks in rank order. Collective.
-std::vector<double> work_per_box(const ParticleState& particles, const FluidRankHalo& halo,
-                                 const std::vector<double>& weights) {
-  const std::vector<PartBox> boxes = boxes_of(halo);
-  std::vector<double> mine(boxes.size(), 0.0);
-  for (std::size_t i = 0; i < weights.size(); ++i) mine[part_of(boxes, particles.position[i])] += weights[i];
-  return ranks::sum_in_rank_order(mine);
-}
-}  // namespace
-
 std::vector<double> fluid_work_per_box(const ParticleState& particles, const FluidRankHalo& halo, double reach) {
-  return work_per_box(particles, halo, fluid_work_weights(particles, reach));
+  return weight_per_box(particles.position, fluid_work_weights(particles, reach), boxes_of(halo));
 }
 
 bool rebalance_fluid_ranks(const ParticleState& particles, FluidRankHalo& halo, double reach, double above) {
+  // A wall by water on another rank weighs as a far one here: the weights guide the cuts, they need not be exact.
   const std::vector<double> weights = fluid_work_weights(particles, reach);
-  const std::vector<double> work = work_per_box(particles, halo, weights);
-  const double total = std::accumulate(work.begin(), work.end(), 0.0);
-  const double mean = total / static_cast<double>(work.size());
-  const double largest = *std::max_element(work.begin(), work.end());
-  if (total == 0.0 || largest <= above * mean || largest < mean + 2.0) return false;
-  // Every rank's positions and weights, in rank order: the same points (and so the same cuts) on every rank. A wall
-  // by water on another rank weighs as a far one here: the weights guide the cuts, they need not be exact.
-  std::vector<double> mine;
-  mine.reserve(4 * weights.size());
-  for (std::size_t i = 0; i < weights.size(); ++i) {
-    const Vec3& position = particles.position[i];
-    mine.insert(mine.end(), {position.x(), position.y(), position.z(), weights[i]});
-  }
-  const std::vector<double> all = ranks::gather_all(mine);
-  std::vector<Vec3> points(all.size() / 4);
-  std::vector<double> all_weights(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    points[i] = Vec3(all[4 * i], all[4 * i + 1], all[4 * i + 2]);
-    all_weights[i] = all[4 * i + 3];
-  }
-  const std::vector<PartBox> boxes = recursive_bisection(points, all_weights, PartBox{halo.domain_low, halo.domain_high},
-                                                         static_cast<int>(work.size()));
-  for (std::size_t r = 0; r < boxes.size(); ++r) {
-    halo.box_low[r] = boxes[r].low;
-    halo.box_high[r] = boxes[r].high;
-  }
+  if (!boxes_out_of_balance(weight_per_box(particles.position, weights, boxes_of(halo)), above)) return false;
+  store_rank_boxes(bisect_over_ranks(particles.position, weights, PartBox{halo.domain_low, halo.domain_high},
+                                     static_cast<int>(halo.box_low.size())),
+                   halo.box_low, halo.box_high);
   ++halo.rebalances;
   return true;
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -10,6 +9,7 @@
 #include "systems/physics/dem/touching_springs.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/recursive_bisection.hpp"
+#include "systems/physics/ranks/rank_boxes.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 #include "systems/physics/ranks/rank_messages.hpp"
 
@@ -31,11 +31,7 @@ CarriedSpring unpack_spring(ByteReader& in) {
   return spring;
 }
 
-std::vector<PartBox> boxes_of(const RankHalo& ranks) {
-  std::vector<PartBox> boxes(ranks.box_low.size());
-  for (std::size_t r = 0; r < boxes.size(); ++r) boxes[r] = {ranks.box_low[r], ranks.box_high[r]};
-  return boxes;
-}
+std::vector<PartBox> boxes_of(const RankHalo& ranks) { return rank_boxes(ranks.box_low, ranks.box_high); }
 
 }  // namespace
 
@@ -53,10 +49,7 @@ void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& dom
   const std::vector<double> weights(solids.size(), 1.0);
   const std::vector<PartBox> boxes =
       recursive_bisection(solids.position, weights, PartBox{domain_low, domain_high}, count);
-  for (const PartBox& box : boxes) {
-    halo.box_low.push_back(box.low);
-    halo.box_high.push_back(box.high);
-  }
+  store_rank_boxes(boxes, halo.box_low, halo.box_high);
   std::vector<int> owner(solids.size());
   for (std::size_t i = 0; i < solids.size(); ++i) owner[i] = static_cast<int>(part_of(boxes, solids.position[i]));
   // The springs of the pairs this rank will list (their lower id is its own) and of its grains' walls.
@@ -82,33 +75,17 @@ void split_grains_over_ranks(Solids& solids, Contacts& contacts, const Vec3& dom
 }
 
 std::vector<double> grains_per_box(const Solids& solids, const RankHalo& halo) {
-  const std::vector<PartBox> boxes = boxes_of(halo);
-  std::vector<double> mine(boxes.size(), 0.0);
-  for (const Vec3& position : solids.position) mine[part_of(boxes, position)] += 1.0;
-  return ranks::sum_in_rank_order(mine);
+  const std::vector<double> ones(solids.size(), 1.0);
+  return weight_per_box(solids.position, ones, boxes_of(halo));
 }
 
 bool rebalance_grain_ranks(const Solids& solids, RankHalo& halo, double above) {
   // What each rank would own after this rebuild's migration, in the present boxes.
-  const std::vector<double> counts = grains_per_box(solids, halo);
-  const double total = std::accumulate(counts.begin(), counts.end(), 0.0);
-  const double mean = total / static_cast<double>(counts.size());
-  const double largest = *std::max_element(counts.begin(), counts.end());
-  if (total == 0.0 || largest <= above * mean || largest < mean + 2.0) return false;
-  // Every rank's positions, in rank order: the same points (and so the same cuts) on every rank.
-  std::vector<double> mine;
-  mine.reserve(3 * solids.size());
-  for (const Vec3& position : solids.position) mine.insert(mine.end(), {position.x(), position.y(), position.z()});
-  const std::vector<double> all = ranks::gather_all(mine);
-  std::vector<Vec3> points(all.size() / 3);
-  for (std::size_t i = 0; i < points.size(); ++i) points[i] = Vec3(all[3 * i], all[3 * i + 1], all[3 * i + 2]);
-  const std::vector<double> weights(points.size(), 1.0);
-  const std::vector<PartBox> boxes = recursive_bisection(points, weights, PartBox{halo.domain_low, halo.domain_high},
-                                                         static_cast<int>(counts.size()));
-  for (std::size_t r = 0; r < boxes.size(); ++r) {
-    halo.box_low[r] = boxes[r].low;
-    halo.box_high[r] = boxes[r].high;
-  }
+  if (!boxes_out_of_balance(grains_per_box(solids, halo), above)) return false;
+  const std::vector<double> ones(solids.size(), 1.0);
+  store_rank_boxes(bisect_over_ranks(solids.position, ones, PartBox{halo.domain_low, halo.domain_high},
+                                     static_cast<int>(halo.box_low.size())),
+                   halo.box_low, halo.box_high);
   ++halo.rebalances;
   return true;
 }
