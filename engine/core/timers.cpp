@@ -1,5 +1,6 @@
 #include "engine/core/timers.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -50,6 +51,61 @@ std::string format_timing_csv(const std::vector<SystemTimer>& timers, double ste
   }
   std::snprintf(line, sizeof line, "stepping,all,,%.9g,,1,,\n", stepping_seconds);
   out += line;
+  return out;
+}
+
+std::string format_rank_timing_table(const std::vector<RankTimers>& ranks) {
+  std::string out;
+  if (ranks.empty()) return out;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-26s %-12s %11s %11s %6s %10s %8s\n", "system", "phase", "mean [s]", "slowest [s]",
+                "rank", "imbalance", "share");
+  out += line;
+  const double count = static_cast<double>(ranks.size());
+  double mean_stepping = 0.0;
+  for (const RankTimers& rank : ranks) mean_stepping += rank.stepping_seconds / count;
+  for (std::size_t t = 0; t < ranks[0].timers.size(); ++t) {
+    double mean = 0.0, slowest = -1.0;
+    std::size_t slowest_rank = 0;
+    std::uint64_t calls = 0;
+    for (std::size_t r = 0; r < ranks.size(); ++r) {
+      const SystemTimer& timer = ranks[r].timers[t];
+      mean += timer.total_seconds / count;
+      calls += timer.calls;
+      if (timer.total_seconds > slowest) {
+        slowest = timer.total_seconds;
+        slowest_rank = r;
+      }
+    }
+    if (calls == 0) continue;  // a system no rank ran (a branch this scene does not use)
+    const SystemTimer& first = ranks[0].timers[t];
+    std::snprintf(line, sizeof line, "%-26s %-12s %11.4f %11.4f %6zu %10.3f %7.1f%%\n", first.name.c_str(),
+                  first.phase.c_str(), mean, slowest, slowest_rank, mean > 0.0 ? slowest / mean : 1.0,
+                  mean_stepping > 0.0 ? 100.0 * mean / mean_stepping : 0.0);
+    out += line;
+  }
+  double slowest_stepping = 0.0;
+  for (const RankTimers& rank : ranks) slowest_stepping = std::max(slowest_stepping, rank.stepping_seconds);
+  std::snprintf(line, sizeof line, "%-26s %-12s %11.4f %11.4f   (the ranks' stepping, MPI waits included)\n",
+                "stepping (wall)", "", mean_stepping, slowest_stepping);
+  out += line;
+  return out;
+}
+
+std::string format_rank_timing_csv(const std::vector<RankTimers>& ranks) {
+  std::string out = "rank,system,phase,calls,total_s,items\n";
+  char line[256];
+  for (std::size_t r = 0; r < ranks.size(); ++r)
+    for (const SystemTimer& timer : ranks[r].timers) {
+      std::snprintf(line, sizeof line, "%zu,%s,%s,%llu,%.9g,%llu\n", r, timer.name.c_str(), timer.phase.c_str(),
+                    static_cast<unsigned long long>(timer.calls), timer.total_seconds,
+                    static_cast<unsigned long long>(timer.items));
+      out += line;
+    }
+  for (std::size_t r = 0; r < ranks.size(); ++r) {
+    std::snprintf(line, sizeof line, "%zu,stepping,all,,%.9g,\n", r, ranks[r].stepping_seconds);
+    out += line;
+  }
   return out;
 }
 

@@ -34,4 +34,17 @@ std::string format_timing_table(const std::vector<SystemTimer>& timers, double s
 /// The same table as CSV with a header row.
 std::string format_timing_csv(const std::vector<SystemTimer>& timers, double stepping_seconds);
 
+/// One MPI rank's timers (every rank lists the same systems in the same order) and its stepping time.
+struct RankTimers {
+  std::vector<SystemTimer> timers;
+  double stepping_seconds = 0.0;
+};
+
+/// The per-system table of a run over ranks: for each system run by any rank, its time on the average rank, on the
+/// slowest rank (and which), the imbalance (slowest over mean: the time the others wait for that rank at the next
+/// exchange, if nothing overlaps it) and the mean's share of the mean stepping time. Rows as `ranks[0]` lists them.
+std::string format_rank_timing_table(const std::vector<RankTimers>& ranks);
+/// Every rank's rows as CSV (rank,system,phase,calls,total_s,items) with a header row, then a stepping row per rank.
+std::string format_rank_timing_csv(const std::vector<RankTimers>& ranks);
+
 }  // namespace riffle

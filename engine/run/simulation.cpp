@@ -898,6 +898,34 @@ std::string first_message_at_root(const std::string& message) {
   return "";
 }
 
+/// Every rank's `listed` timers (the same systems, in the same order, on every rank) and stepping time, at rank 0 in
+/// rank order (empty elsewhere, and at rank 0 if the ranks' lists differ in length). Collective.
+std::vector<RankTimers> gather_rank_timers(const std::vector<SystemTimer>& listed, double stepping_seconds) {
+  constexpr std::size_t kPerTimer = 3;  // calls, total seconds, items
+  std::vector<double> mine;
+  mine.reserve(kPerTimer * listed.size() + 1);
+  for (const SystemTimer& timer : listed)
+    mine.insert(mine.end(), {static_cast<double>(timer.calls), timer.total_seconds, static_cast<double>(timer.items)});
+  mine.push_back(stepping_seconds);
+  const std::vector<double> all = ranks::gather_all(mine);
+  std::vector<RankTimers> per_rank;
+  const auto count = static_cast<std::size_t>(ranks::size());
+  if (ranks::rank() != 0 || all.size() != count * mine.size()) return per_rank;
+  for (std::size_t r = 0; r < count; ++r) {
+    const double* row = &all[r * mine.size()];
+    RankTimers rank;
+    rank.timers = listed;
+    for (std::size_t t = 0; t < listed.size(); ++t) {
+      rank.timers[t].calls = static_cast<std::uint64_t>(row[kPerTimer * t]);
+      rank.timers[t].total_seconds = row[kPerTimer * t + 1];
+      rank.timers[t].items = static_cast<std::uint64_t>(row[kPerTimer * t + 2]);
+    }
+    rank.stepping_seconds = row[kPerTimer * listed.size()];
+    per_rank.push_back(std::move(rank));
+  }
+  return per_rank;
+}
+
 }  // namespace
 
 RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
@@ -1127,6 +1155,11 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   std::vector<SystemTimer> timers = stepper_->timers();
   for (const SystemTimer& branch : stepper_->branch_timers())
     if (branch.calls > 0) timers.push_back(branch);
+  // Every rank's systems and branches (the same list on each: the same model registers them), gathered for the
+  // per-system table over the ranks.
+  std::vector<SystemTimer> listed = stepper_->timers();
+  for (const SystemTimer& branch : stepper_->branch_timers()) listed.push_back(branch);
+  const std::vector<RankTimers> per_rank = gather_rank_timers(listed, stepping_seconds);
   if (root) {
     constexpr std::size_t kFields = 6;
     const std::size_t rank_count = seconds.size() / kFields;
@@ -1160,6 +1193,15 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       spdlog::error("{}", error.what());
     }
     spdlog::info("per-system timings of rank 0 ({} threads):\n{}", threads, format_timing_table(timers, stepping_seconds));
+    if (!per_rank.empty()) {
+      spdlog::info("per-system timings over the {} ranks (each rank's in timings_ranks.csv):\n{}", per_rank.size(),
+                   format_rank_timing_table(per_rank));
+      try {
+        write_text_file(out / "timings_ranks.csv", format_rank_timing_csv(per_rank));
+      } catch (const std::exception& error) {
+        spdlog::error("{}", error.what());
+      }
+    }
     if (outcome.exit_code == kExitOk)
       spdlog::info("{}", outcome.message);
     else

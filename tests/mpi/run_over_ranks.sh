@@ -20,6 +20,13 @@ check "... rank 0 wrote the outputs once: log, diagnostics, the probe, frames, c
   bash -c "[ -s two/diagnostics.csv ] && [ -s two/probe_wall_forces.csv ] && [ -s two/vtk/solids_000004.vtp ] &&
            [ -s two/checkpoints/final.ckpt ] && [ \$(grep -c 'finished at' two/riffle.log) = 1 ]"
 check "... and reported each rank's grains and stepping time" grep -qF "rank 1:" two/riffle.log
+# Each system's time on every rank: a row per system and rank, the same systems on both, and their table in the log.
+check "... and each system's time on each rank (timings_ranks.csv, the table over the ranks)" \
+  bash -c "grep -qF 'per-system timings over the 2 ranks' two/riffle.log &&
+           [ \$(grep -c '^0,solid_contact_forces,' two/timings_ranks.csv) = 1 ] &&
+           [ \$(grep -c '^1,solid_contact_forces,' two/timings_ranks.csv) = 1 ] &&
+           [ \$(grep -c '^0,' two/timings_ranks.csv) = \$(grep -c '^1,' two/timings_ranks.csv) ] &&
+           ! grep -q '^2,' two/timings_ranks.csv"
 ranks 2 run shaken.toml --out two_threads --threads 2 >two_threads.out 2>&1
 check "two ranks of two threads each end in the same checkpoint as of one thread, byte for byte" \
   cmp -s two/checkpoints/final.ckpt two_threads/checkpoints/final.ckpt

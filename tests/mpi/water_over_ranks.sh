@@ -27,6 +27,10 @@ done
 check "... rank 0 wrote the outputs once and reported each rank's particles" \
   bash -c "[ -s block2/diagnostics.csv ] && [ -s block2/checkpoints/final.ckpt ] &&
            [ \$(grep -c 'finished at' block2/riffle.log) = 1 ] && grep -qF 'MPS particles, stepping' block2/riffle.log"
+check "... and each system's time on each rank (timings_ranks.csv, the table over the ranks)" \
+  bash -c "grep -qF 'per-system timings over the 4 ranks' block4/riffle.log &&
+           [ \$(grep -c '^3,fluid_pressure,' block4/timings_ranks.csv) = 1 ] &&
+           [ \$(grep -c '^3,fluid_rank_migration,' block4/timings_ranks.csv) = 1 ]"
 for n in 2 4; do
   check "... on $n ranks as on one, particle by particle, at t = 0.02, 0.04, 0.06 s" compare block1 "block$n" 1 2 3
 done
