@@ -117,12 +117,12 @@ double removed_mass(const FluidSummary& fluid, const Model& model) {
   return static_cast<double>(fluid.removed_count()) * model.fluid.density * l0 * l0 * l0;
 }
 
-/// One warning per fluid particle fluid_escape removed in the last step (at most kMaxLines a step, then a count).
-void log_escaped(const World& world, const Model& model) {
-  if (!world.fluid_summary || world.fluid_summary->escaped.empty()) return;
+/// One warning per fluid particle fluid_escape removed in the last step, `escaped` (at most kMaxLines a step, then a
+/// count), and the removals so far.
+void log_escaped(const std::vector<EscapedParticle>& escaped, const World& world, const Model& model) {
+  if (!world.fluid_summary || escaped.empty()) return;
   constexpr std::size_t kMaxLines = 20;
   const FluidSummary& fluid = *world.fluid_summary;
-  const std::vector<EscapedParticle>& escaped = fluid.escaped;
   for (std::size_t k = 0; k < escaped.size() && k < kMaxLines; ++k) {
     const EscapedParticle& particle = escaped[k];
     spdlog::warn("step {} (t = {} s): fluid particle id {} removed: {} at position {} m with velocity {} m/s",
@@ -808,7 +808,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
       }
       const double step_seconds = seconds_since(step_start);
       stepping_seconds += step_seconds;
-      log_escaped(world_, *model_);
+      if (world_.fluid_summary) log_escaped(world_.fluid_summary->escaped, world_, *model_);
       log_unconverged_pressure(world_, *model_, unconverged_pressure_steps);
 
       if (!world_.step_status.ok()) {
@@ -896,6 +896,24 @@ std::string first_message_at_root(const std::string& message) {
       return (all.size() > 1 ? "rank " + std::to_string(r) + ": " : std::string()) + text;
     }
   return "";
+}
+
+/// Every rank's particles removed as escaped in the last step, at rank 0 in rank order (empty elsewhere). Collective.
+std::vector<EscapedParticle> escaped_at_root(const std::vector<EscapedParticle>& mine) {
+  constexpr std::size_t kPerParticle = 8;  // id, position, velocity, left_domain
+  std::vector<double> packed;
+  packed.reserve(kPerParticle * mine.size());
+  for (const EscapedParticle& particle : mine)
+    packed.insert(packed.end(), {static_cast<double>(particle.id), particle.position.x(), particle.position.y(),
+                                 particle.position.z(), particle.velocity.x(), particle.velocity.y(),
+                                 particle.velocity.z(), particle.left_domain ? 1.0 : 0.0});
+  const std::vector<double> all = ranks::gather_all(packed);
+  std::vector<EscapedParticle> escaped;
+  if (ranks::rank() != 0) return escaped;
+  for (std::size_t k = 0; k + kPerParticle <= all.size(); k += kPerParticle)
+    escaped.push_back(EscapedParticle{static_cast<EntityId>(all[k]), Vec3(all[k + 1], all[k + 2], all[k + 3]),
+                                      Vec3(all[k + 4], all[k + 5], all[k + 6]), all[k + 7] != 0.0});
+  return escaped;
 }
 
 /// Every rank's `listed` timers (the same systems, in the same order, on every rank) and stepping time, at rank 0 in
@@ -1057,6 +1075,10 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   }
 
   ProgressReporter progress(options.progress && root, world_.step, end_time, dt);
+  // The water's removals so far (summed over the ranks: the same on every rank), to tell each step whether any rank
+  // removed escaped particles; and the steps whose pressure solve stopped short (reported as on one rank).
+  std::size_t removed_so_far = world_.fluid_summary ? world_.fluid_summary->removed_count() : 0;
+  std::uint64_t unconverged_pressure_steps = 0;
   while (outputs_ok && world_.time < end_time - 0.5 * dt) {
     if (ranks::any(stop_requested() != 0)) {
       const int signal_number = stop_requested() != 0 ? stop_requested() : SIGTERM;
@@ -1083,6 +1105,16 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
     stepping_calls.reduce_seconds += calls_after.reduce_seconds - calls_before.reduce_seconds;
     stepping_calls.exchanges += calls_after.exchanges - calls_before.exchanges;
     stepping_calls.reductions += calls_after.reductions - calls_before.reductions;
+    if (world_.fluid_summary) {
+      // Each rank removed its own escaped particles; rank 0 names them all, as one rank does.
+      if (world_.fluid_summary->removed_count() != removed_so_far) {
+        const std::vector<EscapedParticle> escaped = escaped_at_root(world_.fluid_summary->escaped);
+        if (root) log_escaped(escaped, world_, *model_);
+        removed_so_far = world_.fluid_summary->removed_count();
+      }
+      // The solve is one over all the ranks: its report is the same on each.
+      if (root) log_unconverged_pressure(world_, *model_, unconverged_pressure_steps);
+    }
     // A grain lost or non-finite on any rank ends the run on every rank, with that rank's diagnosis.
     const bool failed_here = !world_.step_status.ok();
     if (ranks::any(failed_here)) {

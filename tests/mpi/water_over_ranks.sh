@@ -2,8 +2,8 @@
 # `mpirun -np N riffle run|resume` for scenes of water alone (the MPS particles spread over the ranks: fluid_ranks.hpp,
 # fluid_rank_migration, the searches' rank ghosts, the pressure solved by hypre over all the ranks): each run on 2 and
 # 4 ranks against 1 rank, particle by particle (matched by id) in its ParaView frames, a checkpoint of 2 ranks resumed
-# on 1 and 3, a lid with SPS and a bulk-velocity controller on 2 ranks against 1, and a scene of grains in water
-# refused with its reason.
+# on 1 and 3, a lid with SPS and a bulk-velocity controller on 2 ranks against 1, a splash's escaped particles named
+# in the log, and a scene of grains in water refused with its reason.
 #
 # Tolerances: one rank solves the same pressure equation with hypre alone (the scenes ask for "boomeramg"), the ranks
 # with hypre over all of them; both stop at |r| <= 1e-8 |b| (fluid.solver_tolerance), at other iterates, so each
@@ -108,6 +108,19 @@ for n in 1 2; do
 done
 check "... its body force and bulk velocity the same on 2 ranks as on one, to 1e-6" \
   compare_columns bulk1/probe_driven_flow.csv bulk2/probe_driven_flow.csv 2
+
+# A splash out of a low open tank (tests/data/splash_escape.toml: 288 particles, droplets over the walls and out of
+# the domain): each rank removes its own escaped particles, the counts are the water's, and rank 0's log names every
+# removed particle once, as one rank's does.
+ranks 2 run "$SRC/tests/data/splash_escape.toml" --out splash2 --threads 1 >splash2.out 2>&1
+check "a splash out of an open tank runs on 2 ranks" [ $? = 0 ]
+check "... its log names each removed particle once, as many as diagnostics.csv counts" \
+  /usr/bin/python3 -c "
+import csv, re
+removed = int(list(csv.DictReader(open('splash2/diagnostics.csv')))[-1]['fluid_removed_particles'])
+ids = re.findall(r'fluid particle id (\d+) removed', open('splash2/riffle.log').read())
+assert removed > 0 and len(ids) == removed and len(set(ids)) == removed, (removed, len(ids), len(set(ids)))
+"
 
 ranks 2 run "$SRC/scenes/ergun_plug.toml" --out grains_in_water --until 0.01 >grains_in_water.out 2>&1
 rc=$?
