@@ -98,7 +98,7 @@ TEST_CASE("ellipsoidal sampling kernel: the metric's weights are the formula's, 
   CHECK(sampling_vertical_stretch(horizontal, 0.0035) == 2.0);
 }
 
-TEST_CASE("ellipsoidal sampling kernel: a grain reads a linear field at its centre; its weight sum is the formula's") {
+TEST_CASE("ellipsoidal sampling kernel: a grain reads a linear field at its centre, its weight sum is the formula's") {
   const Vec3 a(0.1, -0.05, 0.02), g0(30.0, -20.0, 9810.0);
   Eigen::Matrix3d b, g;
   b << 0.3, -1.1, 4.0, 0.7, 0.2, -2.5, -0.4, 1.3, 0.9;  // [1/s], every component

@@ -34,7 +34,7 @@ std::vector<std::string> row_of(const std::string& table, const std::string& nam
 }
 }  // namespace
 
-TEST_CASE("timings over ranks: each system's mean, slowest rank and imbalance; systems no rank ran are left out") {
+TEST_CASE("timings over ranks: each system's mean, slowest rank and imbalance, systems no rank ran are left out") {
   // Three ranks: the pressure solve takes 1, 2 and 3 s (mean 2, slowest rank 2, imbalance 1.5); the search 1 s on
   // each; a branch no rank ran. Stepping 4, 5 and 6 s (mean 5).
   std::vector<RankTimers> ranks(3);

@@ -29,7 +29,7 @@ std::string channel(const std::string& mean_flow_keys = "", const std::string& a
 
 }  // namespace
 
-TEST_CASE("mean-flow grains: the mean velocity and the shear lift by default; the Langevin fluctuations on request") {
+TEST_CASE("mean-flow grains: the mean velocity and the shear lift by default, the Langevin fluctuations on request") {
   // The lift is on with or without a [coupling] table (its default follows [mean_flow]), and off on request.
   const Model plain = parse_scene(channel(), "channel.toml");
   REQUIRE(plain.mean_flow.enabled);

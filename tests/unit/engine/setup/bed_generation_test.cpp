@@ -561,7 +561,7 @@ TEST_CASE("bed and fill lists that are not arrays of tables are reported") {
   CHECK(problems[1].rfind("beds.toml:3:9: solids.fills: expected an array of tables ([[solids.fills]])", 0) == 0);
 }
 
-TEST_CASE("a hexagonal close-packed block: every sphere touches its neighbours at the spacing, none nearer; 12 inside") {
+TEST_CASE("a hexagonal close-packed block: every sphere touches its neighbours at the spacing, none nearer, 12 inside") {
   // 6 x 6 rows x 4 layers of 2 mm spheres touching, in a closed 2 cm box: the scene's counts come from the lattice's
   // pitches (spacing, spacing sqrt(3)/2, spacing sqrt(2/3)).
   const std::string scene =

@@ -22,7 +22,7 @@ TEST_CASE("distance outside a box: 0 inside and on it, Euclidean to the nearest 
   CHECK(distance_outside_box(low, high, Vec3(-1.0, -2.0, 5.0)) == 3.0);       // corner: sqrt(1 + 4 + 4)
 }
 
-TEST_CASE("a fluid particle escapes when it leaves the domain, or alone beyond escape_distance; a NaN never does") {
+TEST_CASE("a fluid particle escapes when it leaves the domain, or alone beyond escape_distance, a NaN never does") {
   const DomainBox domain{Vec3(-0.1, -0.1, -0.1), Vec3(1.1, 1.1, 1.5)};
   const Vec3 tank_low = Vec3::Zero(), tank_high = Vec3::Ones();
   const Vec3 still = Vec3::Zero();

@@ -194,7 +194,7 @@ TEST_CASE("the scene's added-mass and history switches: added mass on with the M
                     doctest::Contains("coupling.added_mass"));
 }
 
-TEST_CASE("the scene's voidage keys: volume and the radius across the bed; a narrow radius over the water refused") {
+TEST_CASE("the scene's voidage keys: volume and the radius across the bed, a narrow radius over the water refused") {
   const std::string scene = test::coupled_scene_text();
   const Model plain = parse_scene(scene, "coupled.toml");
   CHECK(plain.coupling.voidage_volume == CouplingModel::VoidageVolume::kFluidParticles);

@@ -249,7 +249,7 @@ TEST_CASE("motion table: a sampled sinusoid gives the analytic kinematics within
   CHECK(tank_motion_sweep(motion)[1] == 0.0);
 }
 
-TEST_CASE("motion table: columns in any order, comments and blank lines; bad files name their line") {
+TEST_CASE("motion table: columns in any order, comments and blank lines, bad files name their line") {
   MotionTable table;
   REQUIRE(parse_motion_table("# header follows\n\nt, z ,x\n0,0,1\n0.1,1,1\n\n0.2,2,1\n0.3,3,1\n", "ok.csv", table) ==
           "");

@@ -216,7 +216,7 @@ TEST_CASE("mean-flow column: no mixing length in a packed bed, below its highest
   }
 }
 
-TEST_CASE("mean-flow column: a smooth floor under a packed bed damps nothing; a lid caps and damps the length") {
+TEST_CASE("mean-flow column: a smooth floor under a packed bed damps nothing, a lid caps and damps the length") {
   const ColumnGrid grid = grid_of(8, 1e-3);
   const double h = 1e-3, nu = 1e-6;
   const std::vector<double> phi = {0.61, 0.61, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};

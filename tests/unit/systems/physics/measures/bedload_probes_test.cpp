@@ -170,7 +170,7 @@ TEST_CASE("the bed-load flux of a rigid block of grains moving at U is its solid
   CHECK(mean.add(0.4, {1.0})[0] == doctest::Approx((0.1 * 3.0 + 0.3 * 1.0) / 0.4));
 }
 
-TEST_CASE("the velocity profile of a linear shear has its layer means on the line; grains by volume") {
+TEST_CASE("the velocity profile of a linear shear has its layer means on the line, grains by volume") {
   const double h = 0.004, a = 2.0;  // [m], [1/s]: u_x = a z
   const Vec3 tank_velocity(0.1, 0.0, 0.0);
   const Vec3 displacement(0.0, 0.0, 0.002);
