@@ -100,6 +100,12 @@ void print_check(const std::string& scene_path, const Model& model) {
                   flow.shields_number, flow.shields_diameter, flow.shields_density);
   }
   std::printf("%s", describe_budget(budget, model).c_str());
+  // Before a job is queued on many ranks: whether `mpirun -np N riffle run` can spread this scene.
+  const std::string spread = Simulation::over_ranks_problem(model);
+  if (spread.empty())
+    std::printf("  over MPI ranks: can be spread (mpirun -np N riffle run)\n");
+  else
+    std::printf("  over MPI ranks: one rank only: %s\n", spread.c_str());
 }
 
 /// `riffle keys`: the union of the keys every scene's reading asks for (engine/toml/scene_reader.hpp, SceneKey),

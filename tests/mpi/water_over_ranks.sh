@@ -130,5 +130,10 @@ check "a scene of grains in water on two ranks exits 1" [ $rc = 1 ]
 check "... naming why, with nothing written" \
   bash -c "grep -qF 'cannot spread this scene over 2 MPI ranks' grains_in_water.out && [ ! -e grains_in_water ]"
 
+# riffle check says beforehand whether a scene can be spread, and why not.
+check "riffle check: the dam break can be spread over ranks, grains in water cannot (and why)" \
+  bash -c "'$RIFFLE' check dam.toml | grep -qF 'over MPI ranks: can be spread' &&
+           '$RIFFLE' check '$SRC/scenes/ergun_plug.toml' | grep -qF 'over MPI ranks: one rank only: grains in MPS water'"
+
 echo "$failures check(s) failed"
 [ "$failures" = 0 ]
