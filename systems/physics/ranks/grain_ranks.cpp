@@ -80,9 +80,9 @@ std::vector<double> grains_per_box(const Solids& solids, const RankHalo& halo) {
 }
 
 bool rebalance_grain_ranks(const Solids& solids, RankHalo& halo, double above) {
-  // What each rank would own after this rebuild's migration, in the present boxes.
-  if (!boxes_out_of_balance(grains_per_box(solids, halo), above)) return false;
+  // What each rank would own after this rebuild's migration, in the present boxes (every grain weighs 1).
   const std::vector<double> ones(solids.size(), 1.0);
+  if (!boxes_out_of_balance(weight_per_box(solids.position, ones, boxes_of(halo)), above)) return false;
   store_rank_boxes(bisect_over_ranks(solids.position, ones, PartBox{halo.domain_low, halo.domain_high},
                                      static_cast<int>(halo.box_low.size())),
                    halo.box_low, halo.box_high);
