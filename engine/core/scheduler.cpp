@@ -180,6 +180,24 @@ void Scheduler::build_graph() {
     if (!by_caller[index] && !has_predecessor[index]) tbb::flow::make_edge(*start_, *nodes_[index]);
 }
 
+void Scheduler::run_in_list_order() {
+  std::vector<std::pair<std::pair<std::size_t, std::size_t>, std::string>> edges;
+  for (std::size_t e = 0; e < edges_.size(); ++e) edges.emplace_back(edges_[e], edge_reasons_[e]);
+  for (std::size_t index = 1; index < systems_.size(); ++index) {
+    const std::pair<std::size_t, std::size_t> edge{index - 1, index};
+    if (std::find(edges_.begin(), edges_.end(), edge) == edges_.end()) edges.emplace_back(edge, "list order");
+  }
+  std::sort(edges.begin(), edges.end());
+  edges_.clear();
+  edge_reasons_.clear();
+  for (auto& [edge, why] : edges) {
+    edges_.push_back(edge);
+    edge_reasons_.push_back(std::move(why));
+  }
+  check_acyclic();  // the list order never closes a cycle; this refreshes the successors
+  build_graph();
+}
+
 void Scheduler::run_on_caller(std::string_view name) {
   const std::optional<std::size_t> found = find(name);
   if (!found) throw SchedulerError("graph '" + name_ + "' has no system '" + std::string(name) + "' to run");

@@ -57,6 +57,11 @@ class Scheduler {
   /// as derived; the ancestors (the step-start copies) run in list order first, alone. Throws SchedulerError if
   /// there is no such system.
   void run_on_caller(std::string_view name);
+  /// From now on every system waits for the one before it in the list (edges "list order" where none was derived),
+  /// so that no two run at once, each still spreading its own loops over the threads. Why: over MPI ranks with
+  /// grains in MPS water the two branches' systems both talk to the other ranks, and MPI_THREAD_SERIALIZED allows
+  /// one call at a time, in the same order on every rank. Call before run_on_caller.
+  void run_in_list_order();
 
   /// Dependency edges as (from, to) indices into the system list, sorted.
   const std::vector<std::pair<std::size_t, std::size_t>>& edges() const { return edges_; }

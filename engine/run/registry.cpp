@@ -42,8 +42,9 @@ Pipeline build_pipeline(const Model& model) {
     const double narrow_skin = fluid.narrow_neighbour_skin_ratio * fluid.spacing;
     using At = FluidNeighbourSearch::Positions;
     const PeriodicBox box = periodic_box(model);  // no periodic axis: the searches build no halo
+    const bool over_ranks = ranks::distributed();
     // Over MPI ranks the particles go to the ranks whose boxes hold them before the step-start search rebuilds.
-    if (ranks::distributed()) pipeline.step.push_back(std::make_unique<FluidRankMigration>(fluid.effective_radius(), fluid.effective_radius() + skin, box));
+    if (over_ranks) pipeline.step.push_back(std::make_unique<FluidRankMigration>(fluid.effective_radius(), fluid.effective_radius() + skin, box));
     pipeline.step.push_back(
         std::make_unique<FluidNeighbourSearch>(fluid.effective_radius(), skin, narrow_skin, At::kCurrent, box));
     pipeline.step.push_back(std::make_unique<FluidPredict>(fluid));
@@ -69,12 +70,15 @@ Pipeline build_pipeline(const Model& model) {
       // of step k. The grains sample a copy of it, first in their own branch, so the fluid's systems and the
       // grains' sub-step loop share no component and the scheduler lets them run side by side; the voidage, which
       // the drag reaction needs, is read at the end of the step.
-      pipeline.step_start.push_back(std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress));
+      // Over MPI ranks the coupling's systems also read the other ranks' grains and water near this rank's
+      // (systems/physics/ranks/coupling_ranks.hpp).
+      pipeline.step_start.push_back(
+          std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress, over_ranks, fluid.effective_radius()));
       pipeline.solid_step.push_back(std::make_unique<SolidFluidSampling>(model));
       // The history force of the step start, from the relative velocity just sampled; held over the sub-steps.
       if (model.coupling.history_force) pipeline.solid_step.push_back(std::make_unique<SolidHistoryForce>(model));
-      pipeline.end_of_step.push_back(std::make_unique<SolidVoidage>(model));
-      pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model));
+      pipeline.end_of_step.push_back(std::make_unique<SolidVoidage>(model, over_ranks));
+      pipeline.end_of_step.push_back(std::make_unique<FluidDragReaction>(model, over_ranks));
     }
   }
   if (model.mean_flow.enabled) {
@@ -107,8 +111,9 @@ Pipeline build_pipeline(const Model& model) {
       if (coupled && phase == &pipeline.initial_forces && model.mean_flow.enabled) {
         phase->push_back(std::make_unique<SolidMeanFlowSampling>(model));  // the column as set up
       } else if (coupled && phase == &pipeline.initial_forces) {
-        phase->push_back(std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress));
-        phase->push_back(std::make_unique<SolidVoidage>(model));
+        phase->push_back(std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress, ranks::distributed(),
+                                                           model.fluid.effective_radius()));
+        phase->push_back(std::make_unique<SolidVoidage>(model, ranks::distributed()));
         phase->push_back(std::make_unique<SolidFluidSampling>(model));
       }
       const bool lubrication = coupled && contacts && model.coupling.lubrication;

@@ -519,16 +519,12 @@ CheckpointData Simulation::checkpoint_data_of(const World& world) const {
 }
 
 std::string Simulation::over_ranks_problem(const Model& model) {
-  if (model.fluid.enabled) {
-    // The water alone is spread over ranks; what reads across a rank's edge beyond the MPS operators is not yet.
-    if (model.solids.enabled) return "grains in MPS water ([fluid] with [solids]): only water alone is spread over ranks yet";
-    if (!hypre_available()) return "MPS water over ranks solves its pressure with hypre, and this build has no hypre";
-    return "";
-  }
+  if (model.fluid.enabled && !hypre_available())
+    return "MPS water over ranks solves its pressure with hypre, and this build has no hypre";
+  if (model.fluid.enabled && !model.solids.enabled) return "";  // water alone
+  // Grains, dry, under the mean-flow water or in MPS water (coupling_ranks.hpp): spread by their contacts.
   if (!model.solids.enabled || !model.contact.enabled)
     return "a scene without grains in contact: only the grains' contacts are decomposed over ranks";
-  if (model.coupling.enabled && model.coupling.lubrication)
-    return "[coupling] lubrication: its pair forces across ranks are not built yet";
   return "";
 }
 

@@ -43,6 +43,9 @@ std::unique_ptr<Scheduler> Stepper::build_step_graph(Pipeline& pipeline) {
   phases.push_back({kLoopPhase, std::move(grains)});
   phases.push_back({"end_of_step", std::move(pipeline.end_of_step)});
   auto graph = std::make_unique<Scheduler>("step", std::move(phases), world_, model_);
+  // Over MPI ranks with grains in MPS water both branches talk to the other ranks: one system at a time, in list
+  // order (Scheduler::run_in_list_order says why).
+  if (ranks::distributed() && world_.fluid && world_.solids) graph->run_in_list_order();
   // The grains' loop is the step's longest chain: the calling thread runs it (Scheduler::run_on_caller says why).
   if (loop_) graph->run_on_caller(kLoopName);
   return graph;

@@ -11,6 +11,9 @@
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/coupling/sampling_kernel.hpp"
 #include "systems/coupling/solid_drag.hpp"
+#include "systems/physics/ranks/coupling_ranks.hpp"
+#include "systems/physics/ranks/rank_boxes.hpp"
+#include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
 
@@ -20,47 +23,128 @@ void FluidDragReaction::run(SystemContext& context) {
   const GrainVoidage& voidages = context.read<GrainVoidage>();
   GrainDrag& drag = context.write<GrainDrag>();
   const ParticleState& particles = context.read<ParticleState>();
-  ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
-  const std::size_t fluid_count = fluid_slot_count(particles);
-  if (kernel_reaction_) {  // every grain spreads with its sampling kernel: no grid
-    spread_with_sampling_kernel(context, false);
-    context.count_items(grains.size());
-    return;
-  }
   double largest_radius = 0.0;
   for (const double radius : properties.radius) largest_radius = std::max(largest_radius, radius);
-  // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
-  // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
-  if (self_induced_velocity_) spread_with_sampling_kernel(context, true);
+  const bool spread = over_ranks_ && context.read<Contacts>().ranks.active;
+  if (spread) largest_radius = ranks::max(largest_radius);
+  largest_radius_ = largest_radius;
+  Points points;
+  if (spread) {
+    // The grid's reach: a fluid particle reads the nodes of its cell, which hold the impulses of the grains within a
+    // cell of them and the fluid volume within a cell of them, and each such grain's share depends on which of its
+    // nodes hold water: grains within two cells, fluid within three; the kernel's: grains within R of a fluid
+    // particle, and the fluid within R of those grains. A fourth cell for the cells' rounding.
+    const double kernel_radius = largest_radius + constants_.effective_radius;
+    points = gather_near_ranks(context, std::max(4.0 * kGridCellPerKernel * kernel_radius, 2.0 * kernel_radius + kGridCellPerKernel * kernel_radius));
+  } else {
+    points.grain_position = grains.position;
+    points.grain_radius = properties.radius;
+    points.grain_voidage = voidages.voidage;
+    points.grain_impulse = drag.drag_impulse;
+    points.fluid_position = std::span<const Vec3>(particles.position.data(), fluid_slot_count(particles));
+    points.own_fluid = points.fluid_position.size();
+  }
+  if (kernel_reaction_) {  // every grain spreads with its sampling kernel: no grid
+    spread_with_sampling_kernel(context, points, false);
+  } else {
+    // With the self-induced correction the dilute grains (those it applies to) spread with their sampling kernel;
+    // the grains of a bed keep the grid, whose cost does not grow with the kernel's neighbour count.
+    if (self_induced_velocity_) spread_with_sampling_kernel(context, points, true);
+    spread_on_grid(context, points);
+  }
+  // Over ranks the impulses were spread from copies: this rank's grains take back theirs (zero where spread).
+  if (spread)
+    std::copy(near_grain_impulse_.begin(), near_grain_impulse_.begin() + static_cast<std::ptrdiff_t>(grains.size()),
+              drag.drag_impulse.begin());
+  context.count_items(grains.size());
+}
+
+FluidDragReaction::Points FluidDragReaction::gather_near_ranks(SystemContext& context, double reach) {
+  const GrainState& grains = context.read<GrainState>();
+  const GrainProperties& properties = context.read<GrainProperties>();
+  const GrainVoidage& voidages = context.read<GrainVoidage>();
+  const GrainDrag& drag = context.read<GrainDrag>();
+  const ParticleState& particles = context.read<ParticleState>();
+  const RankHalo& grain_ranks = context.read<Contacts>().ranks;
+  const FluidRankHalo& fluid_ranks = context.read<FluidNeighbours>().ranks;
+  const std::size_t own_fluid = fluid_slot_count(particles);
+  const std::span<const Vec3> fluid(particles.position.data(), own_fluid);
+  // Both families' boxes: the grains this rank's water needs sit near its fluid box, the water its grains need near
+  // their box. Each family's members stand up to its overflow outside their rank's box.
+  const std::vector<PartBox> grain_boxes = rank_boxes(grain_ranks.box_low, grain_ranks.box_high);
+  const std::vector<PartBox> fluid_boxes = rank_boxes(fluid_ranks.box_low, fluid_ranks.box_high);
+  const auto me = static_cast<std::size_t>(ranks::rank());
+  CouplingBoxes boxes;
+  for (std::size_t r = 0; r < grain_boxes.size(); ++r) boxes.of_rank.push_back({grain_boxes[r], fluid_boxes[r]});
+  boxes.reach = reach + std::max(overflow_over_ranks(grains.position, grain_boxes[me]),
+                                 overflow_over_ranks(fluid, fluid_boxes[me]));
+  const PeriodicBox box = periodic_box(context.model);
+  near_grain_position_.assign(grains.position.begin(), grains.position.end());
+  near_grain_radius_.assign(properties.radius.begin(), properties.radius.end());
+  near_grain_voidage_.assign(voidages.voidage.begin(), voidages.voidage.end());
+  near_grain_impulse_.assign(drag.drag_impulse.begin(), drag.drag_impulse.end());
+  exchange_records(
+      indices_near_other_ranks(grains.position, boxes, box),
+      [&](ByteWriter& out, std::uint32_t i) {
+        out.put(grains.position[i]);
+        out.put(properties.radius[i]);
+        out.put(voidages.voidage[i]);
+        out.put(drag.drag_impulse[i]);
+      },
+      [&](ByteReader& in) {
+        near_grain_position_.push_back(in.get<Vec3>());
+        near_grain_radius_.push_back(in.get<double>());
+        near_grain_voidage_.push_back(in.get<double>());
+        near_grain_impulse_.push_back(in.get<Vec3>());
+      });
+  near_fluid_position_.assign(fluid.begin(), fluid.end());
+  exchange_records(
+      indices_near_other_ranks(fluid, boxes, box), [&](ByteWriter& out, std::uint32_t i) { out.put(fluid[i]); },
+      [&](ByteReader& in) { near_fluid_position_.push_back(in.get<Vec3>()); });
+  // The grid's nodes where one grid over every rank's points has them.
+  grid_.anchor_lattice(lowest_corner_over_ranks(grains.position, fluid));
+  Points points;
+  points.grain_position = near_grain_position_;
+  points.grain_radius = near_grain_radius_;
+  points.grain_voidage = near_grain_voidage_;
+  points.grain_impulse = near_grain_impulse_;
+  points.fluid_position = near_fluid_position_;
+  points.own_fluid = own_fluid;
+  return points;
+}
+
+void FluidDragReaction::spread_on_grid(SystemContext& context, const Points& points) {
+  ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
+  const std::size_t grain_count = points.grain_position.size();
   // Cells of (2 pi / 21)^(1/3) (r + r_e): one cell holds the volume of the Wendland kernel on R_I (seed Eq. 26's
   // influence domain), so the impulse spreads over the same volume, at a cost linear in the particle counts.
-  const double cell_size = 0.668 * (largest_radius + constants_.effective_radius);
-  volumes_.assign(grains.size(), 0.0);
+  const double cell_size = kGridCellPerKernel * (largest_radius_ + constants_.effective_radius);
+  volumes_.assign(grain_count, 0.0);
   const DomainBox domain = domain_box(context.model);
   // A periodic box: the grid wraps along its periodic axes (whole cells per period), so a grain's stencil by the
   // seam reaches the nodes, and through them the fluid particles, on the other side.
-  grid_.build(grains.position, volumes_, particles.position, fluid_count, constants_.particle_volume, cell_size,
-              domain.low, domain.high, periodic_box(context.model));
+  grid_.build(points.grain_position, volumes_, points.fluid_position, points.fluid_position.size(),
+              constants_.particle_volume, cell_size, domain.low, domain.high, periodic_box(context.model));
 
   // Impulses to the nodes (slot order), then each fluid particle takes its weight's share of its nodes' impulse:
   // sum_j w_jn / W_n = 1 at every node with water, so the water receives exactly minus the grains' impulse.
   node_impulse_.assign(grid_.node_count(), Vec3::Zero());
-  for (std::size_t grain = 0; grain < grains.size(); ++grain) {
-    if (drag.drag_impulse[grain].isZero(0.0)) continue;  // also the dilute grains the kernel spreading took
-    const CloudInCellStencil stencil = grid_.stencil(grains.position[grain]);
+  for (std::size_t grain = 0; grain < grain_count; ++grain) {
+    if (points.grain_impulse[grain].isZero(0.0)) continue;  // also the dilute grains the kernel spreading took
+    const CloudInCellStencil stencil = grid_.stencil(points.grain_position[grain]);
     double wet = 0.0;  // weight of the nodes that hold water: a grain at the water's edge gives all to those
     for (std::size_t c = 0; c < 8; ++c) wet += grid_.fluid_volume(stencil.node[c]) > 0.0 ? stencil.weight[c] : 0.0;
     if (wet <= 0.0) continue;  // out of the water since the sampling: its drag was zero while dry
     // Mixture reading: the pore water's relative momentum balance, divided by eps, has -grad p + rho g and the
     // drag per volume over eps (docs/COUPLING.md).
-    const double share = 1.0 / (wet * flux_share(fluid_velocity_, voidages.voidage[grain]));
+    const double share = 1.0 / (wet * flux_share(fluid_velocity_, points.grain_voidage[grain]));
     for (std::size_t c = 0; c < 8; ++c)
       if (grid_.fluid_volume(stencil.node[c]) > 0.0)
-        node_impulse_[stencil.node[c]] -= (stencil.weight[c] * share) * drag.drag_impulse[grain];
-    drag.drag_impulse[grain] = Vec3::Zero();
+        node_impulse_[stencil.node[c]] -= (stencil.weight[c] * share) * points.grain_impulse[grain];
+    points.grain_impulse[grain] = Vec3::Zero();
   }
-  for_each_particle(fluid_count, [&](std::size_t j) {
-    const CloudInCellStencil stencil = grid_.stencil(particles.position[j]);
+  for_each_particle(points.own_fluid, [&](std::size_t j) {
+    const CloudInCellStencil stencil = grid_.stencil(points.fluid_position[j]);
     Vec3 received = Vec3::Zero();
     // fluid_volume(n) = l0^3 sum_k w_kn, so this particle's share of node n is l0^3 w_jn / fluid_volume(n); per
     // volume l0^3, that is w_jn / fluid_volume(n).
@@ -68,7 +152,6 @@ void FluidDragReaction::run(SystemContext& context) {
       if (stencil.weight[c] > 0.0) received += (stencil.weight[c] / grid_.fluid_volume(stencil.node[c])) * node_impulse_[stencil.node[c]];
     reaction.drag_reaction[j] += received;
   });
-  context.count_items(grains.size());
 }
 
 namespace {
@@ -126,26 +209,21 @@ struct KernelPairBatch {
 // image of each fluid particle; the period exceeds twice R_I, so none is met twice), as in solid_fluid_sampling; in
 // pass 2 the fluid particle looks from x_j + t for its own shifts t, which meets the grain's image centre - t, the
 // same point (bit for bit: t = -s) pass 1 summed from. Both passes wrap the grain's centre into the box first.
-void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool dilute_only) {
-  const GrainState& grains = context.read<GrainState>();
-  const GrainProperties& properties = context.read<GrainProperties>();
-  const GrainVoidage& voidages = context.read<GrainVoidage>();
-  GrainDrag& drag = context.write<GrainDrag>();
-  const ParticleState& particles = context.read<ParticleState>();
+void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, const Points& points, bool dilute_only) {
   ParticleDragReaction& reaction = context.write<ParticleDragReaction>();
-  const std::size_t fluid_count = fluid_slot_count(particles);
+  const std::size_t fluid_count = points.fluid_position.size();
   const double effective_radius = constants_.effective_radius;
   const PeriodicBox box = periodic_box(context.model);
   spread_slot_.clear();
   spread_centre_.clear();
   spread_kernel_.clear();
   spread_stretch_.clear();
-  for (std::size_t grain = 0; grain < grains.size(); ++grain) {
-    if (drag.drag_impulse[grain].isZero(0.0)) continue;
-    if (dilute_only && !(voidages.voidage[grain] > kSelfInducedMinVoidage)) continue;
+  for (std::size_t grain = 0; grain < points.grain_position.size(); ++grain) {
+    if (points.grain_impulse[grain].isZero(0.0)) continue;
+    if (dilute_only && !(points.grain_voidage[grain] > kSelfInducedMinVoidage)) continue;
     spread_slot_.push_back(static_cast<std::uint32_t>(grain));
-    spread_centre_.push_back(box.any() ? box.wrap(grains.position[grain]) : grains.position[grain]);
-    spread_kernel_.emplace_back(properties.radius[grain] + effective_radius);
+    spread_centre_.push_back(box.any() ? box.wrap(points.grain_position[grain]) : points.grain_position[grain]);
+    spread_kernel_.emplace_back(points.grain_radius[grain] + effective_radius);
     spread_stretch_.push_back(sampling_vertical_stretch(spread_kernel_.back().effective_radius, vertical_radius_));
   }
   // A bed has no dilute grain (the seed's never does): then no grid is built at all.
@@ -160,7 +238,7 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
   const double volume = constants_.particle_volume;
 
   // Pass 1. Cells of half the smallest R, as solid_fluid_sampling's (a query scans about 5^3 cells).
-  fluid_grid_.build(particles.position, 0, fluid_count, 0.5 * smallest, domain.low, domain.high);
+  fluid_grid_.build(points.fluid_position, 0, fluid_count, 0.5 * smallest, domain.low, domain.high);
   spread_per_weight_.assign(count, Vec3::Zero());
   for_each_particle(count, [&](std::size_t k) {
     const Vec3 centre = spread_centre_[k];
@@ -189,9 +267,9 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
     if (batch.count > 0) flush();
     if (weight_sum <= 0.0) return;  // out of the water since the sampling: it keeps its impulse (zero while dry)
     const std::size_t grain = spread_slot_[k];
-    const double share = (1.0 / flux_share(fluid_velocity_, voidages.voidage[grain])) / (weight_sum * volume);
-    spread_per_weight_[k] = -share * drag.drag_impulse[grain];
-    drag.drag_impulse[grain] = Vec3::Zero();
+    const double share = (1.0 / flux_share(fluid_velocity_, points.grain_voidage[grain])) / (weight_sum * volume);
+    spread_per_weight_[k] = -share * points.grain_impulse[grain];
+    points.grain_impulse[grain] = Vec3::Zero();
   });
   // Only the grains that spread go on (order kept).
   std::size_t wet = 0;
@@ -216,8 +294,8 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, bool
   }
   low -= Vec3::Constant(largest);
   high += Vec3::Constant(largest);
-  for_each_particle(fluid_count, [&](std::size_t j) {
-    const Vec3 point = particles.position[j];
+  for_each_particle(points.own_fluid, [&](std::size_t j) {  // this rank's fluid receives
+    const Vec3 point = points.fluid_position[j];
     Vec3 received = Vec3::Zero();
     bool reached = false;
     KernelPairBatch batch;

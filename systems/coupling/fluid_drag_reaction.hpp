@@ -13,6 +13,8 @@
 //    sampling's ellipsoidal kernel (the same stretched offsets), so the footprint stays the sampled one.
 // Either way the fluid receives exactly minus what the grains received (momentum conserved to rounding), and
 // nothing depends on the thread count.
+#include <span>
+
 #include "systems/system.hpp"
 #include "systems/physics/coupling/voidage_grid.hpp"
 #include "systems/physics/geometry/cell_grid.hpp"
@@ -23,23 +25,52 @@ namespace riffle {
 
 class FluidDragReaction final : public System {
  public:
-  explicit FluidDragReaction(const Model& model)
-      : constants_(mps_constants(model.fluid)),
+  /// `over_ranks` (grains in MPS water over MPI ranks): the other ranks' grains and fluid particles within the
+  /// grids' and kernels' reach of this rank's grains and water come in first (coupling_ranks.hpp); each rank gives its
+  /// own fluid particles their share of every grain's impulse, and zeroes its own grains' impulses.
+  explicit FluidDragReaction(const Model& model, bool over_ranks = false)
+      : over_ranks_(over_ranks),
+        constants_(mps_constants(model.fluid)),
         fluid_velocity_(model.coupling.fluid_velocity),
         self_induced_velocity_(model.coupling.self_induced_velocity),
         kernel_reaction_(model.coupling.sampling_kernel_reaction),
         vertical_radius_(model.coupling.sampling_vertical_radius) {}
   std::string_view name() const override { return "fluid_drag_reaction"; }
   Access access() const override {
-    return {component_ids<GrainState, GrainProperties, GrainVoidage, ParticleState>(),
-            component_ids<GrainDrag, ParticleDragReaction>()};
+    Access access{component_ids<GrainState, GrainProperties, GrainVoidage, ParticleState>(),
+                  component_ids<GrainDrag, ParticleDragReaction>()};
+    if (over_ranks_)
+      for (const ComponentId id : component_ids<Contacts, FluidNeighbours>()) access.reads.push_back(id);
+    return access;
   }
   void run(SystemContext& context) override;
 
  private:
+  /// What the reaction reads: the grains (this rank's first, `own_grains` of them) and the fluid particles (this
+  /// rank's fluid slots first, `own_fluid` of them: those that receive). On one rank the components themselves.
+  struct Points {
+    std::span<const Vec3> grain_position;
+    std::span<const double> grain_radius, grain_voidage;
+    std::span<Vec3> grain_impulse;  ///< zeroed where spread
+    std::span<const Vec3> fluid_position;
+    std::size_t own_fluid = 0;
+  };
+  /// The grid's spreading of every grain's impulse still unspread.
+  void spread_on_grid(SystemContext& context, const Points& points);
   /// Spreads with the sampling kernel the impulse of every grain with one that is in the water (a fluid particle
   /// within its R), all of them or (dilute_only) those above the self-induced correction's voidage, and zeroes it.
-  void spread_with_sampling_kernel(SystemContext& context, bool dilute_only);
+  void spread_with_sampling_kernel(SystemContext& context, const Points& points, bool dilute_only);
+  /// Over ranks: the other ranks' grains and fluid particles within `reach` of this rank's boxes after this rank's
+  /// own, in the members below; returns them as Points. Collective.
+  Points gather_near_ranks(SystemContext& context, double reach);
+
+  /// (2 pi / 21)^(1/3): the grid's cell over the kernel radius r + r_e (one cell holds the Wendland kernel's volume).
+  static constexpr double kGridCellPerKernel = 0.668;
+
+  bool over_ranks_;
+  double largest_radius_ = 0.0;  ///< [m] the largest grain's radius (over every rank's), this step
+  std::vector<Vec3> near_grain_position_, near_grain_impulse_, near_fluid_position_;
+  std::vector<double> near_grain_radius_, near_grain_voidage_;
 
   MpsConstants constants_;
   CouplingModel::FluidVelocity fluid_velocity_;  ///< the water takes the drag per volume over flux_share

@@ -7,6 +7,7 @@
 
 #include "systems/physics/dem/contact_law.hpp"
 #include "systems/physics/coupling/lubrication.hpp"
+#include "systems/physics/ranks/grain_ranks.hpp"
 
 namespace riffle {
 
@@ -48,6 +49,32 @@ struct GhostedGrains {
 
 /// Pass 1 (below): each grain-grain candidate once, from its first grain (always real), the second read through
 /// `neighbours`.
+/// Over MPI ranks: slots past this rank's grains are the other ranks' grains (Contacts::ghosts, RankHalo), with
+/// their water's sampling weights as their owners send them.
+struct RankGrains {
+  const GrainState* grains_;
+  const GrainProperties* properties_;
+  const GrainGhosts* ghosts_;
+  const double* weight_;
+  const double* ghost_weight_;
+  const std::int32_t* ghost_fixed_;
+  std::uint32_t real_count_;
+  const Vec3& position(std::uint32_t j) const {
+    return j < real_count_ ? grains_->position[j] : ghosts_->position[j - real_count_];
+  }
+  const Vec3& velocity(std::uint32_t j) const {
+    return j < real_count_ ? grains_->velocity[j] : ghosts_->velocity[j - real_count_];
+  }
+  double radius(std::uint32_t j) const {
+    return j < real_count_ ? properties_->radius[j] : ghosts_->radius[j - real_count_];
+  }
+  double mass(std::uint32_t j) const { return j < real_count_ ? properties_->mass[j] : ghosts_->mass[j - real_count_]; }
+  double weight(std::uint32_t j) const { return j < real_count_ ? weight_[j] : ghost_weight_[j - real_count_]; }
+  bool fixed(std::uint32_t j) const {
+    return (j < real_count_ ? properties_->fixed[j] : ghost_fixed_[j - real_count_]) != 0;
+  }
+};
+
 template <class Neighbours>
 void lubrication_first(const GrainState& grains, const GrainProperties& properties, const double* weights,
                        const Neighbours& neighbours, const Contacts& contacts, const Walls& walls,
@@ -142,7 +169,13 @@ void SolidLubrication::run(SystemContext& context) {
   const CouplingModel settings = model_;
   Vec3* const pair_force = pair_force_.data();
   const double* const weights = sampled.fluid_weight.data();
-  if (contacts.halo.valid) {
+  if (contacts.ranks.active) {
+    exchange_rank_ghost_values(sampled.fluid_weight, contacts, ghost_weight_);
+    const RankGrains neighbours{&grains, &properties, &contacts.ghosts, weights, ghost_weight_.data(),
+                                contacts.ranks.ghost_fixed.data(), static_cast<std::uint32_t>(count)};
+    lubrication_first(grains, properties, weights, neighbours, contacts, walls, settings, mu, dt, pair_force,
+                      lubrication);
+  } else if (contacts.halo.valid) {
     const GhostedGrains neighbours{ghosted(grains.position, contacts.ghosts.position, contacts.halo),
                                    ghosted(grains.velocity, contacts.ghosts.velocity, contacts.halo),
                                    ghosted(properties.radius, contacts.ghosts.radius, contacts.halo),
@@ -163,6 +196,8 @@ void SolidLubrication::run(SystemContext& context) {
       for (std::uint32_t s = contacts.second_offsets[i]; s < contacts.second_offsets[i + 1]; ++s)
         lubrication.lubrication_force[i] -= pair_force_[contacts.second_pairs[s]];
   });
+  // Over ranks the other ranks' grains take their reaction at home, added in rank order.
+  if (contacts.ranks.active) return_rank_ghost_sums(contacts, pair_force_, -1.0, lubrication.lubrication_force);
   context.count_items(count);
 }
 

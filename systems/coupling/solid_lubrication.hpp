@@ -7,6 +7,7 @@
 // reaction (not added to the wall-force probe). Semi-implicit along the normal (implicit_coefficient), so any
 // viscosity and roughness is stable at the contacts' sub-step. In a periodic box a pair's second grain may be a ghost
 // across the seam (components/halo.hpp), read through the halo as solid_contacts does; its reaction goes to the owner.
+// Over MPI ranks likewise a grain of another rank (grain_ranks.hpp): its reaction is sent to its rank.
 #include <vector>
 
 #include "systems/system.hpp"
@@ -27,6 +28,7 @@ class SolidLubrication final : public System {
   CouplingModel model_;
   double viscosity_ = 0.0;        ///< [Pa s] mu of the water
   std::vector<Vec3> pair_force_;  ///< [N] scratch: the force on each candidate pair's first grain
+  std::vector<double> ghost_weight_;  ///< over MPI ranks: the other ranks' grains' sampling weights (their owners')
 };
 
 }  // namespace riffle

@@ -16,10 +16,14 @@ namespace riffle {
 
 class SolidVoidage final : public System {
  public:
-  explicit SolidVoidage(const Model& model);
+  /// `over_ranks` (grains in MPS water over MPI ranks): the grid also holds the other ranks' grains and fluid
+  /// particles within its reach of this rank's grains (coupling_ranks.hpp), so each grain reads what one rank reads.
+  explicit SolidVoidage(const Model& model, bool over_ranks = false);
   std::string_view name() const override { return "solid_voidage"; }
   Access access() const override {
-    return {component_ids<ParticleState, GrainState, GrainProperties>(), component_ids<GrainVoidage>()};
+    Access access{component_ids<ParticleState, GrainState, GrainProperties>(), component_ids<GrainVoidage>()};
+    if (over_ranks_) access.reads.push_back(Contacts::kId);
+    return access;
   }
   void run(SystemContext& context) override;
 
@@ -31,8 +35,16 @@ class SolidVoidage final : public System {
   double vertical_radius_;  ///< [m] R_eps along z; 0 = voidage_radius_
   bool over_tank_;          ///< true: the grains' volume over the tank's, not over the fluid particles'
   bool self_corrected_;     ///< false: the trilinear (cloud-in-cell) reading with the grain's own volume included
+  bool over_ranks_;
   VoidageGrid grid_;
   std::vector<double> grain_volumes_;
+  // Over ranks: this rank's grains, then the other ranks' within reach (positions, volumes), and the fluid particles
+  // likewise (this rank's fluid slots, then the others').
+  std::vector<Vec3> grain_positions_, fluid_positions_;
+
+  /// Fills grain_positions_, grain_volumes_ (past this rank's) and fluid_positions_ with this rank's and the other
+  /// ranks' within `reach` of this rank's grains. Collective.
+  void gather_near_ranks(SystemContext& context, double reach);
 };
 
 }  // namespace riffle

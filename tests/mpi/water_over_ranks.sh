@@ -3,7 +3,7 @@
 # fluid_rank_migration, the searches' rank ghosts, the pressure solved by hypre over all the ranks): each run on 2 and
 # 4 ranks against 1 rank, particle by particle (matched by id) in its ParaView frames, a checkpoint of 2 ranks resumed
 # on 1 and 3, a lid with SPS and a bulk-velocity controller on 2 ranks against 1, a splash's escaped particles named
-# in the log, and a scene of grains in water refused with its reason.
+# in the log, and riffle check's answer.
 #
 # Tolerances: one rank solves the same pressure equation with hypre alone (the scenes ask for "boomeramg"), the ranks
 # with hypre over all of them; both stop at |r| <= 1e-8 |b| (fluid.solver_tolerance), at other iterates, so each
@@ -124,16 +124,9 @@ more = sum(int(n) for n in re.findall(r'(\d+) more fluid particles removed as es
 assert removed > 0 and len(ids) + more == removed and len(set(ids)) == len(ids), (removed, len(ids), more)
 "
 
-ranks 2 run "$SRC/scenes/ergun_plug.toml" --out grains_in_water --until 0.01 >grains_in_water.out 2>&1
-rc=$?
-check "a scene of grains in water on two ranks exits 1" [ $rc = 1 ]
-check "... naming why, with nothing written" \
-  bash -c "grep -qF 'cannot spread this scene over 2 MPI ranks' grains_in_water.out && [ ! -e grains_in_water ]"
-
-# riffle check says beforehand whether a scene can be spread, and why not.
-check "riffle check: the dam break can be spread over ranks, grains in water cannot (and why)" \
-  bash -c "'$RIFFLE' check dam.toml | grep -qF 'over MPI ranks: can be spread' &&
-           '$RIFFLE' check '$SRC/scenes/ergun_plug.toml' | grep -qF 'over MPI ranks: one rank only: grains in MPS water'"
+# riffle check says beforehand whether a scene can be spread (grains in water: grains_in_water_over_ranks.sh).
+check "riffle check: the dam break can be spread over ranks" \
+  bash -c "'$RIFFLE' check dam.toml | grep -qF 'over MPI ranks: can be spread'"
 
 echo "$failures check(s) failed"
 [ "$failures" = 0 ]

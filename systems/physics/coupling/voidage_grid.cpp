@@ -43,21 +43,22 @@ CloudInCellStencil VoidageGrid::stencil(const Vec3& point) const {
   return result;
 }
 
-void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
-                        const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+void VoidageGrid::build(std::span<const Vec3> grain_positions, std::span<const double> grain_volumes,
+                        std::span<const Vec3> fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
                         double cell_size, const Vec3& bound_low, const Vec3& bound_high, const PeriodicBox& box) {
   build(grain_positions, grain_volumes, fluid_positions, fluid_count, fluid_particle_volume, Vec3::Constant(cell_size),
         bound_low, bound_high, box);
 }
 
-void VoidageGrid::build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
-                        const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+void VoidageGrid::build(std::span<const Vec3> grain_positions, std::span<const double> grain_volumes,
+                        std::span<const Vec3> fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
                         const Vec3& cell_size, const Vec3& bound_low, const Vec3& bound_high, const PeriodicBox& box) {
   Vec3 asked = cell_size;
   Vec3 low = Vec3::Constant(1e300), high = Vec3::Constant(-1e300);
   for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
   for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
   if (low[0] > high[0]) low = high = Vec3::Zero();
+  if (anchor_) low = low.cwiseMin(*anchor_), high = high.cwiseMax(*anchor_);
   // Within the bounds (unchanged while every point is inside them; a NaN coordinate leaves the bound).
   for (int axis = 0; axis < 3; ++axis) {
     low[axis] = low[axis] >= bound_low[axis] ? std::min(low[axis], bound_high[axis]) : bound_low[axis];

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <vector>
 
 #include "components/vec.hpp"
@@ -60,13 +62,32 @@ class VoidageGrid {
   /// the period with n = max(4, floor(period / cell_size)) cells of period / n (so slightly larger than asked),
   /// node n is node 0, and the deposits, the smoothing and the read back run across the seam (docs/COUPLING.md);
   /// other axes are as without a period.
-  void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
-             const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+  void build(std::span<const Vec3> grain_positions, std::span<const double> grain_volumes,
+             std::span<const Vec3> fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
              double cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{});
   /// The same with a cell size per axis (a voidage kernel narrower across a bed than along it).
+  void build(std::span<const Vec3> grain_positions, std::span<const double> grain_volumes,
+             std::span<const Vec3> fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+             const Vec3& cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{});
+
+  /// The same from lists (a brace list included).
   void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
              const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
-             const Vec3& cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{});
+             double cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{}) {
+    build(std::span<const Vec3>(grain_positions), std::span<const double>(grain_volumes),
+          std::span<const Vec3>(fluid_positions), fluid_count, fluid_particle_volume, cell_size, low, high, box);
+  }
+  void build(const std::vector<Vec3>& grain_positions, const std::vector<double>& grain_volumes,
+             const std::vector<Vec3>& fluid_positions, std::size_t fluid_count, double fluid_particle_volume,
+             const Vec3& cell_size, const Vec3& low, const Vec3& high, const PeriodicBox& box = PeriodicBox{}) {
+    build(std::span<const Vec3>(grain_positions), std::span<const double>(grain_volumes),
+          std::span<const Vec3>(fluid_positions), fluid_count, fluid_particle_volume, cell_size, low, high, box);
+  }
+
+  /// From the next build on, the lattice starts from `low` (and the points' lowest corner where it is lower) instead
+  /// of the points' lowest corner: over MPI ranks each rank holds only the points near its boxes, and its nodes must
+  /// lie where one grid over every rank's points puts them (coupling_ranks.hpp, lowest_corner_over_ranks).
+  void anchor_lattice(const Vec3& low) { anchor_ = low; }
 
   /// Replaces the fluid deposit by the volume of the box [low, high] each node's weight covers (docs/COUPLING.md,
   /// "A thin bed's voidage"): exactly what a fluid filling the box with a fine quadrature would deposit, without the
@@ -94,6 +115,7 @@ class VoidageGrid {
   double fluid_volume(std::size_t node) const { return fluid_[node]; }
 
  private:
+  std::optional<Vec3> anchor_;  ///< anchor_lattice's corner, if set
   Vec3 origin_ = Vec3::Zero();
   std::array<double, 3> cell_{1.0, 1.0, 1.0};  ///< per axis: the cell asked for, or period / n along a periodic axis
   std::array<bool, 3> wraps_{false, false, false};

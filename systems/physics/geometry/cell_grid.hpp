@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "components/vec.hpp"
@@ -21,7 +22,7 @@ class CellGrid {
   /// Grid over points[first .. first + count) with cells of `cell_size` (at least the largest query radius), within
   /// the box [bound_low, bound_high] (the domain: a point outside it has left the domain, which fails the step; it
   /// is filed in the nearest edge cell instead of stretching the grid to wherever it flew).
-  void build(const std::vector<Vec3>& points, std::size_t first, std::size_t count, double cell_size,
+  void build(std::span<const Vec3> points, std::size_t first, std::size_t count, double cell_size,
              const Vec3& bound_low, const Vec3& bound_high) {
     cell_size_ = cell_size;
     low_ = Vec3::Constant(1e300);

@@ -270,6 +270,49 @@ void return_rank_ghost_forces(const Contacts& contacts, std::vector<Vec3>& force
   }
 }
 
+void exchange_rank_ghost_values(const std::vector<double>& real, const Contacts& contacts, std::vector<double>& ghost) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const RankHalo& halo = contacts.ranks;
+  std::vector<std::vector<std::byte>> outgoing(count);
+  std::vector<std::size_t> incoming_bytes(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteWriter out(outgoing[r]);
+    for (const std::uint32_t i : halo.send_slots[r]) out.put(real[i]);
+    incoming_bytes[r] = sizeof(double) * (halo.receive_offsets[r + 1] - halo.receive_offsets[r]);
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
+  ghost.resize(halo.ghost_count());
+  for (std::size_t r = 0; r < count; ++r) {
+    if (halo.receive_offsets[r] == halo.receive_offsets[r + 1]) continue;
+    ByteReader in(incoming[r]);
+    for (std::uint32_t g = halo.receive_offsets[r]; g < halo.receive_offsets[r + 1]; ++g) ghost[g] = in.get<double>();
+  }
+}
+
+void return_rank_ghost_sums(const Contacts& contacts, const std::vector<Vec3>& pair_value, double factor,
+                            std::vector<Vec3>& add_to) {
+  const auto count = static_cast<std::size_t>(ranks::size());
+  const RankHalo& halo = contacts.ranks;
+  std::vector<std::vector<std::byte>> outgoing(count);
+  std::vector<std::size_t> incoming_bytes(count);
+  for (std::size_t r = 0; r < count; ++r) {
+    ByteWriter out(outgoing[r]);
+    for (std::uint32_t g = halo.receive_offsets[r]; g < halo.receive_offsets[r + 1]; ++g) {
+      Vec3 sum = Vec3::Zero();
+      for (std::uint32_t n = halo.ghost_pair_offsets[g]; n < halo.ghost_pair_offsets[g + 1]; ++n)
+        sum += pair_value[halo.ghost_pairs[n]];
+      out.put(Vec3(factor * sum));
+    }
+    incoming_bytes[r] = 3 * sizeof(double) * halo.send_slots[r].size();
+  }
+  const std::vector<std::vector<std::byte>> incoming = ranks::exchange_known(outgoing, incoming_bytes);
+  for (std::size_t r = 0; r < count; ++r) {
+    if (halo.send_slots[r].empty()) continue;
+    ByteReader in(incoming[r]);
+    for (const std::uint32_t i : halo.send_slots[r]) add_to[i] += in.get<Vec3>();
+  }
+}
+
 void gather_contacts_at_root(const Solids& solids, const Contacts& contacts, std::vector<CarriedSpring>& pair_springs,
                              std::vector<WallContactState>& walls) {
   std::vector<std::byte> mine;

@@ -62,6 +62,16 @@ void exchange_rank_ghost_motion(const Solids& solids, Contacts& contacts);
 /// sent to its owner and added there to `force` and `torque`, in rank order. Collective.
 void return_rank_ghost_forces(const Contacts& contacts, std::vector<Vec3>& force, std::vector<Vec3>& torque);
 
+/// ghost[g] = the owner's real[slot] for every ghost (a per-grain number the ghosts' build does not carry, such as
+/// the water's sampling weight), along the last build's send lists, point to point. Collective.
+void exchange_rank_ghost_values(const std::vector<double>& real, const Contacts& contacts, std::vector<double>& ghost);
+
+/// Each ghost's sum of `pair_value` over its pairs (RankHalo::ghost_pairs, in pair order), times `factor`, sent to its
+/// owner and added there to `add_to`, in rank order: a pair force other than the contacts' (the lubrication's).
+/// Collective.
+void return_rank_ghost_sums(const Contacts& contacts, const std::vector<Vec3>& pair_value, double factor,
+                            std::vector<Vec3>& add_to);
+
 /// A grain's touching wall contact as a checkpoint and the wall probes need it.
 struct WallContactState {
   EntityId grain = 0;
