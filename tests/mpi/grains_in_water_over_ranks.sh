@@ -22,7 +22,7 @@ compare() { /usr/bin/python3 "$SRC/tests/mpi/compare_fluid_frames.py" "$@"; }
 bed="$SRC/tests/data/shaken_bed_in_water.toml"
 
 for n in 1 2 4; do
-  ranks "$n" run "$bed" --out "bed$n" --until 0.1 --threads 1 >"bed$n.out" 2>&1
+  ranks "$n" run "$bed" --out "bed$n" --until 0.1 --threads 1 --set output.checkpoint_interval=0.05 >"bed$n.out" 2>&1
   check "the shaken bed in water runs on $n rank(s)" [ $? = 0 ]
 done
 check "... rank 0 reported each rank's grains and the systems' times over the ranks" \
