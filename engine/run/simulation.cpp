@@ -1212,9 +1212,12 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
                    mean > 0.0 ? longest / mean : 1.0, world_.contacts->ranks.rebalances, balance);
     else
       spdlog::info("ranks' stepping (imbalance, the longest computing time over the mean: {:.3f}; the MPI calls' times "
-                   "include waiting for the slowest rank, hypre's pressure solve not among them; the boxes cut anew "
-                   "{} time(s) as the water moved):{}",
-                   mean > 0.0 ? longest / mean : 1.0, world_.fluid_neighbours->ranks.rebalances, balance);
+                   "include waiting for the slowest rank{}; the boxes cut anew {} time(s) as the water moved):{}",
+                   mean > 0.0 ? longest / mean : 1.0,
+                   model_->fluid.preconditioner == FluidModel::Preconditioner::kBoomerAmg
+                       ? ", hypre's pressure solve not among them"
+                       : "",
+                   world_.fluid_neighbours->ranks.rebalances, balance);
     try {
       write_text_file(out / "timings.csv", format_timing_csv(timers, stepping_seconds));
     } catch (const std::exception& error) {

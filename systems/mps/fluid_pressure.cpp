@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <unordered_map>
 
 #include "systems/physics/mps/mps_operators.hpp"
 
@@ -122,7 +123,11 @@ void FluidPressureSolve::run(SystemContext& context) {
 
   const PressureMatrix matrix{unknowns, diagonal_.data(), row_start_.data(), compact_columns_.data(),
                               compact_values_.data()};
-  if (spread) {
+  // Over ranks with preconditioner = "boomeramg": hypre over all the ranks. Otherwise the in-house CG below, its
+  // products reading the ghosts' entries from their owners, its sums added over the ranks in rank order, its
+  // preconditioner each rank's block alone (block Jacobi with the two-level correction inside each block).
+  const bool ranks_cg = spread && fluid_.preconditioner != FluidModel::Preconditioner::kBoomerAmg;
+  if (spread && !ranks_cg) {
     const PressureSolveOutcome outcome =
         hypre_over_ranks_.solve(matrix, PressureRowBlock{rank_rows_.first_row, rank_rows_.global_rows}, rhs_, solution_,
                                 fluid_.solver_tolerance, fluid_.solver_max_iterations);
@@ -135,14 +140,30 @@ void FluidPressureSolve::run(SystemContext& context) {
     finish(context, outcome);
     return;
   }
+  if (ranks_cg) {
+    const std::size_t extended = localise_columns(neighbours.ranks, unknowns);
+    solution_.resize(extended);
+    direction_.resize(extended);
+  }
+  const PressureMatrix block =
+      ranks_cg ? PressureMatrix{unknowns, diagonal_.data(), block_row_start_.data(), block_columns_.data(),
+                                block_values_.data()}
+               : matrix;
   const bool two_level = fluid_.preconditioner == FluidModel::Preconditioner::kTwoLevel;
   if (two_level) {
     row_positions_.resize(unknowns);
     for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = prediction.predicted_position[slot_of_[row]]; });
     // Coarse cells of at least 4 l0, wider for big problems so the coarse factorisation stays small.
     const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
-    preconditioner_.setup(matrix, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
+    preconditioner_.setup(block, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
   }
+  // Over ranks: a sum over this rank's rows becomes the sum over all the ranks' (in rank order); one rank keeps it.
+  const auto over_all = [&](auto sums) {
+    if (!ranks_cg) return sums;
+    const std::vector<double> all = ranks::sum_in_rank_order(std::vector<double>(sums.begin(), sums.end()));
+    std::copy(all.begin(), all.end(), sums.begin());
+    return sums;
+  };
   // z = M^-1 r = D^-1 r + P c with c = A_c^-1 P^T r is never stored: r . z = sum r^2 / diag + (P^T r) . c, the
   // first sum taken in the pass that updates r, and z is formed where the direction update needs it.
   const auto coarse_dot = [&]() { return two_level ? preconditioner_.solve_coarse(residual_) : 0.0; };
@@ -164,48 +185,60 @@ void FluidPressureSolve::run(SystemContext& context) {
     return (sum0 + sum1) + (sum2 + sum3);
   };
   // y = M x, returning x . y (CG needs the curvature d . M d right after the product).
-  const auto multiply_and_dot = [&](const std::vector<double>& x, std::vector<double>& y) {
-    return deterministic_sum(unknowns, [&](std::size_t row) {
+  const auto multiply_and_dot = [&](std::vector<double>& x, std::vector<double>& y) {
+    if (ranks_cg) refresh_ghost_entries(neighbours.ranks, x);
+    return over_all(std::array<double, 1>{deterministic_sum(unknowns, [&](std::size_t row) {
       const double sum = row_product(row, x);
       y[row] = sum;
       return x[row] * sum;
-    });
+    })})[0];
   };
 
   // Preconditioned conjugate gradients (numerics 3.5), |r| <= tol |b|, with the vector updates fused into the
   // passes that need them (three passes over the unknowns per iteration, plus the restriction to the coarse level).
-  const double rhs_norm = std::sqrt(deterministic_sum(unknowns, [&](std::size_t k) { return rhs_[k] * rhs_[k]; }));
+  const double rhs_norm = std::sqrt(
+      over_all(std::array<double, 1>{deterministic_sum(unknowns, [&](std::size_t k) { return rhs_[k] * rhs_[k]; })})[0]);
   const double target = fluid_.solver_tolerance * rhs_norm;
   std::int64_t iterations = 0;
   double residual_norm = 0.0;
   if (rhs_norm == 0.0) {
     std::fill(solution_.begin(), solution_.end(), 0.0);
   } else {
-    // Each pass returns |r|^2 and r . D^-1 r.
-    const auto initial = deterministic_sums<2>(unknowns, [&](std::size_t row) {
+    // Each pass returns |r|^2 and r . D^-1 r; over ranks also each rank's coarse part, added over the ranks with
+    // them (one reduction an iteration besides the curvature's).
+    if (ranks_cg) refresh_ghost_entries(neighbours.ranks, solution_);
+    auto initial = deterministic_sums<2>(unknowns, [&](std::size_t row) {
       const double residual = rhs_[row] - row_product(row, solution_);
       residual_[row] = residual;
       return std::array<double, 2>{residual * residual, residual * residual * inverse_diagonal_[row]};
     });
+    if (ranks_cg) {
+      const std::array<double, 3> all = over_all(std::array<double, 3>{initial[0], initial[1], coarse_dot()});
+      initial = {all[0], all[1] + all[2]};
+    }
     residual_norm = std::sqrt(initial[0]);
     double residual_dot = 0.0;
     if (residual_norm > target) {
-      residual_dot = initial[1] + coarse_dot();
+      residual_dot = ranks_cg ? initial[1] : initial[1] + coarse_dot();
       for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned(k); });
     }
     while (residual_norm > target && iterations < fluid_.solver_max_iterations && std::isfinite(residual_norm)) {
       const double curvature = multiply_and_dot(direction_, product_);
       const double step = residual_dot / curvature;
-      const auto updated = deterministic_sums<2>(unknowns, [&](std::size_t k) {
+      auto updated = deterministic_sums<2>(unknowns, [&](std::size_t k) {
         solution_[k] += step * direction_[k];
         const double residual = residual_[k] - step * product_[k];
         residual_[k] = residual;
         return std::array<double, 2>{residual * residual, residual * residual * inverse_diagonal_[k]};
       });
+      if (ranks_cg) {
+        const std::array<double, 3> all = over_all(std::array<double, 3>{updated[0], updated[1], coarse_dot()});
+        updated = {all[0], all[1] + all[2]};
+      }
       residual_norm = std::sqrt(updated[0]);
       ++iterations;
       if (residual_norm <= target) break;
-      const double next_dot = updated[1] + coarse_dot();
+      const double next_dot = ranks_cg ? updated[1] : updated[1] + coarse_dot();
       const double beta = next_dot / residual_dot;
       residual_dot = next_dot;
       for_each_particle(unknowns, [&](std::size_t k) { direction_[k] = preconditioned(k) + beta * direction_[k]; });
@@ -217,6 +250,50 @@ void FluidPressureSolve::run(SystemContext& context) {
   outcome.relative_residual = rhs_norm > 0.0 ? residual_norm / rhs_norm : 0.0;
   outcome.converged = std::isfinite(residual_norm) && residual_norm <= target;
   finish(context, outcome);
+}
+
+std::size_t FluidPressureSolve::localise_columns(const FluidRankHalo& ranks, std::size_t unknowns) {
+  const std::size_t reals = ranks.real_count;
+  // Each ghost slot's entry: the first ghost slot of each global row (a rank's particle may reach this rank as two
+  // periodic images, one row).
+  std::unordered_map<std::int64_t, std::uint32_t> entry_of_row;
+  entry_of_row.reserve(rank_rows_.ghost_row.size());
+  for (std::size_t g = 0; g < rank_rows_.ghost_row.size(); ++g)
+    if (rank_rows_.ghost_row[g] >= 0)
+      entry_of_row.emplace(rank_rows_.ghost_row[g], static_cast<std::uint32_t>(unknowns + g));
+  const auto first = static_cast<std::int64_t>(rank_rows_.first_row);
+  const auto own = static_cast<std::int64_t>(unknowns);
+  block_row_start_.assign(unknowns + 1, 0);
+  block_columns_.clear();
+  block_values_.clear();
+  for (std::size_t row = 0; row < unknowns; ++row) {
+    for (std::size_t k = row_start_[row]; k < row_start_[row + 1]; ++k) {
+      const std::int64_t global = compact_columns_[k];
+      if (global >= first && global < first + own) {
+        compact_columns_[k] = static_cast<std::uint32_t>(global - first);
+        block_columns_.push_back(compact_columns_[k]);
+        block_values_.push_back(compact_values_[k]);
+      } else {
+        compact_columns_[k] = entry_of_row.at(global);
+      }
+    }
+    block_row_start_[row + 1] = block_columns_.size();
+  }
+  (void)reals;
+  return unknowns + rank_rows_.ghost_row.size();
+}
+
+void FluidPressureSolve::refresh_ghost_entries(const FluidRankHalo& ranks, std::vector<double>& x) {
+  const std::size_t unknowns = slot_of_.size();
+  send_to_fluid_ghosts<double>(
+      ranks,
+      [&](std::size_t r, std::size_t n) {
+        const std::uint32_t slot = ranks.send_slots[r][n];
+        const std::int32_t row = slot < row_of_.size() ? row_of_[slot] : -1;
+        return row >= 0 ? x[static_cast<std::size_t>(row)] : 0.0;
+      },
+      ghost_entries_);
+  std::copy(ghost_entries_.begin(), ghost_entries_.end(), x.begin() + static_cast<std::ptrdiff_t>(unknowns));
 }
 
 void FluidPressureSolve::finish(SystemContext& context, const PressureSolveOutcome& outcome) {

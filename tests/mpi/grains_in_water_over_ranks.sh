@@ -5,7 +5,8 @@
 # (520 grains of 4 and 6 mm sinking into 5 cm of water, l0 = 5 mm, a tank shaken at 5 mm and 4 Hz) on 2 and 4 ranks
 # against 1, particle by particle and grain by grain (matched by id) in its ParaView frames; a checkpoint of 2 ranks
 # resumed on 1 and 3; `riffle check` saying it can be spread; lubrication across the ranks' edges on 2 ranks
-# against 1; a scene of grains without contacts refused with its reason.
+# against 1; the in-house pressure CG over 2 ranks against 1; a scene of grains without contacts refused with its
+# reason.
 #
 # Tolerances: as tests/mpi/water_over_ranks.sh says, one rank and the ranks both solve the pressure with hypre to
 # |r| <= 1e-8 |b| at other iterates, so each step's pressures differ by about that fraction; the grains' drag and
@@ -34,6 +35,20 @@ for n in 2 4; do
   check "... the grains on $n ranks as on one, grain by grain (position, velocity, drag), at t = 0.05 and 0.1 s" \
     compare bed1 "bed$n" 1 2 --grains --position 1e-7 --velocity 1e-4 --pressure 1e-4
 done
+
+# The in-house CG over the ranks (the scenes' default preconditioner: each rank's block preconditioned alone, the
+# products reading the ghosts' entries, the sums over the ranks in rank order) against its one-rank solve: the same
+# flow to the solver's tolerance, as with hypre.
+for n in 1 2; do
+  ranks "$n" run "$bed" --out "in_house$n" --until 0.1 --threads 1 --set 'fluid.preconditioner="two_level"' \
+    >"in_house$n.out" 2>&1
+  check "the shaken bed in water with the in-house pressure solve runs on $n rank(s)" [ $? = 0 ]
+done
+check "... its water and grains on 2 ranks as on one at t = 0.05 and 0.1 s" \
+  bash -c "/usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' in_house1 in_house2 1 2 --position 1e-7 \
+             --velocity 1e-4 &&
+           /usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' in_house1 in_house2 1 2 --grains \
+             --position 1e-7 --velocity 1e-4 --pressure 1e-4"
 
 # The 2 ranks' checkpoint at t = 0.05 s resumed on 1 and 3 ranks goes on as the 2-rank run did.
 for n in 1 3; do
