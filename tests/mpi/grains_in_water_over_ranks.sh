@@ -20,6 +20,9 @@ RIFFLE=$1 MPIEXEC=$2 SRC=$3 WORK=$4
 RANKS_TIMEOUT=240
 source "$SRC/tests/mpi/over_ranks_common.sh"
 compare() { /usr/bin/python3 "$SRC/tests/mpi/compare_fluid_frames.py" "$@"; }
+compare_both() {  # compare_both RUN_A RUN_B FRAME...: the water, then the grains, within the bounds above
+  compare "$@" --position 1e-7 --velocity 1e-4 && compare "$@" --grains --position 1e-7 --velocity 1e-4 --pressure 1e-4
+}
 bed="$SRC/tests/data/shaken_bed_in_water.toml"
 
 for n in 1 2 4; do
@@ -30,10 +33,8 @@ check "... rank 0 reported each rank's grains and the systems' times over the ra
   bash -c "grep -qF 'per-system timings over the 2 ranks' bed2/riffle.log &&
            [ \$(grep -c '^1,fluid_drag_reaction,' bed2/timings_ranks.csv) = 1 ]"
 for n in 2 4; do
-  check "... the water on $n ranks as on one, particle by particle, at t = 0.05 and 0.1 s" \
-    compare bed1 "bed$n" 1 2 --position 1e-7 --velocity 1e-4
-  check "... the grains on $n ranks as on one, grain by grain (position, velocity, drag), at t = 0.05 and 0.1 s" \
-    compare bed1 "bed$n" 1 2 --grains --position 1e-7 --velocity 1e-4 --pressure 1e-4
+  check "... the water and grains on $n ranks as on one, particle by particle and grain by grain, at t = 0.05, 0.1 s" \
+    compare_both bed1 "bed$n" 1 2
 done
 
 # The in-house CG over the ranks (the scenes' default preconditioner: each rank's block preconditioned alone, the
@@ -44,21 +45,14 @@ for n in 1 2; do
     >"in_house$n.out" 2>&1
   check "the shaken bed in water with the in-house pressure solve runs on $n rank(s)" [ $? = 0 ]
 done
-check "... its water and grains on 2 ranks as on one at t = 0.05 and 0.1 s" \
-  bash -c "/usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' in_house1 in_house2 1 2 --position 1e-7 \
-             --velocity 1e-4 &&
-           /usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' in_house1 in_house2 1 2 --grains \
-             --position 1e-7 --velocity 1e-4 --pressure 1e-4"
+check "... its water and grains on 2 ranks as on one at t = 0.05 and 0.1 s" compare_both in_house1 in_house2 1 2
 
 # The 2 ranks' checkpoint at t = 0.05 s resumed on 1 and 3 ranks goes on as the 2-rank run did.
 for n in 1 3; do
   ranks "$n" resume bed2/checkpoints/step_0000000050.ckpt --out "resumed$n" --until 0.1 --threads 1 \
     >"resumed$n.out" 2>&1
   check "the 2-rank checkpoint at t = 0.05 s resumes on $n rank(s)" [ $? = 0 ]
-  check "... and its water and grains reach t = 0.1 s as the 2-rank run did" \
-    bash -c "/usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' bed2 resumed$n 2 --position 1e-7 --velocity 1e-4 &&
-             /usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' bed2 resumed$n 2 --grains --position 1e-7 \
-               --velocity 1e-4 --pressure 1e-4"
+  check "... and its water and grains reach t = 0.1 s as the 2-rank run did" compare_both bed2 "resumed$n" 2
 done
 
 check "riffle check: grains in water can be spread over ranks" \
@@ -70,11 +64,7 @@ for n in 1 2; do
     >"lubricated$n.out" 2>&1
   check "the shaken bed in water with lubrication runs on $n rank(s)" [ $? = 0 ]
 done
-check "... its grains and water on 2 ranks as on one at t = 0.05 and 0.1 s" \
-  bash -c "/usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' lubricated1 lubricated2 1 2 --position 1e-7 \
-             --velocity 1e-4 &&
-           /usr/bin/python3 '$SRC/tests/mpi/compare_fluid_frames.py' lubricated1 lubricated2 1 2 --grains \
-             --position 1e-7 --velocity 1e-4 --pressure 1e-4"
+check "... its grains and water on 2 ranks as on one at t = 0.05 and 0.1 s" compare_both lubricated1 lubricated2 1 2
 
 # What cannot be spread is refused before anything is written, and riffle check says so beforehand.
 ranks 2 run "$SRC/scenes/free_fall_box.toml" --out refused --until 0.01 >refused.out 2>&1
