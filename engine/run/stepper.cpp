@@ -22,6 +22,8 @@ Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
     if (loop && (step_->has_path(index, *loop) || step_->has_path(*loop, index))) joined = true;
   }
   concurrent_ = loop && any_fluid && !joined;
+  // Its systems talk to the other ranks too once the world is split (a resume computes no initial forces today).
+  if (ranks::distributed() && world_.fluid && world_.solids) initial_forces_.run_in_list_order();
 }
 
 std::unique_ptr<Scheduler> Stepper::build_step_graph(Pipeline& pipeline) {

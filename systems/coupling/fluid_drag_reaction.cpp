@@ -76,9 +76,10 @@ FluidDragReaction::Points FluidDragReaction::gather_near_ranks(SystemContext& co
   const auto me = static_cast<std::size_t>(ranks::rank());
   CouplingBoxes boxes;
   for (std::size_t r = 0; r < grain_boxes.size(); ++r) boxes.of_rank.push_back({grain_boxes[r], fluid_boxes[r]});
-  boxes.reach = reach + std::max(overflow_over_ranks(grains.position, grain_boxes[me]),
-                                 overflow_over_ranks(fluid, fluid_boxes[me]));
   const PeriodicBox box = periodic_box(context.model);
+  const double grain_overflow = overflow_over_ranks(grains.position, grain_boxes[me], box);  // collective, in order
+  const double fluid_overflow = overflow_over_ranks(fluid, fluid_boxes[me], box);
+  boxes.reach = reach + std::max(grain_overflow, fluid_overflow);
   near_grain_position_.assign(grains.position.begin(), grains.position.end());
   near_grain_radius_.assign(properties.radius.begin(), properties.radius.end());
   near_grain_voidage_.assign(voidages.voidage.begin(), voidages.voidage.end());

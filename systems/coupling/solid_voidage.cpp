@@ -32,7 +32,8 @@ void SolidVoidage::gather_near_ranks(SystemContext& context, double reach) {
   const std::vector<PartBox> grain_boxes = rank_boxes(grain_ranks.box_low, grain_ranks.box_high);
   CouplingBoxes boxes;
   for (const PartBox& part : grain_boxes) boxes.of_rank.push_back({part});
-  boxes.reach = reach + overflow_over_ranks(grains.position, grain_boxes[static_cast<std::size_t>(ranks::rank())]);
+  boxes.reach = reach + overflow_over_ranks(grains.position, grain_boxes[static_cast<std::size_t>(ranks::rank())],
+                                             periodic_box(context.model));
   const PeriodicBox box = periodic_box(context.model);
   grain_positions_.assign(grains.position.begin(), grains.position.end());
   exchange_records(
@@ -72,7 +73,7 @@ void SolidVoidage::run(SystemContext& context) {
     grain_volumes_[grain] = grain_volume(properties.radius[grain]);
   }
   // Over ranks: the largest of all the ranks' grains, as one rank sees them.
-  if (over_ranks_) largest_radius = ranks::max(largest_radius);
+  if (over_ranks_ && voidage_radius_ <= 0.0) largest_radius = ranks::max(largest_radius);  // read once, below
   // numerics 5.3: R_eps >= max(3 l0, d_max); twice d_max keeps a lone grain's own volume from dominating its voidage.
   if (voidage_radius_ <= 0.0) voidage_radius_ = std::max(3.0 * spacing_, 4.0 * largest_radius);
   const Model& model = context.model;

@@ -58,7 +58,14 @@ void VoidageGrid::build(std::span<const Vec3> grain_positions, std::span<const d
   for (const Vec3& p : grain_positions) low = low.cwiseMin(p), high = high.cwiseMax(p);
   for (std::size_t k = 0; k < fluid_count; ++k) low = low.cwiseMin(fluid_positions[k]), high = high.cwiseMax(fluid_positions[k]);
   if (low[0] > high[0]) low = high = Vec3::Zero();
-  if (anchor_) low = low.cwiseMin(*anchor_), high = high.cwiseMax(*anchor_);
+  // Anchored (over ranks): the anchor's lattice, started at its last node at or below these points' lowest corner, so
+  // a rank far from the anchor holds only the cells around its own points.
+  if (anchor_)
+    for (int axis = 0; axis < 3; ++axis) {
+      const double anchor = (*anchor_)[axis];
+      low[axis] = low[axis] > anchor ? anchor + std::floor((low[axis] - anchor) / asked[axis]) * asked[axis] : anchor;
+      high[axis] = std::max(high[axis], low[axis]);
+    }
   // Within the bounds (unchanged while every point is inside them; a NaN coordinate leaves the bound).
   for (int axis = 0; axis < 3; ++axis) {
     low[axis] = low[axis] >= bound_low[axis] ? std::min(low[axis], bound_high[axis]) : bound_low[axis];

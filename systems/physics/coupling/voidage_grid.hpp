@@ -84,9 +84,10 @@ class VoidageGrid {
           std::span<const Vec3>(fluid_positions), fluid_count, fluid_particle_volume, cell_size, low, high, box);
   }
 
-  /// From the next build on, the lattice starts from `low` (and the points' lowest corner where it is lower) instead
-  /// of the points' lowest corner: over MPI ranks each rank holds only the points near its boxes, and its nodes must
-  /// lie where one grid over every rank's points puts them (coupling_ranks.hpp, lowest_corner_over_ranks).
+  /// From the next build on, the nodes lie on the lattice that starts from `low` (whole cells from it, the grid
+  /// starting at the last of them at or below the points' lowest corner) instead of starting at the points' lowest
+  /// corner: over MPI ranks each rank holds only the points near its boxes, and its nodes must lie where one grid
+  /// over every rank's points puts them (coupling_ranks.hpp, lowest_corner_over_ranks), to rounding.
   void anchor_lattice(const Vec3& low) { anchor_ = low; }
 
   /// Replaces the fluid deposit by the volume of the box [low, high] each node's weight covers (docs/COUPLING.md,

@@ -39,9 +39,24 @@ std::vector<std::vector<std::uint32_t>> indices_near_other_ranks(std::span<const
   return near;
 }
 
-double overflow_over_ranks(std::span<const Vec3> positions, const PartBox& own) {
+double overflow_over_ranks(std::span<const Vec3> positions, const PartBox& own, const PeriodicBox& box) {
   double overflow = 0.0;
-  for (const Vec3& position : positions) overflow = std::max(overflow, distance_to_box(own, position));
+  for (const Vec3& position : positions) {
+    // Per axis the distance outside the box's interval, the nearest image's along a periodic axis.
+    double squared = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+      const auto outside = [&](double x) {
+        return std::max({own.low[axis] - x, x - own.high[axis], 0.0});
+      };
+      double distance = outside(position[axis]);
+      if (box.periodic[static_cast<std::size_t>(axis)]) {
+        const double period = box.length[axis];
+        distance = std::min({distance, outside(position[axis] + period), outside(position[axis] - period)});
+      }
+      squared += distance * distance;
+    }
+    overflow = std::max(overflow, std::sqrt(squared));
+  }
   return ranks::max(overflow);
 }
 

@@ -37,8 +37,10 @@ std::vector<std::vector<std::uint32_t>> indices_near_other_ranks(std::span<const
                                                                  const CouplingBoxes& boxes, const PeriodicBox& box);
 
 /// How far the farthest of `positions` lies outside `own` (0 when all are inside), the largest over the ranks: the
-/// drift of a family's members out of their boxes between migrations, which every reach must add. Collective.
-double overflow_over_ranks(std::span<const Vec3> positions, const PartBox& own);
+/// drift of a family's members out of their boxes between migrations, which every reach must add. Along a periodic
+/// axis of `box` the nearest image counts (a member wrapped across a seam before it migrates is still beside its
+/// box). Collective.
+double overflow_over_ranks(std::span<const Vec3> positions, const PartBox& own, const PeriodicBox& box);
 
 /// The lowest corner of every rank's `positions` (each coordinate's minimum over all the ranks' points; +huge with
 /// none): the anchor of a grid whose nodes must lie where one rank's grid over all the points puts them
