@@ -5,8 +5,8 @@
 # (520 grains of 4 and 6 mm sinking into 5 cm of water, l0 = 5 mm, a tank shaken at 5 mm and 4 Hz) on 2 and 4 ranks
 # against 1, particle by particle and grain by grain (matched by id) in its ParaView frames; a checkpoint of 2 ranks
 # resumed on 1 and 3; `riffle check` saying it can be spread; lubrication across the ranks' edges on 2 ranks
-# against 1; the in-house pressure CG over 2 ranks against 1; a scene of grains without contacts refused with its
-# reason.
+# against 1; a periodic bed under a lid (seed 003's options) on 2 and 4 ranks; the in-house pressure CG over 2 ranks
+# against 1; a scene of grains without contacts refused with its reason.
 #
 # Tolerances: as tests/mpi/water_over_ranks.sh says, one rank and the ranks both solve the pressure with hypre to
 # |r| <= 1e-8 |b| at other iterates, so each step's pressures differ by about that fraction; the grains' drag and
@@ -35,6 +35,20 @@ check "... rank 0 reported each rank's grains and the systems' times over the ra
 for n in 2 4; do
   check "... the water and grains on $n ranks as on one, particle by particle and grain by grain, at t = 0.05, 0.1 s" \
     compare_both bed1 "bed$n" 1 2
+done
+
+# Across periodic seams, with the options seed 003's sheared beds use (tests/data/periodic_bed_in_water.toml: 1,000
+# grains of 1 mm falling through water periodic along x and y under a lid at 1 m/s, SPS; the grains' volume over the
+# tank's, the drag given back with the sampling kernel, ellipsoidal kernels, the water's viscous stress on the
+# grains): 2 and 4 ranks against 1 over 24 steps.
+periodic="$SRC/tests/data/periodic_bed_in_water.toml"
+for n in 1 2 4; do
+  ranks "$n" run "$periodic" --out "periodic$n" --threads 1 --set 'fluid.preconditioner="boomeramg"' \
+    >"periodic$n.out" 2>&1
+  check "the periodic bed in water under a lid runs on $n rank(s)" [ $? = 0 ]
+done
+for n in 2 4; do
+  check "... its water and grains on $n ranks as on one at t = 0.005 and 0.01 s" compare_both periodic1 "periodic$n" 1 2
 done
 
 # The in-house CG over the ranks (the scenes' default preconditioner: each rank's block preconditioned alone, the
