@@ -5,15 +5,16 @@
 # (520 grains of 4 and 6 mm sinking into 5 cm of water, l0 = 5 mm, a tank shaken at 5 mm and 4 Hz) on 2 and 4 ranks
 # against 1, particle by particle and grain by grain (matched by id) in its ParaView frames; a checkpoint of 2 ranks
 # resumed on 1 and 3; `riffle check` saying it can be spread; lubrication across the ranks' edges on 2 ranks
-# against 1; a periodic bed under a lid (seed 003's options) on 2 and 4 ranks; the in-house pressure CG over 2 ranks
-# against 1; a scene of grains without contacts refused with its reason.
+# against 1 (hypre's solve); a periodic bed under a lid (seed 003's options) on 2 and 4 ranks; a scene of grains
+# without contacts refused with its reason.
 #
-# Tolerances: as tests/mpi/water_over_ranks.sh says, one rank and the ranks both solve the pressure with hypre to
-# |r| <= 1e-8 |b| at other iterates, so each step's pressures differ by about that fraction; the grains' drag and
-# buoyancy follow, and a dense bed amplifies any difference about tenfold every 10 ms (docs/SCALING.md). The bounds
-# (positions 1e-7 m = 2e-5 l0, velocities and drag 1e-4 of the largest, pressures 1e-5 of the largest) are far above
-# that over these 0.1 s and far below what a coupling that misses a grain or a fluid particle across an edge gives
-# (a grain whose voidage or sampled water is wrong feels a drag off by a tenth or more at once).
+# Tolerances: as tests/mpi/water_over_ranks.sh says, one rank and the ranks both solve the pressure (the in-house CG
+# or hypre) to |r| <= 1e-8 |b| at other iterates, so each step's pressures differ by about that fraction; the
+# grains' drag and buoyancy follow, and a dense bed amplifies any difference about tenfold every 10 ms
+# (docs/SCALING.md). The bounds (positions 1e-7 m = 2e-5 l0, velocities and drag 1e-4 of the largest, pressures 1e-5
+# of the largest) are far above that over these 0.1 s and far below what a coupling that misses a grain or a fluid
+# particle across an edge gives (a grain whose voidage or sampled water is wrong feels a drag off by a tenth or more
+# at once).
 #   tests/mpi/grains_in_water_over_ranks.sh RIFFLE MPIEXEC SOURCE_DIR WORK_DIR
 set -u
 RIFFLE=$1 MPIEXEC=$2 SRC=$3 WORK=$4
@@ -25,8 +26,11 @@ compare_both() {  # compare_both RUN_A RUN_B FRAME...: the water, then the grain
 }
 bed="$SRC/tests/data/shaken_bed_in_water.toml"
 
+# The pressure as a user gets it: the in-house CG over the ranks (each rank's block preconditioned alone, the products
+# reading the ghosts' entries, the sums over the ranks in rank order) against its one-rank solve.
 for n in 1 2 4; do
-  ranks "$n" run "$bed" --out "bed$n" --until 0.1 --threads 1 --set output.checkpoint_interval=0.05 >"bed$n.out" 2>&1
+  ranks "$n" run "$bed" --out "bed$n" --until 0.1 --threads 1 --set output.checkpoint_interval=0.05 \
+    --set 'fluid.preconditioner="two_level"' >"bed$n.out" 2>&1
   check "the shaken bed in water runs on $n rank(s)" [ $? = 0 ]
 done
 check "... rank 0 reported each rank's grains and the systems' times over the ranks" \
@@ -51,16 +55,6 @@ for n in 2 4; do
   check "... its water and grains on $n ranks as on one at t = 0.005 and 0.01 s" compare_both periodic1 "periodic$n" 1 2
 done
 
-# The in-house CG over the ranks (the scenes' default preconditioner: each rank's block preconditioned alone, the
-# products reading the ghosts' entries, the sums over the ranks in rank order) against its one-rank solve: the same
-# flow to the solver's tolerance, as with hypre.
-for n in 1 2; do
-  ranks "$n" run "$bed" --out "in_house$n" --until 0.1 --threads 1 --set 'fluid.preconditioner="two_level"' \
-    >"in_house$n.out" 2>&1
-  check "the shaken bed in water with the in-house pressure solve runs on $n rank(s)" [ $? = 0 ]
-done
-check "... its water and grains on 2 ranks as on one at t = 0.05 and 0.1 s" compare_both in_house1 in_house2 1 2
-
 # The 2 ranks' checkpoint at t = 0.05 s resumed on 1 and 3 ranks goes on as the 2-rank run did.
 for n in 1 3; do
   ranks "$n" resume bed2/checkpoints/step_0000000050.ckpt --out "resumed$n" --until 0.1 --threads 1 \
@@ -75,7 +69,7 @@ check "riffle check: grains in water can be spread over ranks" \
 # sampling weight, the reaction sent home): on 2 ranks as on one.
 for n in 1 2; do
   ranks "$n" run "$bed" --out "lubricated$n" --until 0.1 --threads 1 --set coupling.lubrication=true \
-    >"lubricated$n.out" 2>&1
+    >"lubricated$n.out" 2>&1  # hypre, on one rank as over both (the scene's preconditioner)
   check "the shaken bed in water with lubrication runs on $n rank(s)" [ $? = 0 ]
 done
 check "... its grains and water on 2 ranks as on one at t = 0.05 and 0.1 s" compare_both lubricated1 lubricated2 1 2
