@@ -35,7 +35,8 @@ void FluidDragReaction::run(SystemContext& context) {
     // nodes hold water: grains within two cells, fluid within three; the kernel's: grains within R of a fluid
     // particle, and the fluid within R of those grains. A fourth cell for the cells' rounding.
     const double kernel_radius = largest_radius + constants_.effective_radius;
-    points = gather_near_ranks(context, std::max(4.0 * kGridCellPerKernel * kernel_radius, 2.0 * kernel_radius + kGridCellPerKernel * kernel_radius));
+    const double cell = kGridCellPerKernel * kernel_radius;
+    points = gather_near_ranks(context, std::max(4.0 * cell, 2.0 * kernel_radius + cell));
   } else {
     points.grain_position = grains.position;
     points.grain_radius = properties.radius;

@@ -42,7 +42,8 @@ void FluidSampleCopy::append_other_ranks(SystemContext& context, FluidSample& sa
   CouplingBoxes boxes;
   for (const PartBox& part : grain_boxes) boxes.of_rank.push_back({part});
   // A grain samples within r + r_e of its centre; the grains stand up to the overflow outside their rank's box.
-  boxes.reach = ranks::max(largest_radius) + effective_radius_ + overflow_over_ranks(grains.position, grain_boxes[me], periodic_box(context.model));
+  const double overflow = overflow_over_ranks(grains.position, grain_boxes[me], periodic_box(context.model));
+  boxes.reach = ranks::max(largest_radius) + effective_radius_ + overflow;
   const std::size_t own = sample.size();
   const std::vector<std::vector<std::uint32_t>> near =
       indices_near_other_ranks(std::span<const Vec3>(sample.position.data(), own), boxes, periodic_box(context.model));
