@@ -7,6 +7,12 @@
 
 namespace riffle {
 
+namespace {
+/// Over MPI ranks with grains in MPS water both branches talk to the other ranks: one system at a time, in list
+/// order (Scheduler::run_in_list_order says why).
+bool one_system_at_a_time(const World& world) { return ranks::distributed() && world.fluid && world.solids; }
+}  // namespace
+
 Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
     : world_(world),
       model_(model),
@@ -23,7 +29,7 @@ Stepper::Stepper(Pipeline pipeline, World& world, const Model& model)
   }
   concurrent_ = loop && any_fluid && !joined;
   // Its systems talk to the other ranks too once the world is split (a resume computes no initial forces today).
-  if (ranks::distributed() && world_.fluid && world_.solids) initial_forces_.run_in_list_order();
+  if (one_system_at_a_time(world_)) initial_forces_.run_in_list_order();
 }
 
 std::unique_ptr<Scheduler> Stepper::build_step_graph(Pipeline& pipeline) {
@@ -45,9 +51,7 @@ std::unique_ptr<Scheduler> Stepper::build_step_graph(Pipeline& pipeline) {
   phases.push_back({kLoopPhase, std::move(grains)});
   phases.push_back({"end_of_step", std::move(pipeline.end_of_step)});
   auto graph = std::make_unique<Scheduler>("step", std::move(phases), world_, model_);
-  // Over MPI ranks with grains in MPS water both branches talk to the other ranks: one system at a time, in list
-  // order (Scheduler::run_in_list_order says why).
-  if (ranks::distributed() && world_.fluid && world_.solids) graph->run_in_list_order();
+  if (one_system_at_a_time(world_)) graph->run_in_list_order();
   // The grains' loop is the step's longest chain: the calling thread runs it (Scheduler::run_on_caller says why).
   if (loop_) graph->run_on_caller(kLoopName);
   return graph;

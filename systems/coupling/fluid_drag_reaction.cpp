@@ -12,7 +12,6 @@
 #include "systems/physics/coupling/sampling_kernel.hpp"
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/physics/ranks/coupling_ranks.hpp"
-#include "systems/physics/ranks/rank_boxes.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
@@ -72,15 +71,12 @@ FluidDragReaction::Points FluidDragReaction::gather_near_ranks(SystemContext& co
   const std::span<const Vec3> fluid(particles.position.data(), own_fluid);
   // Both families' boxes: the grains this rank's water needs sit near its fluid box, the water its grains need near
   // their box. Each family's members stand up to its overflow outside their rank's box.
-  const std::vector<PartBox> grain_boxes = rank_boxes(grain_ranks.box_low, grain_ranks.box_high);
-  const std::vector<PartBox> fluid_boxes = rank_boxes(fluid_ranks.box_low, fluid_ranks.box_high);
-  const auto me = static_cast<std::size_t>(ranks::rank());
-  CouplingBoxes boxes;
-  for (std::size_t r = 0; r < grain_boxes.size(); ++r) boxes.of_rank.push_back({grain_boxes[r], fluid_boxes[r]});
   const PeriodicBox box = periodic_box(context.model);
-  const double grain_overflow = overflow_over_ranks(grains.position, grain_boxes[me], box);  // collective, in order
-  const double fluid_overflow = overflow_over_ranks(fluid, fluid_boxes[me], box);
-  boxes.reach = reach + std::max(grain_overflow, fluid_overflow);
+  // Two collectives, in this order on every rank.
+  const CouplingBoxes grain_boxes =
+      coupling_boxes(grain_ranks.box_low, grain_ranks.box_high, grains.position, reach, box);
+  const CouplingBoxes boxes =
+      either_family(grain_boxes, coupling_boxes(fluid_ranks.box_low, fluid_ranks.box_high, fluid, reach, box));
   near_grain_position_.assign(grains.position.begin(), grains.position.end());
   near_grain_radius_.assign(properties.radius.begin(), properties.radius.end());
   near_grain_voidage_.assign(voidages.voidage.begin(), voidages.voidage.end());

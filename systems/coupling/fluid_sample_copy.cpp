@@ -5,7 +5,6 @@
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/mps/mps_common.hpp"
 #include "systems/physics/ranks/coupling_ranks.hpp"
-#include "systems/physics/ranks/rank_boxes.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
@@ -37,30 +36,26 @@ void FluidSampleCopy::append_other_ranks(SystemContext& context, FluidSample& sa
   if (!grain_ranks.active) return;
   double largest_radius = 0.0;
   for (const double radius : context.read<GrainProperties>().radius) largest_radius = std::max(largest_radius, radius);
-  const std::vector<PartBox> grain_boxes = rank_boxes(grain_ranks.box_low, grain_ranks.box_high);
-  const auto me = static_cast<std::size_t>(ranks::rank());
-  CouplingBoxes boxes;
-  for (const PartBox& part : grain_boxes) boxes.of_rank.push_back({part});
-  // A grain samples within r + r_e of its centre; the grains stand up to the overflow outside their rank's box.
-  const double overflow = overflow_over_ranks(grains.position, grain_boxes[me], periodic_box(context.model));
-  boxes.reach = ranks::max(largest_radius) + effective_radius_ + overflow;
+  // A grain samples within r + r_e of its centre.
+  const PeriodicBox box = periodic_box(context.model);
+  const CouplingBoxes boxes = coupling_boxes(grain_ranks.box_low, grain_ranks.box_high, grains.position,
+                                             ranks::max(largest_radius) + effective_radius_, box);
   const std::size_t own = sample.size();
   const std::vector<std::vector<std::uint32_t>> near =
-      indices_near_other_ranks(std::span<const Vec3>(sample.position.data(), own), boxes, periodic_box(context.model));
-  const bool viscous = viscous_stress_;
+      indices_near_other_ranks(std::span<const Vec3>(sample.position.data(), own), boxes, box);
   exchange_records(
       near,
       [&](ByteWriter& out, std::uint32_t i) {
         out.put(sample.position[i]);
         out.put(sample.velocity[i]);
         out.put(sample.pressure_gradient[i]);
-        if (viscous) out.put(sample.viscous_acceleration[i]);
+        if (viscous_stress_) out.put(sample.viscous_acceleration[i]);
       },
       [&](ByteReader& in) {
         sample.position.push_back(in.get<Vec3>());
         sample.velocity.push_back(in.get<Vec3>());
         sample.pressure_gradient.push_back(in.get<Vec3>());
-        if (viscous) sample.viscous_acceleration.push_back(in.get<Vec3>());
+        if (viscous_stress_) sample.viscous_acceleration.push_back(in.get<Vec3>());
       });
 }
 

@@ -47,8 +47,6 @@ struct GhostedGrains {
   bool fixed(std::uint32_t j) const { return fixed_[halo_->owner_of(j)] != 0; }
 };
 
-/// Pass 1 (below): each grain-grain candidate once, from its first grain (always real), the second read through
-/// `neighbours`.
 /// Over MPI ranks: slots past this rank's grains are the other ranks' grains (Contacts::ghosts, RankHalo), with
 /// their water's sampling weights as their owners send them.
 struct RankGrains {
@@ -75,6 +73,8 @@ struct RankGrains {
   }
 };
 
+/// Pass 1 (below): each grain-grain candidate once, from its first grain (always real), the second read through
+/// `neighbours`.
 template <class Neighbours>
 void lubrication_first(const GrainState& grains, const GrainProperties& properties, const double* weights,
                        const Neighbours& neighbours, const Contacts& contacts, const Walls& walls,

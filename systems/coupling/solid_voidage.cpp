@@ -9,7 +9,6 @@
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
 #include "systems/physics/ranks/coupling_ranks.hpp"
-#include "systems/physics/ranks/rank_boxes.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
@@ -29,12 +28,8 @@ void SolidVoidage::gather_near_ranks(SystemContext& context, double reach) {
   const GrainProperties& properties = context.read<GrainProperties>();
   const ParticleState& particles = context.read<ParticleState>();
   const RankHalo& grain_ranks = context.read<Contacts>().ranks;
-  const std::vector<PartBox> grain_boxes = rank_boxes(grain_ranks.box_low, grain_ranks.box_high);
-  CouplingBoxes boxes;
-  for (const PartBox& part : grain_boxes) boxes.of_rank.push_back({part});
-  boxes.reach = reach + overflow_over_ranks(grains.position, grain_boxes[static_cast<std::size_t>(ranks::rank())],
-                                             periodic_box(context.model));
   const PeriodicBox box = periodic_box(context.model);
+  const CouplingBoxes boxes = coupling_boxes(grain_ranks.box_low, grain_ranks.box_high, grains.position, reach, box);
   grain_positions_.assign(grains.position.begin(), grains.position.end());
   exchange_records(
       indices_near_other_ranks(grains.position, boxes, box),
@@ -50,7 +45,8 @@ void SolidVoidage::gather_near_ranks(SystemContext& context, double reach) {
   std::size_t own_fluid = 0;
   if (!over_tank_) {  // over the tank's volume the water's particles are not read
     own_fluid = fluid_slot_count(particles);
-    fluid_positions_.assign(particles.position.begin(), particles.position.begin() + static_cast<std::ptrdiff_t>(own_fluid));
+    const auto fluid_end = particles.position.begin() + static_cast<std::ptrdiff_t>(own_fluid);
+    fluid_positions_.assign(particles.position.begin(), fluid_end);
     exchange_records(
         indices_near_other_ranks(std::span<const Vec3>(particles.position.data(), own_fluid), boxes, box),
         [&](ByteWriter& out, std::uint32_t i) { out.put(particles.position[i]); },

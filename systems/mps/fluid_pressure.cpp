@@ -141,7 +141,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     return;
   }
   if (ranks_cg) {
-    const std::size_t extended = localise_columns(neighbours.ranks, unknowns);
+    const std::size_t extended = localise_columns(unknowns);
     solution_.resize(extended);
     direction_.resize(extended);
   }
@@ -252,8 +252,7 @@ void FluidPressureSolve::run(SystemContext& context) {
   finish(context, outcome);
 }
 
-std::size_t FluidPressureSolve::localise_columns(const FluidRankHalo& ranks, std::size_t unknowns) {
-  const std::size_t reals = ranks.real_count;
+std::size_t FluidPressureSolve::localise_columns(std::size_t unknowns) {
   // Each ghost slot's entry: the first ghost slot of each global row (a rank's particle may reach this rank as two
   // periodic images, one row).
   std::unordered_map<std::int64_t, std::uint32_t> entry_of_row;
@@ -279,7 +278,6 @@ std::size_t FluidPressureSolve::localise_columns(const FluidRankHalo& ranks, std
     }
     block_row_start_[row + 1] = block_columns_.size();
   }
-  (void)reals;
   return unknowns + rank_rows_.ghost_row.size();
 }
 

@@ -53,7 +53,7 @@ class FluidPressureSolve final : public System {
   /// Over ranks, the in-house CG: rewrites the assembled global columns as this rank's rows (0 .. unknowns - 1) and,
   /// past them, one entry per ghost slot (unknowns + ghost index), and keeps this rank's block alone (the columns of
   /// its own rows) for the preconditioner. Returns the length of a vector with the ghosts' entries.
-  std::size_t localise_columns(const FluidRankHalo& ranks, std::size_t unknowns);
+  std::size_t localise_columns(std::size_t unknowns);
   /// Over ranks: the ghost entries of `x` (past its own rows) from their owners' rows, point to point. Collective.
   void refresh_ghost_entries(const FluidRankHalo& ranks, std::vector<double>& x);
   std::vector<std::size_t> block_row_start_;          ///< over ranks: this rank's block, for the preconditioner

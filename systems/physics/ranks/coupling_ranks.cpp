@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "systems/physics/ranks/rank_boxes.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
@@ -58,6 +59,22 @@ double overflow_over_ranks(std::span<const Vec3> positions, const PartBox& own, 
     overflow = std::max(overflow, std::sqrt(squared));
   }
   return ranks::max(overflow);
+}
+
+CouplingBoxes coupling_boxes(const std::vector<Vec3>& box_low, const std::vector<Vec3>& box_high,
+                             std::span<const Vec3> members, double reach, const PeriodicBox& box) {
+  const std::vector<PartBox> parts = rank_boxes(box_low, box_high);
+  CouplingBoxes boxes;
+  for (const PartBox& part : parts) boxes.of_rank.push_back({part});
+  boxes.reach = reach + overflow_over_ranks(members, parts[static_cast<std::size_t>(ranks::rank())], box);
+  return boxes;
+}
+
+CouplingBoxes either_family(CouplingBoxes first, const CouplingBoxes& second) {
+  for (std::size_t r = 0; r < first.of_rank.size(); ++r)
+    first.of_rank[r].insert(first.of_rank[r].end(), second.of_rank[r].begin(), second.of_rank[r].end());
+  first.reach = std::max(first.reach, second.reach);
+  return first;
 }
 
 Vec3 lowest_corner_over_ranks(std::span<const Vec3> positions, std::span<const Vec3> more) {

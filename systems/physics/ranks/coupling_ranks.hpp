@@ -42,6 +42,15 @@ std::vector<std::vector<std::uint32_t>> indices_near_other_ranks(std::span<const
 /// box). Collective.
 double overflow_over_ranks(std::span<const Vec3> positions, const PartBox& own, const PeriodicBox& box);
 
+/// Every rank's box of one family's decomposition (its halo's corner lists, `box_low` and `box_high`), to be reached
+/// within `reach` plus how far that family's members stray out of their boxes (overflow_over_ranks of this rank's
+/// `members`). Collective.
+CouplingBoxes coupling_boxes(const std::vector<Vec3>& box_low, const std::vector<Vec3>& box_high,
+                             std::span<const Vec3> members, double reach, const PeriodicBox& box);
+
+/// Both families' boxes at once: each rank's boxes of `first`, then of `second`; the larger reach.
+CouplingBoxes either_family(CouplingBoxes first, const CouplingBoxes& second);
+
 /// The lowest corner of every rank's `positions` (each coordinate's minimum over all the ranks' points; +huge with
 /// none): the anchor of a grid whose nodes must lie where one rank's grid over all the points puts them
 /// (VoidageGrid's lattice starts at its points' lowest corner). Collective.
