@@ -8,6 +8,7 @@
 #include <array>
 #include <cereal/types/vector.hpp>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "components/component_id.hpp"
@@ -260,12 +261,11 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
                   std::int32_t material_index, std::int32_t size_class_index) {
     const std::size_t slot = size();
     resize_fields(*this, slot + 1);
-    const double kPi = 3.14159265358979323846;
     id[slot] = next_id++;
     position[slot] = position_m;
     velocity[slot] = velocity_m_s;
     radius[slot] = radius_m;
-    mass[slot] = density_kg_m3 * 4.0 / 3.0 * kPi * radius_m * radius_m * radius_m;
+    mass[slot] = density_kg_m3 * 4.0 / 3.0 * std::numbers::pi * radius_m * radius_m * radius_m;
     moment_of_inertia[slot] = 0.4 * mass[slot] * radius_m * radius_m;
     material[slot] = material_index;
     size_class[slot] = size_class_index;

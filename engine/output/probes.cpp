@@ -1,5 +1,6 @@
 #include "engine/output/probes.hpp"
 
+#include "systems/physics/math/not_a_number.hpp"
 #include "systems/physics/mean_flow/column_model.hpp"
 #include "systems/physics/mean_flow/column.hpp"
 
@@ -23,10 +24,6 @@
 namespace riffle {
 
 namespace fs = std::filesystem;
-
-namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}  // namespace
 
 GrainSlotMap::GrainSlotMap(std::vector<EntityId> ids) : ids_(std::move(ids)), slots_(ids_.size(), kNone) {}
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <set>
 #include <sstream>
@@ -14,7 +15,6 @@ namespace riffle {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// Random sequential addition of equal spheres jams at a solid fraction of 0.384 (mixtures a little higher); used
 /// only to word messages and to suggest a loose_factor.
 constexpr double kJammingFraction = 0.38;
@@ -22,7 +22,7 @@ constexpr double kJammingFraction = 0.38;
 /// random close packing): refuse at once instead of spending the whole attempt budget to find out.
 constexpr double kHopelessFraction = 0.64;
 
-double sphere_volume(double diameter) { return kPi / 6.0 * diameter * diameter * diameter; }
+double sphere_volume(double diameter) { return std::numbers::pi / 6.0 * diameter * diameter * diameter; }
 
 std::string format_mm(double metres) { return format_number(std::round(metres * 1e4) / 10.0) + " mm"; }
 

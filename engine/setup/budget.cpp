@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "engine/setup/initial_state.hpp"
@@ -18,7 +19,6 @@ namespace riffle {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
 // Bytes per item: the components' fields (Solids ~320 B a grain, FluidParticles ~200 B a particle) times what the
@@ -156,7 +156,7 @@ SceneBudget estimate_budget(const Model& model) {
     // Lattice points within r_e plus the list's skin: 4/3 pi (r_e/l0 + skin/l0)^3 per listed particle.
     const double reach = fluid.effective_radius_ratio + fluid.neighbour_skin_ratio;
     const double listed = budget.fluid_particles + budget.wall_particles;
-    budget.fluid_neighbours = listed * 4.0 / 3.0 * kPi * reach * reach * reach;
+    budget.fluid_neighbours = listed * 4.0 / 3.0 * std::numbers::pi * reach * reach * reach;
     fluid_reach = fluid.effective_radius();
   }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "systems/physics/coupling/drag_law.hpp"
 #include "systems/physics/coupling/lubrication.hpp"
@@ -47,7 +48,6 @@ void SolidDrag::run(SystemContext& context) {
   const double fluid_step = context.fluid_step(fluid_step_);
   const Vec3 tank_shift = model_.self_induced_velocity ? tank_kinematics(tank_.motion, context.time).displacement
                                                        : Vec3::Zero();
-  const double kPi = 3.14159265358979323846;
   // A grain the self-induced correction does not act on (dry, or in a dense bed) had its disturbance cleared and its
   // undisturbed velocity set at the step's start (solid_drag_law): it holds over the step.
   for_each_particle(grains.size(), [&](std::size_t grain) {
@@ -57,7 +57,7 @@ void SolidDrag::run(SystemContext& context) {
     }
     const double voidage = voidages.voidage[grain];
     const double diameter = 2.0 * properties.radius[grain];
-    const double volume = kPi / 6.0 * diameter * diameter * diameter;
+    const double volume = std::numbers::pi / 6.0 * diameter * diameter * diameter;
     // Mixture reading (docs/COUPLING.md): the sampled MPS velocity is the mixture's volume flux, so the pore water
     // passes the grain at (u - u_s) / eps; the seed's reading takes u as the pore velocity itself.
     const double share = flux_share(model_.fluid_velocity, voidage);
@@ -107,14 +107,13 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
                                              const GrainProperties& properties, const GrainSampledFluid& sampled,
                                              double voidage, double flux_share, double dt, double fluid_step,
                                              const Vec3& tank_shift, GrainDrag& drag) {
-  const double kPi = 3.14159265358979323846;
   const double density = fluid_.density;
   const double nu = fluid_.kinematic_viscosity;
   const double viscosity = nu * density;
   const double diameter = 2.0 * properties.radius[grain];
-  const double volume = kPi / 6.0 * diameter * diameter * diameter;
+  const double volume = std::numbers::pi / 6.0 * diameter * diameter * diameter;
   const double kernel_radius = properties.radius[grain] + effective_radius_;
-  const double mobility = inverse_distance_ / (6.0 * kPi * viscosity * kernel_radius);  // K [m/s per N]
+  const double mobility = inverse_distance_ / (6.0 * std::numbers::pi * viscosity * kernel_radius);  // K [m/s per N]
   const Vec3& velocity = grains.velocity[grain];
   const Vec3& sampled_velocity = sampled.fluid_velocity[grain];
 

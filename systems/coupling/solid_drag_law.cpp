@@ -1,4 +1,5 @@
 #include "systems/coupling/solid_drag_law.hpp"
+#include <numbers>
 
 #include "systems/coupling/solid_drag.hpp"
 #include "systems/physics/coupling/drag_law.hpp"
@@ -16,7 +17,6 @@ void SolidDragLaw::run(SystemContext& context) {
   const GrainVoidage& voidages = context.read<GrainVoidage>();
   const GrainSampledFluid& sampled = context.read<GrainSampledFluid>();
   GrainDrag& drag = context.write<GrainDrag>();
-  const double kPi = 3.14159265358979323846;
   for_each_particle(voidages.voidage.size(), [&](std::size_t grain) {
     const double voidage = voidages.voidage[grain];
     const double weight = sampled.fluid_weight[grain];
@@ -29,7 +29,7 @@ void SolidDragLaw::run(SystemContext& context) {
       return;
     }
     const double diameter = 2.0 * properties.radius[grain];
-    const double volume = kPi / 6.0 * diameter * diameter * diameter;  // as solid_drag's other branches
+    const double volume = std::numbers::pi / 6.0 * diameter * diameter * diameter;  // as solid_drag's other branches
     const ErgunDrag ergun = ergun_drag(voidage, diameter, density_, viscosity_, model_);
     drag.ergun_resistance[grain] = volume * ergun.viscous;
     drag.ergun_inertial_resistance[grain] = volume * ergun.inertial;

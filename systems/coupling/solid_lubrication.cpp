@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "systems/physics/dem/contact_law.hpp"
 #include "systems/physics/coupling/lubrication.hpp"
@@ -12,8 +13,7 @@
 namespace riffle {
 
 namespace {
-constexpr std::size_t kGrain = 256;
-constexpr double kPi = 3.14159265358979323846;
+constexpr std::size_t kLubricationChunk = 256;  // grains per parallel task
 
 /// The second grain of a candidate pair as the lubrication reads it, as solid_contacts does
 /// (systems/dem/solid_contacts.cpp): a real grain (no periodic axis: plain array reads, the walled box unchanged),
@@ -83,7 +83,7 @@ void lubrication_first(const GrainState& grains, const GrainProperties& properti
   const std::size_t count = grains.size();
   const Vec3* const positions = grains.position.data();
   const double* const radii = properties.radius.data();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kLubricationChunk), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       Vec3 force = Vec3::Zero();
       const std::uint32_t pair_begin = contacts.pair_offsets[i], pair_end = contacts.pair_offsets[i + 1];
@@ -113,7 +113,7 @@ void lubrication_first(const GrainState& grains, const GrainProperties& properti
           if (gap + 0.5 * std::abs(approach) * dt <= 0.0) continue;
           const double roughness = settings.roughness_gap(a);
           const double at_gap = pair_lubrication_coefficient(radius, radius_j, gap, mu, roughness, cutoff);
-          const double swept = swept_coefficient(at_gap, 6.0 * kPi * mu * a * a, gap, approach, dt, roughness, cutoff);
+          const double swept = swept_coefficient(at_gap, 6.0 * std::numbers::pi * mu * a * a, gap, approach, dt, roughness, cutoff);
           const double reduced_mass =
               pair_reduced_mass(properties.mass[i], neighbours.mass(j), properties.fixed[i] != 0, neighbours.fixed(j));
           const Vec3 on_first = -implicit_coefficient(swept, dt, reduced_mass) * approach * normal;
@@ -132,7 +132,7 @@ void lubrication_first(const GrainState& grains, const GrainProperties& properti
           const double roughness = settings.roughness_gap(radius);
           const double at_gap = wall_lubrication_coefficient(radius, gap, mu, roughness, cutoff);
           const double swept =
-              swept_coefficient(at_gap, 6.0 * kPi * mu * radius * radius, gap, approach, dt, roughness, cutoff);
+              swept_coefficient(at_gap, 6.0 * std::numbers::pi * mu * radius * radius, gap, approach, dt, roughness, cutoff);
           force += implicit_coefficient(swept, dt, properties.mass[i]) * approach * normal;
         }
       }
@@ -191,7 +191,7 @@ void SolidLubrication::run(SystemContext& context) {
   }
   // 2. Each grain takes minus the pairs where it is second, ascending: equal and opposite to the bit, thread-count
   //    independent.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kLubricationChunk), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i)
       for (std::uint32_t s = contacts.second_offsets[i]; s < contacts.second_offsets[i + 1]; ++s)
         lubrication.lubrication_force[i] -= pair_force_[contacts.second_pairs[s]];

@@ -12,7 +12,7 @@
 namespace riffle {
 
 namespace {
-constexpr std::size_t kGrain = 2048;
+constexpr std::size_t kDomainCheckChunk = 2048;  // grains per parallel task
 
 bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 }  // namespace
@@ -24,7 +24,7 @@ void SolidDomainCheck::run(SystemContext& context) {
   constexpr std::size_t kNoProblem = std::numeric_limits<std::size_t>::max();
   // The lowest offending slot: min is associative and commutative, so any split gives the same answer.
   const std::size_t first_bad = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, grains.size(), kGrain), kNoProblem,
+      tbb::blocked_range<std::size_t>(0, grains.size(), kDomainCheckChunk), kNoProblem,
       [&](const tbb::blocked_range<std::size_t>& range, std::size_t found) {
         for (std::size_t i = range.begin(); i < range.end() && i < found; ++i) {
           const bool ok = finite(grains.position[i]) && finite(grains.velocity[i]) &&

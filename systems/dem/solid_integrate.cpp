@@ -18,7 +18,7 @@ KickSettings KickSettings::from(const Model& model) {
 }
 
 namespace {
-constexpr std::size_t kGrain = 1024;
+constexpr std::size_t kIntegrateChunk = 1024;  // grains per parallel task
 
 Access kick_access(const KickSettings& settings) {
   // Without the inertial forces the kicks touch only the motion, as before they existed (the step graph is
@@ -113,7 +113,7 @@ void kick_range(SystemContext& context, const KickSettings& settings, double hal
   const double dt = context.dt;
   const TankStep tank_step = drift ? tank_motion_over_step(context) : TankStep{};
   if (!settings.any()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kIntegrateChunk),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         half_kick(grains, properties, total, gravity, half_dt, range.begin(), range.end());
                         if (drift) drift_range(grains, properties, tank_step, dt, range.begin(), range.end());
@@ -122,7 +122,7 @@ void kick_range(SystemContext& context, const KickSettings& settings, double hal
   }
   const InertialForces fluid{settings, context.read<GrainSampledFluid>(), context.read<GrainVoidage>(),
                              context.write<GrainDrag>(), context.write<GrainAddedMass>()};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kGrain),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grains.size(), kIntegrateChunk),
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       half_kick_inertial(grains, properties, total, fluid, gravity, half_dt, range.begin(),
                                          range.end());

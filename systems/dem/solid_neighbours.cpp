@@ -22,7 +22,7 @@ namespace riffle {
 
 namespace {
 
-constexpr std::size_t kGrain = 256;
+constexpr std::size_t kSearchChunk = 256;  // grains per parallel task
 
 /// Uniform grid over the grains' box (solid_grid_shape) with the grains of each cell listed in slot order.
 struct GrainBinGrid {
@@ -293,16 +293,16 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
                             box.any() && !ranks.active ? &contacts.halo : nullptr, ranks.active ? &ranks : nullptr,
                             &solids.id};
   const GrainBinGrid grid = build_grid(search.position, domain, 2.0 * smallest_radius + skin);
-  // One search: each block of kGrain grains lists its grains' candidates (each grain's sorted) into its own buffer,
+  // One search: each block of kSearchChunk grains lists its grains' candidates (each grain's sorted) into its own buffer,
   // and the buffers are joined in grain order, so the list is the same whatever the threads.
   contacts.pair_offsets.assign(count + 1, 0);
-  const std::size_t blocks = (count + kGrain - 1) / kGrain;
+  const std::size_t blocks = (count + kSearchChunk - 1) / kSearchChunk;
   std::vector<std::vector<std::uint32_t>> block_second(blocks);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t block = range.begin(); block < range.end(); ++block) {
       std::vector<std::uint32_t>& second = block_second[block];
-      second.reserve(16 * kGrain);
-      for (std::size_t i = block * kGrain; i < std::min(count, (block + 1) * kGrain); ++i) {
+      second.reserve(16 * kSearchChunk);
+      for (std::size_t i = block * kSearchChunk; i < std::min(count, (block + 1) * kSearchChunk); ++i) {
         const std::size_t first = second.size();
         for_each_candidate(search, grid, largest_radius, skin, model.coupling, i,
                            [&](std::uint32_t j) { second.push_back(j); });
@@ -317,7 +317,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t block = range.begin(); block < range.end(); ++block)
       std::copy(block_second[block].begin(), block_second[block].end(),
-                contacts.pair_second.begin() + contacts.pair_offsets[block * kGrain]);
+                contacts.pair_second.begin() + contacts.pair_offsets[block * kSearchChunk]);
   });
   contacts.pair_spring.assign(pairs, Vec3::Zero());
   contacts.pair_overlap.assign(pairs, 0.0);
@@ -376,7 +376,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   // since its last evaluation keeps no spring: the new list starts it at zero overlap, so the contact pass would not
   // see it separate and clear it, and its next touch would start from the old spring.
   if (!saved_pair_springs.empty() || !saved_wall_springs.empty()) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kGrain), [&](const tbb::blocked_range<std::size_t>& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, kSearchChunk), [&](const tbb::blocked_range<std::size_t>& range) {
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
         for (std::uint32_t k = contacts.pair_offsets[i]; k < contacts.pair_offsets[i + 1]; ++k) {
           const std::uint32_t j = contacts.pair_second[k];

@@ -11,7 +11,7 @@
 namespace riffle {
 
 namespace {
-constexpr std::size_t kGrain = 2048;
+constexpr std::size_t kSummaryChunk = 2048;  // grains per parallel task
 }  // namespace
 
 void SolidSummarize::run(SystemContext& context) {
@@ -24,7 +24,7 @@ void SolidSummarize::run(SystemContext& context) {
   // Deterministic reduce: the split tree depends only on the range and grain size, not on the thread count,
   // so the floating-point sums are identical for any --threads.
   const Sums sums = tbb::parallel_deterministic_reduce(
-      tbb::blocked_range<std::size_t>(0, grains.size(), kGrain), Sums{},
+      tbb::blocked_range<std::size_t>(0, grains.size(), kSummaryChunk), Sums{},
       [&](const tbb::blocked_range<std::size_t>& range, Sums partial) {
         for (std::size_t i = range.begin(); i < range.end(); ++i) {
           const double speed_squared = grains.velocity[i].squaredNorm();

@@ -43,7 +43,7 @@ FluidSearchSimd fluid_search_simd() {
 
 namespace {
 
-constexpr std::size_t kGrain = 512;
+constexpr std::size_t kFluidSearchChunk = 512;  // fluid particles per parallel task
 
 struct Box {
   Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity());
@@ -386,17 +386,17 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
   // writes only its own chunk, and the sorted lists do not depend on the chunking or the thread count. Queries
   // (slots below `count`) and the rest are gathered apart: each part comes out of the scan nearly ascending when
   // the particles are in cell order, and all queries precede the rest.
-  const std::size_t chunks = (count + kGrain - 1) / kGrain;
+  const std::size_t chunks = (count + kFluidSearchChunk - 1) / kFluidSearchChunk;
   const GatherNeighbours gather_neighbours = pick_gather_neighbours();
   std::vector<std::vector<std::uint32_t>> chunk_lists(chunks);
   neighbours.offsets.assign(count + 1, 0);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
     std::vector<std::uint32_t>& list = chunk_lists[chunk];
     std::vector<std::uint32_t> others;
-    const std::size_t last = std::min(count, (chunk + 1) * kGrain);
-    list.resize((last - chunk * kGrain) * 128);
+    const std::size_t last = std::min(count, (chunk + 1) * kFluidSearchChunk);
+    list.resize((last - chunk * kFluidSearchChunk) * 128);
     std::size_t list_end = 0;
-    for (std::size_t i = chunk * kGrain; i < last; ++i) {
+    for (std::size_t i = chunk * kFluidSearchChunk; i < last; ++i) {
       const CandidateRuns runs = candidate_runs(positions[i], grid, radius);
       const std::size_t room = runs.candidates + kGatherSlack;
       if (list.size() < list_end + room) list.resize(2 * (list_end + room));
@@ -422,7 +422,7 @@ void build_fluid_neighbours(const std::vector<Vec3>& positions, double radius, F
   neighbours.slots.resize(total);
   tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t chunk) {
     std::copy(chunk_lists[chunk].begin(), chunk_lists[chunk].end(),
-              neighbours.slots.begin() + neighbours.offsets[chunk * kGrain]);
+              neighbours.slots.begin() + neighbours.offsets[chunk * kFluidSearchChunk]);
   });
   neighbours.radius = radius;
   ++neighbours.builds;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <numbers>
 #include <string>
 
 #include "engine/scene/scene.hpp"
@@ -18,8 +19,7 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
   const double throughput = argc > 1 ? std::atof(argv[1]) : 9.2e6;
   const double speed = 0.5, radius = 0.0025, density = 1318.0, young = 1e8, poisson = 0.3;
-  const double kPi = 3.14159265358979323846;
-  const double mass = density * 4.0 / 3.0 * kPi * radius * radius * radius;
+  const double mass = density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   const double effective_young = 1.0 / (2.0 * (1.0 - poisson * poisson) / young);
   const double contact_time = hertz_contact_time(effective_young, radius, mass, speed);
   const double max_overlap = hertz_max_overlap(effective_young, radius, mass, speed);

@@ -40,6 +40,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -53,7 +54,6 @@ using namespace riffle;
 
 constexpr double kG = 9.81;
 constexpr double kRho = 1000.0;
-constexpr double kPi = 3.14159265358979323846;
 
 double cpu_seconds() {
   rusage usage{};

@@ -7,6 +7,7 @@
 #include <exception>
 #include <filesystem>
 #include <unistd.h>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -88,13 +89,12 @@ inline std::string location(const std::string& file, std::string_view text, cons
 /// the mean hydrostatic pressure per rho g over a vertical disc whose centre lies s below the water line (exact;
 /// the reference of the pressure transducer tests).
 inline double half_submerged_mean(double s, double radius) {
-  constexpr double kPi = 3.14159265358979323846;
   const double r2 = radius * radius;
   if (s >= radius) return s;
   if (s <= -radius) return 0.0;
   const double root = std::sqrt(r2 - s * s);
-  return (s * (s * root + r2 * std::asin(s / radius) + r2 * kPi / 2.0) + 2.0 / 3.0 * root * root * root) /
-         (kPi * r2);
+  return (s * (s * root + r2 * std::asin(s / radius) + r2 * std::numbers::pi / 2.0) + 2.0 / 3.0 * root * root * root) /
+         (std::numbers::pi * r2);
 }
 
 /// A small valid scene: a closed shaken tank with a few free-flying grains. `extra` is appended verbatim.

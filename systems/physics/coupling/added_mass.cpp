@@ -4,11 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace riffle {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 double added_mass_coefficient(double voidage) {
@@ -33,7 +33,7 @@ BassetModes BassetModes::make(double window, double shortest) {
   for (std::size_t k = 0; k < kCount; ++k) {
     const double x = lowest + spacing * static_cast<double>(k);
     modes.rate[k] = std::exp(x);
-    modes.weight[k] = spacing * std::exp(0.5 * x) / std::sqrt(kPi);
+    modes.weight[k] = spacing * std::exp(0.5 * x) / std::sqrt(std::numbers::pi);
   }
   // Trapezoidal end weights: half a node at each end, and the nodes left out lumped into the end modes. Below
   // 1/window: pi^(-1/2) int_{-inf}^{x_0} e^{x/2} dx = 2 (s_0/pi)^(1/2), into the lowest mode (the window's
@@ -41,13 +41,13 @@ BassetModes BassetModes::make(double window, double shortest) {
   // present, through their integral over it, pi^(-1/2) int_{x_n}^{inf} e^{-x/2} dx = 2 (pi s_n)^(-1/2): the top mode
   // carries it with an extra weight 2 (s_n/pi)^(1/2).
   const double top = lowest + spacing * static_cast<double>(kCount - 1);
-  modes.weight[0] = (0.5 * spacing + 2.0) * std::exp(0.5 * lowest) / std::sqrt(kPi);
-  modes.weight[kCount - 1] = (0.5 * spacing + 2.0) * std::exp(0.5 * top) / std::sqrt(kPi);
+  modes.weight[0] = (0.5 * spacing + 2.0) * std::exp(0.5 * lowest) / std::sqrt(std::numbers::pi);
+  modes.weight[kCount - 1] = (0.5 * spacing + 2.0) * std::exp(0.5 * top) / std::sqrt(std::numbers::pi);
   return modes;
 }
 
 double basset_prefactor(double diameter, double density, double viscosity) {
-  return 1.5 * diameter * diameter * std::sqrt(kPi * density * viscosity);
+  return 1.5 * diameter * diameter * std::sqrt(std::numbers::pi * density * viscosity);
 }
 
 }  // namespace riffle

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace riffle {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// (4/3) sinh(alpha) sum_n n (n + 1) / ((2n - 1)(2n + 3)) [ratio_n - 1], alpha = acosh(1 + h/a): Brenner's form
 /// for both boundary conditions, which differ only in ratio_n.
@@ -69,7 +69,7 @@ double faxen_wall_resistance_tangential(double gap_over_radius) {
 double wall_lubrication_coefficient(double radius, double gap, double viscosity, double roughness, double cutoff) {
   if (!(gap < cutoff) || !(gap > 0.0)) return 0.0;
   const double film = std::max(gap, roughness);
-  return 6.0 * kPi * viscosity * radius * std::max(0.0, wall_resistance(film / radius) - 1.0);
+  return 6.0 * std::numbers::pi * viscosity * radius * std::max(0.0, wall_resistance(film / radius) - 1.0);
 }
 
 double pair_lubrication_coefficient(double radius_1, double radius_2, double gap, double viscosity, double roughness,
@@ -79,7 +79,7 @@ double pair_lubrication_coefficient(double radius_1, double radius_2, double gap
   const double a = reduced_radius(radius_1, radius_2);
   const double b = radius_2 / radius_1;
   const double log_coefficient = (1.0 + 7.0 * b + b * b) / (5.0 * (1.0 + b) * (1.0 + b));
-  return 6.0 * kPi * viscosity * std::max(0.0, a * a / film + log_coefficient * a * std::log(a / film));
+  return 6.0 * std::numbers::pi * viscosity * std::max(0.0, a * a / film + log_coefficient * a * std::log(a / film));
 }
 
 double swept_coefficient(double coefficient_at_gap, double singular, double gap, double approach_speed, double dt,

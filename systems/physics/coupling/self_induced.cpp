@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -14,7 +15,6 @@ namespace riffle {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// The normalised Wendland kernel's radial Fourier transform W(kappa), kappa = k R, squared, on a uniform grid
 /// (Simpson in q = r / R), with its integral and the Oseen table built from it.
@@ -35,7 +35,7 @@ struct KernelTransform {
       const double m = 1.0 - q;
       return m * m * m * m * (1.0 + 4.0 * q);
     };
-    const double norm = 2.0 * kPi / 21.0;  // int w dV for R = 1 (numerics 1.2)
+    const double norm = 2.0 * std::numbers::pi / 21.0;  // int w dV for R = 1 (numerics 1.2)
     squared.resize(kPoints);
     for (int i = 0; i < kPoints; ++i) {
       const double kappa = i * kStep;
@@ -46,7 +46,7 @@ struct KernelTransform {
         const double simpson = (j == 0 || j == kIntervals) ? 1.0 : (j % 2 == 1 ? 4.0 : 2.0);
         sum += simpson * weight(q) * sinc * q * q;
       }
-      const double transform = 4.0 * kPi * sum / (3.0 * kIntervals) / norm;
+      const double transform = 4.0 * std::numbers::pi * sum / (3.0 * kIntervals) / norm;
       squared[static_cast<std::size_t>(i)] = transform * transform;
     }
     integral = integrate([](double) { return 1.0; });
@@ -90,7 +90,7 @@ struct KernelTransform {
   /// the Oseen symbol's real part, mu k^2 / (mu^2 k^4 + rho^2 (v.k)^2) = 1 / (mu k^2 (1 + b^2 c^2)).
   static double oseen_angular(double b) {
     if (b < 1e-3) return 4.0 / 3.0 - 4.0 / 15.0 * b * b;
-    if (b > 1e6) return kPi / b;  // the c-integral of 1 / (1 + b^2 c^2)
+    if (b > 1e6) return std::numbers::pi / b;  // the c-integral of 1 / (1 + b^2 c^2)
     return -2.0 / (b * b) + 2.0 * (1.0 + b * b) * std::atan(b) / (b * b * b);
   }
 };
@@ -104,7 +104,7 @@ const KernelTransform& kernel_transform() {
 
 double self_induced_inverse_distance() {
   // <1/r> = int rho_w(x) rho_s(y) / |x - y| = 4 pi int W^2 / k^2 d^3k / (2 pi)^3 = (2 / pi) int W^2 dk.
-  return 2.0 / kPi * kernel_transform().integral;
+  return 2.0 / std::numbers::pi * kernel_transform().integral;
 }
 
 double self_induced_overlap() {
@@ -118,8 +118,8 @@ double self_induced_overlap() {
     const double simpson = (j == 0 || j == kIntervals) ? 1.0 : (j % 2 == 1 ? 4.0 : 2.0);
     sum += simpson * w * w * q * q;
   }
-  const double norm = 2.0 * kPi / 21.0;
-  return 4.0 * kPi * sum / (3.0 * kIntervals) / (norm * norm);
+  const double norm = 2.0 * std::numbers::pi / 21.0;
+  return 4.0 * std::numbers::pi * sum / (3.0 * kIntervals) / (norm * norm);
 }
 
 double self_induced_oseen_factor(double reynolds_r) {
@@ -177,7 +177,7 @@ Vec3 kernel_point(double u_radius, double u_cosine, double u_angle, double heigh
   const double q = wendland_radius_at(u_radius);
   const double cosine = 2.0 * u_cosine - 1.0;
   const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
-  const double angle = 2.0 * kPi * u_angle;
+  const double angle = 2.0 * std::numbers::pi * u_angle;
   return {q * sine * std::cos(angle), q * sine * std::sin(angle), height + q * cosine};
 }
 

@@ -3,18 +3,18 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace riffle {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 double horizontal_square(const Vec3& v) { return v.x() * v.x() + v.y() * v.y(); }
 }  // namespace
 
 double shear_lift(double density, double lift_coefficient, double radius, const Vec3& top_relative,
                   const Vec3& bottom_relative) {
-  return 0.5 * density * lift_coefficient * kPi * radius * radius *
+  return 0.5 * density * lift_coefficient * std::numbers::pi * radius * radius *
          (horizontal_square(top_relative) - horizontal_square(bottom_relative));
 }
 

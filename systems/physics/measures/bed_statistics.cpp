@@ -5,10 +5,11 @@
 #include <limits>
 #include <set>
 
+#include "systems/physics/math/not_a_number.hpp"
+
 namespace riffle {
 
 namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kMaxLayers = kMaxBedLayers;
 
 /// Index of the layer holding `height` above the floor, or count if outside [0, count h).

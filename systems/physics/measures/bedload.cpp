@@ -3,17 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace riffle {
 
 double sphere_slab_volume(double radius, double centre, double low, double high) {
-  constexpr double kPi = 3.14159265358979323846;
   const double a = std::clamp(low - centre, -radius, radius);
   const double b = std::clamp(high - centre, -radius, radius);
   if (!(b > a)) return 0.0;
   // The cross-section at s is pi (r^2 - s^2); its integral from a to b.
   const double r2 = radius * radius;
-  return kPi * (r2 * (b - a) - (b * b * b - a * a * a) / 3.0);
+  return std::numbers::pi * (r2 * (b - a) - (b * b * b - a * a * a) / 3.0);
 }
 
 double covered_length(std::vector<std::pair<double, double>>& intervals, double period) {

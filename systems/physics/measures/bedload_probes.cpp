@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <utility>
 
+#include "systems/physics/math/not_a_number.hpp"
 #include "systems/physics/measures/bed_statistics.hpp"
 #include "systems/physics/measures/bedload.hpp"
 #include "systems/physics/mps/mps_common.hpp"
@@ -13,10 +15,8 @@
 namespace riffle {
 
 namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
 
-double sphere_volume(double radius) { return 4.0 / 3.0 * kPi * radius * radius * radius; }
+double sphere_volume(double radius) { return 4.0 / 3.0 * std::numbers::pi * radius * radius * radius; }
 
 /// `value` wrapped into [0, period).
 double wrap(double value, double period) {

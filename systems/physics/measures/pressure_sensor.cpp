@@ -2,16 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace riffle {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 double full_support_density(double spacing, double effective_radius) {
   const double ratio = effective_radius / spacing;
-  return 4.0 * kPi * ratio * ratio * ratio / 42.0;
+  return 4.0 * std::numbers::pi * ratio * ratio * ratio / 42.0;
 }
 
 double wetted_fraction(double fluid_weight, double solid_weight, double full_weight) {
@@ -39,11 +39,11 @@ std::vector<DiscQuadraturePoint> disc_quadrature(double radius, double spacing, 
     // its points at 2/3 of its radius.
     const double centroid =
         2.0 / 3.0 * (outer * outer * outer - inner * inner * inner) / (outer * outer - inner * inner);
-    const int count = std::max(4, static_cast<int>(std::ceil(2.0 * kPi * centroid / width - 1e-9)));
+    const int count = std::max(4, static_cast<int>(std::ceil(2.0 * std::numbers::pi * centroid / width - 1e-9)));
     // Every other ring turned by half a step, so no two rings' points line up along a radius.
     const double turn = (k % 2 == 0) ? 0.0 : 0.5;
     for (int m = 0; m < count; ++m) {
-      const double angle = 2.0 * kPi * (m + turn) / count;
+      const double angle = 2.0 * std::numbers::pi * (m + turn) / count;
       points.push_back({centroid * std::cos(angle), centroid * std::sin(angle), area_share / count});
     }
   }

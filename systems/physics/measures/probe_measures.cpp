@@ -5,16 +5,13 @@
 #include <limits>
 #include <utility>
 
+#include "systems/physics/math/not_a_number.hpp"
 #include "systems/physics/mps/hydrostatic.hpp"
 #include "systems/physics/mps/mps_common.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "systems/physics/measures/pressure_sensor.hpp"
 
 namespace riffle {
-
-namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}  // namespace
 
 std::vector<Vec3> wall_reaction_forces(const Contacts& contacts, std::size_t wall_count) {
   if (!contacts.valid || contacts.wall_pair_force.size() != contacts.wall_pair_wall.size()) return {};

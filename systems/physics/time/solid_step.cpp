@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <numbers>
 
 #include "components/solids.hpp"
 #include "systems/physics/dem/contact_law.hpp"
@@ -31,9 +32,8 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
   auto consider = [&](double candidate, const std::string& reason) {
     if (candidate < best.solid_dt) best = {candidate, reason};
   };
-  const double kPi = 3.14159265358979323846;
   auto mass_of = [&](std::int32_t material, double radius) {
-    return model.materials[static_cast<std::size_t>(material)].density * 4.0 / 3.0 * kPi * radius * radius * radius;
+    return model.materials[static_cast<std::size_t>(material)].density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   };
   char text[256];
   for (const auto& [material, radius] : smallest_radius) {

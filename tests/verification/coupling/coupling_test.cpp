@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,6 @@ using namespace riffle;
 using riffle::test::SceneBuilder;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kWaterDensity = 1000.0, kViscosity = 1.0e-3, kGravity = 9.81;
 
 /// Slip speed at which drag_per_volume * V * u equals the net weight (rho_s - rho) V g: bisection.
@@ -50,8 +50,8 @@ TEST_CASE("the drag law reduces to single-sphere drag and to Ergun's viscous ter
   const double d = 0.005, u = 0.1;
   const double reynolds = kWaterDensity * d * u / kViscosity;
   const double drag_coefficient = 24.0 / reynolds * (1.0 + 0.15 * std::pow(reynolds, 0.687));
-  const double expected = 0.5 * drag_coefficient * kWaterDensity * kPi * d * d / 4.0 * u * u;
-  const double volume = kPi / 6.0 * d * d * d;
+  const double expected = 0.5 * drag_coefficient * kWaterDensity * std::numbers::pi * d * d / 4.0 * u * u;
+  const double volume = std::numbers::pi / 6.0 * d * d * d;
   CHECK(drag_per_volume(1.0, d, u, kWaterDensity, kViscosity, coupling) * volume * u ==
         doctest::Approx(expected).epsilon(1e-12));
   // Creeping flow in a packed bed: beta/(1 - eps) -> 150 mu (1 - eps) / (eps d^2) (Ergun's viscous term)
@@ -143,7 +143,7 @@ TEST_CASE("a neutrally buoyant grain stays where it is") {
   REQUIRE(simulation->world().step_status.ok());
   const Solids& solids = *simulation->world().solids;
   // numerics 5.4: -V <grad p> must return rho g V within about 2 % in still water.
-  const double buoyancy = 1000.0 * 9.81 * kPi / 6.0 * 1e-6;
+  const double buoyancy = 1000.0 * 9.81 * std::numbers::pi / 6.0 * 1e-6;
   CHECK(solids.pressure_force[0][2] == doctest::Approx(buoyancy).epsilon(0.02));
   CHECK(std::abs(solids.pressure_force[0][0]) < 0.01 * buoyancy);
   // What is left over drives a creeping drift: under 1 mm/s means an imbalance below ~1e-4 of the weight (Stokes
@@ -312,7 +312,7 @@ TEST_CASE("mixture reading: the pore water passes a grain at (u - u_s) / eps and
     SystemContext drag_context(world, model, drag, drag_access, 0.0, 1.0e-3);
     drag.run(drag_context);
     const Vec3 slip = mixture ? Vec3((flux - grain_velocity) / eps) : Vec3(flux - grain_velocity);
-    const double volume = kPi / 6.0 * d * d * d;
+    const double volume = std::numbers::pi / 6.0 * d * d * d;
     const Vec3 expected = drag_per_volume(eps, d, slip.norm(), kWaterDensity, kViscosity, model.coupling) * volume * slip;
     CHECK((world.solids->drag_force[slot] - expected).norm() < 1e-12 * expected.norm());
     const Vec3 impulse = world.solids->drag_impulse[slot];
@@ -336,7 +336,7 @@ TEST_CASE("the voidage of a submerged simple cubic packing is 1 - pi/6") {
     for (int j = 0; j < 12; ++j)
       for (int k = 0; k < 12; ++k) {
         grains.emplace_back(0.005 + 0.01 * i, 0.005 + 0.01 * j, 0.005 + 0.01 * k);
-        volumes.push_back(kPi / 6.0 * 1e-6);
+        volumes.push_back(std::numbers::pi / 6.0 * 1e-6);
       }
   for (int i = 0; i < 24; ++i)
     for (int j = 0; j < 24; ++j)
@@ -347,9 +347,9 @@ TEST_CASE("the voidage of a submerged simple cubic packing is 1 - pi/6") {
   // is pi/6 up to the lattice's aliasing against the 20 mm cells (the grain and fluid lattices are commensurate
   // with 10 mm, not 20.04 mm): allow 2 %.
   for (const Vec3& point : {Vec3(0.06, 0.06, 0.06), Vec3(0.043, 0.071, 0.052)})
-    CHECK(grid.solid_fraction(point) == doctest::Approx(kPi / 6.0).epsilon(0.02));
+    CHECK(grid.solid_fraction(point) == doctest::Approx(std::numbers::pi / 6.0).epsilon(0.02));
   // Near a face the fluid deposit is truncated exactly like the solid one: still pi/6, not less.
-  CHECK(grid.solid_fraction(Vec3(0.06, 0.06, 0.004)) == doctest::Approx(kPi / 6.0).epsilon(0.05));
+  CHECK(grid.solid_fraction(Vec3(0.06, 0.06, 0.004)) == doctest::Approx(std::numbers::pi / 6.0).epsilon(0.05));
 }
 
 TEST_CASE("momentum stays closed with every fluid force on: the water takes minus all but the pressure force") {

@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "engine/run/simulation.hpp"
@@ -17,25 +18,24 @@ using namespace riffle;
 using riffle::test::SceneBuilder;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 // Beads of 3 mm, 1100 kg/m^3 in a liquid of 1000 kg/m^3 and 0.2 Pa s: Re_t = 0.036, u_t = 2.4 mm/s.
 constexpr double kDiameter = 0.003, kSolidDensity = 1100.0, kDensity = 1000.0, kViscosity = 0.2, kGravity = 9.81;
 constexpr double kColumn = 0.06, kFillLow = 0.01, kFillHigh = 0.13;
 
 /// Terminal speed of a lone sphere under Schiller-Naumann, 3 pi mu d u (1 + 0.15 Re^0.687) = (rho_s - rho) V g.
 double terminal_speed() {
-  const double weight = (kSolidDensity - kDensity) * kGravity * kPi / 6.0 * std::pow(kDiameter, 3);
-  double u = weight / (3.0 * kPi * kViscosity * kDiameter);
+  const double weight = (kSolidDensity - kDensity) * kGravity * std::numbers::pi / 6.0 * std::pow(kDiameter, 3);
+  double u = weight / (3.0 * std::numbers::pi * kViscosity * kDiameter);
   for (int k = 0; k < 100; ++k) {
     const double reynolds = kDensity * u * kDiameter / kViscosity;
-    u = weight / (3.0 * kPi * kViscosity * kDiameter * (1.0 + 0.15 * std::pow(reynolds, 0.687)));
+    u = weight / (3.0 * std::numbers::pi * kViscosity * kDiameter * (1.0 + 0.15 * std::pow(reynolds, 0.687)));
   }
   return u;
 }
 
 std::string column_scene(double solid_fraction, const std::string& reading, const std::string& extra) {
   const double volume = kColumn * kColumn * (kFillHigh - kFillLow);
-  const auto count = static_cast<long>(std::lround(solid_fraction * volume / (kPi / 6.0 * std::pow(kDiameter, 3))));
+  const auto count = static_cast<long>(std::lround(solid_fraction * volume / (std::numbers::pi / 6.0 * std::pow(kDiameter, 3))));
   return SceneBuilder().run({.end_time = 0.3, .dt = 2.0e-3, .solid_substeps = 8})
              .material("bead", {.density = kSolidDensity}).material("glass", {.density = 2500.0})
              .tank({.size = {0.06, 0.06, 0.18}, .open_faces = {"z_max"}, .wall_material = "glass"}).solids()
@@ -73,7 +73,7 @@ Bulk bulk_settling(double solid_fraction, const std::string& reading, const std:
     if (step < 15) continue;
     const Solids& solids = *simulation->world().solids;
     double speed = 0.0, lab = 0.0, voidage = 0.0, fluid = 0.0, pressure = 0.0, drag = 0.0, count = 0.0;
-    const double volume = kPi / 6.0 * std::pow(kDiameter, 3);
+    const double volume = std::numbers::pi / 6.0 * std::pow(kDiameter, 3);
     for (std::size_t g = 0; g < solids.size(); ++g) {
       if (solids.position[g].z() < 0.06 || solids.position[g].z() > 0.08) continue;
       // The speed relative to the water's local velocity u: the flux that the model's continuity conserves (the

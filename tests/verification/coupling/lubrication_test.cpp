@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,7 +33,6 @@ using riffle::test::SceneBuilder;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 struct LubeScene {
   double density = 7800.0;        ///< [kg/m^3] the grain (steel, as in Joseph et al. 2001 and Gondret et al. 2002)
@@ -101,7 +101,7 @@ struct Bench {
   }
 };
 
-double stokes(double viscosity, double radius, double speed) { return 6.0 * kPi * viscosity * radius * speed; }
+double stokes(double viscosity, double radius, double speed) { return 6.0 * std::numbers::pi * viscosity * radius * speed; }
 
 }  // namespace
 

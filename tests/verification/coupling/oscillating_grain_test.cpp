@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -19,7 +20,6 @@ using namespace riffle;
 using riffle::test::SceneBuilder;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kFrequency = 1.7, kAmplitude = 0.01, kRamp = 1.0 / kFrequency;
 constexpr double kEnd = kRamp + 3.0 / kFrequency;  // the ramp, then three periods
 
@@ -43,7 +43,7 @@ struct Harmonic {
   double amplitude, phase;
 };
 Harmonic fit(const std::vector<double>& time, const std::vector<double>& x) {
-  const double omega = 2.0 * kPi * kFrequency;
+  const double omega = 2.0 * std::numbers::pi * kFrequency;
   // Normal equations of x ~ c0 + c1 t + a cos + b sin (4 x 4), by Gaussian elimination.
   std::array<std::array<double, 5>, 4> m{};
   for (std::size_t k = 0; k < time.size(); ++k) {
@@ -156,7 +156,7 @@ TEST_CASE("a heavy and a neutral grain in a shaken tank move against the water a
     const Harmonic expected = fit(times, point_particle(model, 2500.0, 0.005, eps, true, history, times));
     const Harmonic no_added = fit(times, point_particle(model, 2500.0, 0.005, eps, false, history, times));
     const Harmonic no_history = fit(times, point_particle(model, 2500.0, 0.005, eps, true, false, times));
-    const double phase_error = std::remainder(run.heavy.phase - expected.phase, 2.0 * kPi);
+    const double phase_error = std::remainder(run.heavy.phase - expected.phase, 2.0 * std::numbers::pi);
     MESSAGE("history " << history << ": heavy grain relative amplitude " << run.heavy.amplitude * 1e3
                        << " mm, phase " << run.heavy.phase << " rad; point-particle equation "
                        << expected.amplitude * 1e3 << " mm, " << expected.phase << " rad (without added mass "

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "engine/setup/fluid_layout.hpp"
@@ -26,7 +27,6 @@ namespace {
 
 constexpr double kSpacing = 0.01;
 constexpr double kBox = 0.1;
-constexpr double kPi = 3.14159265358979323846;
 
 /// (1 - s)^4 (1 + 4 s) for s < 1, written out from the definition (R_v = R_h when vertical = 0).
 double formula_weight(const Vec3& offset, double horizontal, double vertical) {
@@ -104,7 +104,7 @@ TEST_CASE("ellipsoidal sampling kernel: a grain reads a linear field at its cent
   b << 0.3, -1.1, 4.0, 0.7, 0.2, -2.5, -0.4, 1.3, 0.9;  // [1/s], every component
   g << 200.0, -50.0, 800.0, 10.0, -300.0, 120.0, -60.0, 40.0, 500.0;  // [Pa/m^2]
   const double horizontal = 0.0025 + 2.4 * kSpacing;
-  const double volume = 4.0 / 3.0 * kPi * 0.0025 * 0.0025 * 0.0025;
+  const double volume = 4.0 / 3.0 * std::numbers::pi * 0.0025 * 0.0025 * 0.0025;
   // Centres on a lattice node (x, y) and between layers (z = 50 mm), or between layers (55 mm) and on the x seam of
   // a periodic box: the lattice mirrors through the centre in each case.
   struct Case {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -20,7 +21,6 @@
 using namespace riffle;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 /// A model with water of spacing `l0` in a closed box tank [0, size]^3 at rest, coupled.
 Model box_model(double l0, double size, bool self_corrected = true) {
@@ -216,7 +216,7 @@ TEST_CASE("voidage: a random packing reads its solid fraction away from its edge
   const double box = size - 2.0 * wall;
   for (const double target : {0.05, 0.15, 0.3}) {
     CAPTURE(target);
-    const auto count = static_cast<std::size_t>(target * box * box * box / (4.0 / 3.0 * kPi * radius * radius * radius));
+    const auto count = static_cast<std::size_t>(target * box * box * box / (4.0 / 3.0 * std::numbers::pi * radius * radius * radius));
     const double tolerance = target < 0.1 ? 0.05 : 0.02;
     const PackingReading reading = read_packing(0.005, count, radius, size, wall, margin);
     const PackingReading main_reading = read_packing(0.005, count, radius, size, wall, margin, false);
@@ -245,7 +245,7 @@ TEST_CASE("voidage: the reading of a random packing converges as the water's spa
   // is 30, 20 and 20 mm: from 5 mm on, only the water's quadrature of space changes, and its error must shrink.
   // Measured: each grain's change between successive spacings (RMS over the interior grains) and the mean's error.
   const double radius = 0.005, size = 0.15, wall = 0.0, margin = 0.03, box = size - 2.0 * wall;
-  const auto count = static_cast<std::size_t>(0.15 * box * box * box / (4.0 / 3.0 * kPi * radius * radius * radius));
+  const auto count = static_cast<std::size_t>(0.15 * box * box * box / (4.0 / 3.0 * std::numbers::pi * radius * radius * radius));
   const std::vector<Vec3> centres = random_packing(count, radius, wall + radius, size - wall - radius, 21);
   const double truth = sampled_fraction(centres, radius, wall + 0.5 * margin, size - wall - 0.5 * margin, 0.2 * radius);
   std::vector<std::vector<double>> readings;
@@ -295,10 +295,10 @@ TEST_CASE("voidage: a submerged simple cubic packing reads 1 - pi/6 with the sys
       const Spread s = spread_of(interior);
       MESSAGE(std::string(self_corrected ? "self-corrected" : "cloud-in-cell (main)") << ", R_eps = "
               << (voidage_radius > 0.0 ? voidage_radius * 1e3 : 20.0) << " mm: simple cubic packing, voidage " << s.low
-              << " to " << s.high << " over " << interior.size() << " grains (1 - pi/6 = " << 1.0 - kPi / 6.0 << ")");
+              << " to " << s.high << " over " << interior.size() << " grains (1 - pi/6 = " << 1.0 - std::numbers::pi / 6.0 << ")");
       if (self_corrected && voidage_radius > 0.0) {
-        CHECK(std::abs(s.low / (1.0 - kPi / 6.0) - 1.0) < 0.02);
-        CHECK(std::abs(s.high / (1.0 - kPi / 6.0) - 1.0) < 0.02);
+        CHECK(std::abs(s.low / (1.0 - std::numbers::pi / 6.0) - 1.0) < 0.02);
+        CHECK(std::abs(s.high / (1.0 - std::numbers::pi / 6.0) - 1.0) < 0.02);
       }
     }
 }
@@ -334,7 +334,7 @@ double slab_fraction(const std::vector<Vec3>& centres, double radius, double are
   for (const Vec3& c : centres) {
     const double a = std::max(low, c.z() - radius), b = std::min(high, c.z() + radius);
     if (b <= a) continue;
-    volume += kPi * (radius * radius * (b - a) - ((b - c.z()) * (b - c.z()) * (b - c.z()) -
+    volume += std::numbers::pi * (radius * radius * (b - a) - ((b - c.z()) * (b - c.z()) * (b - c.z()) -
                                                   (a - c.z()) * (a - c.z()) * (a - c.z())) / 3.0);
   }
   return volume / (area * (high - low));

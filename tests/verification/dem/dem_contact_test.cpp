@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <set>
 #include <sstream>
@@ -42,12 +43,11 @@ using riffle::test::SceneBuilder;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRadius = 2.5e-3;     // [m] the seed's small grain (5 mm)
 constexpr double kDensity = 1318.0;    // [kg/m^3]
 constexpr double kYoung = 1.0e8;       // [Pa]
 constexpr double kPoisson = 0.3;       // [1]
-const double kMass = kDensity * 4.0 / 3.0 * kPi * kRadius * kRadius * kRadius;  // [kg] 8.626e-5
+const double kMass = kDensity * 4.0 / 3.0 * std::numbers::pi * kRadius * kRadius * kRadius;  // [kg] 8.626e-5
 // Two bodies of the same material: 1/E* = 2 (1 - nu^2) / E, 1/G* = 2 (2 - nu) / G, G = E / (2 (1 + nu)).
 const double kEffectiveYoung = kYoung / (2.0 * (1.0 - kPoisson * kPoisson));                    // 5.4945e7 Pa
 const double kEffectiveShear = kYoung / (2.0 * (1.0 + kPoisson)) / (2.0 * (2.0 - kPoisson));    // 1.1312e7 Pa
@@ -224,7 +224,7 @@ CollisionScales collision_scales(const std::string& law, double effective_radius
   } else {
     // k = m* (pi^2 + ln^2 e) / t_c^2; with e = 1 half a period of sqrt(k/m*) is t_c and d_max = v / omega.
     const double log_e = std::log(restitution);
-    secant = effective_mass * (kPi * kPi + log_e * log_e) / (collision_time * collision_time);
+    secant = effective_mass * (std::numbers::pi * std::numbers::pi + log_e * log_e) / (collision_time * collision_time);
     scales.duration = collision_time;
     scales.omega_max = std::sqrt(secant / effective_mass);
     scales.overlap = speed / scales.omega_max;
@@ -392,7 +392,7 @@ TEST_CASE("an oblique elastic impact that sticks reverses the contact-point slip
   REQUIRE(impact.finished);
   const Vec3& v = impact.final_state.velocity[0];
   const Vec3& w = impact.final_state.angular_velocity[0];
-  const double omega_dt = kPi / N;
+  const double omega_dt = std::numbers::pi / N;
   const double tolerance = omega_dt * omega_dt * c0;
   CHECK(std::abs(v[0] - (v_t - 4.0 / 7.0 * c0)) < tolerance);
   CHECK(std::abs(kRadius * w[1] - (kRadius * spin + 10.0 / 7.0 * c0)) < tolerance);
@@ -415,7 +415,7 @@ TEST_CASE("a sphere on an incline rolls without slip below the friction limit an
   //    z-momentum gives integral F_n dt = m (g cos th t + v_z). The spring needs less than half a slip period,
   //    pi / omega_t, to load, and v_z stays below the start-up kick g cos th dt; so a = g (sin th - mu cos th) and
   //    dw/dt = (5/2) mu g cos th / R, to within mu g cos th (pi / omega_t + dt) on v_x and (5/2)/R times it on w_y.
-  const double g = 9.81, theta = kPi / 6.0, T = 0.1, restitution = 0.5;
+  const double g = 9.81, theta = std::numbers::pi / 6.0, T = 0.1, restitution = 0.5;
   const double sin_t = std::sin(theta), cos_t = std::cos(theta);
   for (const std::string law : {"hertz_mindlin", "linear_spring_dashpot"})
     for (const bool rolling : {true, false}) {
@@ -439,7 +439,7 @@ TEST_CASE("a sphere on an incline rolls without slip below the friction limit an
       } else {
         const double log_e = std::log(restitution);
         const double stiffness =
-            kMass * (kPi * kPi + log_e * log_e) / (spec.collision_time * spec.collision_time);
+            kMass * (std::numbers::pi * std::numbers::pi + log_e * log_e) / (spec.collision_time * spec.collision_time);
         overlap = weight / stiffness;
         tangential_stiffness = 2.0 / 7.0 * stiffness;
       }
@@ -465,7 +465,7 @@ TEST_CASE("a sphere on an incline rolls without slip below the friction limit an
       } else {
         const double a = g * (sin_t - spec.friction * cos_t);
         const double alpha = 2.5 * spec.friction * g * cos_t / kRadius;  // dw/dt
-        const double bound = spec.friction * g * cos_t * (kPi / omega_t + sub_dt);
+        const double bound = spec.friction * g * cos_t * (std::numbers::pi / omega_t + sub_dt);
         CHECK(std::abs(v[0] - a * T) < bound);
         CHECK(std::abs(w[1] - alpha * T) < 2.5 / kRadius * bound);
         CHECK(std::abs(x[0] - start[0] - 0.5 * a * T * T) < bound * T);
@@ -502,8 +502,8 @@ TEST_CASE("an elastic frictionless gas of grains in a closed box keeps its energ
   const World& world = simulation->world();
   const Solids& solids = *world.solids;
   const Contacts& contacts = *world.contacts;
-  const double omega_dt = kPi / N;
-  auto stiffness = [&](double effective_mass) { return effective_mass * kPi * kPi / (collision_time * collision_time); };
+  const double omega_dt = std::numbers::pi / N;
+  auto stiffness = [&](double effective_mass) { return effective_mass * std::numbers::pi * std::numbers::pi / (collision_time * collision_time); };
   auto total_energy = [&] {
     double energy = 0.0;
     for (std::size_t i = 0; i < solids.size(); ++i)

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <numbers>
 #include <vector>
 
 #include "systems/physics/mean_flow/column.hpp"
@@ -17,7 +18,6 @@
 using namespace riffle;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kKappa = 0.41;
 
 ColumnGrid grid_of(std::size_t cells, double depth) {
@@ -201,8 +201,8 @@ TEST_CASE("mean-flow column verification: the start-up of Couette flow converges
     const double z = grid.centre(i);
     double u = lid * z / depth;
     for (int n = 1; n <= 200; ++n)
-      u -= 2.0 * lid * (n % 2 == 1 ? 1.0 : -1.0) / (n * kPi) * std::sin(n * kPi * z / depth) *
-           std::exp(-n * n * kPi * kPi * nu * end / (depth * depth));
+      u -= 2.0 * lid * (n % 2 == 1 ? 1.0 : -1.0) / (n * std::numbers::pi) * std::sin(n * std::numbers::pi * z / depth) *
+           std::exp(-n * n * std::numbers::pi * std::numbers::pi * nu * end / (depth * depth));
     exact[i] = u;
   }
   std::vector<double> errors;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include "engine/output/checkpoint.hpp"
@@ -144,13 +145,13 @@ TEST_CASE("a grain's shear lift is Wiberg & Smith's at the column's velocities o
   const ColumnGrid grid = column_grid(model.mean_flow);
   const ColumnEnds ends = column_ends(model.mean_flow, true);
   const Solids& grains = *world.solids;
-  const double density = model.mean_flow.density, kPi = 3.14159265358979323846;
+  const double density = model.mean_flow.density;
   double worst = 0.0, largest = 0.0;
   for (std::size_t g = 0; g < grains.size(); ++g) {
     const double z = grains.position[g].z(), r = grains.radius[g];
     const double top = profile_at(grid, world.mean_flow->velocity_x, z + r, ends);
     const double bottom = profile_at(grid, world.mean_flow->velocity_x, z - r, ends);
-    const double expected = 0.5 * density * 0.2 * kPi * r * r * (top * top - bottom * bottom);
+    const double expected = 0.5 * density * 0.2 * std::numbers::pi * r * r * (top * top - bottom * bottom);
     const double buoyancy = grain_volume(r) * density * 9.81;
     REQUIRE(expected > 0.0);
     largest = std::max(largest, expected);
@@ -177,7 +178,7 @@ TEST_CASE("a grain's shear lift is Wiberg & Smith's at the column's velocities o
     fastest = std::max(fastest, std::hypot(v.x(), v.y()));
     const double top = profile_at(grid, column.velocity_x, z + r, ends) - v.x();
     const double bottom = profile_at(grid, column.velocity_x, z - r, ends) - v.x();
-    const double expected = 0.5 * density * 0.2 * kPi * r * r * (top * top - bottom * bottom);
+    const double expected = 0.5 * density * 0.2 * std::numbers::pi * r * r * (top * top - bottom * bottom);
     worst_moving = std::max(worst_moving, std::abs(moving.pressure_force[g].z() - expected));
     largest_moving = std::max(largest_moving, std::abs(expected));
   }

@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "tests/support/fluid_support.hpp"
@@ -21,7 +22,6 @@ namespace riffle {
 namespace {
 
 constexpr double kG = 9.81;
-constexpr double kPi = 3.14159265358979323846;
 
 double mean_x(const test::FluidRun& run) {
   double sum = 0.0;
@@ -82,7 +82,7 @@ struct FreeDecay {
 /// periodic along y.
 FreeDecay free_decay(double l0) {
   const double length = 0.12, depth = 0.06, width = 6 * l0;
-  const double k = kPi / length;
+  const double k = std::numbers::pi / length;
   FreeDecay result;
   const double omega = result.theory = std::sqrt(kG * k * std::tanh(k * depth));  // 15.35 rad/s, f = 2.443 Hz
   Model model = test::fluid_model(Vec3(length, width, 2 * depth), l0,
@@ -105,7 +105,7 @@ FreeDecay free_decay(double l0) {
   // The centre of mass moves along x at the mode's frequency (x_c - L/2 = -(2 L eta0 / (pi^2 h)) sin(omega t)
   // for the linear mode; the odd modes 3, 5, ... add a little at higher frequencies, which the fit ignores).
   std::vector<double> times, positions;
-  const double period = 2.0 * kPi / omega;
+  const double period = 2.0 * std::numbers::pi / omega;
   while (run.world.time < 5.0 * period) {
     if (!run.step()) FAIL(run.diagnosis());
     if (result.steps++ == 0) result.ke_start = run.world.fluid_summary->kinetic_energy;

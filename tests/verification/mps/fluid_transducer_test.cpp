@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,6 @@ constexpr double kG = 9.81;
 constexpr double kRho = 1000.0;
 constexpr double kSpacing = 0.01;
 constexpr double kDepth = 0.10;  // [m] H
-constexpr double kPi = 3.14159265358979323846;
 
 using test::half_submerged_mean;
 
@@ -183,7 +183,7 @@ TEST_CASE("a transducer in a vertically shaken tank moves with it and reads rho 
   model.tank.motion.kind = TankMotionModel::Kind::kSinusoidal;
   model.tank.motion.direction = Vec3::UnitZ();
   model.tank.motion.frequency = frequency;
-  model.tank.motion.amplitude = 0.3 * kG / std::pow(2.0 * kPi * frequency, 2);
+  model.tank.motion.amplitude = 0.3 * kG / std::pow(2.0 * std::numbers::pi * frequency, 2);
   model.tank.motion.ramp_time = 0.5 / frequency;
   test::FluidRun run(std::move(model));
   const FluidProbeSettings settings = fluid_probe_settings(run.model);
@@ -194,7 +194,7 @@ TEST_CASE("a transducer in a vertically shaken tank moves with it and reads rho 
       {"floor", Vec3(0.03, 0.02, 0.0), -Vec3::UnitZ(), 0.02, line},
       {"x_min wall, in air", Vec3(0.0, 0.02, 0.125), -Vec3::UnitX(), 0.01, 0.0},
   };
-  const double jerk = run.model.tank.motion.amplitude * std::pow(2.0 * kPi * frequency, 3);  // [m/s^3] max |da/dt|
+  const double jerk = run.model.tank.motion.amplitude * std::pow(2.0 * std::numbers::pi * frequency, 3);  // [m/s^3] max |da/dt|
   std::vector<double> worst(discs.size(), 0.0);
   double largest_acceleration = 0.0, largest_displacement = 0.0;
   while (run.world.time < 0.25 + 1.0 / frequency - 1e-12) {

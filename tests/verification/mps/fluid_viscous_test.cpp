@@ -13,6 +13,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "systems/physics/mps/mps_kernel.hpp"
@@ -21,7 +22,6 @@
 namespace riffle {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// The decay rate of the mode under nu times the lambda0 Laplacian on the infinite cubic lattice, written out from
 /// the Wendland kernel of numerics 1.2 (independent of the simulation code): the symbol
@@ -57,7 +57,7 @@ TEST_CASE("viscous decay of a shear mode in a closed box matches exp(-nu k^2 t)"
   model.fluid.kinematic_viscosity = nu;
   model.dt = 5.0e-3;  // below the diffusion limit 0.2 l0^2 / nu = 20 ms
   const double re = model.fluid.effective_radius();
-  const double ky = kPi / width, kz = 2.0 * kPi / height;
+  const double ky = std::numbers::pi / width, kz = 2.0 * std::numbers::pi / height;
   test::FluidRun run(std::move(model), [&](World& world) {
     FluidParticles& fluid = *world.fluid;
     for (std::size_t i = 0; i < fluid_slot_count(fluid); ++i) {
@@ -111,12 +111,12 @@ TEST_CASE("viscous decay of a shear mode in a closed box matches exp(-nu k^2 t)"
   // (3) explicit Euler in time: the measured -ln(1 - nu sigma dt)/dt exceeds nu sigma by at most nu sigma dt / 2
   // (+0.8 %); (4) 2 % for the end disturbance left in the middle third (exp(-k 7 l0) < 2 %).
   const double upper = nu * lattice_symbol(ky, kz, l0, re) * (1.0 + 0.5 * nu * lattice_symbol(ky, kz, l0, re) * dt) * 1.02;
-  const double lower = nu * lattice_symbol(kPi / (width + l0), 2.0 * kPi / (height + l0), l0, re) * 0.98;
+  const double lower = nu * lattice_symbol(std::numbers::pi / (width + l0), 2.0 * std::numbers::pi / (height + l0), l0, re) * 0.98;
   // Effective no-slip offset implied by the measured rate (per wall, in l0): solves nu k_eff^2 = rate with the
   // continuum operator, for the report.
   double offset = 0.0;
   for (double d = 0.0; d <= 1.0; d += 0.001) {
-    const double k2 = std::pow(kPi / (width + 2 * d * l0), 2) + std::pow(2 * kPi / (height + 2 * d * l0), 2);
+    const double k2 = std::pow(std::numbers::pi / (width + 2 * d * l0), 2) + std::pow(2 * std::numbers::pi / (height + 2 * d * l0), 2);
     if (nu * k2 * (lattice_symbol(ky, kz, l0, re) / (ky * ky + kz * kz)) <= rate) {
       offset = d;
       break;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,6 @@ using namespace riffle;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// The sloshing tank of both runs: L = 0.2 m, 6 cm of water at l0 = 1 cm (first mode at 1.70 Hz, linear theory),
 /// shaken near resonance by x = -A r(t) sin(2 pi f t), A = 5 mm, f = 1.6 Hz, a one-period ramp.
@@ -91,7 +91,7 @@ TEST_CASE("a table of the sinusoid at 200 points per period sloshes the water as
   // The tables' kinematics: the spline's error bounds (tests/unit/tank_motion_test.cpp) with the ramp's derivatives
   // (|r^(k)| <= 10 / T_r^k): |x''''| <= A (w + 10/T_r)^4 = 5.5e3 m/s^4, so |dx| <= 5/384 h^4 5.5e3 = 7e-9 m and
   // |da| <= 3/8 h^2 5.5e3 = 2.0e-3 m/s^2, against a peak acceleration A w^2 = 0.505 m/s^2.
-  const double f4 = motion.amplitude * std::pow(2.0 * kPi * motion.frequency + 10.0 / motion.ramp_time, 4);
+  const double f4 = motion.amplitude * std::pow(2.0 * std::numbers::pi * motion.frequency + 10.0 / motion.ramp_time, 4);
   double worst_x = 0.0, worst_a = 0.0;
   for (double t = 0.0; t <= until; t += h / 7.0) {
     const TankMotion exact = tank_kinematics(motion, t), table = tank_kinematics(tabulated.tank.motion, t);
@@ -124,7 +124,7 @@ TEST_CASE("a cosine start from rest: walls and wall particles follow x = A cos(w
   scene.replace(scene.find("frequency = 1.7"), 15, "frequency = 1.7\nphase = -90");
   auto simulation = Simulation::from_model(parse_scene(scene, "cosine.toml"));
   const Model& model = simulation->model();
-  const double a = 0.01, w = 2.0 * kPi * 1.7;
+  const double a = 0.01, w = 2.0 * std::numbers::pi * 1.7;
   const Walls rest = tank_walls(model.tank);
   const World initial = initial_world(model);
   for (int step = 0; step <= 40; ++step) {

@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "engine/setup/initial_state.hpp"
 #include "engine/run/simulation.hpp"
@@ -11,7 +12,6 @@
 using namespace riffle;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 TankMotionModel seed_motion(double ramp_time) {
   TankMotionModel motion;
@@ -26,7 +26,7 @@ TankMotionModel seed_motion(double ramp_time) {
 
 TEST_CASE("after the ramp the tank follows x = -A sin(2 pi f t) exactly") {
   const TankMotionModel motion = seed_motion(0.5);
-  const double omega = 2.0 * kPi * motion.frequency;
+  const double omega = 2.0 * std::numbers::pi * motion.frequency;
   for (double t = 0.5; t < 5.0; t += 0.0137) {
     const TankMotion tank = tank_kinematics(motion, t);
     CHECK(tank.displacement[0] == doctest::Approx(-0.01 * std::sin(omega * t)).epsilon(1e-14));
@@ -36,14 +36,14 @@ TEST_CASE("after the ramp the tank follows x = -A sin(2 pi f t) exactly") {
     CHECK(tank.displacement[2] == 0.0);
   }
   // The peak acceleration is 4 pi^2 f^2 A = 1.141 m/s^2 (numerics.md section 1.5).
-  CHECK(4.0 * kPi * kPi * 1.7 * 1.7 * 0.01 == doctest::Approx(1.141).epsilon(1e-3));
+  CHECK(4.0 * std::numbers::pi * std::numbers::pi * 1.7 * 1.7 * 0.01 == doctest::Approx(1.141).epsilon(1e-3));
 }
 
 TEST_CASE("velocity and acceleration are the exact derivatives, ramp included") {
   // Central differences have error h^2/6 |x'''| and h^2/12 |x''''|. Bound the derivatives by those of
   // A r sin(wt) with |r^(k)| <= 10 / T_r^k (quintic smoothstep): |x'''| <= A (w + 10/T_r)^3, etc.
   const TankMotionModel motion = seed_motion(0.6);
-  const double omega = 2.0 * kPi * motion.frequency;
+  const double omega = 2.0 * std::numbers::pi * motion.frequency;
   const double rate_bound = omega + 10.0 / motion.ramp_time;
   const double h = 1e-4;
   const double velocity_tolerance = h * h / 6.0 * 0.01 * std::pow(rate_bound, 3) + 1e-10;

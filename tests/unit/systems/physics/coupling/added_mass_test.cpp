@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "components/world.hpp"
 #include "systems/dem/solid_integrate.hpp"
@@ -15,7 +16,6 @@ using namespace riffle;
 namespace {
 constexpr CouplingModel::FluidVelocity kPore = CouplingModel::FluidVelocity::kPore;
 constexpr CouplingModel::FluidVelocity kMixture = CouplingModel::FluidVelocity::kMixture;
-constexpr double kPi = 3.14159265358979323846;
 
 double kernel(const BassetModes& modes, double t) {
   double sum = 0.0;
@@ -80,7 +80,7 @@ TEST_CASE("the history kernel's exponential modes are t^(-1/2) up to the window 
     }
   }
   // The prefactor 3/2 d^2 (pi rho mu)^(1/2): for d = 10 mm in water, 1.5e-4 (pi)^(1/2) kg/s^(1/2).
-  CHECK(basset_prefactor(0.01, 1000.0, 1e-3) == doctest::Approx(1.5e-4 * std::sqrt(kPi)).epsilon(1e-14));
+  CHECK(basset_prefactor(0.01, 1000.0, 1e-3) == doctest::Approx(1.5e-4 * std::sqrt(std::numbers::pi)).epsilon(1e-14));
 }
 
 TEST_CASE("the implicit kick: a grain in a uniformly accelerating fluid reaches the analytic velocity") {

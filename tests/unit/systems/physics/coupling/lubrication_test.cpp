@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "systems/physics/coupling/lubrication.hpp"
 #include "tests/support/test_support.hpp"
@@ -13,7 +14,6 @@ using namespace riffle;
 using riffle::test::SceneBuilder;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 TEST_CASE("Brenner's series reproduces his Table 1 (sphere towards a plane, d/a = cosh alpha)") {
@@ -41,7 +41,7 @@ TEST_CASE("riffle's wall resistance is within 0.15 % of Brenner's exact series f
 
 TEST_CASE("the wall coefficient is the excess over Stokes drag, held at the roughness, zero in contact and beyond the cut-off") {
   const double a = 0.005, mu = 0.1, roughness = 1e-6, cutoff = 0.005;
-  const double stokes = 6.0 * kPi * mu * a;
+  const double stokes = 6.0 * std::numbers::pi * mu * a;
   CHECK(wall_lubrication_coefficient(a, 0.001, mu, roughness, cutoff) ==
         doctest::Approx(stokes * (wall_resistance(0.2) - 1.0)).epsilon(1e-12));
   const double at_roughness = wall_lubrication_coefficient(a, roughness, mu, roughness, cutoff);
@@ -58,7 +58,7 @@ TEST_CASE("the pair law matches two equal spheres' exact squeeze to its omitted 
   const double a = 0.003, mu = 0.01;
   for (double h_over_a : {1e-3, 3e-3, 1e-2, 3e-2, 0.1}) {
     CAPTURE(h_over_a);
-    const double exact = 6.0 * kPi * mu * a * 0.5 * (brenner_free_surface_resistance(0.5 * h_over_a) - 1.0);
+    const double exact = 6.0 * std::numbers::pi * mu * a * 0.5 * (brenner_free_surface_resistance(0.5 * h_over_a) - 1.0);
     const double model = pair_lubrication_coefficient(a, a, h_over_a * a, mu, 1e-9 * a, a);
     CHECK(std::abs(model / exact - 1.0) < 1.5 * h_over_a);
   }
@@ -67,7 +67,7 @@ TEST_CASE("the pair law matches two equal spheres' exact squeeze to its omitted 
         doctest::Approx(pair_lubrication_coefficient(0.005, 0.002, 1e-4, mu, 1e-7, 1e-3)).epsilon(1e-14));
   // A grain against a much larger one: the sphere-plane singular terms 6 pi mu a (a/h + (1/5) ln(a/h)).
   const double h = 1e-5;
-  const double plane = 6.0 * kPi * mu * a * (a / h + 0.2 * std::log(a / h));
+  const double plane = 6.0 * std::numbers::pi * mu * a * (a / h + 0.2 * std::log(a / h));
   CHECK(pair_lubrication_coefficient(a, 1e6 * a, h, mu, 1e-9, 1.0) == doctest::Approx(plane).epsilon(1e-5));
 }
 

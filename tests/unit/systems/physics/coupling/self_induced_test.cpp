@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "systems/physics/coupling/self_induced.hpp"
@@ -12,7 +13,6 @@
 using namespace riffle;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 double wendland(double q) { return q < 1.0 ? std::pow(1.0 - q, 4) * (1.0 + 4.0 * q) : 0.0; }
 }  // namespace
 
@@ -20,7 +20,7 @@ TEST_CASE("R <1/r> of two unit Wendland kernels by a real-space sum matches the 
   // <1/|x - y|> = int int rho(x) rho(y) / |x - y|: by the shell theorem, the potential of the kernel's radial
   // density at radius s is 4 pi [ (1/s) int_0^s rho r^2 dr + int_s^1 rho r dr ]; then average it over rho.
   const int n = 4000;
-  const double norm = 2.0 * kPi / 21.0;  // int w dV on R = 1
+  const double norm = 2.0 * std::numbers::pi / 21.0;  // int w dV on R = 1
   std::vector<double> inner(n + 1, 0.0), outer(n + 1, 0.0);
   const double h = 1.0 / n;
   for (int i = 1; i <= n; ++i) {
@@ -34,8 +34,8 @@ TEST_CASE("R <1/r> of two unit Wendland kernels by a real-space sum matches the 
   double average = 0.0;
   for (int i = 0; i < n; ++i) {
     const double s = (i + 0.5) * h;
-    const double potential = 4.0 * kPi * (0.5 * (inner[i] + inner[i + 1]) / s + 0.5 * (outer[i] + outer[i + 1]));
-    average += 4.0 * kPi * s * s * wendland(s) / norm * potential * h;
+    const double potential = 4.0 * std::numbers::pi * (0.5 * (inner[i] + inner[i + 1]) / s + 0.5 * (outer[i] + outer[i + 1]));
+    average += 4.0 * std::numbers::pi * s * s * wendland(s) / norm * potential * h;
   }
   CHECK(self_induced_inverse_distance() == doctest::Approx(average).epsilon(1e-4));
   CHECK(self_induced_inverse_distance() == doctest::Approx(2.1482).epsilon(2e-4));  // also a Monte Carlo estimate
@@ -49,8 +49,8 @@ TEST_CASE("R^3 <rho_s rho_w> of the Wendland kernel is 1.2 (int w^2 / (int w)^2)
     const double q = (i + 0.5) / n;
     sum += wendland(q) * wendland(q) * q * q / n;
   }
-  const double norm = 2.0 * kPi / 21.0;
-  CHECK(self_induced_overlap() == doctest::Approx(4.0 * kPi * sum / (norm * norm)).epsilon(1e-8));
+  const double norm = 2.0 * std::numbers::pi / 21.0;
+  CHECK(self_induced_overlap() == doctest::Approx(4.0 * std::numbers::pi * sum / (norm * norm)).epsilon(1e-8));
 }
 
 TEST_CASE("the Oseen factor is 1 in Stokes flow, falls monotonically, and decays as 1/Re_R in the far wake") {

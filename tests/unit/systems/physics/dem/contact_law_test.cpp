@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "systems/physics/dem/contact_law.hpp"
@@ -12,7 +13,6 @@ using namespace riffle;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 const ContactLaw kLaws[] = {ContactLaw::kHertzMindlin, ContactLaw::kLinearSpringDashpot};
 std::string name_of(ContactLaw law) { return law == ContactLaw::kHertzMindlin ? "Hertz-Mindlin" : "linear"; }
 
@@ -38,7 +38,7 @@ double linear_restitution_with_cutoff(double c) {
 /// x' = -e^{-zeta pi / w} there, so ln e = -pi zeta / sqrt(1 - zeta^2), c = 2 zeta = -2 ln e / sqrt(pi^2 + ln^2 e).
 double textbook_linear_damping(double restitution) {
   const double log_e = std::log(restitution);
-  return -2.0 * log_e / std::sqrt(kPi * kPi + log_e * log_e);
+  return -2.0 * log_e / std::sqrt(std::numbers::pi * std::numbers::pi + log_e * log_e);
 }
 
 }  // namespace
@@ -103,9 +103,9 @@ TEST_CASE("small damping: 1 - e = (pi/2) c for the linear law and (pi/sqrt 5) c 
   // is 1e-4 of 1 - e. Tolerance 3e-3.
   const double damping = 1e-3;
   CHECK((1.0 - achieved_restitution(ContactLaw::kLinearSpringDashpot, damping)) / damping ==
-        doctest::Approx(kPi / 2.0).epsilon(3e-3));
+        doctest::Approx(std::numbers::pi / 2.0).epsilon(3e-3));
   CHECK((1.0 - achieved_restitution(ContactLaw::kHertzMindlin, damping)) / damping ==
-        doctest::Approx(kPi / std::sqrt(5.0)).epsilon(3e-3));
+        doctest::Approx(std::numbers::pi / std::sqrt(5.0)).epsilon(3e-3));
 }
 
 TEST_CASE("Hertz contact time, overlap and Rayleigh time of a 5 mm sphere, by hand") {
@@ -175,7 +175,7 @@ Coefficients coefficients(ContactLaw law, const ContactPairParameters& pair, con
     k.gamma_t = pair.damping * std::sqrt(2.0 / 3.0 * m * k.k_t);
   } else {
     const double log_e = std::log(pair.restitution);
-    k.k_n = m * (kPi * kPi + log_e * log_e) / (kCollisionTime * kCollisionTime);
+    k.k_n = m * (std::numbers::pi * std::numbers::pi + log_e * log_e) / (kCollisionTime * kCollisionTime);
     k.k_t = 2.0 / 7.0 * k.k_n;
     k.gamma_n = pair.damping * std::sqrt(m * k.k_n);
     k.gamma_t = 2.0 / 7.0 * k.gamma_n;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,6 @@ using namespace riffle;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// A sampled A sin(w t + phi) on [0, periods T] at `per_period` points per period.
 struct SampledSine {
@@ -36,7 +36,7 @@ struct SampledSine {
     }
     m = not_a_knot_curvatures(t, y);
   }
-  double omega() const { return 2.0 * kPi * frequency; }
+  double omega() const { return 2.0 * std::numbers::pi * frequency; }
   double h() const { return t[1] - t[0]; }
 };
 
@@ -71,7 +71,7 @@ std::string sine_csv(double amplitude, double frequency, double h, int rows, dou
   char line[128];
   for (int i = 0; i < rows; ++i) {
     const double t = t0 + i * h;
-    std::snprintf(line, sizeof line, "%.17g,%.17g\n", t, amplitude * std::sin(2.0 * kPi * frequency * t));
+    std::snprintf(line, sizeof line, "%.17g,%.17g\n", t, amplitude * std::sin(2.0 * std::numbers::pi * frequency * t));
     text += line;
   }
   return text;
@@ -161,7 +161,7 @@ TEST_CASE("sinusoid: defaults are the seed's x = -A r(t) sin(2 pi f t) to the bi
   motion.amplitude = 0.01;
   motion.frequency = 1.7;
   motion.ramp_time = 0.3;
-  const double omega = 2.0 * kPi * motion.frequency;
+  const double omega = 2.0 * std::numbers::pi * motion.frequency;
   for (double t = 0.0; t < 1.0; t += 0.0173) {
     const Ramp r = start_up_ramp(t, motion.ramp_time);
     CHECK(tank_kinematics(motion, t).displacement[0] == -motion.amplitude * r.value * std::sin(omega * t));
@@ -173,9 +173,9 @@ TEST_CASE("sinusoid with phase -90 deg and a start time: x = A cos(w (t - t0)) f
       "kind = \"sinusoidal\"\namplitude = 0.02\nfrequency = 1.25\nphase = -90\nstart_time = 0.2\n");
   const Model model = parse_scene(scene, "cosine.toml");
   const TankMotionModel& motion = model.tank.motion;
-  CHECK(motion.phase == doctest::Approx(-kPi / 2).epsilon(1e-15));
+  CHECK(motion.phase == doctest::Approx(-std::numbers::pi / 2).epsilon(1e-15));
   CHECK(motion.start_time == 0.2);
-  const double a = 0.02, w = 2.0 * kPi * 1.25;
+  const double a = 0.02, w = 2.0 * std::numbers::pi * 1.25;
   for (double t = 0.0; t < 2.0; t += 0.0071) {
     const TankMotion tank = tank_kinematics(motion, t);
     const double tau = std::max(0.0, t - 0.2);
@@ -225,7 +225,7 @@ TEST_CASE("a cosine start places the walls, the water and the grains displaced b
 }
 
 TEST_CASE("motion table: a sampled sinusoid gives the analytic kinematics within the spline's bounds") {
-  const double a = 0.01, f = 1.7, w = 2.0 * kPi * f, h = 1.0 / (200.0 * f);
+  const double a = 0.01, f = 1.7, w = 2.0 * std::numbers::pi * f, h = 1.0 / (200.0 * f);
   MotionTable table;
   REQUIRE(parse_motion_table(sine_csv(a, f, h, 2 * 200 + 1), "sine.csv", table) == "");
   TankMotionModel motion;
@@ -363,7 +363,7 @@ TEST_CASE("a resumed run re-reads its table and refuses one changed at the check
   const CheckpointData data = simulation->checkpoint_data();
   const double time = simulation->world().time;
   CHECK(simulation->world().tank_motion->displacement[0] ==
-        doctest::Approx(0.01 * std::sin(2.0 * kPi * 1.7 * time)).epsilon(1e-6));
+        doctest::Approx(0.01 * std::sin(2.0 * std::numbers::pi * 1.7 * time)).epsilon(1e-6));
   CHECK_NOTHROW(Simulation::from_checkpoint_data(data, "run.ckpt"));
   write_file(dir / "sine.csv", sine_csv(0.012, 1.7, 0.001, 200));  // a different amplitude
   try {

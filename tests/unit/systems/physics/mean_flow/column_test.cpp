@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -14,12 +15,11 @@
 using namespace riffle;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
-double sphere_volume(double radius) { return 4.0 / 3.0 * kPi * radius * radius * radius; }
+double sphere_volume(double radius) { return 4.0 / 3.0 * std::numbers::pi * radius * radius * radius; }
 
 /// [m^3] A sphere's cap of height c (0 <= c <= 2 r): pi c^2 (3 r - c) / 3.
-double cap_volume(double radius, double c) { return kPi * c * c * (3.0 * radius - c) / 3.0; }
+double cap_volume(double radius, double c) { return std::numbers::pi * c * c * (3.0 * radius - c) / 3.0; }
 
 ColumnGrid grid_of(std::size_t cells, double cell_height, double bottom = 0.0) {
   ColumnGrid grid;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "systems/physics/math/counter_random.hpp"
@@ -15,13 +16,12 @@
 using namespace riffle;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 TEST_CASE("shear lift: 1/2 rho C_L pi r^2 (u_top^2 - u_bottom^2) of the relative horizontal velocities") {
   // 2 mm quartz under water at 0.30 m/s over its top and 0.10 m/s under it, at rest: 2.513e-5 N by hand.
   const double lift = shear_lift(1000.0, 0.2, 0.001, Vec3(0.30, 0.0, 0.0), Vec3(0.10, 0.0, 0.0));
-  CHECK(lift == doctest::Approx(0.5 * 1000.0 * 0.2 * kPi * 1e-6 * (0.09 - 0.01)).epsilon(1e-14));
+  CHECK(lift == doctest::Approx(0.5 * 1000.0 * 0.2 * std::numbers::pi * 1e-6 * (0.09 - 0.01)).epsilon(1e-14));
   CHECK(lift == doctest::Approx(2.5133e-5).epsilon(1e-4));
   // Only the horizontal parts count; a spanwise component adds its square.
   CHECK(shear_lift(1000.0, 0.2, 0.001, Vec3(0.30, 0.0, 5.0), Vec3(0.10, 0.0, -5.0)) == doctest::Approx(lift));
@@ -105,7 +105,7 @@ TEST_CASE("Langevin fluctuations: Nezu & Nakagawa's intensities and the closure'
   const TurbulenceIntensities intensities;
   constexpr int kDraws = 200000;
   // The shear along x, then turned 30 degrees toward y: the statistics follow its direction.
-  for (const double angle : {0.0, kPi / 6.0}) {
+  for (const double angle : {0.0, std::numbers::pi / 6.0}) {
     CAPTURE(angle);
     TurbulentShear shear;
     const double stress = 4e-4;  // u* = 0.02 m/s

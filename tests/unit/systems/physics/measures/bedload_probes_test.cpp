@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,6 @@ using namespace riffle;
 using riffle::test::SceneBuilder;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 // A layer of glass grains on the floor of test::fluid_scene_text's tank, under its water.
 const std::string kGlassGrains = SceneBuilder().within("solids")
     .block({.min = {0.105, -0.005, 0.002}, .max = {0.135, 0.005, 0.004}, .spacing = 0.002, .radius = 0.0009,
@@ -49,12 +49,12 @@ void add_lattice(Solids& solids, std::size_t nx, std::size_t ny, double d, doubl
 
 TEST_CASE("sphere_slab_volume, covered_length and shields_number") {
   const double r = 0.002;
-  const double sphere = 4.0 / 3.0 * kPi * r * r * r;
+  const double sphere = 4.0 / 3.0 * std::numbers::pi * r * r * r;
   CHECK(sphere_slab_volume(r, 0.0, -1.0, 1.0) == doctest::Approx(sphere).epsilon(1e-14));
   CHECK(sphere_slab_volume(r, 0.0, 0.0, 1.0) == doctest::Approx(0.5 * sphere).epsilon(1e-14));
   // A cap of height h = r/2: pi h^2 (3r - h)/3.
   CHECK(sphere_slab_volume(r, 0.0, 0.5 * r, 1.0) ==
-        doctest::Approx(kPi * 0.25 * r * r * (3.0 * r - 0.5 * r) / 3.0).epsilon(1e-13));
+        doctest::Approx(std::numbers::pi * 0.25 * r * r * (3.0 * r - 0.5 * r) / 3.0).epsilon(1e-13));
   CHECK(sphere_slab_volume(r, 0.0, 2.0 * r, 3.0 * r) == 0.0);
 
   std::vector<std::pair<double, double>> intervals = {{0.1, 0.3}, {0.2, 0.4}, {0.6, 0.7}};
@@ -115,7 +115,7 @@ TEST_CASE("the planar packing density of a top layer of touching spheres on a sq
   TopLayerSettings settings;
   const PackingDensity top = packing_density(solids, frame, settings);
   CHECK(top.grains == nx * ny);
-  CHECK(top.lambda == doctest::Approx(kPi / 4.0).epsilon(1e-3));  // rows d/64 apart: 6e-4 from the midpoint rule
+  CHECK(top.lambda == doctest::Approx(std::numbers::pi / 4.0).epsilon(1e-3));  // rows d/64 apart: 6e-4 from the midpoint rule
 
   SUBCASE("moving grains are not in the layer") {
     Solids single_layer;
@@ -123,7 +123,7 @@ TEST_CASE("the planar packing density of a top layer of touching spheres on a sq
     for (std::size_t i = 0; i < nx * ny; i += 2) single_layer.velocity[i] = Vec3(0.05, 0.0, 0.0);  // even columns
     const PackingDensity half = packing_density(single_layer, frame, settings);
     CHECK(half.grains == nx * ny / 2);
-    CHECK(half.lambda == doctest::Approx(kPi / 8.0).epsilon(1e-3));
+    CHECK(half.lambda == doctest::Approx(std::numbers::pi / 8.0).epsilon(1e-3));
     // Where the top grain moves, the resting grain below it is the local top: it is in the layer.
     for (std::size_t i = 0; i < nx * ny; i += 2) solids.velocity[i] = Vec3(0.05, 0.0, 0.0);
     CHECK(packing_density(solids, frame, settings).grains > nx * ny / 2);
@@ -133,19 +133,19 @@ TEST_CASE("the planar packing density of a top layer of touching spheres on a sq
     settings.bottom = 0.0;
     const PackingDensity both = packing_density(solids, frame, settings);
     CHECK(both.grains == 2 * nx * ny);
-    CHECK(both.lambda < kPi / 2.0);
-    CHECK(both.lambda > kPi / 4.0);
+    CHECK(both.lambda < std::numbers::pi / 2.0);
+    CHECK(both.lambda > std::numbers::pi / 4.0);
     settings.bottom = 0.005 - 0.5 * d;  // between the layers: the top layer only
     const PackingDensity upper = packing_density(solids, frame, settings);
     CHECK(upper.grains == nx * ny);
-    CHECK(upper.lambda == doctest::Approx(kPi / 4.0).epsilon(1e-3));
+    CHECK(upper.lambda == doctest::Approx(std::numbers::pi / 4.0).epsilon(1e-3));
   }
   SUBCASE("a single disc") {
     Solids one;
     one.add(Vec3(0.01, 0.008, 0.003), Vec3::Zero(), 0.0015, 2500.0, 0, 0);
     const PackingDensity single = packing_density(one, box_frame(Vec3(0.02, 0.016, 0.05)), settings);
     CHECK(single.grains == 1);
-    CHECK(single.lambda == doctest::Approx(kPi * 0.0015 * 0.0015 / (0.02 * 0.016)).epsilon(1e-3));
+    CHECK(single.lambda == doctest::Approx(std::numbers::pi * 0.0015 * 0.0015 / (0.02 * 0.016)).epsilon(1e-3));
   }
 }
 
@@ -158,7 +158,7 @@ TEST_CASE("the bed-load flux of a rigid block of grains moving at U is its solid
   add_lattice(solids, 3, 2, 0.004, 0.002, Vec3::Zero(), 1, tank_velocity);  // resting grains add nothing
   const TankFrame frame = box_frame(Vec3(0.03, 0.02, 0.1), Vec3::Zero(), tank_velocity);
   const std::vector<double> flux = bedload_flux(solids, grain_classes(solids), frame);
-  const double small = 20 * 4.0 / 3.0 * kPi * 1e-9, large = 6 * 4.0 / 3.0 * kPi * 8e-9;
+  const double small = 20 * 4.0 / 3.0 * std::numbers::pi * 1e-9, large = 6 * 4.0 / 3.0 * std::numbers::pi * 8e-9;
   REQUIRE(flux.size() == 3);
   CHECK(flux[0] == doctest::Approx(small * U / (0.03 * 0.02)).epsilon(1e-12));
   CHECK(flux[1] == doctest::Approx(large * U / (0.03 * 0.02)).epsilon(1e-12));
@@ -189,7 +189,7 @@ TEST_CASE("the velocity profile of a linear shear has its layer means on the lin
   const TankFrame frame = box_frame(Vec3(0.02, 0.03, 0.02), displacement, tank_velocity);
   const std::vector<ProfileLayer> layers = velocity_profile(&solids, &fluid, frame, h, 5);
   REQUIRE(layers.size() == 5);
-  const double half_volume = 2.0 / 3.0 * kPi * std::pow(0.5 * h, 3);
+  const double half_volume = 2.0 / 3.0 * std::numbers::pi * std::pow(0.5 * h, 3);
   for (std::size_t k = 0; k < 5; ++k) {
     CAPTURE(k);
     CHECK(layers[k].z_low == doctest::Approx(k * h));
@@ -357,7 +357,7 @@ TEST_CASE("the bed-load probe files: headers per class and rows from the grains 
   const auto packing_fields = fields_of(packing[1]);
   REQUIRE(packing_fields.size() == 4);
   CHECK(packing_fields[3] == "2");
-  CHECK(std::stod(packing_fields[2]) == doctest::Approx(kPi * (0.81 + 4.0) * 1e-6 / 8e-4).epsilon(1e-3));
+  CHECK(std::stod(packing_fields[2]) == doctest::Approx(std::numbers::pi * (0.81 + 4.0) * 1e-6 / 8e-4).epsilon(1e-3));
 
   const auto flux = file_lines(directory / "probe_bedload_flux.csv");
   REQUIRE(flux.size() == 2);
@@ -365,7 +365,7 @@ TEST_CASE("the bed-load probe files: headers per class and rows from the grains 
                    "all_q_mean_m2_s");
   const auto flux_fields = fields_of(flux[1]);
   REQUIRE(flux_fields.size() == 8);
-  const double q0 = 4.0 / 3.0 * kPi * std::pow(0.0009, 3) * 0.02 / 8e-4;
+  const double q0 = 4.0 / 3.0 * std::numbers::pi * std::pow(0.0009, 3) * 0.02 / 8e-4;
   CHECK(std::stod(flux_fields[2]) == doctest::Approx(q0).epsilon(1e-8));
   CHECK(std::stod(flux_fields[3]) == 0.0);
   CHECK(std::stod(flux_fields[5]) == doctest::Approx(q0).epsilon(1e-8));  // the mean of one row is itself

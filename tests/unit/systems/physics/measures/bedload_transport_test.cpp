@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "systems/physics/measures/bedload_transport.hpp"
 
@@ -17,7 +18,7 @@ TEST_CASE("bed-load transport: Theta, q*, the moving fraction and the moving gra
   model.mean_flow.top = 0.04;
   model.tank.size = Vec3(0.02, 0.01, 0.05);
   Solids grains;
-  const double radius = 0.001, density = 2650.0, kPi = 3.14159265358979323846;
+  const double radius = 0.001, density = 2650.0;
   // z_bed = 10 mm. A fixed grain (moving fast: it must count nowhere), a resting grain in the bed, a grain creeping in
   // the bed at 0.02 m/s, and two moving above the bed at 0.10 and 0.30 m/s.
   grains.add(Vec3(0.001, 0.005, 0.001), Vec3(5.0, 0.0, 0.0), radius, density, 0, 0);
@@ -37,7 +38,7 @@ TEST_CASE("bed-load transport: Theta, q*, the moving fraction and the moving gra
   CHECK(out.bed_stress == doctest::Approx(0.3));
   CHECK(out.shields == doctest::Approx(0.3 / (1650.0 * 9.81 * 0.002)));
   CHECK(out.friction_velocity == doctest::Approx(std::sqrt(0.3e-3)));
-  const double volume = 4.0 / 3.0 * kPi * radius * radius * radius;
+  const double volume = 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   const double flux = volume * (0.02 + 0.10 + 0.30) / (0.02 * 0.01);
   CHECK(out.flux == doctest::Approx(flux));
   CHECK(out.flux_star == doctest::Approx(flux / std::sqrt(1.65 * 9.81 * 0.002 * 0.002 * 0.002)));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "components/vec.hpp"
@@ -16,7 +17,6 @@ using namespace riffle;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// Sum of w over the cubic lattice of spacing 1 with sites at half-integers (the fluid layout of a box from the
 /// origin) that `keep` accepts, at point x.
@@ -45,7 +45,7 @@ TEST_CASE("the full-support density is the kernel's volume integral, and the lat
   double integral = 0.0;
   for (int i = 0; i <= n; ++i) {
     const double r = ratio * i / n;
-    const double f = kernel.weight(r) * 4.0 * kPi * r * r;
+    const double f = kernel.weight(r) * 4.0 * std::numbers::pi * r * r;
     integral += f * (i == 0 || i == n ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0));
   }
   integral *= ratio / n / 3.0;
