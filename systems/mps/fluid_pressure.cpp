@@ -125,7 +125,8 @@ void FluidPressureSolve::run(SystemContext& context) {
                               compact_values_.data()};
   // Over ranks with preconditioner = "boomeramg": hypre over all the ranks. Otherwise the in-house CG below, its
   // products reading the ghosts' entries from their owners, its sums added over the ranks in rank order, its
-  // preconditioner each rank's block alone (block Jacobi with the two-level correction inside each block).
+  // two-level preconditioner's coarse level spanning all the ranks (each rank's rows aggregated, the coarse matrix
+  // gathered and factorised on every rank), so that it is one rank's preconditioner over the whole domain.
   const bool ranks_cg = spread && fluid_.preconditioner != FluidModel::Preconditioner::kBoomerAmg;
   if (spread && !ranks_cg) {
     const PressureSolveOutcome outcome =
@@ -145,17 +146,25 @@ void FluidPressureSolve::run(SystemContext& context) {
     solution_.resize(extended);
     direction_.resize(extended);
   }
-  const PressureMatrix block =
-      ranks_cg ? PressureMatrix{unknowns, diagonal_.data(), block_row_start_.data(), block_columns_.data(),
-                                block_values_.data()}
-               : matrix;
   const bool two_level = fluid_.preconditioner == FluidModel::Preconditioner::kTwoLevel;
   if (two_level) {
     row_positions_.resize(unknowns);
     for_each_particle(unknowns, [&](std::size_t row) { row_positions_[row] = prediction.predicted_position[slot_of_[row]]; });
-    // Coarse cells of at least 4 l0, wider for big problems so the coarse factorisation stays small.
-    const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(static_cast<double>(unknowns) / 500.0)));
-    preconditioner_.setup(block, row_positions_, context.model.tank.origin, cells_per_edge * constants_.spacing);
+    // Coarse cells of at least 4 l0, wider for big problems so the coarse factorisation stays small (over ranks the
+    // whole problem's size, so that any rank count coarsens alike).
+    const double rows = static_cast<double>(ranks_cg ? rank_rows_.global_rows : unknowns);
+    const double cells_per_edge = std::max(4.0, std::ceil(std::cbrt(rows / 500.0)));
+    const double cell_size = cells_per_edge * constants_.spacing;
+    if (ranks_cg) {
+      const TwoLevelPreconditioner::RankLinks links{
+          [](const std::vector<double>& values) { return ranks::gather_all(values); },
+          [&](std::vector<double>& x) { refresh_ghost_entries(neighbours.ranks, x); },
+          static_cast<std::size_t>(ranks::rank())};
+      preconditioner_.setup_over_ranks(matrix, rank_rows_.ghost_row.size(), row_positions_, context.model.tank.origin,
+                                       cell_size, links);
+    } else {
+      preconditioner_.setup(matrix, row_positions_, context.model.tank.origin, cell_size);
+    }
   }
   // Over ranks: a sum over this rank's rows becomes the sum over all the ranks' (in rank order); one rank keeps it.
   const auto over_all = [&](auto sums) {
@@ -262,21 +271,12 @@ std::size_t FluidPressureSolve::localise_columns(std::size_t unknowns) {
       entry_of_row.emplace(rank_rows_.ghost_row[g], static_cast<std::uint32_t>(unknowns + g));
   const auto first = static_cast<std::int64_t>(rank_rows_.first_row);
   const auto own = static_cast<std::int64_t>(unknowns);
-  block_row_start_.assign(unknowns + 1, 0);
-  block_columns_.clear();
-  block_values_.clear();
   for (std::size_t row = 0; row < unknowns; ++row) {
     for (std::size_t k = row_start_[row]; k < row_start_[row + 1]; ++k) {
       const std::int64_t global = compact_columns_[k];
-      if (global >= first && global < first + own) {
-        compact_columns_[k] = static_cast<std::uint32_t>(global - first);
-        block_columns_.push_back(compact_columns_[k]);
-        block_values_.push_back(compact_values_[k]);
-      } else {
-        compact_columns_[k] = entry_of_row.at(global);
-      }
+      compact_columns_[k] = global >= first && global < first + own ? static_cast<std::uint32_t>(global - first)
+                                                                     : entry_of_row.at(global);
     }
-    block_row_start_[row + 1] = block_columns_.size();
   }
   return unknowns + rank_rows_.ghost_row.size();
 }

@@ -47,18 +47,15 @@ class FluidPressureSolve final : public System {
   WendlandKernel kernel_;
   bool periodic_ = false;
   /// A run over MPI ranks (the water may be spread over them): each rank's rows after the lower ranks'
-  /// (number_rows_over_ranks), solved over all the ranks by the in-house CG (its preconditioner per rank's block) or,
+  /// (number_rows_over_ranks), solved over all the ranks by the in-house CG (its coarse level spanning the ranks) or,
   /// with preconditioner = "boomeramg", by hypre; the ghosts' pressures come from their owners.
   bool over_ranks_ = false;
   /// Over ranks, the in-house CG: rewrites the assembled global columns as this rank's rows (0 .. unknowns - 1) and,
-  /// past them, one entry per ghost slot (unknowns + ghost index), and keeps this rank's block alone (the columns of
-  /// its own rows) for the preconditioner. Returns the length of a vector with the ghosts' entries.
+  /// past them, one entry per ghost slot (unknowns + ghost index). Returns the length of a vector with the ghosts'
+  /// entries.
   std::size_t localise_columns(std::size_t unknowns);
   /// Over ranks: the ghost entries of `x` (past its own rows) from their owners' rows, point to point. Collective.
   void refresh_ghost_entries(const FluidRankHalo& ranks, std::vector<double>& x);
-  std::vector<std::size_t> block_row_start_;          ///< over ranks: this rank's block, for the preconditioner
-  std::vector<std::uint32_t> block_columns_;
-  std::vector<double> block_values_;
   std::vector<double> ghost_entries_;                 ///< over ranks: scratch of refresh_ghost_entries
   RankRows rank_rows_;                    ///< over ranks: this rank's first row, the global count, the ghosts' rows
   std::vector<std::int32_t> local_rows_;  ///< over ranks: each particle's row on this rank (-1: none)

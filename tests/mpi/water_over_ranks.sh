@@ -63,7 +63,7 @@ for n in 1 4; do
 done
 check "... on 4 ranks as on one, particle by particle, at t = 0.02 and 0.04 s" compare dam1 dam4 1 2
 
-# The same dam break as shipped (l0 = 10 mm, the in-house CG: over ranks each rank's block preconditioned alone, the
+# The same dam break as shipped (l0 = 10 mm, the in-house CG: over ranks its coarse level spanning the ranks, the
 # products reading the ghosts' entries, the sums over the ranks in rank order) on 4 ranks against 1.
 for n in 1 4; do
   ranks "$n" run "$SRC/scenes/dam_break.toml" --out "dam_cg$n" --until 0.04 --threads 1 >"dam_cg$n.out" 2>&1

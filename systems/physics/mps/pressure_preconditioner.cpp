@@ -11,13 +11,8 @@
 
 namespace riffle {
 
-bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vector<Vec3>& positions, const Vec3& origin,
-                                   double cell_size) {
-  matrix_ = matrix;
-  const std::size_t rows = matrix.rows;
-  inverse_diagonal_.resize(rows);
-  tbb::parallel_for(std::size_t{0}, rows, [&](std::size_t row) { inverse_diagonal_[row] = 1.0 / matrix.diagonal[row]; });
-
+void TwoLevelPreconditioner::aggregate_rows(const std::vector<Vec3>& positions, const Vec3& origin, double cell_size) {
+  const std::size_t rows = matrix_.rows;
   // Aggregates numbered in order of first appearance along the rows: deterministic for a given matrix. The cells
   // are looked up in a dense array over the rows' bounding box (anchored on the grid of `origin`).
   aggregate_of_.resize(rows);
@@ -62,15 +57,25 @@ bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vect
   members_.resize(rows);
   std::vector<std::uint32_t> fill(member_start_.begin(), member_start_.end() - 1);
   for (std::size_t row = 0; row < rows; ++row) members_[fill[aggregate_of_[row]]++] = static_cast<std::uint32_t>(row);
+}
 
-  // A_c = P^T A P, one coarse row per task, summed in member and entry order into a scratch row, then kept sorted
-  // by column: the same matrix for any thread count.
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> coarse_rows(aggregate_count_);
+namespace {
+
+using CoarseRow = std::vector<std::pair<std::uint32_t, double>>;
+
+/// The coarse rows of aggregates [0, aggregates) (members in member_start/members), row a of A_c = P^T A P summed in
+/// member and entry order into a scratch row, then sorted by column: the same for any thread count. `coarse_column`
+/// maps a row or ghost column of the matrix to its coarse column; `own_column(a)` is aggregate a's own.
+template <typename CoarseColumn, typename OwnColumn>
+std::vector<CoarseRow> coarse_rows_of(const PressureMatrix& matrix, const std::vector<std::uint32_t>& member_start,
+                                      const std::vector<std::uint32_t>& members, std::size_t aggregates,
+                                      std::size_t coarse_columns, CoarseColumn coarse_column, OwnColumn own_column) {
+  std::vector<CoarseRow> coarse_rows(aggregates);
   // Per thread: where column c sits in the coarse row being summed (-1: not yet).
-  tbb::enumerable_thread_specific<std::vector<std::int32_t>> scratch_rows(std::vector<std::int32_t>(aggregate_count_, -1));
-  tbb::parallel_for(std::size_t{0}, aggregate_count_, [&](std::size_t a) {
+  tbb::enumerable_thread_specific<std::vector<std::int32_t>> scratch_rows(std::vector<std::int32_t>(coarse_columns, -1));
+  tbb::parallel_for(std::size_t{0}, aggregates, [&](std::size_t a) {
     std::vector<std::int32_t>& position_of_column = scratch_rows.local();
-    std::vector<std::pair<std::uint32_t, double>>& coarse_row = coarse_rows[a];
+    CoarseRow& coarse_row = coarse_rows[a];
     const auto add = [&](std::uint32_t column, double value) {
       std::int32_t& position = position_of_column[column];
       if (position < 0) {
@@ -79,28 +84,100 @@ bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vect
       }
       coarse_row[static_cast<std::size_t>(position)].second += value;
     };
-    for (std::uint32_t k = member_start_[a]; k < member_start_[a + 1]; ++k) {
-      const std::size_t row = members_[k];
-      add(static_cast<std::uint32_t>(a), matrix.diagonal[row]);
+    for (std::uint32_t k = member_start[a]; k < member_start[a + 1]; ++k) {
+      const std::size_t row = members[k];
+      add(own_column(a), matrix.diagonal[row]);
       for (std::size_t e = matrix.row_start[row]; e < matrix.row_start[row + 1]; ++e)
-        add(aggregate_of_[matrix.columns[e]], matrix.values[e]);
+        add(coarse_column(matrix.columns[e]), matrix.values[e]);
     }
     for (const auto& entry : coarse_row) position_of_column[entry.first] = -1;
     std::sort(coarse_row.begin(), coarse_row.end());
   });
+  return coarse_rows;
+}
+
+}  // namespace
+
+bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vector<Vec3>& positions, const Vec3& origin,
+                                   double cell_size) {
+  matrix_ = matrix;
+  const std::size_t rows = matrix.rows;
+  inverse_diagonal_.resize(rows);
+  tbb::parallel_for(std::size_t{0}, rows, [&](std::size_t row) { inverse_diagonal_[row] = 1.0 / matrix.diagonal[row]; });
+  first_aggregate_ = 0;
+  gather_ = nullptr;
+  aggregate_rows(positions, origin, cell_size);
+  return factorise(coarse_rows_of(
+      matrix, member_start_, members_, aggregate_count_, aggregate_count_,
+      [&](std::uint32_t column) { return aggregate_of_[column]; },
+      [](std::size_t a) { return static_cast<std::uint32_t>(a); }));
+}
+
+bool TwoLevelPreconditioner::setup_over_ranks(const PressureMatrix& matrix, std::size_t ghost_columns,
+                                              const std::vector<Vec3>& positions, const Vec3& origin, double cell_size,
+                                              const RankLinks& links) {
+  matrix_ = matrix;
+  const std::size_t rows = matrix.rows;
+  inverse_diagonal_.resize(rows);
+  tbb::parallel_for(std::size_t{0}, rows, [&](std::size_t row) { inverse_diagonal_[row] = 1.0 / matrix.diagonal[row]; });
+  gather_ = links.gather;
+  aggregate_rows(positions, origin, cell_size);
+
+  // The aggregates numbered over all the ranks in rank order.
+  const std::vector<double> counts = gather_({static_cast<double>(aggregate_count_)});
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < counts.size(); ++r) {
+    if (r == links.rank) first_aggregate_ = total;
+    total += static_cast<std::size_t>(counts[r]);
+  }
+  // Each ghost column's aggregate, as its owner numbered it (exact in a double below 2^53).
+  std::vector<double> global_aggregate(rows + ghost_columns, 0.0);
+  for (std::size_t row = 0; row < rows; ++row)
+    global_aggregate[row] = static_cast<double>(first_aggregate_ + aggregate_of_[row]);
+  links.refresh_ghosts(global_aggregate);
+  const std::vector<CoarseRow> own_rows = coarse_rows_of(
+      matrix, member_start_, members_, aggregate_count_, total,
+      [&](std::uint32_t column) { return static_cast<std::uint32_t>(global_aggregate[column]); },
+      [&](std::size_t a) { return static_cast<std::uint32_t>(first_aggregate_ + a); });
+
+  // Every rank's coarse rows, flattened as (entries, column, value, column, value, ...) per row, gathered in rank
+  // order: every rank assembles and factorises the same A_c.
+  std::vector<double> flat;
+  for (const CoarseRow& row : own_rows) {
+    flat.push_back(static_cast<double>(row.size()));
+    for (const auto& [column, value] : row) {
+      flat.push_back(static_cast<double>(column));
+      flat.push_back(value);
+    }
+  }
+  const std::vector<double> all = gather_(flat);
+  std::vector<CoarseRow> coarse_rows(total);
+  std::size_t at = 0;
+  for (CoarseRow& row : coarse_rows) {
+    const auto entries = static_cast<std::size_t>(all.at(at++));
+    row.reserve(entries);
+    for (std::size_t e = 0; e < entries; ++e, at += 2)
+      row.emplace_back(static_cast<std::uint32_t>(all.at(at)), all.at(at + 1));
+  }
+  return factorise(coarse_rows);
+}
+
+bool TwoLevelPreconditioner::factorise(const std::vector<CoarseRow>& coarse_rows) {
+  const std::size_t size_total = coarse_rows.size();
   // No unknowns (every fluid particle on the free surface): nothing to coarsen, and Eigen cannot compress an empty
   // matrix (makeCompressed reads one entry past its empty arrays).
-  if (aggregate_count_ == 0) {
+  if (size_total == 0) {
     coarse_ready_ = false;
     return false;
   }
-  const auto size = static_cast<Eigen::Index>(aggregate_count_);
+  const auto size = static_cast<Eigen::Index>(size_total);
   coarse_matrix_.resize(size, size);
   Eigen::VectorXi entries_per_column(size);
-  for (std::size_t a = 0; a < aggregate_count_; ++a) entries_per_column[static_cast<Eigen::Index>(a)] = static_cast<int>(coarse_rows[a].size());
+  for (std::size_t a = 0; a < size_total; ++a)
+    entries_per_column[static_cast<Eigen::Index>(a)] = static_cast<int>(coarse_rows[a].size());
   coarse_matrix_.reserve(entries_per_column);
   // A_c is symmetric, so coarse row a is also column a.
-  for (std::size_t a = 0; a < aggregate_count_; ++a)
+  for (std::size_t a = 0; a < size_total; ++a)
     for (const auto& [column, value] : coarse_rows[a])
       coarse_matrix_.insert(static_cast<Eigen::Index>(column), static_cast<Eigen::Index>(a)) = value;
   coarse_matrix_.makeCompressed();
@@ -112,15 +189,21 @@ bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vect
 
 double TwoLevelPreconditioner::solve_coarse(const std::vector<double>& residual) {
   if (!coarse_ready_) return 0.0;
-  restricted_.resize(static_cast<Eigen::Index>(aggregate_count_));
+  std::vector<double> own(aggregate_count_);
   tbb::parallel_for(std::size_t{0}, aggregate_count_, [&](std::size_t a) {
     double sum = 0.0;
     for (std::uint32_t k = member_start_[a]; k < member_start_[a + 1]; ++k) sum += residual[members_[k]];
-    restricted_[static_cast<Eigen::Index>(a)] = sum;
+    own[a] = sum;
   });
+  // Over ranks every rank solves for the whole coarse vector from all the ranks' restrictions.
+  const std::vector<double> all = gather_ ? gather_(own) : std::move(own);
+  restricted_ = Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
   coarse_vector_ = coarse_factor_.solve(restricted_);
-  double dot = 0.0;  // serial: a few hundred terms in a fixed order
-  for (Eigen::Index a = 0; a < restricted_.size(); ++a) dot += restricted_[a] * coarse_vector_[a];
+  double dot = 0.0;  // serial: a few hundred terms in a fixed order; over ranks this rank's aggregates' share
+  for (std::size_t a = 0; a < aggregate_count_; ++a) {
+    const auto k = static_cast<Eigen::Index>(first_aggregate_ + a);
+    dot += restricted_[k] * coarse_vector_[k];
+  }
   return dot;
 }
 

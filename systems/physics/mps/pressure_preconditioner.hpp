@@ -11,6 +11,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <cstdint>
+#include <functional>
+#include <utility>
 #include <vector>
 
 #include "components/vec.hpp"
@@ -32,20 +34,43 @@ class TwoLevelPreconditioner {
   /// and factorises A_c. Returns false (and apply() is then plain Jacobi) if A_c is not positive definite.
   bool setup(const PressureMatrix& matrix, const std::vector<Vec3>& positions, const Vec3& origin, double cell_size);
 
+  /// How the coarse level reaches the other MPI ranks. gather: every rank's vector concatenated in rank order, on every
+  /// rank (ranks::gather_all). refresh_ghosts: x[rows + g] set to the entry x[row] its owner holds for ghost column g.
+  struct RankLinks {
+    std::function<std::vector<double>(const std::vector<double>&)> gather;
+    std::function<void(std::vector<double>&)> refresh_ghosts;
+    std::size_t rank = 0;  ///< this rank's place in gather's order
+  };
+  /// Over MPI ranks: `matrix` is this rank's rows, its columns past `rows` the ghosts' (one per ghost entry). Each
+  /// rank aggregates its own rows as setup() does; the coarse matrix spans every rank's aggregates (numbered in rank
+  /// order), gathered and factorised on every rank alike, so the coarse correction reaches across the ranks'
+  /// boundaries and the preconditioner is the one-rank one's over the whole domain (a block-Jacobi coarse level per
+  /// rank lets the iterations grow with the rank count). `ghost_columns` is the number of ghost entries. Returns
+  /// false on every rank alike if A_c is not positive definite.
+  bool setup_over_ranks(const PressureMatrix& matrix, std::size_t ghost_columns, const std::vector<Vec3>& positions,
+                        const Vec3& origin, double cell_size, const RankLinks& links);
+
   /// z = D^-1 r + P A_c^-1 P^T r.
   void apply(const std::vector<double>& residual, std::vector<double>& result);
 
   /// The coarse half on its own, for a CG that never stores z: solves c = A_c^-1 P^T r and returns
-  /// (P^T r) . c = r . (P c), so that r . z = sum of r^2 / diag + that (0 without a coarse level).
+  /// (P^T r) . c = r . (P c), so that r . z = sum of r^2 / diag + that (0 without a coarse level). Over ranks, this
+  /// rank's aggregates' share of it: the ranks' shares add up to the whole.
   double solve_coarse(const std::vector<double>& residual);
   /// (P c)[row] after solve_coarse (0 without a coarse level).
   double coarse_correction(std::size_t row) const {
-    return coarse_ready_ ? coarse_vector_[static_cast<Eigen::Index>(aggregate_of_[row])] : 0.0;
+    return coarse_ready_ ? coarse_vector_[static_cast<Eigen::Index>(first_aggregate_ + aggregate_of_[row])] : 0.0;
   }
 
-  std::size_t coarse_size() const { return coarse_ready_ ? aggregate_count_ : 0; }
+  /// The coarse level's unknowns (over ranks, all the ranks' aggregates).
+  std::size_t coarse_size() const { return coarse_ready_ ? static_cast<std::size_t>(coarse_vector_.size()) : 0; }
 
  private:
+  /// Groups the rows into the cells of edge `cell_size` anchored at `origin` (aggregate_of_, members_).
+  void aggregate_rows(const std::vector<Vec3>& positions, const Vec3& origin, double cell_size);
+  /// Builds A_c from the coarse rows of every aggregate (columns sorted) and factorises it.
+  bool factorise(const std::vector<std::vector<std::pair<std::uint32_t, double>>>& coarse_rows);
+
   PressureMatrix matrix_;
   std::vector<double> inverse_diagonal_;
   std::vector<std::uint32_t> aggregate_of_;      ///< row -> aggregate
@@ -58,6 +83,8 @@ class TwoLevelPreconditioner {
   Eigen::VectorXd coarse_vector_;
   Eigen::VectorXd restricted_;  ///< P^T r of the last solve_coarse
   bool coarse_ready_ = false;
+  std::size_t first_aggregate_ = 0;  ///< over ranks: the global number of this rank's first aggregate
+  std::function<std::vector<double>(const std::vector<double>&)> gather_;  ///< over ranks (else empty)
 };
 
 }  // namespace riffle
