@@ -157,7 +157,9 @@ void FluidPressureSolve::run(SystemContext& context) {
     const double cell_size = cells_per_edge * constants_.spacing;
     if (ranks_cg) {
       const TwoLevelPreconditioner::RankLinks links{
-          [](const std::vector<double>& values) { return ranks::gather_all(values); },
+          [](const std::vector<double>& values, const std::vector<std::size_t>& counts) {
+            return counts.empty() ? ranks::gather_all(values) : ranks::gather_all(values, counts);
+          },
           [&](std::vector<double>& x) { refresh_ghost_entries(neighbours.ranks, x); },
           static_cast<std::size_t>(ranks::rank())};
       preconditioner_.setup_over_ranks(matrix, rank_rows_.ghost_row.size(), row_positions_, context.model.tank.origin,

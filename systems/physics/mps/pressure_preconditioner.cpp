@@ -124,20 +124,25 @@ bool TwoLevelPreconditioner::setup_over_ranks(const PressureMatrix& matrix, std:
   aggregate_rows(positions, origin, cell_size);
 
   // The aggregates numbered over all the ranks in rank order.
-  const std::vector<double> counts = gather_({static_cast<double>(aggregate_count_)});
+  const std::vector<double> counts = gather_({static_cast<double>(aggregate_count_)}, {});
+  aggregate_counts_.resize(counts.size());
   std::size_t total = 0;
   for (std::size_t r = 0; r < counts.size(); ++r) {
     if (r == links.rank) first_aggregate_ = total;
-    total += static_cast<std::size_t>(counts[r]);
+    aggregate_counts_[r] = static_cast<std::size_t>(counts[r]);
+    total += aggregate_counts_[r];
   }
   // Each ghost column's aggregate, as its owner numbered it (exact in a double below 2^53).
   std::vector<double> global_aggregate(rows + ghost_columns, 0.0);
   for (std::size_t row = 0; row < rows; ++row)
     global_aggregate[row] = static_cast<double>(first_aggregate_ + aggregate_of_[row]);
   links.refresh_ghosts(global_aggregate);
+  std::vector<std::uint32_t> aggregate_of_column(global_aggregate.size());
+  for (std::size_t column = 0; column < global_aggregate.size(); ++column)
+    aggregate_of_column[column] = static_cast<std::uint32_t>(global_aggregate[column]);
   const std::vector<CoarseRow> own_rows = coarse_rows_of(
       matrix, member_start_, members_, aggregate_count_, total,
-      [&](std::uint32_t column) { return static_cast<std::uint32_t>(global_aggregate[column]); },
+      [&](std::uint32_t column) { return aggregate_of_column[column]; },
       [&](std::size_t a) { return static_cast<std::uint32_t>(first_aggregate_ + a); });
 
   // Every rank's coarse rows, flattened as (entries, column, value, column, value, ...) per row, gathered in rank
@@ -150,7 +155,7 @@ bool TwoLevelPreconditioner::setup_over_ranks(const PressureMatrix& matrix, std:
       flat.push_back(value);
     }
   }
-  const std::vector<double> all = gather_(flat);
+  const std::vector<double> all = gather_(flat, {});
   std::vector<CoarseRow> coarse_rows(total);
   std::size_t at = 0;
   for (CoarseRow& row : coarse_rows) {
@@ -196,7 +201,7 @@ double TwoLevelPreconditioner::solve_coarse(const std::vector<double>& residual)
     own[a] = sum;
   });
   // Over ranks every rank solves for the whole coarse vector from all the ranks' restrictions.
-  const std::vector<double> all = gather_ ? gather_(own) : std::move(own);
+  const std::vector<double> all = gather_ ? gather_(own, aggregate_counts_) : std::move(own);
   restricted_ = Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
   coarse_vector_ = coarse_factor_.solve(restricted_);
   double dot = 0.0;  // serial: a few hundred terms in a fixed order; over ranks this rank's aggregates' share

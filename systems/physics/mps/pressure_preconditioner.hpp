@@ -35,9 +35,11 @@ class TwoLevelPreconditioner {
   bool setup(const PressureMatrix& matrix, const std::vector<Vec3>& positions, const Vec3& origin, double cell_size);
 
   /// How the coarse level reaches the other MPI ranks. gather: every rank's vector concatenated in rank order, on every
-  /// rank (ranks::gather_all). refresh_ghosts: x[rows + g] set to the entry x[row] its owner holds for ghost column g.
+  /// rank, given every rank's length or none (ranks::gather_all). refresh_ghosts: x[rows + g] set to the entry x[row]
+  /// its owner holds for ghost column g.
+  using Gather = std::function<std::vector<double>(const std::vector<double>&, const std::vector<std::size_t>&)>;
   struct RankLinks {
-    std::function<std::vector<double>(const std::vector<double>&)> gather;
+    Gather gather;
     std::function<void(std::vector<double>&)> refresh_ghosts;
     std::size_t rank = 0;  ///< this rank's place in gather's order
   };
@@ -84,7 +86,8 @@ class TwoLevelPreconditioner {
   Eigen::VectorXd restricted_;  ///< P^T r of the last solve_coarse
   bool coarse_ready_ = false;
   std::size_t first_aggregate_ = 0;  ///< over ranks: the global number of this rank's first aggregate
-  std::function<std::vector<double>(const std::vector<double>&)> gather_;  ///< over ranks (else empty)
+  Gather gather_;                              ///< over ranks (else empty)
+  std::vector<std::size_t> aggregate_counts_;  ///< over ranks: each rank's aggregates
 };
 
 }  // namespace riffle
