@@ -216,7 +216,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     std::fill(solution_.begin(), solution_.end(), 0.0);
   } else {
     // Each pass returns |r|^2 and r . D^-1 r; over ranks also each rank's coarse part, added over the ranks with
-    // them (one reduction an iteration besides the curvature's).
+    // them (one reduction an iteration besides the curvature's, and the coarse level's gather of the restriction).
     if (ranks_cg) refresh_ghost_entries(neighbours.ranks, solution_);
     auto initial = deterministic_sums<2>(unknowns, [&](std::size_t row) {
       const double residual = rhs_[row] - row_product(row, solution_);

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Seed 003's sheared beds and the oscillatory sheet flow (scenes/sheared_bed_*.toml, scenes/oscillatory_sheet_flow.toml),
+# Seed 003's sheared beds (the small one also in a box 4 x wider in x and y, for runs over MPI ranks) and the
+# oscillatory sheet flow (scenes/sheared_bed_*.toml, scenes/oscillatory_sheet_flow.toml),
 # and the mean-flow fluid's beds (scenes/sheared_bed_mean_flow.toml, bedload_channel.toml, single_grain_channel.toml)
 # are periodic along x and y with grains and water: since the coupling looks across the seam, `riffle check`
 # must accept each of them, and each must run its first millisecond periodic and write its bed-load probe.
@@ -14,8 +15,8 @@ source_dir=$2
 work=$3
 mkdir -p "$work"
 status=0
-for scene in sheared_bed_small sheared_bed_large sheared_bed_large_deep sheared_bed_bidisperse oscillatory_sheet_flow \
-             sheared_bed_mean_flow bedload_channel single_grain_channel; do
+for scene in sheared_bed_small sheared_bed_small_wide sheared_bed_large sheared_bed_large_deep sheared_bed_bidisperse \
+             oscillatory_sheet_flow sheared_bed_mean_flow bedload_channel single_grain_channel; do
   file="$source_dir/scenes/$scene.toml"
   grep -q '^periodic = \["x", "y"\]$' "$file" || { echo "FAIL $scene: no 'periodic = [\"x\", \"y\"]' line"; status=1; }
   if [ -f "$source_dir/scenes/${scene}_settle.toml" ]; then

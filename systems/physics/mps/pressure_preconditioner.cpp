@@ -164,7 +164,12 @@ bool TwoLevelPreconditioner::setup_over_ranks(const PressureMatrix& matrix, std:
     for (std::size_t e = 0; e < entries; ++e, at += 2)
       row.emplace_back(static_cast<std::uint32_t>(all.at(at)), all.at(at + 1));
   }
-  return factorise(coarse_rows);
+  // The same A_c on every rank factorises alike; the flags are still gathered, so that a rank can never skip the
+  // coarse level's gathers that the others make.
+  const bool factorised = factorise(coarse_rows);
+  const std::vector<double> flags = gather_({factorised ? 1.0 : 0.0}, {});
+  coarse_ready_ = std::all_of(flags.begin(), flags.end(), [](double flag) { return flag == 1.0; });
+  return coarse_ready_;
 }
 
 bool TwoLevelPreconditioner::factorise(const std::vector<CoarseRow>& coarse_rows) {

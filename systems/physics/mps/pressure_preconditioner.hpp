@@ -19,7 +19,8 @@
 
 namespace riffle {
 
-/// The pressure matrix M = diag + off-diagonal CSR, over `rows` unknowns (off-diagonal columns are row indices).
+/// The pressure matrix M = diag + off-diagonal CSR, over `rows` unknowns (off-diagonal columns are row indices; over
+/// MPI ranks, columns from `rows` on are the ghosts' entries).
 struct PressureMatrix {
   std::size_t rows = 0;
   const double* diagonal = nullptr;
