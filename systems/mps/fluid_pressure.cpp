@@ -158,7 +158,7 @@ void FluidPressureSolve::run(SystemContext& context) {
     if (ranks_cg) {
       const TwoLevelPreconditioner::RankLinks links{
           [](const std::vector<double>& values, const std::vector<std::size_t>& counts) {
-            return counts.empty() ? ranks::gather_all(values) : ranks::gather_all(values, counts);
+            return ranks::gather_all(values, counts);
           },
           [&](std::vector<double>& x) { refresh_ghost_entries(neighbours.ranks, x); },
           static_cast<std::size_t>(ranks::rank())};

@@ -11,8 +11,12 @@
 
 namespace riffle {
 
-void TwoLevelPreconditioner::aggregate_rows(const std::vector<Vec3>& positions, const Vec3& origin, double cell_size) {
-  const std::size_t rows = matrix_.rows;
+void TwoLevelPreconditioner::take_rows(const PressureMatrix& matrix, const std::vector<Vec3>& positions,
+                                       const Vec3& origin, double cell_size) {
+  matrix_ = matrix;
+  const std::size_t rows = matrix.rows;
+  inverse_diagonal_.resize(rows);
+  tbb::parallel_for(std::size_t{0}, rows, [&](std::size_t row) { inverse_diagonal_[row] = 1.0 / matrix.diagonal[row]; });
   // Aggregates numbered in order of first appearance along the rows: deterministic for a given matrix. The cells
   // are looked up in a dense array over the rows' bounding box (anchored on the grid of `origin`).
   aggregate_of_.resize(rows);
@@ -100,13 +104,9 @@ std::vector<CoarseRow> coarse_rows_of(const PressureMatrix& matrix, const std::v
 
 bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vector<Vec3>& positions, const Vec3& origin,
                                    double cell_size) {
-  matrix_ = matrix;
-  const std::size_t rows = matrix.rows;
-  inverse_diagonal_.resize(rows);
-  tbb::parallel_for(std::size_t{0}, rows, [&](std::size_t row) { inverse_diagonal_[row] = 1.0 / matrix.diagonal[row]; });
   first_aggregate_ = 0;
   gather_ = nullptr;
-  aggregate_rows(positions, origin, cell_size);
+  take_rows(matrix, positions, origin, cell_size);
   return factorise(coarse_rows_of(
       matrix, member_start_, members_, aggregate_count_, aggregate_count_,
       [&](std::uint32_t column) { return aggregate_of_[column]; },
@@ -116,12 +116,9 @@ bool TwoLevelPreconditioner::setup(const PressureMatrix& matrix, const std::vect
 bool TwoLevelPreconditioner::setup_over_ranks(const PressureMatrix& matrix, std::size_t ghost_columns,
                                               const std::vector<Vec3>& positions, const Vec3& origin, double cell_size,
                                               const RankLinks& links) {
-  matrix_ = matrix;
-  const std::size_t rows = matrix.rows;
-  inverse_diagonal_.resize(rows);
-  tbb::parallel_for(std::size_t{0}, rows, [&](std::size_t row) { inverse_diagonal_[row] = 1.0 / matrix.diagonal[row]; });
   gather_ = links.gather;
-  aggregate_rows(positions, origin, cell_size);
+  take_rows(matrix, positions, origin, cell_size);
+  const std::size_t rows = matrix.rows;
 
   // The aggregates numbered over all the ranks in rank order.
   const std::vector<double> counts = gather_({static_cast<double>(aggregate_count_)}, {});
@@ -199,15 +196,22 @@ bool TwoLevelPreconditioner::factorise(const std::vector<CoarseRow>& coarse_rows
 
 double TwoLevelPreconditioner::solve_coarse(const std::vector<double>& residual) {
   if (!coarse_ready_) return 0.0;
-  std::vector<double> own(aggregate_count_);
-  tbb::parallel_for(std::size_t{0}, aggregate_count_, [&](std::size_t a) {
-    double sum = 0.0;
-    for (std::uint32_t k = member_start_[a]; k < member_start_[a + 1]; ++k) sum += residual[members_[k]];
-    own[a] = sum;
-  });
-  // Over ranks every rank solves for the whole coarse vector from all the ranks' restrictions.
-  const std::vector<double> all = gather_ ? gather_(own, aggregate_counts_) : std::move(own);
-  restricted_ = Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
+  const auto restrict_into = [&](double* restricted) {
+    tbb::parallel_for(std::size_t{0}, aggregate_count_, [&](std::size_t a) {
+      double sum = 0.0;
+      for (std::uint32_t k = member_start_[a]; k < member_start_[a + 1]; ++k) sum += residual[members_[k]];
+      restricted[a] = sum;
+    });
+  };
+  if (gather_) {  // over ranks every rank solves for the whole coarse vector from all the ranks' restrictions
+    own_restricted_.resize(aggregate_count_);
+    restrict_into(own_restricted_.data());
+    const std::vector<double> all = gather_(own_restricted_, aggregate_counts_);
+    restricted_ = Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
+  } else {
+    restricted_.resize(static_cast<Eigen::Index>(aggregate_count_));
+    restrict_into(restricted_.data());
+  }
   coarse_vector_ = coarse_factor_.solve(restricted_);
   double dot = 0.0;  // serial: a few hundred terms in a fixed order; over ranks this rank's aggregates' share
   for (std::size_t a = 0; a < aggregate_count_; ++a) {

@@ -69,8 +69,9 @@ class TwoLevelPreconditioner {
   std::size_t coarse_size() const { return coarse_ready_ ? static_cast<std::size_t>(coarse_vector_.size()) : 0; }
 
  private:
-  /// Groups the rows into the cells of edge `cell_size` anchored at `origin` (aggregate_of_, members_).
-  void aggregate_rows(const std::vector<Vec3>& positions, const Vec3& origin, double cell_size);
+  /// Keeps `matrix` and its inverse diagonal, and groups its rows into the cells of edge `cell_size` anchored at
+  /// `origin` (aggregate_of_, members_).
+  void take_rows(const PressureMatrix& matrix, const std::vector<Vec3>& positions, const Vec3& origin, double cell_size);
   /// Builds A_c from the coarse rows of every aggregate (columns sorted) and factorises it.
   bool factorise(const std::vector<std::vector<std::pair<std::uint32_t, double>>>& coarse_rows);
 
@@ -89,6 +90,7 @@ class TwoLevelPreconditioner {
   std::size_t first_aggregate_ = 0;  ///< over ranks: the global number of this rank's first aggregate
   Gather gather_;                              ///< over ranks (else empty)
   std::vector<std::size_t> aggregate_counts_;  ///< over ranks: each rank's aggregates
+  std::vector<double> own_restricted_;         ///< over ranks: P^T r over this rank's aggregates, to be gathered
 };
 
 }  // namespace riffle

@@ -121,27 +121,19 @@ double max(double value) {
   return global;
 }
 
-std::vector<double> gather_all(const std::vector<double>& values) {
+std::vector<double> gather_all(const std::vector<double>& values, std::vector<std::size_t> counts) {
   if (size() == 1) return values;
-  const CallTimer timer(times.reduce_seconds, times.reductions);
-  const int count = to_int(values.size());
-  std::vector<int> counts(static_cast<std::size_t>(size()));
-  check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm()), "MPI_Allgather");
-  std::vector<int> displacements(counts.size(), 0);
-  for (std::size_t r = 1; r < counts.size(); ++r) displacements[r] = displacements[r - 1] + counts[r - 1];
-  std::vector<double> all(static_cast<std::size_t>(displacements.back() + counts.back()));
-  check(MPI_Allgatherv(values.data(), count, MPI_DOUBLE, all.data(), counts.data(), displacements.data(), MPI_DOUBLE,
-                       comm()),
-        "MPI_Allgatherv");
-  return all;
-}
-
-std::vector<double> gather_all(const std::vector<double>& values, const std::vector<std::size_t>& counts) {
-  if (size() == 1) return values;
-  if (counts.size() != static_cast<std::size_t>(size()) || counts[static_cast<std::size_t>(rank())] != values.size())
+  std::vector<int> sizes(static_cast<std::size_t>(size()));
+  if (counts.empty()) {  // the lengths not known beforehand: gathered first
+    const CallTimer timer(times.reduce_seconds, times.reductions);
+    const int count = to_int(values.size());
+    check(MPI_Allgather(&count, 1, MPI_INT, sizes.data(), 1, MPI_INT, comm()), "MPI_Allgather");
+    counts.assign(sizes.begin(), sizes.end());
+  }
+  if (counts.size() != sizes.size() || counts[static_cast<std::size_t>(rank())] != values.size())
     throw std::logic_error("ranks::gather_all: the counts must be every rank's, this rank's its values' length");
   const CallTimer timer(times.reduce_seconds, times.reductions);
-  std::vector<int> sizes(counts.size()), displacements(counts.size(), 0);
+  std::vector<int> displacements(counts.size(), 0);
   for (std::size_t r = 0; r < counts.size(); ++r) sizes[r] = to_int(counts[r]);
   for (std::size_t r = 1; r < counts.size(); ++r) displacements[r] = displacements[r - 1] + sizes[r - 1];
   std::vector<double> all(static_cast<std::size_t>(displacements.back() + sizes.back()));
@@ -286,8 +278,7 @@ int size() { return 1; }
 bool any(bool flag) { return flag; }
 double max(double value) { return value; }
 std::vector<double> sum_in_rank_order(const std::vector<double>& values) { return values; }
-std::vector<double> gather_all(const std::vector<double>& values) { return values; }
-std::vector<double> gather_all(const std::vector<double>& values, const std::vector<std::size_t>&) { return values; }
+std::vector<double> gather_all(const std::vector<double>& values, std::vector<std::size_t>) { return values; }
 std::vector<std::vector<std::byte>> exchange(const std::vector<std::vector<std::byte>>& outgoing) {
   if (outgoing.size() != 1) throw std::logic_error("ranks::exchange: a build without MPI has one rank");
   return outgoing;

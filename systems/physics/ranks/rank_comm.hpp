@@ -30,11 +30,9 @@ bool any(bool flag);
 double max(double value);
 /// Each rank's `values` (the same length on every rank) summed element by element in rank order, on every rank.
 std::vector<double> sum_in_rank_order(const std::vector<double>& values);
-/// Every rank's `values` concatenated in rank order, on every rank.
-std::vector<double> gather_all(const std::vector<double>& values);
-/// The same when every rank's length is known beforehand (counts[r]: rank r's; counts[rank()] == values.size()): one
-/// MPI_Allgatherv, without the exchange of the lengths.
-std::vector<double> gather_all(const std::vector<double>& values, const std::vector<std::size_t>& counts);
+/// Every rank's `values` concatenated in rank order, on every rank. With every rank's length known beforehand
+/// (counts[r]: rank r's; counts[rank()] == values.size()) one MPI_Allgatherv; without, the lengths are gathered first.
+std::vector<double> gather_all(const std::vector<double>& values, std::vector<std::size_t> counts = {});
 
 /// Sends outgoing[r] to rank r (outgoing.size() == size(); an empty buffer sends nothing) and returns what each rank
 /// sent here, indexed by the sender. Collective: every rank calls it.
