@@ -527,6 +527,13 @@ struct ProbeModel {
 
 struct OutputModel {
   double vtk_interval = 0.0;         ///< [s] 0 = no frames
+  /// Over MPI ranks: kPerRank, every rank writes its own grains and water of a frame as a piece and rank 0 a .pvtp
+  /// naming them (no gather); kGathered, rank 0 gathers the frame into one .vtp, as one rank writes it. One rank
+  /// writes one .vtp either way.
+  enum class VtkPieces { kPerRank, kGathered };
+  static constexpr SceneNames<VtkPieces, 2> kVtkPiecesNames{
+      {{"per_rank", VtkPieces::kPerRank}, {"gathered", VtkPieces::kGathered}}};
+  VtkPieces vtk_pieces = VtkPieces::kPerRank;
   /// [s] 0 = only on signal and at the end; unset in the scene: end_time / 10 for runs of at least 1000 steps of dt
   double checkpoint_interval = 0.0;
   std::int64_t checkpoint_keep = 3;  ///< newest interval checkpoints kept on disk

@@ -121,9 +121,46 @@ std::string particles_vtp(const Component& particles, const char* scalars, const
          field_arrays(particles) + "      </PointData>\n" + points_block(xyz) +
          connectivity_block("Verts", connectivity, offsets) + kFooter;
 }
+
+
+/// The .pvtp of a frame of `Component` in pieces: each output field as a PDataArray of its type and components.
+template <class Component>
+std::string particles_pvtp(const char* scalars, const std::vector<std::string>& pieces) {
+  std::string out = std::string(
+                        "<?xml version=\"1.0\"?>\n"
+                        "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+                        "header_type=\"UInt32\">\n"
+                        "  <PPolyData GhostLevel=\"0\">\n"
+                        "    <PPointData Scalars=\"") +
+                    scalars + "\">\n";
+  char line[256];
+  const Component schema;  // an empty table: its fields' names and types
+  for_each_field_in_order(schema, [&](const FieldInfo& info, const auto& field) {
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    if constexpr (!std::is_same_v<T, std::string>) {
+      if (!info.output) return;
+      std::snprintf(line, sizeof line, "      <PDataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\"/>\n",
+                    vtk_type<T>(), info.name, std::is_same_v<T, Vec3> ? 3 : 1);
+      out += line;
+    }
+  });
+  out +=
+      "    </PPointData>\n"
+      "    <PPoints>\n"
+      "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+      "    </PPoints>\n";
+  for (const std::string& piece : pieces) out += "    <Piece Source=\"" + piece + "\"/>\n";
+  return out + "  </PPolyData>\n</VTKFile>\n";
+}
 }  // namespace
 
 std::string solids_vtp(const Solids& solids, const PeriodicBox& box) { return particles_vtp(solids, "radius", box); }
+
+std::string solids_pvtp(const std::vector<std::string>& pieces) { return particles_pvtp<Solids>("radius", pieces); }
+
+std::string fluid_pvtp(const std::vector<std::string>& pieces) {
+  return particles_pvtp<FluidParticles>("pressure", pieces);
+}
 
 std::string fluid_vtp(const FluidParticles& fluid) { return particles_vtp(fluid, "pressure"); }
 

@@ -20,6 +20,11 @@ std::string solids_vtp(const Solids& solids, const PeriodicBox& box = {});
 std::string fluid_vtp(const FluidParticles& fluid);
 /// Walls as quads (face centre +- half extents) with every output field of the Walls table as cell data.
 std::string walls_vtp(const Walls& walls);
+/// ParaView's parallel file (.pvtp) of one frame written in pieces, one per MPI rank: the point arrays every piece
+/// holds (declared from the table's output fields, as solids_vtp and fluid_vtp write them) and the pieces' file
+/// names, relative to the .pvtp's folder, in rank order.
+std::string solids_pvtp(const std::vector<std::string>& pieces);
+std::string fluid_pvtp(const std::vector<std::string>& pieces);
 /// A .pvd collection listing `files[k]` at `times[k]`.
 std::string pvd_collection(const std::vector<double>& times, const std::vector<std::string>& files);
 

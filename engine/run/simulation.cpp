@@ -315,32 +315,44 @@ class CheckpointStore {
   std::string last_written_;
 };
 
-/// Appends a VTK frame of every phase and rewrites the .pvd series that list all frames so far.
+/// Frame k of a phase ("solids", "walls", "fluid") as the .pvd lists it, relative to the output folder: the .pvtp
+/// where the frame was written in pieces over ranks, else the .vtp (a run resumed on another rank count, or with
+/// another `output.vtk_pieces`, mixes the two).
+std::string frame_file(const fs::path& out, const char* phase, std::size_t k) {
+  char name[64];
+  std::snprintf(name, sizeof name, "vtk/%s_%06zu.pvtp", phase, k);
+  if (fs::exists(out / name)) return name;
+  std::snprintf(name, sizeof name, "vtk/%s_%06zu.vtp", phase, k);
+  return name;
+}
+
+/// Rewrites a phase's .pvd series listing every frame so far.
+void write_series(const fs::path& out, const char* phase, const std::vector<double>& frame_times) {
+  std::vector<std::string> files;
+  for (std::size_t k = 0; k < frame_times.size(); ++k) files.push_back(frame_file(out, phase, k));
+  write_text_file(out / (std::string(phase) + ".pvd"), pvd_collection(frame_times, files));
+}
+
+/// The file of frame k of a phase, "vtk/solids_000004.vtp" for `suffix` ".vtp".
+std::string frame_name(const char* phase, std::size_t k, const char* suffix) {
+  char name[64];
+  std::snprintf(name, sizeof name, "vtk/%s_%06zu%s", phase, k, suffix);
+  return name;
+}
+
+/// Appends a VTK frame of every phase, one .vtp each, and rewrites the .pvd series that list all frames so far. A
+/// .pvtp of the same frame left by an earlier run over ranks is removed, so that the series names this frame.
 void write_vtk_frame(const fs::path& out, const World& world, const Model& model, OutputState& output) {
   const std::size_t index = output.frame_times.size();
   output.frame_times.push_back(world.time);
-  char name[64];
-  std::vector<std::string> solid_files, wall_files, fluid_files;
-  for (std::size_t k = 0; k <= index; ++k) {
-    std::snprintf(name, sizeof name, "vtk/solids_%06zu.vtp", k);
-    solid_files.push_back(name);
-    std::snprintf(name, sizeof name, "vtk/walls_%06zu.vtp", k);
-    wall_files.push_back(name);
-    std::snprintf(name, sizeof name, "vtk/fluid_%06zu.vtp", k);
-    fluid_files.push_back(name);
-  }
-  if (world.solids) {
-    write_text_file(out / solid_files.back(), solids_vtp(*world.solids, periodic_box(model)));
-    write_text_file(out / "solids.pvd", pvd_collection(output.frame_times, solid_files));
-  }
-  if (world.walls) {
-    write_text_file(out / wall_files.back(), walls_vtp(*world.walls));
-    write_text_file(out / "walls.pvd", pvd_collection(output.frame_times, wall_files));
-  }
-  if (world.fluid) {
-    write_text_file(out / fluid_files.back(), fluid_vtp(*world.fluid));
-    write_text_file(out / "fluid.pvd", pvd_collection(output.frame_times, fluid_files));
-  }
+  const auto write = [&](const char* phase, const std::string& text) {
+    fs::remove(out / frame_name(phase, index, ".pvtp"));
+    write_text_file(out / frame_name(phase, index, ".vtp"), text);
+    write_series(out, phase, output.frame_times);
+  };
+  if (world.solids) write("solids", solids_vtp(*world.solids, periodic_box(model)));
+  if (world.walls) write("walls", walls_vtp(*world.walls));
+  if (world.fluid) write("fluid", fluid_vtp(*world.fluid));
 }
 
 }  // namespace
@@ -894,6 +906,52 @@ std::string first_message_at_root(const std::string& message) {
   return "";
 }
 
+/// Over MPI ranks, a VTK frame in pieces (`output.vtk_pieces = "per_rank"`): every rank writes the grains and the
+/// water it owns (vtk/solids_000004_R.vtp for rank R), nothing gathered; once every piece is on disk, rank 0 writes
+/// the walls (the same on every rank), a .pvtp per phase naming the pieces and the .pvd series. Collective: every
+/// rank calls it for the same frame. Returns the first failing rank's error at rank 0 ("" when all wrote; on the
+/// other ranks, "" or "failed").
+std::string write_vtk_pieces(const fs::path& out, const World& mine, const Model& model, OutputState& output) {
+  const std::size_t index = output.frame_times.size();
+  output.frame_times.push_back(mine.time);
+  const int rank_count = ranks::size();
+  const auto piece = [&](const char* phase, int rank) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%s_%06zu_%d.vtp", phase, index, rank);
+    return std::string(name);
+  };
+  std::string problem;
+  try {
+    if (mine.solids) write_text_file(out / "vtk" / piece("solids", ranks::rank()), solids_vtp(*mine.solids, periodic_box(model)));
+    if (mine.fluid) write_text_file(out / "vtk" / piece("fluid", ranks::rank()), fluid_vtp(*mine.fluid));
+  } catch (const std::exception& error) {
+    problem = error.what();
+  }
+  if (ranks::any(!problem.empty())) {
+    const std::string first = first_message_at_root(problem);
+    return ranks::rank() == 0 ? first : "failed";
+  }
+  if (ranks::rank() != 0) return "";
+  try {
+    const auto parallel = [&](const char* phase, std::string (*pvtp)(const std::vector<std::string>&)) {
+      std::vector<std::string> pieces;
+      for (int rank = 0; rank < rank_count; ++rank) pieces.push_back(piece(phase, rank));
+      write_text_file(out / frame_name(phase, index, ".pvtp"), pvtp(pieces));
+      fs::remove(out / frame_name(phase, index, ".vtp"));
+      write_series(out, phase, output.frame_times);
+    };
+    if (mine.solids) parallel("solids", solids_pvtp);
+    if (mine.walls) {
+      write_text_file(out / frame_name("walls", index, ".vtp"), walls_vtp(*mine.walls));
+      write_series(out, "walls", output.frame_times);
+    }
+    if (mine.fluid) parallel("fluid", fluid_pvtp);
+  } catch (const std::exception& error) {
+    return error.what();
+  }
+  return "";
+}
+
 /// Every rank's particles removed as escaped in the last step, at rank 0 in rank order (empty elsewhere). Collective.
 std::vector<EscapedParticle> escaped_at_root(const std::vector<EscapedParticle>& mine) {
   constexpr std::size_t kPerParticle = 8;  // id, position, velocity, left_domain
@@ -1047,6 +1105,14 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
     return !ranks::any(!output_problem.empty());
   };
 
+  // A frame in pieces, each rank its own (no gather), or gathered at rank 0 into one file as one rank writes it.
+  const bool frame_in_pieces = model_->output.vtk_pieces == OutputModel::VtkPieces::kPerRank && ranks::size() > 1;
+  const auto write_pieces = [&] {
+    const std::string problem = write_vtk_pieces(out, world_, *model_, output_);
+    if (root && !problem.empty() && output_problem.empty()) output_problem = problem;
+    return !ranks::any(!problem.empty());
+  };
+
   double stepping_seconds = 0.0;
   ranks::CallTimes stepping_calls;  // the MPI calls' share of stepping_seconds
   std::optional<DiagnosticsWriter> diagnostics;
@@ -1059,15 +1125,19 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       diagnostics.emplace(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run, false);
       for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, whole, fresh_run);
       if (model_->output.bed_profile_interval > 0.0) bed_profile.emplace(*model_, out, whole, fresh_run);
-      if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
+      if (!frame_in_pieces && fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
         write_vtk_frame(out, whole, *model_, output_);
       if (fresh_run) {
         for (ProbeWriter& probe : probes) probe.write(whole);
         if (bed_profile) bed_profile->write(whole);
       }
     });
-    if (!root && fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
-      output_.frame_times.push_back(world_.time);
+    if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size())) {
+      if (frame_in_pieces)
+        outputs_ok = write_pieces() && outputs_ok;
+      else if (!root)
+        output_.frame_times.push_back(world_.time);
+    }
   }
 
   ProgressReporter progress(options.progress && root, world_.step, end_time, dt);
@@ -1130,7 +1200,9 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
     // Rank 0 knows which outputs are due (the probes keep their own schedules): it tells the others whether to gather,
     // and whether the pairs are wanted (the bed profile counts contacts; a checkpoint holds them).
     const bool checkpoint_due = due(model_->output.checkpoint_interval, output_.checkpoints_due + 1);
-    bool gather = due(model_->output.vtk_interval, output_.frame_times.size());
+    const bool frame = due(model_->output.vtk_interval, output_.frame_times.size());
+    if (frame && frame_in_pieces && !(outputs_ok = write_pieces())) break;
+    bool gather = frame && !frame_in_pieces;
     bool pairs = false;
     if (root) {
       for (const ProbeWriter& probe : probes) gather = gather || probe.due(world_.time) || probe.reads_every_step();
@@ -1139,13 +1211,13 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
     const double wanted = ranks::max(pairs ? 2.0 : gather ? 1.0 : 0.0);  // the same on every rank
     if (wanted > 0.0) {
       const World whole = gathered_world(wanted == 2.0);
-      const bool frame = due(model_->output.vtk_interval, output_.frame_times.size());
+      const bool gathered_frame = frame && !frame_in_pieces;
       outputs_ok = write_on_root([&] {
-        if (frame) write_vtk_frame(out, whole, *model_, output_);
+        if (gathered_frame) write_vtk_frame(out, whole, *model_, output_);
         for (ProbeWriter& probe : probes) probe.write_if_due(whole);
         if (bed_profile) bed_profile->write_if_due(whole);
       });
-      if (!root && frame) output_.frame_times.push_back(world_.time);
+      if (!root && gathered_frame) output_.frame_times.push_back(world_.time);
     }
     if (outputs_ok && checkpoint_due) outputs_ok = save_checkpoint(true);
     progress.tick(world_);

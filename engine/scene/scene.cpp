@@ -372,6 +372,7 @@ namespace {
 
 void read_output(TableReader& output, Model& model) {
   model.output.vtk_interval = output.number("vtk_interval", model.output.vtk_interval, "s", Bounds::non_negative());
+  model.output.vtk_pieces = enum_choice(output, "vtk_pieces", model.output.vtk_pieces, OutputModel::kVtkPiecesNames);
   model.output.checkpoint_interval =
       output.number("checkpoint_interval", model.output.checkpoint_interval, "s", Bounds::non_negative());
   model.output.checkpoint_keep = output.integer("checkpoint_keep", model.output.checkpoint_keep, 1, 1000000);

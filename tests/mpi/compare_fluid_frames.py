@@ -24,10 +24,20 @@ parser.add_argument("--velocity", type=float, default=1e-6)
 parser.add_argument("--pressure", type=float, default=1e-5)
 parser.add_argument("--grains", action="store_true", help="compare solids_*.vtp (the drag force for the pressure)")
 args = parser.parse_args()
+
+
+def frame_path(run, name):
+    """The frame's .vtp, or the .pvtp naming its pieces where the run wrote it over ranks in pieces (read_vtp joins
+    them)."""
+    path = os.path.join(run, "vtk", name)
+    pieces = path[: -len(".vtp")] + ".pvtp"
+    return pieces if os.path.exists(pieces) else path
+
+
 ok = True
 for frame in args.frames:
     name = f"{'solids' if args.grains else 'fluid'}_{frame:06d}.vtp"
-    paths = [os.path.join(run, "vtk", name) for run in (args.a, args.b)]
+    paths = [frame_path(run, name) for run in (args.a, args.b)]
     if not all(os.path.exists(p) for p in paths):
         print(f"{name}: missing in {' or '.join(p for p in paths if not os.path.exists(p))}")
         ok = False

@@ -17,8 +17,28 @@ check "one rank runs the shaken bed" [ $? = 0 ]
 ranks 2 run shaken.toml --out two --threads 1 >two.out 2>&1
 check "two ranks run it (exit 0)" [ $? = 0 ]
 check "... rank 0 wrote the outputs once: log, diagnostics, the probe, frames, checkpoints" \
-  bash -c "[ -s two/diagnostics.csv ] && [ -s two/probe_wall_forces.csv ] && [ -s two/vtk/solids_000004.vtp ] &&
-           [ -s two/checkpoints/final.ckpt ] && [ \$(grep -c 'finished at' two/riffle.log) = 1 ]"
+  bash -c "[ -s two/diagnostics.csv ] && [ -s two/probe_wall_forces.csv ] && [ -s two/vtk/solids_000004.pvtp ] &&
+           [ -s two/vtk/walls_000004.vtp ] && [ -s two/checkpoints/final.ckpt ] &&
+           [ \$(grep -c 'finished at' two/riffle.log) = 1 ]"
+# Each frame in pieces (output.vtk_pieces = "per_rank", the default): each rank's grains in its own .vtp, a .pvtp
+# naming the two, the .pvd listing the .pvtp; joined, the same grains and values as rank 0 writes after gathering them.
+check "... each frame in two pieces, one a rank, named by a .pvtp that solids.pvd lists" \
+  bash -c "[ -s two/vtk/solids_000004_0.vtp ] && [ -s two/vtk/solids_000004_1.vtp ] && [ ! -e two/vtk/solids_000004.vtp ] &&
+           grep -qF 'Source=\"solids_000004_1.vtp\"' two/vtk/solids_000004.pvtp &&
+           grep -qF 'file=\"vtk/solids_000004.pvtp\"' two/solids.pvd"
+ranks 2 run shaken.toml --out two_gathered --threads 1 --set 'output.vtk_pieces="gathered"' >two_gathered.out 2>&1
+check "... the pieces joined are the frames rank 0 writes with output.vtk_pieces = \"gathered\", value for value" \
+  /usr/bin/python3 "$SRC/tests/mpi/compare_fluid_frames.py" two_gathered two 0 1 2 3 4 --grains --position 0 \
+  --velocity 0 --pressure 0
+# A piece one rank cannot write (a folder in its place): every rank stops, rank 0 names that rank and the file, and the
+# series lists the frames written whole.
+mkdir -p unwritable/vtk/solids_000002_1.vtp/in_the_way
+ranks 2 run shaken.toml --out unwritable --threads 1 >unwritable.out 2>&1
+rc=$?
+check "a frame's piece rank 1 cannot write stops both ranks (exit 4)" [ $rc = 4 ]
+check "... rank 0 naming rank 1's file; the series lists the two frames written whole" \
+  bash -c "grep -qF 'output failed: rank 1: unwritable/vtk/solids_000002_1.vtp' unwritable/riffle.log &&
+           [ \$(grep -c '<DataSet' unwritable/solids.pvd) = 2 ]"
 check "... and reported each rank's grains and stepping time" grep -qF "rank 1:" two/riffle.log
 # Each system's time on every rank: a row per system and rank, the same systems on both, and their table in the log.
 check "... and each system's time on each rank (timings_ranks.csv, the table over the ranks)" \
@@ -77,6 +97,14 @@ for n in 1 2 3; do
   check "... and goes on as the run that wrote it did, to 1e-9 over 20 steps" \
     compare two/diagnostics.csv "resumed$n/diagnostics.csv" 105 110 115 120
 done
+# Resumed on one rank in the folder of the two ranks' run: the frames up to the checkpoint stay in pieces, the later ones
+# are rewritten whole (their .pvtp removed), and the series names each frame's file.
+cp -r two mixed
+ranks 1 resume mixed/checkpoints/step_0000000100.ckpt --out mixed --threads 1 >mixed.out 2>&1
+check "the two ranks' run resumed on one rank in its own folder: its series lists frames 0-2 in pieces, 3-4 whole" \
+  bash -c "grep -qF 'file=\"vtk/solids_000002.pvtp\"' mixed/solids.pvd && grep -qF 'file=\"vtk/solids_000003.vtp\"' mixed/solids.pvd &&
+           grep -qF 'file=\"vtk/solids_000004.vtp\"' mixed/solids.pvd && [ ! -e mixed/vtk/solids_000004.pvtp ] &&
+           [ \$(grep -c '<DataSet' mixed/solids.pvd) = 5 ]"
 
 # A periodic bed (the bed-load channel's, 1,150 grains of 2 mm falling into a box periodic along x and y), then the
 # channel's mean-flow water driving it at Theta = 0.2 over 40 steps: the images across the periodic faces and the

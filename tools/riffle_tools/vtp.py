@@ -3,7 +3,9 @@
 riffle writes PolyData (.vtp) with every DataArray inline, format="binary", header_type="UInt32", little endian:
 the text of an array is base64 of one block, a UInt32 byte count followed by the raw values (no compression,
 one base64 run per array). Types used: Float64 (scalars and 3-vectors), Int32, Int64, UInt64. Points are the
-particle centres; point data are the component's output fields. A .pvd collection lists (time, file) pairs.
+particle centres; point data are the component's output fields. A .pvd collection lists (time, file) pairs. A
+run over MPI ranks writes each frame in pieces, one .vtp per rank, named by a .pvtp (PPolyData); read_vtp reads a
+.pvtp as the whole frame, its pieces joined and ordered by id as a gathered frame is.
 
     from riffle_tools import vtp
     frames = vtp.read_pvd("out/run/solids.pvd")    # [(time_s, Path), ...] sorted by time
@@ -63,6 +65,8 @@ def read_vtp(path, fields=None):
         root = ElementTree.parse(path).getroot()
     except (ElementTree.ParseError, OSError) as error:
         raise VtpError(f"{path}: {error}") from error
+    if root.get("type") == "PPolyData":
+        return _read_pieces(path, root, fields)
     if root.get("type") != "PolyData":
         raise VtpError(f"{path}: VTKFile type {root.get('type')!r}, expected 'PolyData'")
     if root.get("byte_order", "LittleEndian") != "LittleEndian" or root.get("header_type", "UInt32") != "UInt32":
@@ -91,6 +95,26 @@ def read_vtp(path, fields=None):
         missing = wanted - set(out)
         if missing:
             raise VtpError(f"{path}: missing point data {sorted(missing)}")
+    return out
+
+
+def _read_pieces(path, root, fields):
+    """A .pvtp frame: its pieces (Source paths relative to the .pvtp's folder) read and joined, sorted by id."""
+    sources = [element.get("Source") for element in root.findall("PPolyData/Piece")]
+    if not sources or None in sources:
+        raise VtpError(f"{path}: a PPolyData without pieces, or a Piece without Source")
+    wanted = None if fields is None else set(fields) | {"id"}
+    pieces = [read_vtp(path.parent / source, wanted) for source in sources]
+    names = set(pieces[0])
+    for source, piece in zip(sources, pieces):
+        if set(piece) != names:
+            raise VtpError(f"{path}: piece {source} holds other arrays than {sources[0]}")
+    out = {name: np.concatenate([piece[name] for piece in pieces]) for name in names}
+    if "id" in out:
+        order = np.argsort(out["id"], kind="stable")
+        out = {name: values[order] for name, values in out.items()}
+    if fields is not None and "id" not in set(fields):
+        out.pop("id", None)
     return out
 
 

@@ -129,6 +129,44 @@ TEST_CASE("pvd_collection lists every frame with its time") {
   CHECK(pvd.find("timestep=\"0.5\" group=\"\" part=\"0\" file=\"vtk/a_000001.vtp\"") != std::string::npos);
 }
 
+namespace {
+/// The (type, name, components) of every array declared by `tag` ("<DataArray" in a piece's PointData, "<PDataArray"
+/// in a .pvtp's PPointData) between the first `open` and the next `close`, in order.
+std::vector<std::string> declared_arrays(const std::string& xml, const std::string& open, const std::string& close,
+                                         const std::string& tag) {
+  std::vector<std::string> arrays;
+  const std::size_t begin = xml.find(open), end = xml.find(close, begin);
+  REQUIRE(begin != std::string::npos);
+  REQUIRE(end != std::string::npos);
+  for (std::size_t at = xml.find(tag, begin); at < end; at = xml.find(tag, at + 1)) {
+    const std::size_t type = xml.find("type=\"", at) + 6;
+    const std::size_t name = xml.find("Name=\"", at) + 6;
+    const std::size_t components = xml.find("NumberOfComponents=\"", at) + 20;
+    arrays.push_back(xml.substr(type, xml.find('"', type) - type) + " " + xml.substr(name, xml.find('"', name) - name) +
+                     " " + xml.substr(components, xml.find('"', components) - components));
+  }
+  return arrays;
+}
+}  // namespace
+
+TEST_CASE("solids_pvtp and fluid_pvtp declare the arrays their pieces hold and name every piece in order") {
+  // ParaView's reader takes each piece's arrays from the .pvtp's declarations: they must be the pieces' own, by type,
+  // name and components, in order, and the points' array too.
+  const World grains = initial_world(test::small_model());
+  const std::string pvtp = solids_pvtp({"solids_000003_0.vtp", "solids_000003_1.vtp"});
+  CHECK(declared_arrays(pvtp, "<PPointData", "</PPointData>", "<PDataArray") ==
+        declared_arrays(solids_vtp(*grains.solids), "<PointData", "</PointData>", "<DataArray"));
+  CHECK(declared_arrays(pvtp, "<PPoints", "</PPoints>", "<PDataArray") ==
+        declared_arrays(solids_vtp(*grains.solids), "<Points", "</Points>", "<DataArray"));
+  CHECK(pvtp.find("<VTKFile type=\"PPolyData\"") != std::string::npos);
+  const std::size_t first = pvtp.find("<Piece Source=\"solids_000003_0.vtp\"/>");
+  CHECK(first != std::string::npos);
+  CHECK(pvtp.find("<Piece Source=\"solids_000003_1.vtp\"/>") > first);
+  const World water = initial_world(test::fluid_model());
+  CHECK(declared_arrays(fluid_pvtp({"fluid_000000_0.vtp"}), "<PPointData", "</PPointData>", "<PDataArray") ==
+        declared_arrays(fluid_vtp(*water.fluid), "<PointData", "</PointData>", "<DataArray"));
+}
+
 TEST_CASE("fluid_vtp carries the MPS particles and their output fields exactly") {
   World world = initial_world(test::fluid_model());
   FluidParticles& fluid = *world.fluid;
