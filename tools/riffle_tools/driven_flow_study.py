@@ -16,6 +16,18 @@ Cases in a channel periodic along x and y ([tank] periodic = ["x", "y"]; 8 x 6 l
                  answer 1 - exp(-k z) is 10 % off at the lid); amplitude and phase per layer by least squares over
                  the last periods.
 
+A turbulent channel (water, nu = 1e-6 m^2/s; the scene defaults, so the SPS eddy viscosity as a scene sets it):
+  turbulent_couette
+                 a no-slip lid at U = 1 m/s over water H = 2 cm deep above a no-slip floor, periodic along x and y
+                 over 20 x 15 mm at every l0 (plane Couette at U H / nu = 2e4, turbulent), started from the linear
+                 profile, dt at the Courant limit 0.2 l0 / U, 3 s (--end). Measured over the last second: the shear
+                 stress tau (the mean of the lid's and the floor's; their sum says how far from steady), the effective
+                 viscosities nu_gap = tau H / (rho U) and nu_core = tau / (rho du/dz) (du/dz the mean profile's slope
+                 over the middle half), the velocity scatter about each layer's mean (u', w' over the middle half) and
+                 the SPS eddy viscosity there, against the smooth-wall log law carried to the centre line
+                 (U/2 = u* (ln(u* H / (2 nu)) / kappa + B), kappa = 0.41, B = 5.2): does the water's own scatter carry
+                 the stress as a viscosity that falls as l0 shrinks?
+
 Norm: e = sqrt(mean over layers of (u_layer - u_exact(z_layer))^2) / U_ref, u_layer the mean u_x of the fluid
 particles of one l0 layer (closed boxes: middle third in x only), U_ref the profile's maximum |u|; the order is the
 least-squares slope of log e against log l0. Poiseuille and Couette also give the L2 error relative over the fluid
@@ -227,6 +239,97 @@ def channel_exact(case, info, z):
     return info["U"] * z / info["H"]
 
 
+TURBULENT_HEIGHT, TURBULENT_LID, WATER_NU, WATER_RHO = 0.02, 1.0, 1.0e-6, 1000.0
+
+
+def turbulent_couette_scene(l0, end=3.0):
+    """Plane Couette flow of water at U H / nu = 2e4 (docs/cases/sheared-beds.md): a no-slip lid at 1 m/s over 2 cm
+    of water, lids 3 l0 thick, periodic over 20 x 15 mm (at least 8 x 6 l0), SPS eddy viscosity."""
+    height, wall = TURBULENT_HEIGHT, 3 * l0
+    length = round(max(8, round(0.020 / l0)) * l0, 12)
+    width = round(max(6, round(0.015 / l0)) * l0, 12)
+    top = round(wall + height, 12)
+    text = (f'[run]\nname = "turbulent_couette"\nend_time = {end}\ndt = {0.2 * l0 / TURBULENT_LID}\n'
+            f'gravity = [0.0, 0.0, 0.0]\n\n[materials.glass]\ndensity = 2500.0\n\n'
+            f'[tank]\nsize = [{length}, {width}, {round(height + 2 * wall, 12)}]\nwall_material = "glass"\n'
+            f'periodic = ["x", "y"]\n\n'
+            f'[fluid]\nspacing = {l0}\nkinematic_viscosity = {WATER_NU}\nclamp_negative_pressure = false\n'
+            f'turbulence = "sps"\n\n'
+            f'[fluid.initial_velocity]\nkind = "linear"\nbottom = {wall}\ntop = {top}\nvelocity = {TURBULENT_LID}\n\n'
+            f'[[fluid.boxes]]\nlow = [0.0, 0.0, {wall}]\nhigh = [{length}, {width}, {top}]\n\n'
+            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [{length}, {width}, {wall}]\nlid = "no_slip"\n\n'
+            f'[[fluid.wall_boxes]]\nlow = [0.0, 0.0, {top}]\nhigh = [{length}, {width}, {round(top + wall, 12)}]\n'
+            f'lid = "no_slip"\nvelocity = {TURBULENT_LID}\n\n'
+            f'[output]\nvtk_interval = 0.1\n[[output.probes]]\nkind = "driven_flow"\nname = "drive"\n'
+            f'interval = 0.01\n')
+    return text, dict(H=height, z0=wall, end=end)
+
+
+def log_law_stress(kappa=0.41, smooth=5.2):
+    """tau / rho of the smooth-wall log law carried to the centre line of the turbulent Couette case."""
+    u_star = 0.03
+    for _ in range(100):  # fixed point of u* = (U/2) / (ln(u* H / (2 nu)) / kappa + B)
+        u_star = 0.5 * TURBULENT_LID / (math.log(u_star * TURBULENT_HEIGHT / (2 * WATER_NU)) / kappa + smooth)
+    return u_star * u_star
+
+
+def study_turbulent(args):
+    smagorinsky = 0.12
+    for override in args.set:
+        if override.startswith("fluid.smagorinsky_constant="):
+            smagorinsky = float(override.split("=", 1)[1])
+    reference = log_law_stress()
+    print(f"smooth-wall log law to the centre line: tau/rho = {reference:.3e} m^2/s^2, u* = {math.sqrt(reference):.4f} "
+          f"m/s, nu_gap = {reference * TURBULENT_HEIGHT / TURBULENT_LID:.3e} m^2/s")
+    print("| l0 [mm] | H/l0 | particles | tau [Pa], last s (second-last s) | lid + floor [Pa] | nu_gap [m^2/s] | "
+          "du/dz core [1/s] | nu_core [m^2/s] | nu_SPS core [m^2/s] | u', w' core / u* |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for l0 in args.spacings:
+        text, info = turbulent_couette_scene(l0, args.end)
+        run_dir = args.out / f"turbulent_couette_{l0}"
+        if not (args.reuse and "finished at" in (run_dir / "riffle.log").read_text(errors="replace")
+                if (run_dir / "riffle.log").exists() else False):
+            run_dir = run(args.riffle, text, args.out, f"turbulent_couette_{l0}", args.set)
+        rows = probe_rows(run_dir, "drive")
+        times = np.array([float(r["time_s"]) for r in rows])
+        # lid0 is the floor (at rest), lid1 the moving lid; in a steady flow their stresses are equal and opposite.
+        floor = np.array([float(r["lid0_shear_Pa"]) if r["lid0_shear_Pa"] else math.nan for r in rows])
+        lid = np.array([float(r["lid1_shear_Pa"]) if r["lid1_shear_Pa"] else math.nan for r in rows])
+        shear = 0.5 * (lid - floor)
+        last_second = times > info["end"] - 1.0 + 1e-9
+        last = np.nanmean(shear[last_second])
+        before = np.nanmean(shear[(times > info["end"] - 2.0 + 1e-9) & ~last_second])
+        imbalance = np.nanmean(lid[last_second] + floor[last_second])
+        height = info["H"]
+        profiles, scatter_u, scatter_w, count = [], [], [], 0
+        for time, path in vtp.read_pvd(run_dir / "fluid.pvd"):
+            if time < info["end"] - 1.0 - 1e-9:
+                continue
+            frame = vtp.read_vtp(path, ["velocity", "kind"])
+            fluid = frame["kind"] == 0
+            zp = frame["points"][fluid, 2] - info["z0"]
+            count = int(fluid.sum())
+            # Layers l0 thick on a fixed grid over the water's depth (a particle that strays past either end counts in
+            # the end layer), so that every frame's profile has the same layers.
+            n_layers = int(round(height / l0))
+            layers = np.clip(np.floor(zp / l0).astype(int), 0, n_layers - 1)
+            z = (np.arange(n_layers) + 0.5) * l0
+            profiles.append(np.array([frame["velocity"][fluid][layers == k, 0].mean() for k in range(n_layers)]))
+            core = (zp > 0.25 * height) & (zp < 0.75 * height)
+            means = {layer: frame["velocity"][fluid][layers == layer].mean(axis=0) for layer in np.unique(layers[core])}
+            deviation = np.array([frame["velocity"][fluid][i] - means[layers[i]] for i in np.flatnonzero(core)])
+            scatter_u.append(np.sqrt(np.mean(deviation[:, 0] ** 2)))
+            scatter_w.append(np.sqrt(np.mean(deviation[:, 2] ** 2)))
+        profile = np.mean(profiles, axis=0)
+        core = (z > 0.25 * height) & (z < 0.75 * height)
+        slope = float(np.polyfit(z[core], profile[core], 1)[0])
+        u_star = math.sqrt(abs(last) / WATER_RHO)
+        print(f"| {1e3 * l0:g} | {height / l0:.0f} | {count} | {last:.4g} ({before:.4g}) | {imbalance:+.3g} | "
+              f"{abs(last) * height / (WATER_RHO * TURBULENT_LID):.3e} | {slope:.1f} | "
+              f"{abs(last) / (WATER_RHO * slope):.3e} | {(smagorinsky * l0) ** 2 * slope:.3e} | "
+              f"{np.mean(scatter_u) / u_star:.2f}, {np.mean(scatter_w) / u_star:.2f} |", flush=True)
+
+
 def study_channel(args):
     errors, particle_errors = [], []
     for l0 in args.spacings:
@@ -278,12 +381,18 @@ def study_channel(args):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("case", choices=["closed_lid", "closed_tilt", "poiseuille", "couette", "stokes2"])
+    parser.add_argument("case", choices=["closed_lid", "closed_tilt", "poiseuille", "couette", "stokes2",
+                                         "turbulent_couette"])
     parser.add_argument("--riffle", default="build/riffle")
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("/tmp/driven_flow_study"))
     parser.add_argument("--spacings", type=float, nargs="+", default=[0.01, 0.005])
     parser.add_argument("--dt-factor", type=float, default=1.0,
                         help="channel cases: dt as a multiple of the viscous limit 0.2 l0^2 / nu")
+    parser.add_argument("--reuse", action="store_true",
+                        help="turbulent_couette: analyse a finished run in --out instead of running it again (one "
+                             "taken further by `riffle resume ... --until T`: give --end T)")
+    parser.add_argument("--end", type=float, default=3.0,
+                        help="turbulent_couette: the runs' end [s]; the measures are over its last second")
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="a scene override passed to every riffle run (repeatable), e.g. "
                              "fluid.schemes.conservative_gradient=true")
@@ -292,6 +401,8 @@ def main(argv=None):
         study_lid(args)
     elif args.case == "closed_tilt":
         study_tilt(args)
+    elif args.case == "turbulent_couette":
+        study_turbulent(args)
     else:
         study_channel(args)
 
