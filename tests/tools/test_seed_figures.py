@@ -42,6 +42,40 @@ def write_pvd(path, entries):
                     + "\n".join(entries) + "\n</Collection>\n</VTKFile>\n")
 
 
+def check_pieces(work):
+    """A frame written in pieces over MPI ranks (.pvtp naming one .vtp per rank) reads as the whole frame: the pieces
+    joined and ordered by id, as a gathered frame is; a subset of fields keeps the id order; a piece with other
+    arrays is refused."""
+    vtk = work / "pieces" / "vtk"
+    vtk.mkdir(parents=True, exist_ok=True)
+    points = np.array([[0.0, 0.0, float(k)] for k in range(5)])
+    radius = np.array([1.0, 2.0, 3.0, 4.0, 5.0])
+    # rank 0 holds ids 3 and 1, rank 1 ids 4, 0 and 2
+    for rank, ids in ((0, [3, 1]), (1, [4, 0, 2])):
+        write_vtp(vtk / f"solids_000007_{rank}.vtp", points[ids],
+                  {"id": (np.array(ids), "UInt64"), "radius": (radius[ids], "Float64")})
+    (vtk / "solids_000007.pvtp").write_text(
+        '<?xml version="1.0"?>\n<VTKFile type="PPolyData" version="1.0" byte_order="LittleEndian" '
+        'header_type="UInt32">\n  <PPolyData GhostLevel="0">\n    <PPointData Scalars="radius">\n'
+        '      <PDataArray type="UInt64" Name="id" NumberOfComponents="1"/>\n'
+        '      <PDataArray type="Float64" Name="radius" NumberOfComponents="1"/>\n    </PPointData>\n'
+        '    <PPoints>\n      <PDataArray type="Float64" Name="Points" NumberOfComponents="3"/>\n    </PPoints>\n'
+        '    <Piece Source="solids_000007_0.vtp"/>\n    <Piece Source="solids_000007_1.vtp"/>\n'
+        '  </PPolyData>\n</VTKFile>\n')
+    frame = vtp.read_vtp(vtk / "solids_000007.pvtp")
+    assert frame["id"].tolist() == [0, 1, 2, 3, 4], frame["id"]
+    assert np.array_equal(frame["radius"], radius) and np.array_equal(frame["points"], points)
+    only = vtp.read_vtp(vtk / "solids_000007.pvtp", ["radius"])
+    assert sorted(only) == ["points", "radius"] and np.array_equal(only["radius"], radius), only
+    write_vtp(vtk / "solids_000007_1.vtp", points[[4, 0, 2]], {"id": (np.array([4, 0, 2]), "UInt64")})
+    try:
+        vtp.read_vtp(vtk / "solids_000007.pvtp")
+    except vtp.VtpError as error:
+        assert "other arrays" in str(error), error
+    else:
+        raise AssertionError("a piece without the radius was read")
+
+
 def check_velocity_gradient():
     """The least-squares gradient is exact for linear velocity fields, whatever the neighbours' arrangement: on a
     jittered lattice block (free faces and corners included) a simple shear u = (a z, 0, 0) has |S|^2 = a^2/2 and
@@ -306,6 +340,7 @@ def main():
                  "fig15_fluid_velocity.png", "fig17_19_force_balance.png", "fig19_z_force_profiles.png", "fig20_granular_temperature.png", "drift.png"):
         assert (out / name).stat().st_size > 1000, name
     check_velocity_gradient()
+    check_pieces(work)
     check_views(work)
     print(f"test_seed_figures: passed ({work})")
     return 0
