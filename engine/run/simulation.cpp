@@ -315,24 +315,6 @@ class CheckpointStore {
   std::string last_written_;
 };
 
-/// Frame k of a phase ("solids", "walls", "fluid") as the .pvd lists it, relative to the output folder: the .pvtp
-/// where the frame was written in pieces over ranks, else the .vtp (a run resumed on another rank count, or with
-/// another `output.vtk_pieces`, mixes the two).
-std::string frame_file(const fs::path& out, const char* phase, std::size_t k) {
-  char name[64];
-  std::snprintf(name, sizeof name, "vtk/%s_%06zu.pvtp", phase, k);
-  if (fs::exists(out / name)) return name;
-  std::snprintf(name, sizeof name, "vtk/%s_%06zu.vtp", phase, k);
-  return name;
-}
-
-/// Rewrites a phase's .pvd series listing every frame so far.
-void write_series(const fs::path& out, const char* phase, const std::vector<double>& frame_times) {
-  std::vector<std::string> files;
-  for (std::size_t k = 0; k < frame_times.size(); ++k) files.push_back(frame_file(out, phase, k));
-  write_text_file(out / (std::string(phase) + ".pvd"), pvd_collection(frame_times, files));
-}
-
 /// The file of frame k of a phase, "vtk/solids_000004.vtp" for `suffix` ".vtp".
 std::string frame_name(const char* phase, std::size_t k, const char* suffix) {
   char name[64];
@@ -340,15 +322,57 @@ std::string frame_name(const char* phase, std::size_t k, const char* suffix) {
   return name;
 }
 
+/// Which file each VTK frame of an output folder is in, for the .pvd series: the grains' and the water's frame k in
+/// pieces (a .pvtp naming one .vtp per rank, written over ranks) or whole (one .vtp); the walls always whole. Known
+/// for the frames this run wrote; those of an earlier run (before a resume, maybe on another rank count) are looked
+/// up on disk once each.
+class FrameFiles {
+ public:
+  explicit FrameFiles(fs::path out) : out_(std::move(out)) {}
+
+  void written(std::size_t k, bool pieces) {
+    in_pieces(k);
+    pieces_[k] = pieces;
+  }
+
+  /// Relative to the output folder, as the .pvd lists it.
+  std::string name(const char* phase, std::size_t k) {
+    const bool pieces = std::strcmp(phase, "walls") != 0 && in_pieces(k);
+    return frame_name(phase, k, pieces ? ".pvtp" : ".vtp");
+  }
+
+  /// Rewrites a phase's .pvd series listing every frame so far.
+  void write_series(const char* phase, const std::vector<double>& frame_times) {
+    std::vector<std::string> files;
+    for (std::size_t k = 0; k < frame_times.size(); ++k) files.push_back(name(phase, k));
+    write_text_file(out_ / (std::string(phase) + ".pvd"), pvd_collection(frame_times, files));
+  }
+
+ private:
+  bool in_pieces(std::size_t k) {
+    while (pieces_.size() <= k) {
+      const std::size_t j = pieces_.size();
+      pieces_.push_back(fs::exists(out_ / frame_name("solids", j, ".pvtp")) ||
+                        fs::exists(out_ / frame_name("fluid", j, ".pvtp")));
+    }
+    return pieces_[k];
+  }
+
+  fs::path out_;
+  std::vector<bool> pieces_;
+};
+
 /// Appends a VTK frame of every phase, one .vtp each, and rewrites the .pvd series that list all frames so far. A
 /// .pvtp of the same frame left by an earlier run over ranks is removed, so that the series names this frame.
-void write_vtk_frame(const fs::path& out, const World& world, const Model& model, OutputState& output) {
+void write_vtk_frame(const fs::path& out, const World& world, const Model& model, OutputState& output,
+                     FrameFiles& files) {
   const std::size_t index = output.frame_times.size();
   output.frame_times.push_back(world.time);
+  files.written(index, false);
   const auto write = [&](const char* phase, const std::string& text) {
     fs::remove(out / frame_name(phase, index, ".pvtp"));
     write_text_file(out / frame_name(phase, index, ".vtp"), text);
-    write_series(out, phase, output.frame_times);
+    files.write_series(phase, output.frame_times);
   };
   if (world.solids) write("solids", solids_vtp(*world.solids, periodic_box(model)));
   if (world.walls) write("walls", walls_vtp(*world.walls));
@@ -772,6 +796,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
 
   double stepping_seconds = 0.0;
   std::uint64_t unconverged_pressure_steps = 0;
+  FrameFiles frame_files(out);
   try {
     DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run,
                                   model_->fluid.body_force.kind != BodyForceModel::Kind::kNone);
@@ -782,7 +807,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
     if (model_->output.bed_profile_interval > 0.0 && world_.solids)
       bed_profile.emplace(*model_, out, world_, fresh_run);
     if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
-      write_vtk_frame(out, world_, *model_, output_);
+      write_vtk_frame(out, world_, *model_, output_, frame_files);
     if (fresh_run) {
       for (ProbeWriter& probe : probes) probe.write(world_);
       if (bed_profile) bed_profile->write(world_);
@@ -829,7 +854,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
       }
       if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
-      if (due(model_->output.vtk_interval, output_.frame_times.size())) write_vtk_frame(out, world_, *model_, output_);
+      if (due(model_->output.vtk_interval, output_.frame_times.size()))
+        write_vtk_frame(out, world_, *model_, output_, frame_files);
       for (ProbeWriter& probe : probes) probe.write_if_due(world_);
       if (bed_profile) bed_profile->write_if_due(world_);
       if (due(model_->output.checkpoint_interval, output_.checkpoints_due + 1)) checkpoints.save(*this, true);
@@ -911,7 +937,8 @@ std::string first_message_at_root(const std::string& message) {
 /// the walls (the same on every rank), a .pvtp per phase naming the pieces and the .pvd series. Collective: every
 /// rank calls it for the same frame. Returns the first failing rank's error at rank 0 ("" when all wrote; on the
 /// other ranks, "" or "failed").
-std::string write_vtk_pieces(const fs::path& out, const World& mine, const Model& model, OutputState& output) {
+std::string write_vtk_pieces(const fs::path& out, const World& mine, const Model& model, OutputState& output,
+                             FrameFiles& files) {
   const std::size_t index = output.frame_times.size();
   output.frame_times.push_back(mine.time);
   const int rank_count = ranks::size();
@@ -932,18 +959,19 @@ std::string write_vtk_pieces(const fs::path& out, const World& mine, const Model
     return ranks::rank() == 0 ? first : "failed";
   }
   if (ranks::rank() != 0) return "";
+  files.written(index, true);
   try {
     const auto parallel = [&](const char* phase, std::string (*pvtp)(const std::vector<std::string>&)) {
       std::vector<std::string> pieces;
       for (int rank = 0; rank < rank_count; ++rank) pieces.push_back(piece(phase, rank));
       write_text_file(out / frame_name(phase, index, ".pvtp"), pvtp(pieces));
       fs::remove(out / frame_name(phase, index, ".vtp"));
-      write_series(out, phase, output.frame_times);
+      files.write_series(phase, output.frame_times);
     };
     if (mine.solids) parallel("solids", solids_pvtp);
     if (mine.walls) {
       write_text_file(out / frame_name("walls", index, ".vtp"), walls_vtp(*mine.walls));
-      write_series(out, "walls", output.frame_times);
+      files.write_series("walls", output.frame_times);
     }
     if (mine.fluid) parallel("fluid", fluid_pvtp);
   } catch (const std::exception& error) {
@@ -1005,8 +1033,9 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   const fs::path out = options.out_dir;
   const fs::path vtk_dir = out / "vtk";
   const fs::path checkpoint_dir = out / "checkpoints";
-  // Rank 0 alone owns the output folder: it locks it, opens the log, writes every file. The other ranks write nothing
-  // and follow every decision rank 0 or any rank makes (each is a collective), so they all stop at the same step.
+  // Rank 0 alone owns the output folder: it locks it, opens the log, writes every file but the pieces of a frame,
+  // which each rank writes for itself. The other ranks follow every decision rank 0 or any rank makes (each is a
+  // collective), so they all stop at the same step.
   std::optional<OutputLock> lock;
   std::shared_ptr<spdlog::sinks::basic_file_sink_mt> file_sink;
   std::string set_up_problem;
@@ -1106,9 +1135,10 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   };
 
   // A frame in pieces, each rank its own (no gather), or gathered at rank 0 into one file as one rank writes it.
+  FrameFiles frame_files(out);  // rank 0's: the series it writes
   const bool frame_in_pieces = model_->output.vtk_pieces == OutputModel::VtkPieces::kPerRank && ranks::size() > 1;
   const auto write_pieces = [&] {
-    const std::string problem = write_vtk_pieces(out, world_, *model_, output_);
+    const std::string problem = write_vtk_pieces(out, world_, *model_, output_, frame_files);
     if (root && !problem.empty() && output_problem.empty()) output_problem = problem;
     return !ranks::any(!problem.empty());
   };
@@ -1126,7 +1156,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, whole, fresh_run);
       if (model_->output.bed_profile_interval > 0.0) bed_profile.emplace(*model_, out, whole, fresh_run);
       if (!frame_in_pieces && fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
-        write_vtk_frame(out, whole, *model_, output_);
+        write_vtk_frame(out, whole, *model_, output_, frame_files);
       if (fresh_run) {
         for (ProbeWriter& probe : probes) probe.write(whole);
         if (bed_profile) bed_profile->write(whole);
@@ -1213,7 +1243,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       const World whole = gathered_world(wanted == 2.0);
       const bool gathered_frame = frame && !frame_in_pieces;
       outputs_ok = write_on_root([&] {
-        if (gathered_frame) write_vtk_frame(out, whole, *model_, output_);
+        if (gathered_frame) write_vtk_frame(out, whole, *model_, output_, frame_files);
         for (ProbeWriter& probe : probes) probe.write_if_due(whole);
         if (bed_profile) bed_profile->write_if_due(whole);
       });

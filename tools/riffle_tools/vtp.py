@@ -5,7 +5,8 @@ the text of an array is base64 of one block, a UInt32 byte count followed by the
 one base64 run per array). Types used: Float64 (scalars and 3-vectors), Int32, Int64, UInt64. Points are the
 particle centres; point data are the component's output fields. A .pvd collection lists (time, file) pairs. A
 run over MPI ranks writes each frame in pieces, one .vtp per rank, named by a .pvtp (PPolyData); read_vtp reads a
-.pvtp as the whole frame, its pieces joined and ordered by id as a gathered frame is.
+.pvtp as the whole frame, its pieces joined and ordered by id (a whole frame of water has its fluid particles first,
+then walls and dummies: match particles by id or kind, not by index, across the two).
 
     from riffle_tools import vtp
     frames = vtp.read_pvd("out/run/solids.pvd")    # [(time_s, Path), ...] sorted by time
@@ -61,6 +62,7 @@ def read_vtp(path, fields=None):
     fields: optional iterable of point-data names to decode (others are skipped, which is faster); None = all.
     Cell data (walls.vtp) is returned under "cell:<name>"."""
     path = pathlib.Path(path)
+    fields = None if fields is None else tuple(fields)  # an iterator is read once
     try:
         root = ElementTree.parse(path).getroot()
     except (ElementTree.ParseError, OSError) as error:
