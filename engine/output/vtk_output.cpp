@@ -122,7 +122,6 @@ std::string particles_vtp(const Component& particles, const char* scalars, const
          connectivity_block("Verts", connectivity, offsets) + kFooter;
 }
 
-
 /// The .pvtp of a frame of `Component` in pieces: each output field as a PDataArray of its type and components.
 template <class Component>
 std::string particles_pvtp(const char* scalars, const std::vector<std::string>& pieces) {

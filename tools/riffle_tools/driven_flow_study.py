@@ -314,10 +314,11 @@ def study_turbulent(args):
             n_layers = int(round(height / l0))
             layers = np.clip(np.floor(zp / l0).astype(int), 0, n_layers - 1)
             z = (np.arange(n_layers) + 0.5) * l0
-            profiles.append(np.array([frame["velocity"][fluid][layers == k, 0].mean() for k in range(n_layers)]))
+            velocity = frame["velocity"][fluid]
+            means = np.array([velocity[layers == k].mean(axis=0) for k in range(n_layers)])
+            profiles.append(means[:, 0])
             core = (zp > 0.25 * height) & (zp < 0.75 * height)
-            means = {layer: frame["velocity"][fluid][layers == layer].mean(axis=0) for layer in np.unique(layers[core])}
-            deviation = np.array([frame["velocity"][fluid][i] - means[layers[i]] for i in np.flatnonzero(core)])
+            deviation = velocity[core] - means[layers[core]]
             scatter_u.append(np.sqrt(np.mean(deviation[:, 0] ** 2)))
             scatter_w.append(np.sqrt(np.mean(deviation[:, 2] ** 2)))
         profile = np.mean(profiles, axis=0)
