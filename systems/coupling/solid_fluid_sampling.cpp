@@ -171,9 +171,11 @@ void SolidFluidSampling::run(SystemContext& context) {
                            (3.0 * kernel_radius * kernel_radius * kernel_radius * share);
         const Vec3 own_force = own * drags->drag_force[grain];
         sampled.pressure_force[grain] -= own_force;
-        // The water's acceleration the added mass and history forces use is the undisturbed one too.
+        // The water's acceleration the added mass and history forces use is the undisturbed one too: g - grad p / rho
+        // with the same own part taken out of -V grad p, so own_force / (rho V) comes off it as well (a lone grain
+        // settling steadily in still water then reads Du/Dt = 0, and its added mass pushes nothing).
         if (fluid_acceleration_)
-          sampled.fluid_acceleration[grain] += own_force / (density_ * grain_volume(properties.radius[grain]));
+          sampled.fluid_acceleration[grain] -= own_force / (density_ * grain_volume(properties.radius[grain]));
       }
     }
   });

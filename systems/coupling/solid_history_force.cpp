@@ -14,13 +14,15 @@ SolidHistoryForce::SolidHistoryForce(const Model& model)
     : modes_(BassetModes::make(model.coupling.history_window, model.dt)),
       density_(model.water_density()),
       viscosity_(model.water_kinematic_viscosity() * model.water_density()),
-      fluid_velocity_(model.coupling.fluid_velocity) {}
+      fluid_velocity_(model.coupling.fluid_velocity),
+      self_induced_velocity_(model.coupling.self_induced_velocity) {}
 
 void SolidHistoryForce::run(SystemContext& context) {
   const GrainState& grains = context.read<GrainState>();
   const GrainProperties& properties = context.read<GrainProperties>();
   const GrainSampledFluid& sampled = context.read<GrainSampledFluid>();
   const GrainVoidage& voidages = context.read<GrainVoidage>();
+  const GrainDrag& drag = context.read<GrainDrag>();
   GrainAddedMass& added = context.write<GrainAddedMass>();
   const double dt = context.dt;
   // The modes' decay and gain over this step are the same for every grain (advance_basset_mode, once per mode).
@@ -40,7 +42,14 @@ void SolidHistoryForce::run(SystemContext& context) {
       for (auto& mode : added.history_mode) mode[grain] = Vec3::Zero();
       return;
     }
-    const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
+    // The grain's own disturbance as the correction carried it at the last sub-step (zero for a grain it does not
+    // apply to: solid_drag_law clears the lags), so the slip is the drag's, not the water the grain drags along.
+    const Vec3 own = self_induced_velocity_
+                         ? Vec3(drag.self_induced_fast[grain] + drag.self_induced_middle[grain] +
+                                drag.self_induced_slow[grain] + drag.self_induced_wall_x[grain] +
+                                drag.self_induced_wall_y[grain] + drag.self_induced_wall_z[grain])
+                         : Vec3::Zero();
+    const Vec3 relative = sampled.fluid_velocity[grain] - own - grains.velocity[grain];
     const Vec3 slip = relative / flux_share(fluid_velocity_, voidages.voidage[grain]);
     const Vec3 change = slip - added.history_relative_velocity[grain];
     added.history_relative_velocity[grain] = slip;

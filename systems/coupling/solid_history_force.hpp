@@ -2,6 +2,8 @@
 // The history (Basset) force on every grain, once per fluid step, right after the sampling (phase solid_step;
 // docs/COUPLING.md, "Added mass and history force"):
 //   F_H = 3/2 d^2 sqrt(pi rho mu) int K(t - tau) dw/dtau dtau,  w = u - v (the drag's slip),
+// u the undisturbed water at the grain, as the drag's and the added mass's (Maxey & Riley 1983): with the
+// self-induced correction on, the sampled velocity less the grain's own disturbance as the correction last carried it.
 // with the windowed kernel K of BassetModes (systems/physics/coupling/added_mass.hpp): each mode's state advances exactly for
 // a w that changed linearly since the last update. The states are grain fields (GrainAddedMass), so they follow the
 // grains through reorderings and checkpoints. The force is held over the step's sub-steps; the kicks add it to the
@@ -16,7 +18,7 @@ class SolidHistoryForce final : public System {
   explicit SolidHistoryForce(const Model& model);
   std::string_view name() const override { return "solid_history_force"; }
   Access access() const override {
-    return {component_ids<GrainState, GrainProperties, GrainSampledFluid, GrainVoidage>(),
+    return {component_ids<GrainState, GrainProperties, GrainSampledFluid, GrainVoidage, GrainDrag>(),
             component_ids<GrainAddedMass>()};
   }
   void run(SystemContext& context) override;
@@ -26,6 +28,7 @@ class SolidHistoryForce final : public System {
   double density_;           ///< [kg/m^3]
   double viscosity_;         ///< [Pa s]
   CouplingModel::FluidVelocity fluid_velocity_;  ///< the slip is (u - v) / flux_share, as the drag's
+  bool self_induced_velocity_;  ///< u less the grain's own disturbance (GrainDrag's lags), as the drag reads it
 };
 
 }  // namespace riffle

@@ -47,6 +47,8 @@ COMMANDS = [
     # verification and studies of the physics
     ("settling-study", "settling_study", "a lone sphere settling in still liquid against Schiller-Naumann "
                                          "(runs riffle)"),
+    ("ten-cate", "ten_cate", "ten Cate et al.'s sphere settling onto a box's floor against the measurements "
+                             "(runs riffle)"),
     ("hindered-settling", "hindered_settling", "hindered settling of a suspension against Richardson & Zaki "
                                                "(runs riffle)"),
     ("wet-restitution", "wet_restitution", "wet restitution against Stokes number, coupled (runs riffle)"),
