@@ -7,8 +7,8 @@ and gap against time (tests/data/ten_cate_2002_settling.csv, digitised from the 
 for the start from rest (the history of the water's answer), the speed the box's walls allow, and the approach to
 the floor. For each experiment and spacing the tool runs the scene with --set, reads the grain's probe and reports:
   - peak: the run's largest downward speed over the measured largest;
-  - start: the RMS over the measured points up to the measured peak of v_run(t) - v_exp(t), over the measured
-    largest speed (the start from rest, where the water's answer builds up: the history force's part);
+  - start: the RMS over the measured points until the measured speed first reaches 95 % of its peak of
+    v_run(t) - v_exp(t), over the measured largest speed (the start from rest, where the water's answer builds up: the history force's part);
   - gap(t): the RMS over the measured gap points of gap_run(t) - gap_exp(t), in diameters (the fall's timing);
   - approach: the RMS over gaps of 1 to 6 diameters (every 0.05 d) of v_run(gap) - v_exp(gap), over the measured
     largest speed (v_exp(gap) pairs each measured speed with the measured gap at its time); its shape, the RMS of
@@ -106,7 +106,9 @@ def compare(run, measured):
     scale = max(mv)
     # the measured landing: the first measured gap below LANDED_GAP, else the last point
     landing = next((t for t, g in m_gap if g < LANDED_GAP), gt[-1])
-    peak_time = mt[mv.index(scale)]
+    # the start: until the measured speed first reaches 95 % of its peak (the plateau is flat, and its measured
+    # peak can come late in it, after a fast run has landed)
+    peak_time = next(t for t, v in m_speed if v >= 0.95 * scale)
     speed_sq = [(interpolate(times, speeds, t) - v) ** 2 for t, v in m_speed if 0.0 <= t <= peak_time]
     gap_sq = [(interpolate(times, gaps, t) - g) ** 2 for t, g in m_gap if 0.0 <= t <= landing and g >= LANDED_GAP]
     # the run's speed against its gap, up to its first landing
