@@ -1,5 +1,6 @@
 #include "systems/coupling/solid_history_force.hpp"
 
+#include "systems/coupling/solid_drag.hpp"
 #include "systems/physics/coupling/drag_law.hpp"
 
 #include <array>
@@ -15,7 +16,7 @@ SolidHistoryForce::SolidHistoryForce(const Model& model)
       density_(model.water_density()),
       viscosity_(model.water_kinematic_viscosity() * model.water_density()),
       fluid_velocity_(model.coupling.fluid_velocity),
-      self_induced_velocity_(model.coupling.self_induced_velocity) {}
+      coupling_(model.coupling) {}
 
 void SolidHistoryForce::run(SystemContext& context) {
   const GrainState& grains = context.read<GrainState>();
@@ -42,15 +43,17 @@ void SolidHistoryForce::run(SystemContext& context) {
       for (auto& mode : added.history_mode) mode[grain] = Vec3::Zero();
       return;
     }
-    // The grain's own disturbance as the correction carried it at the last sub-step (zero for a grain it does not
-    // apply to: solid_drag_law clears the lags), so the slip is the drag's, not the water the grain drags along.
-    const Vec3 own = self_induced_velocity_
+    // The grain's own disturbance as the correction carried it at the last sub-step, for a grain it applies to at
+    // this step's voidage (solid_drag_law clears the lags of the others, but after this system), so the slip is the
+    // drag's, not the water the grain drags along.
+    const double voidage = voidages.voidage[grain];
+    const Vec3 own = carries_self_induced_disturbance(coupling_, sampled.fluid_weight[grain], voidage)
                          ? Vec3(drag.self_induced_fast[grain] + drag.self_induced_middle[grain] +
                                 drag.self_induced_slow[grain] + drag.self_induced_wall_x[grain] +
                                 drag.self_induced_wall_y[grain] + drag.self_induced_wall_z[grain])
                          : Vec3::Zero();
     const Vec3 relative = sampled.fluid_velocity[grain] - own - grains.velocity[grain];
-    const Vec3 slip = relative / flux_share(fluid_velocity_, voidages.voidage[grain]);
+    const Vec3 slip = relative / flux_share(fluid_velocity_, voidage);
     const Vec3 change = slip - added.history_relative_velocity[grain];
     added.history_relative_velocity[grain] = slip;
     Vec3 integral = Vec3::Zero();

@@ -28,7 +28,7 @@ class SolidHistoryForce final : public System {
   double density_;           ///< [kg/m^3]
   double viscosity_;         ///< [Pa s]
   CouplingModel::FluidVelocity fluid_velocity_;  ///< the slip is (u - v) / flux_share, as the drag's
-  bool self_induced_velocity_;  ///< u less the grain's own disturbance (GrainDrag's lags), as the drag reads it
+  CouplingModel coupling_;  ///< which grains carry the self-induced correction: u less their own disturbance
 };
 
 }  // namespace riffle

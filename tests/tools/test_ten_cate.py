@@ -62,6 +62,24 @@ def main():
     check(0.01 < faster["start_rms"] < 0.05, f"5 % faster: start RMS {faster['start_rms']:.4f}")
     check(abs(faster["run_at_1d"] - same["exp_at_1d"]) < 1e-3, "a uniform factor leaves v / v_peak alone")
 
+    check(faster["shape_rms"] < 1e-3, f"a uniform factor leaves the approach's shape alone: {faster['shape_rms']:.2e}")
+    check(abs(faster["run_at_half_d"] - same["exp_at_half_d"]) < 1e-3, "a uniform factor leaves v / v_peak at 0.5 d")
+
+    # E1 lands within the measured record (gaps below 0.1 d): the landing cut and the start window ending at 95 %
+    # of the peak are exercised; a run slow by 20 % over the start only (before 0.4 s) is seen there and not after.
+    e1 = data["E1"]
+    same1 = ten_cate.compare(as_run(e1), e1)
+    check(same1["start_rms"] < 1e-3 and same1["approach_rms"] < 1e-3 and same1["gap_rms"] < 1e-3,
+          f"E1 against itself: {same1}")
+    times, gaps, speeds = as_run(e1)
+    slow_start = [v * (0.8 if t < 0.4 else 1.0) for t, v in zip(times, speeds)]
+    late = ten_cate.compare((times, gaps, slow_start), e1)
+    check(late["start_rms"] > 0.05, f"a start 20 % slow: start RMS {late['start_rms']:.3f}")
+    check(late["approach_rms"] < 1e-3, f"a start 20 % slow leaves the approach: {late['approach_rms']:.2e}")
+    never = ten_cate.compare(([0.0, 1.0], [8.0, 8.0], [0.0, 0.0]), e1)
+    check(all(math.isnan(never[k]) for k in ("approach_rms", "shape_rms", "start_rms")),
+          "a run that never falls has no approach to compare")
+
     early = ten_cate.compare(as_run(e2, time_shift=0.2), e2)
     check(early["gap_rms"] > 0.3, f"a fall 0.2 s ahead: gap RMS {early['gap_rms']:.3f} d")
     check(math.isfinite(early["approach_rms"]), "a fall ahead still has an approach")
