@@ -119,9 +119,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
 
   // The speed the spread force moves through the water at, far from the grain: its velocity relative to the
   // undisturbed water, estimated with the disturbance carried from the last sub-step.
-  const Vec3 carried_disturbance = drag.self_induced_fast[grain] + drag.self_induced_middle[grain] +
-                                   drag.self_induced_slow[grain] + drag.self_induced_wall_x[grain] +
-                                   drag.self_induced_wall_y[grain] + drag.self_induced_wall_z[grain];
+  const Vec3 carried_disturbance = carried_self_induced_disturbance(drag, grain);
   const double relative_speed = (sampled_velocity - carried_disturbance - velocity).norm();
   const double reynolds_r = relative_speed * kernel_radius / nu;
   // The other grains around screen the disturbance (Brinkman): the water between them is resisted by

@@ -24,6 +24,13 @@ inline bool carries_self_induced_disturbance(const CouplingModel& coupling, doub
 /// A grain without the correction: no disturbance in any mode or wall lag, and no undisturbed velocity.
 void clear_self_induced_disturbance(GrainDrag& drag, std::size_t grain);
 
+/// The grain's own disturbance as the correction carried it from its last sub-step: the modes' and the walls' lags
+/// summed (the sampled velocity less this is the undisturbed water, before this sub-step's update).
+inline Vec3 carried_self_induced_disturbance(const GrainDrag& drag, std::size_t grain) {
+  return drag.self_induced_fast[grain] + drag.self_induced_middle[grain] + drag.self_induced_slow[grain] +
+         drag.self_induced_wall_x[grain] + drag.self_induced_wall_y[grain] + drag.self_induced_wall_z[grain];
+}
+
 class SolidDrag final : public System {
  public:
   explicit SolidDrag(const Model& model);

@@ -48,9 +48,7 @@ void SolidHistoryForce::run(SystemContext& context) {
     // drag's, not the water the grain drags along.
     const double voidage = voidages.voidage[grain];
     const Vec3 own = carries_self_induced_disturbance(coupling_, sampled.fluid_weight[grain], voidage)
-                         ? Vec3(drag.self_induced_fast[grain] + drag.self_induced_middle[grain] +
-                                drag.self_induced_slow[grain] + drag.self_induced_wall_x[grain] +
-                                drag.self_induced_wall_y[grain] + drag.self_induced_wall_z[grain])
+                         ? carried_self_induced_disturbance(drag, grain)
                          : Vec3::Zero();
     const Vec3 relative = sampled.fluid_velocity[grain] - own - grains.velocity[grain];
     const Vec3 slip = relative / flux_share(fluid_velocity_, voidage);

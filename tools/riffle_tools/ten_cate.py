@@ -32,6 +32,8 @@ import shutil
 import subprocess
 import sys
 
+from riffle_tools import settling_study
+
 DIAMETER = 0.015
 # ten Cate et al. 2002, Table 1: oil density [kg/m^3], dynamic viscosity [Pa s], the unbounded terminal speed [m/s];
 # the end of each run (s), past the measured landing.
@@ -92,13 +94,9 @@ def speed_against_gap(times, speeds, gaps, gap_times):
 
 
 def read_run(path):
-    times, gaps, speeds = [], [], []
-    with open(path) as handle:
-        for row in csv.DictReader(handle):
-            times.append(float(row["time_s"]))
-            gaps.append((float(row["grain0_z_m"]) - DIAMETER / 2.0) / DIAMETER)
-            speeds.append(-float(row["grain0_vz_m_s"]))
-    return times, gaps, speeds
+    """(times, gaps over d, downward speeds) of the grain's probe (settling-study's reader)."""
+    times, heights, speeds = settling_study.read_probe(path)
+    return times, [(z - DIAMETER / 2.0) / DIAMETER for z in heights], speeds
 
 
 def compare(run, measured):
