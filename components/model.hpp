@@ -406,9 +406,22 @@ struct CouplingModel {
   /// Added mass C_a(eps) rho V (Du/Dt - dv/dt), C_a = 1/2 (1 + 2 phi)/(1 - phi) (Zuber 1964), integrated
   /// implicitly in the grains' kicks; the water takes it back (docs/COUPLING.md, "Added mass and history force").
   bool added_mass = false;
-  /// The history (Basset) force with a windowed kernel of exponential modes (solid_history_force).
+  /// The history force with a windowed kernel of exponential modes (solid_history_force), on dilute grains (voidage
+  /// above 0.8: a lone sphere's kernel); inside a bed it is zero and its memory restarts when the grain leaves.
+  /// A scene turns it on unless it says otherwise wherever added mass and the self-induced correction are both on
+  /// (the unsteady forces of Maxey & Riley on the undisturbed slip: engine/scene/scene.cpp); a Model built in code
+  /// starts with it off.
   bool history_force = false;
-  double history_window = 0.1;  ///< [s] the kernel is t^(-1/2) up to about window/30 and decays as exp(-t/window)
+  /// coupling.history_kernel: kMeiAdrian ("mei_adrian", the default) Mei & Adrian's (1992) finite-Re kernel, t^(-1/2)
+  /// for t << t_H and t^(-2) beyond, t_H = 1.08 nu f_H^2 / |w|^2 (systems/physics/coupling/added_mass.hpp); kBasset
+  /// ("basset") Basset's t^(-1/2), exact only for Re_p << 1.
+  enum class HistoryKernel { kMeiAdrian, kBasset };
+  static constexpr SceneNames<HistoryKernel, 2> kHistoryKernelNames{{{"mei_adrian", HistoryKernel::kMeiAdrian},
+                                                                     {"basset", HistoryKernel::kBasset}}};
+  HistoryKernel history_kernel = HistoryKernel::kMeiAdrian;
+  /// [s] the modes' longest memory: the kernel is itself up to about window/30 and decays as exp(-t/window) beyond.
+  /// With Mei & Adrian's kernel a numerical bound only (t_H is 0.01-0.3 s for grains at Re_p 1-100 in water and oil).
+  double history_window = 1.0;
   /// Drag and pressure force from the water the grain would see without its own disturbance (docs/COUPLING.md,
   /// "The undisturbed fluid velocity"): the drag reaction is spread with the sampling kernel, and the grain's own
   /// regularised Stokes/Oseen disturbance (Balachandar et al. 2019), built up over time and held back by the tank's

@@ -197,8 +197,15 @@ struct GrainAddedMass {
       "history_mode_0", "history_mode_1", "history_mode_2", "history_mode_3",
       "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7"};
 
-  std::vector<Vec3> added_mass_force;  ///< [N] C_a rho V (Du/Dt - dv/dt), as applied by the last half kick
-  std::vector<Vec3> history_force;     ///< [N] windowed Basset history force, held over a fluid step
+  /// [N] (m_a + m_H) (Du/Dt - dv/dt) as applied by the last half kick: the added mass C_a rho V and the history
+  /// force's own step (history_mass), both implicit
+  std::vector<Vec3> added_mass_force;
+  /// [N] the history force of the slip's changes before this fluid step, at the step's end, held over it
+  std::vector<Vec3> history_force;
+  /// [kg] m_H: the history force of the step's own change of slip is m_H (Du/Dt - dv/dt) at the step's end (the
+  /// kernel's integral over one step), taken implicitly by the kicks beside the added mass: explicit, it drives a
+  /// light grain in a viscous liquid unstable once m_H passes its mass (m_H / m = 18 (rho mu dt / pi)^(1/2) / (rho_s d))
+  std::vector<double> history_mass;
   /// [m/s] the relative velocity u - v at the last history update (the slip of the drag law)
   std::vector<Vec3> history_relative_velocity;
   /// [m/s] the states z_k = int exp(-s_k (t - tau)) dw/dtau dtau of the history kernel's exponential modes
@@ -210,6 +217,7 @@ struct GrainAddedMass {
   static void for_each_field(Self& self, Visit&& visit) {
     visit(FieldInfo{"added_mass_force", "N", true, 0.0, 6}, self.added_mass_force);
     visit(FieldInfo{"history_force", "N", true, 0.0, 6}, self.history_force);
+    visit(FieldInfo{"history_mass", "kg", false, 0.0, 14}, self.history_mass);
     visit(FieldInfo{"history_relative_velocity", "m/s", false, 0.0, 6}, self.history_relative_velocity);
     for (std::size_t k = 0; k < kHistoryModes; ++k)
       visit(FieldInfo{kHistoryModeNames[k], "m/s", false, 0.0, 6}, self.history_mode[k]);
@@ -240,7 +248,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
 
   /// The order in which checkpoints (frozen by format 4) and VTK frames write the fields: the order of the one table
   /// before the split into roles (for_each_field_in_order); fields added since (format 6 on) at the end.
-  static constexpr std::array<const char*, 44> kFieldOrder = {
+  static constexpr std::array<const char*, 45> kFieldOrder = {
       "id",           "position",       "velocity",       "angular_velocity", "radius",
       "mass",         "moment_of_inertia", "force",      "torque",           "contact_force",
       "contact_torque", "drag_force",   "drag_impulse",   "pressure_force",   "fluid_velocity",
@@ -250,7 +258,7 @@ struct Solids : EntityGroup<GrainState, GrainProperties, GrainTotalForce, GrainC
       "history_mode_4", "history_mode_5", "history_mode_6", "history_mode_7",
       "self_induced_fast", "self_induced_middle", "self_induced_slow", "viscous_force", "fixed",
       "fluctuation_state", "self_induced_wall_x", "self_induced_wall_y", "self_induced_wall_z",
-      "ergun_resistance", "ergun_inertial_resistance"};
+      "ergun_resistance", "ergun_inertial_resistance", "history_mass"};
 
   EntityId next_id = 0;  ///< the id the next added sphere gets
 

@@ -28,8 +28,9 @@ namespace riffle {
 // fluid's column (World::mean_flow; absent in older files); 10: the grains' fluctuation_state ([mean_flow]
 // fluctuations); 11: the walls' part of the grains' own disturbance (self_induced_wall_x, _y, _z); 12: the fluid
 // particles removed by reason and the bulk-velocity controller's integral (FluidSummary); 13: without the pairs'
-// forces and torques (Contacts::kLastFormatWithPairForces: the contact pass adds them to the grains directly).
-inline constexpr std::uint32_t kCheckpointVersion = 13;
+// forces and torques (Contacts::kLastFormatWithPairForces: the contact pass adds them to the grains directly); 14: the
+// history force's implicit mass (history_mass: the kicks take the step's own part of the history force implicitly).
+inline constexpr std::uint32_t kCheckpointVersion = 14;
 /// The first format with the mean-flow column.
 inline constexpr std::uint32_t kFirstCheckpointVersionWithMeanFlow = 9;
 /// The oldest format still read: format 4 differs from 5 only by FluidSummary's last_dt (components/fluid.hpp), and

@@ -636,6 +636,11 @@ bool default_self_induced_velocity(const Model& model, double sampling_vertical_
   return model.fluid.enabled && sampling_vertical_radius == 0.0;
 }
 bool default_added_mass(const Model& model) { return model.fluid.enabled; }
+// The history force needs the slip of the undisturbed water (the self-induced correction) and belongs with the added
+// mass (both are the unsteady part of Maxey & Riley's equation): on where both are.
+bool default_history_force(const Model& model, bool added_mass, bool self_induced_velocity) {
+  return model.fluid.enabled && added_mass && self_induced_velocity && model.dt * 10.0 <= CouplingModel{}.history_window;
+}
 bool default_lift(const Model& model) { return model.mean_flow.enabled; }
 
 }  // namespace
@@ -676,11 +681,6 @@ void read_coupling(TableReader& coupling, Model& model) {
       coupling.number("newton_drag_coefficient", out.newton_drag_coefficient, "1", Bounds::positive());
   read_lubrication(coupling, model);
   out.added_mass = coupling.boolean("added_mass", default_added_mass(model));
-  out.history_force = coupling.boolean("history_force", false);
-  out.history_window = coupling.number("history_window", out.history_window, "s", Bounds::positive());
-  // The modes resolve the kernel from the fluid step up: a window of a few steps would be no history at all.
-  if (out.history_force && out.history_window < 10.0 * model.dt)
-    coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
   out.dense_drag = enum_choice(coupling, "dense_drag", out.dense_drag, CouplingModel::kDenseDragNames);
   out.fluid_velocity = enum_choice(coupling, "fluid_velocity", out.fluid_velocity, CouplingModel::kFluidVelocityNames);
   out.lift = coupling.boolean("lift", default_lift(model));
@@ -704,6 +704,14 @@ void read_coupling(TableReader& coupling, Model& model) {
   if (out.self_induced_velocity && out.sampling_vertical_radius > 0.0)
     coupling.problem("sampling_vertical_radius", "self_induced_velocity assumes the isotropic sampling kernel; "
                                                  "leave sampling_vertical_radius at 0 with it");
+  out.history_force =
+      coupling.boolean("history_force", default_history_force(model, out.added_mass, out.self_induced_velocity));
+  out.history_kernel =
+      enum_choice(coupling, "history_kernel", out.history_kernel, CouplingModel::kHistoryKernelNames);
+  out.history_window = coupling.number("history_window", out.history_window, "s", Bounds::positive());
+  // The modes resolve the kernel from the fluid step up: a window of a few steps would be no history at all.
+  if (out.history_force && out.history_window < 10.0 * model.dt)
+    coupling.problem("history_window", "must be at least 10 run.dt (" + std::to_string(10.0 * model.dt) + " s)");
   if (!out.enabled)
     coupling.problem("drag", "[coupling] needs [solids] and a fluid ([fluid] or [mean_flow]) in the scene");
   coupling.finish();
@@ -741,6 +749,8 @@ Model parse_scene(const std::string& text, const std::string& file_name, const S
   } else if (model.coupling.enabled) {  // the same defaults as an empty [coupling] table
     model.coupling.self_induced_velocity = default_self_induced_velocity(model, model.coupling.sampling_vertical_radius);
     model.coupling.added_mass = default_added_mass(model);
+    model.coupling.history_force =
+        default_history_force(model, model.coupling.added_mass, model.coupling.self_induced_velocity);
     model.coupling.lift = default_lift(model);
   }
   settle_mean_flow_coupling(scene, model);

@@ -39,6 +39,7 @@ void SolidDrag::run(SystemContext& context) {
   const GrainProperties& properties = context.read<GrainProperties>();
   const GrainSampledFluid& sampled = context.read<GrainSampledFluid>();
   const GrainVoidage& voidages = context.read<GrainVoidage>();
+  const GrainAddedMass& added = context.read<GrainAddedMass>();
   GrainDrag& drag = context.write<GrainDrag>();
   const double density = density_;
   const double viscosity = kinematic_viscosity_ * density;
@@ -62,8 +63,12 @@ void SolidDrag::run(SystemContext& context) {
     // passes the grain at (u - u_s) / eps; the seed's reading takes u as the pore velocity itself.
     const double share = flux_share(model_.fluid_velocity, voidage);
     if (carries_self_induced_disturbance(model_, sampled.fluid_weight[grain], voidage)) {
+      // The water takes back the added-mass and history forces with the drag (fluid_drag_reaction): their reaction
+      // disturbs it as the drag's does (the added mass's as the last half kick applied it, the history's memory
+      // as held over the step; both zero when off).
+      const Vec3 inertial_force = added.added_mass_force[grain] + added.history_force[grain];
       drag_without_own_disturbance(grain, grains, properties, sampled, voidage, share, dt, fluid_step, tank_shift,
-                                   drag);
+                                   inertial_force, drag);
     } else {
       const Vec3 relative = sampled.fluid_velocity[grain] - grains.velocity[grain];
       const Vec3 slip = relative / share;
@@ -106,7 +111,7 @@ void clear_self_induced_disturbance(GrainDrag& drag, std::size_t grain) {
 void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState& grains,
                                              const GrainProperties& properties, const GrainSampledFluid& sampled,
                                              double voidage, double flux_share, double dt, double fluid_step,
-                                             const Vec3& tank_shift, GrainDrag& drag) {
+                                             const Vec3& tank_shift, const Vec3& inertial_force, GrainDrag& drag) {
   const double density = fluid_.density;
   const double nu = fluid_.kinematic_viscosity;
   const double viscosity = nu * density;
@@ -127,12 +132,11 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // (the self-corrected voidage) and is not screened.
   // Only with the self-corrected voidage estimate: the cloud-in-cell reading counts the grain's own volume, so a lone
   // grain would screen itself.
-  const bool screened = model_.voidage_estimate == CouplingModel::VoidageEstimate::kSelfCorrected;
-  const double solid_fraction = screened ? std::max(0.0, 1.0 - voidage) : 0.0;
   // The drag per grain volume at the sub-step's known slip: the suspension's resistance here, the walls' bound below.
   const double known_drag_per_volume =
       drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_);
-  const double resistance_per_volume = solid_fraction * known_drag_per_volume / flux_share;
+  const double resistance_per_volume = suspension_resistance_per_volume(model_, voidage, diameter, relative_speed,
+                                                                        flux_share, density, viscosity);
   const double kernel_over_screening = kernel_radius * std::sqrt(resistance_per_volume / viscosity);
   const double brinkman = self_induced_brinkman_factor(kernel_over_screening);
   // The slow mode is the far field (Re_R); the fast and middle ones the kernel's scale (Re_near).
@@ -238,7 +242,9 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
     resistance_gain += (1.0 - wall_keep[axis]) * wall_resistance_share[axis];
   }
   gain_share = gain_share.cwiseMax(0.0);
-  const Vec3 rhs = sampled_velocity - velocity - carried;
+  // The known forces beside the drag (added mass, history) push the water too: u_self,new gains -K diag(m) F_I / s.
+  const Vec3 rhs = sampled_velocity - velocity - carried +
+                   (mobility / flux_share) * Vec3(gain_share.cwiseProduct(inertial_force));
   const auto gains = [&](double slip_length) {
     const double coefficient = drag_per_volume(voidage, diameter, slip_length / flux_share, density, viscosity, model_);
     return Vec3((mobility * coefficient * volume / (flux_share * flux_share)) * gain_share + resistance_gain);
@@ -247,14 +253,15 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   const Vec3 slip = relative / flux_share;
   const double coefficient = drag_per_volume(voidage, diameter, slip.norm(), density, viscosity, model_);
   const Vec3 force = coefficient * volume * slip;
+  const Vec3 on_water = force + inertial_force;  // all the water takes back from this grain
   Vec3 disturbance = Vec3::Zero();
   for (int m = 0; m < SelfInducedModes::kCount; ++m) {
     *modes[m] = keep[m] * *modes[m] -
-                (amplitudes[static_cast<std::size_t>(m)] * brinkman * (1.0 - keep[m]) * mobility / flux_share) * force;
+                (amplitudes[static_cast<std::size_t>(m)] * brinkman * (1.0 - keep[m]) * mobility / flux_share) * on_water;
     disturbance += *modes[m];
   }
   for (int axis = 0; axis < 3; ++axis) {
-    const Vec3 target = (mobility / flux_share) * Vec3(wall_reduction[axis].cwiseProduct(force)) -
+    const Vec3 target = (mobility / flux_share) * Vec3(wall_reduction[axis].cwiseProduct(on_water)) -
                         Vec3(wall_resistance_share[axis].cwiseProduct(relative));
     *walls[axis] = wall_keep[axis] * *walls[axis] + (1.0 - wall_keep[axis]) * target;
     disturbance += *walls[axis];

@@ -4,9 +4,11 @@
 // also integrated over the sub-steps (drag_impulse), so the fluid can take back exactly what the grains received
 // (fluid_drag_reaction). With coupling.self_induced_velocity, the drag uses the undisturbed velocity: the sampled
 // one less the grain's own disturbance (systems/physics/coupling/self_induced.hpp), solved together with the drag.
+#include <algorithm>
 #include <array>
 #include <vector>
 
+#include "systems/physics/coupling/drag_law.hpp"
 #include "systems/system.hpp"
 
 namespace riffle {
@@ -19,6 +21,21 @@ inline constexpr double kSelfInducedMinVoidage = 0.8;
 /// Whether the self-induced correction acts on a grain: it has water around it (`fluid_weight` > 0) and is dilute.
 inline bool carries_self_induced_disturbance(const CouplingModel& coupling, double fluid_weight, double voidage) {
   return coupling.self_induced_velocity && fluid_weight > 0.0 && voidage > kSelfInducedMinVoidage;
+}
+
+/// [kg / (m^3 s)] mu / l_B^2: the other grains' resistance to the water around a grain (Brinkman 1947), (1 - eps)
+/// times the drag per grain volume at the slip speed `relative_speed` (the undisturbed water's), over the flux share.
+/// It screens the grain's disturbance beyond l_B (the self-induced correction) and ends its history's memory after
+/// l_B^2 / nu (the history force). Zero for a lone grain, and with the cloud-in-cell voidage, which counts the
+/// grain's own volume (a lone grain would screen itself).
+inline double suspension_resistance_per_volume(const CouplingModel& coupling, double voidage, double diameter,
+                                               double relative_speed, double flux_share, double density,
+                                               double viscosity) {
+  if (coupling.voidage_estimate != CouplingModel::VoidageEstimate::kSelfCorrected) return 0.0;
+  const double solid_fraction = std::max(0.0, 1.0 - voidage);
+  if (solid_fraction <= 0.0) return 0.0;
+  return solid_fraction *
+         drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, coupling) / flux_share;
 }
 
 /// A grain without the correction: no disturbance in any mode or wall lag, and no undisturbed velocity.
@@ -36,14 +53,16 @@ class SolidDrag final : public System {
   explicit SolidDrag(const Model& model);
   std::string_view name() const override { return "solid_drag"; }
   Access access() const override {
-    return {component_ids<GrainState, GrainProperties, GrainSampledFluid, GrainVoidage>(), component_ids<GrainDrag>()};
+    return {component_ids<GrainState, GrainProperties, GrainSampledFluid, GrainVoidage, GrainAddedMass>(),
+            component_ids<GrainDrag>()};
   }
   void run(SystemContext& context) override;
 
  private:
   void drag_without_own_disturbance(std::size_t grain, const GrainState& grains, const GrainProperties& properties,
                                     const GrainSampledFluid& sampled, double voidage, double flux_share, double dt,
-                                    double fluid_step, const Vec3& tank_shift, GrainDrag& drag);
+                                    double fluid_step, const Vec3& tank_shift, const Vec3& inertial_force,
+                                    GrainDrag& drag);
 
   /// The walls' part of the disturbance: the tank's faces that hold the water (not open, not periodic) along each
   /// axis, and where they stand at rest.

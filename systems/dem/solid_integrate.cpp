@@ -45,8 +45,9 @@ struct InertialForces {
   GrainAddedMass& added;
 };
 
-/// A half kick with added mass (implicit) and the history force: the linear momentum the fluid gave the grain
-/// beyond F (m_a (a_f - dv/dt) + F_H, times half_dt) goes to its drag impulse for the water to take back.
+/// A half kick with added mass and the history force's own step (both implicit, m_a + m_H) and the history of the
+/// earlier steps: the linear momentum the fluid gave the grain beyond F ((m_a + m_H) (a_f - dv/dt) + F_H, times
+/// half_dt) goes to its drag impulse for the water to take back. added_mass_force holds both implicit parts.
 void half_kick_inertial(GrainState& grains, const GrainProperties& properties, const GrainTotalForce& total,
                         const InertialForces& fluid, const Vec3& gravity, double half_dt, std::size_t begin,
                         std::size_t end) {
@@ -68,7 +69,10 @@ void half_kick_inertial(GrainState& grains, const GrainProperties& properties, c
             ? stable_added_mass_coefficient(fluid.voidages.voidage[i], fluid.settings.fluid_velocity)
             : 0.0;
     const double added_mass = coefficient * density_volume * (r * r * r);
-    const AddedMassKick kick = added_mass_kick(total.force[i] + history, properties.mass[i], added_mass, gravity,
+    // The history force of the step's own change of slip, m_H (a_f - dv/dt), is implicit beside the added mass.
+    const double history_mass = fluid.settings.history && wet ? fluid.added.history_mass[i] : 0.0;
+    const double implicit_mass = added_mass + history_mass;
+    const AddedMassKick kick = added_mass_kick(total.force[i] + history, properties.mass[i], implicit_mass, gravity,
                                                fluid.sampled.fluid_acceleration[i], half_dt);
     grains.velocity[i] += kick.velocity_change;
     grains.angular_velocity[i] += (half_dt / properties.moment_of_inertia[i]) * total.torque[i];

@@ -176,7 +176,7 @@ TEST_CASE("each role's table lists every field of its struct, and the group's wr
                                             "history_mode_7", "self_induced_fast",
                                             "self_induced_middle", "self_induced_slow", "viscous_force", "fixed", "fluctuation_state",
                                             "self_induced_wall_x", "self_induced_wall_y", "self_induced_wall_z",
-                                            "ergun_resistance", "ergun_inertial_resistance"});
+                                            "ergun_resistance", "ergun_inertial_resistance", "history_mass"});
 }
 
 TEST_CASE("a new entity's fields start at their table defaults") {

@@ -35,7 +35,7 @@ std::string shaken_scene(bool history) {
       .sphere({.position = {0.07, 0.105, 0.045}, .radius = 0.005, .material = "neutral"})
       .fluid({.spacing = 0.01}).fluid_box({0.0, 0.0, 0.0}, {0.14, 0.14, 0.1})
       .coupling().set("voidage_radius", 0.04).set("added_mass", true).set("history_force", history)
-      .set("history_window", 0.1).toml();
+      .set("history_window", 0.1).set("history_kernel", "basset").toml();
 }
 
 /// Amplitude and phase of the fundamental of x(t) over whole periods (least squares on 1, t, cos, sin).

@@ -144,11 +144,16 @@ TEST_CASE("a coupled scene's fluid systems and the grains' sub-step loop share n
   REQUIRE(graph.find("fluid_sample_copy"));
   CHECK(graph.phase_of(*graph.find("fluid_sample_copy")) == "step_start");
   CHECK(graph.has_path(*graph.find("fluid_sample_copy"), *loop));
-  // Then what the drag keeps over the step, from the water just sampled.
-  REQUIRE(stepper.substep_loop()->once().size() == 2);
-  CHECK(stepper.substep_loop()->once().system(0).name() == "solid_fluid_sampling");
-  CHECK(stepper.substep_loop()->once().system(1).name() == "solid_drag_law");
-  CHECK(stepper.substep_loop()->once().has_path(0, 1));
+  // Then what the drag keeps over the step and the history force (on by default with added mass and the
+  // undisturbed slip), from the water just sampled.
+  const auto& once = stepper.substep_loop()->once();
+  REQUIRE(once.size() == 3);
+  CHECK(once.system(0).name() == "solid_fluid_sampling");
+  std::vector<std::string> after_sampling{std::string(once.system(1).name()), std::string(once.system(2).name())};
+  std::sort(after_sampling.begin(), after_sampling.end());
+  CHECK(after_sampling == std::vector<std::string>{"solid_drag_law", "solid_history_force"});
+  CHECK(once.has_path(0, 1));
+  CHECK(once.has_path(0, 2));
   const std::vector<std::string> edges = graph.edge_names();
   const auto has = [&](const std::string& edge) { return std::find(edges.begin(), edges.end(), edge) != edges.end(); };
   // The voidage at the grains' new positions comes first, then the drag impulse goes back divided by it.

@@ -3,7 +3,9 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <utility>
 
 #include "components/world.hpp"
 #include "systems/dem/solid_integrate.hpp"
@@ -81,6 +83,88 @@ TEST_CASE("the history kernel's exponential modes are t^(-1/2) up to the window 
   }
   // The prefactor 3/2 d^2 (pi rho mu)^(1/2): for d = 10 mm in water, 1.5e-4 (pi)^(1/2) kg/s^(1/2).
   CHECK(basset_prefactor(0.01, 1000.0, 1e-3) == doctest::Approx(1.5e-4 * std::sqrt(std::numbers::pi)).epsilon(1e-14));
+}
+
+TEST_CASE("Mei & Adrian's kernel: their two-term form, Basset's at short times and t^(-2) beyond t_H") {
+  // Mei & Adrian (1992) as Loth & Dorgan (2009) write it, in Basset's normalisation (F_H = 3/2 d^2 (pi rho mu)^(1/2)
+  // int K dw): K_MA(t) = d / (2 (pi nu)^(1/2)) {(4 pi nu t / d^2)^(1/4) + (pi |w|^3 t^2 / (d nu f_H^3))^(1/2)}^(-2),
+  // f_H = 0.75 + 0.105 Re. Its factor on t^(-1/2) is basset_factor(t, t_H) for every t, Re and d.
+  const double nu = 1e-6;
+  for (const double diameter : {0.5e-3, 2e-3, 0.015})
+    for (const double reynolds : {0.1, 1.5, 10.0, 100.0}) {
+      const double w = reynolds * nu / diameter;
+      const double f_h = 0.75 + 0.105 * reynolds;
+      const double t_h = MeiAdrianKernel::time_scale(w, diameter, nu);
+      for (const double t : {1e-4, 1e-3, 1e-2, 0.1, 1.0, 10.0}) {
+        CAPTURE(diameter);
+        CAPTURE(reynolds);
+        CAPTURE(t);
+        const double two_terms = std::pow(4.0 * std::numbers::pi * nu * t / (diameter * diameter), 0.25) +
+                                 std::sqrt(std::numbers::pi * w * w * w * t * t / (diameter * nu * f_h * f_h * f_h));
+        const double mei_adrian = 2.0 * std::sqrt(std::numbers::pi * nu) / diameter / (two_terms * two_terms);
+        CHECK(mei_adrian * std::sqrt(t) == doctest::Approx(MeiAdrianKernel::basset_factor(t, t_h)).epsilon(1e-12));
+      }
+    }
+  // t_H = (4/pi)^(1/3) nu f_H^2 / w^2: ten Cate's E1 (Re 1.5, 15 mm, 0.038 m/s in an oil of 3.85e-4 m^2/s), 0.24 s.
+  CHECK(MeiAdrianKernel::time_scale(0.038, 0.015, 3.85e-4) == doctest::Approx(0.2425).epsilon(0.005));
+  CHECK(std::isinf(MeiAdrianKernel::time_scale(0.0, 0.015, 3.85e-4)));
+  CHECK(MeiAdrianKernel::basset_factor(0.5, std::numeric_limits<double>::infinity()) == 1.0);
+  // Basset's below t_H (within 1 % at t_H / 1000), (t / t_H)^(-3/2) far beyond it.
+  CHECK(MeiAdrianKernel::basset_factor(1e-3, 1.0) == doctest::Approx(1.0).epsilon(0.012));
+  CHECK(MeiAdrianKernel::basset_factor(1e4, 1.0) == doctest::Approx(1e-6).epsilon(0.02));
+}
+
+TEST_CASE("Mei & Adrian's kernel on the history modes: within 3 % of Basset's magnitude, step by step") {
+  for (const auto& [window, dt] : {std::pair{1.0, 1e-3}, std::pair{1.0, 1e-4}, std::pair{0.3, 2e-3}}) {
+    const BassetModes modes = BassetModes::make(window, dt);
+    const MeiAdrianModeWeights mei_adrian(modes);
+    const double shortest = 20.0 / modes.rate[BassetModes::kCount - 1];
+    for (const double t_h : {shortest / 3.0, 3.0 * shortest, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 1e3}) {
+      CAPTURE(window);
+      CAPTURE(dt);
+      CAPTURE(t_h);
+      const auto weights = mei_adrian.weights(t_h);
+      // The kernel itself, against the windowed Basset kernel times Mei & Adrian's factor, over the fit's span and
+      // between its table's entries (t_H a third of the way to the next).
+      const auto between = mei_adrian.weights(t_h * std::exp(0.25 / 3.0));
+      for (double t = shortest; t <= window; t *= 1.1) {
+        CAPTURE(t);
+        double fitted = 0.0, fitted_between = 0.0;
+        for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
+          fitted += weights[k] * std::exp(-modes.rate[k] * t);
+          fitted_between += between[k] * std::exp(-modes.rate[k] * t);
+        }
+        const double basset = kernel(modes, t);
+        CHECK(std::abs(fitted - basset * MeiAdrianKernel::basset_factor(t, t_h)) < 0.03 * basset);
+        CHECK(std::abs(fitted_between - basset * MeiAdrianKernel::basset_factor(t, t_h * std::exp(0.25 / 3.0))) <
+              0.03 * basset);
+      }
+    }
+    // A slip growing at a constant rate from rest, t_H held: F_H / C = a int_0^t K(tau) dtau, the integral by
+    // quadrature of t^(-1/2) g(t / t_H) (tau = s^2), against the modes advanced step by step: within 2 % of
+    // Basset's 2 a t^(1/2) from the shortest time the modes resolve (20 / the top rate) to window/30.
+    const double t_h = 0.05;
+    const auto weights = mei_adrian.weights(t_h);
+    std::array<Vec3, BassetModes::kCount> state;
+    state.fill(Vec3::Zero());
+    const Vec3 rate(0.2, 0.0, -0.1);
+    for (int step = 1; step * dt <= window / 30.0 + 1e-12; ++step) {
+      Vec3 integral = Vec3::Zero();
+      for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
+        advance_basset_mode(state[k], modes.rate[k], dt, dt * rate);
+        integral += weights[k] * state[k];
+      }
+      const double t = step * dt;
+      double quadrature = 0.0;  // int_0^t tau^(-1/2) g dtau = int_0^sqrt(t) 2 g(s^2) ds, midpoint rule
+      const int n = 2000;
+      for (int i = 0; i < n; ++i) {
+        const double s = (i + 0.5) * std::sqrt(t) / n;
+        quadrature += 2.0 * MeiAdrianKernel::basset_factor(s * s, t_h) * std::sqrt(t) / n;
+      }
+      CAPTURE(t);
+      if (t >= shortest) CHECK((integral - quadrature * rate).norm() < 0.02 * 2.0 * std::sqrt(t) * rate.norm());
+    }
+  }
 }
 
 TEST_CASE("the implicit kick: a grain in a uniformly accelerating fluid reaches the analytic velocity") {
@@ -163,22 +247,34 @@ TEST_CASE("the implicit kick is stable for added mass far above the grain's mass
   CHECK(grain.velocity[0].norm() < 1e-6);
 }
 
-TEST_CASE("the scene's added-mass and history switches: added mass on with the MPS water, history off, and a window "
-          "too short is refused") {
+TEST_CASE("the scene's added-mass and history switches: added mass and Mei & Adrian's history on with the MPS water, "
+          "and a window too short is refused") {
   const std::string scene = test::coupled_scene_text();
-  // Without a [coupling] table the scene gets the defaults of an empty one: added mass and the grain's undisturbed
-  // velocity on (the MPS water, the isotropic kernel), history off.
+  // Without a [coupling] table the scene gets the defaults of an empty one: added mass, the grain's undisturbed
+  // velocity (the MPS water, the isotropic kernel) and the history force with Mei & Adrian's kernel on.
   for (const std::string& text : {scene, scene + "[coupling]\n"}) {
     const Model defaults = parse_scene(text, "coupled.toml");
     CHECK(defaults.coupling.added_mass);
     CHECK(defaults.coupling.self_induced_velocity);
-    CHECK_FALSE(defaults.coupling.history_force);
-    CHECK(defaults.coupling.history_window == 0.1);
+    CHECK(defaults.coupling.history_force);
+    CHECK(defaults.coupling.history_kernel == CouplingModel::HistoryKernel::kMeiAdrian);
+    CHECK(defaults.coupling.history_window == 1.0);
   }
   CHECK_FALSE(parse_scene(scene + "[coupling]\nadded_mass = false\n", "coupled.toml").coupling.added_mass);
-  // A Model built in code starts with both off (the tests that build their models).
+  // The history force goes with added mass and the undisturbed slip: off where either is off, unless asked for.
+  CHECK_FALSE(parse_scene(scene + "[coupling]\nadded_mass = false\n", "coupled.toml").coupling.history_force);
+  CHECK_FALSE(
+      parse_scene(scene + "[coupling]\nself_induced_velocity = false\n", "coupled.toml").coupling.history_force);
+  CHECK(parse_scene(scene + "[coupling]\nadded_mass = false\nhistory_force = true\n", "coupled.toml")
+            .coupling.history_force);
+  CHECK(parse_scene(scene + "[coupling]\nhistory_kernel = \"basset\"\n", "coupled.toml").coupling.history_kernel ==
+        CouplingModel::HistoryKernel::kBasset);
+  CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nhistory_kernel = \"oseen\"\n", "coupled.toml"),
+                    doctest::Contains("coupling.history_kernel"));
+  // A Model built in code starts with all three off (the tests that build their models).
   CHECK_FALSE(Model{}.coupling.added_mass);
   CHECK_FALSE(Model{}.coupling.self_induced_velocity);
+  CHECK_FALSE(Model{}.coupling.history_force);
   const Model on = parse_scene(scene + "[coupling]\nadded_mass = true\nhistory_force = true\nhistory_window = 0.2\n",
                                "coupled.toml");
   CHECK(on.coupling.added_mass);
@@ -187,7 +283,7 @@ TEST_CASE("the scene's added-mass and history switches: added mass on with the M
   // A window of a few steps would be no history at all: refused, naming the key; harmless while the force is off.
   CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nhistory_force = true\nhistory_window = 0.005\n", "coupled.toml"),
                     doctest::Contains("coupling.history_window: must be at least 10 run.dt"));
-  CHECK_NOTHROW(parse_scene(scene + "[coupling]\nhistory_window = 0.005\n", "coupled.toml"));
+  CHECK_NOTHROW(parse_scene(scene + "[coupling]\nhistory_force = false\nhistory_window = 0.005\n", "coupled.toml"));
   CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nhistory_window = -1\n", "coupled.toml"),
                     doctest::Contains("coupling.history_window"));
   CHECK_THROWS_WITH(parse_scene(scene + "[coupling]\nadded_mass = 1\n", "coupled.toml"),
