@@ -115,7 +115,8 @@ TEST_CASE("Mei & Adrian's kernel: their two-term form, Basset's at short times a
 }
 
 TEST_CASE("Mei & Adrian's kernel on the history modes: within 3 % of Basset's magnitude, step by step") {
-  for (const auto& [window, dt] : {std::pair{1.0, 1e-3}, std::pair{1.0, 1e-4}, std::pair{0.3, 2e-3}}) {
+  for (const auto& window_and_step : {std::pair{1.0, 1e-3}, std::pair{1.0, 1e-4}, std::pair{0.3, 2e-3}}) {
+    const double window = window_and_step.first, dt = window_and_step.second;  // named: doctest's CAPTURE takes them
     const BassetModes modes = BassetModes::make(window, dt);
     const MeiAdrianModeWeights mei_adrian(modes);
     const double shortest = 20.0 / modes.rate[BassetModes::kCount - 1];
