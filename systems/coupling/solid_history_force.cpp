@@ -32,14 +32,8 @@ void SolidHistoryForce::run(SystemContext& context) {
   GrainAddedMass& added = context.write<GrainAddedMass>();
   const double dt = context.dt;
   // The modes' decay and gain over this step are the same for every grain (advance_basset_mode, once per mode).
-  std::array<double, BassetModes::kCount> decay{}, gain{};
-  for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
-    Vec3 unit = Vec3::UnitX(), response = Vec3::Zero();
-    advance_basset_mode(unit, modes_.rate[k], dt, Vec3::Zero());
-    advance_basset_mode(response, modes_.rate[k], dt, Vec3::UnitX());
-    decay[k] = unit.x();
-    gain[k] = response.x();
-  }
+  std::array<BassetModeStep, BassetModes::kCount> steps{};
+  for (std::size_t k = 0; k < BassetModes::kCount; ++k) steps[k] = basset_mode_step(modes_.rate[k], dt);
   const double root = basset_prefactor(1.0, density_, viscosity_);  // 3/2 (pi rho mu)^(1/2); times d^2 per grain
   for_each_particle(grains.size(), [&](std::size_t grain) {
     // Dry, or inside a bed (a lone sphere's kernel does not hold there): no history; it starts afresh when the grain
@@ -83,17 +77,10 @@ void SolidHistoryForce::run(SystemContext& context) {
     double own_step = 0.0;
     for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
       Vec3& mode = added.history_mode[k][grain];
-      double mode_decay = decay[k], mode_gain = gain[k];
-      if (screening_rate > 0.0) {
-        Vec3 unit = Vec3::UnitX(), response = Vec3::Zero();
-        advance_basset_mode(unit, modes_.rate[k] + screening_rate, dt, Vec3::Zero());
-        advance_basset_mode(response, modes_.rate[k] + screening_rate, dt, Vec3::UnitX());
-        mode_decay = unit.x();
-        mode_gain = response.x();
-      }
-      mode = mode_decay * mode + mode_gain * change;
-      memory += (weight[k] * mode_decay) * mode;
-      own_step += weight[k] * mode_gain;
+      const BassetModeStep step = screening_rate > 0.0 ? basset_mode_step(modes_.rate[k] + screening_rate, dt) : steps[k];
+      mode = step.decay * mode + step.gain * change;
+      memory += (weight[k] * step.decay) * mode;
+      own_step += weight[k] * step.gain;
     }
     const double prefactor = root * diameter * diameter;
     added.history_force[grain] = prefactor * memory;

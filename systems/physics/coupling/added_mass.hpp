@@ -105,11 +105,19 @@ class MeiAdrianModeWeights {
 /// F_H = 3/2 d^2 sqrt(pi rho mu) sum_k weight_k z_k, with z_k = int exp(-rate_k (t - tau)) dw/dtau dtau.
 /// Advancing z_k over an interval dt in which the relative velocity w = u - v changed by dw at a constant rate is
 /// exact: z_k <- exp(-rate_k dt) z_k + dw (1 - exp(-rate_k dt)) / (rate_k dt).
-inline void advance_basset_mode(Vec3& state, double rate, double dt, const Vec3& relative_velocity_change) {
+/// One mode's step: z <- decay z + gain dw, decay = exp(-rate dt), gain = (1 - decay) / (rate dt).
+struct BassetModeStep {
+  double decay;
+  double gain;
+};
+inline BassetModeStep basset_mode_step(double rate, double dt) {
   const double x = rate * dt;
   const double decay = std::exp(-x);
-  const double gain = x > 1e-8 ? (1.0 - decay) / x : 1.0 - 0.5 * x;
-  state = decay * state + gain * relative_velocity_change;
+  return {decay, x > 1e-8 ? (1.0 - decay) / x : 1.0 - 0.5 * x};
+}
+inline void advance_basset_mode(Vec3& state, double rate, double dt, const Vec3& relative_velocity_change) {
+  const BassetModeStep step = basset_mode_step(rate, dt);
+  state = step.decay * state + step.gain * relative_velocity_change;
 }
 
 /// [kg / s^(1/2)] 3/2 d^2 sqrt(pi rho mu), the history force's prefactor.
