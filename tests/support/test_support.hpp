@@ -6,6 +6,8 @@
 #include <cmath>
 #include <exception>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <unistd.h>
 #include <numbers>
 #include <string>
@@ -34,6 +36,37 @@ inline std::vector<std::string> problems_of(const std::string& text, const std::
   }
   FAIL_CHECK("the scene was accepted:\n", text);
   return {};
+}
+
+inline constexpr double kG = 9.81;         // [m/s^2] gravity in the test scenes
+inline constexpr double kRho = 1000.0;     // [kg/m^3] water in the test scenes
+
+/// The slot of grain `id` (neighbour-list rebuilds may reorder the slots).
+inline std::size_t slot_of(const Solids& solids, EntityId id) {
+  return static_cast<std::size_t>(std::find(solids.id.begin(), solids.id.end(), id) - solids.id.begin());
+}
+
+/// `lines`, each indented by two spaces on a line of its own: a list of problems shown in a failed check.
+inline std::string joined(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const std::string& line : lines) out += "  " + line + "\n";
+  return out;
+}
+
+/// The lines of the file at `path` (none if it cannot be read).
+inline std::vector<std::string> file_lines(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(file, line);) lines.push_back(line);
+  return lines;
+}
+
+/// The bytes of the file at `path` ("" if it cannot be read).
+inline std::string file_text(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
 }
 
 /// How many times `needle` occurs in `text` (overlapping occurrences count).
@@ -83,6 +116,11 @@ inline std::string location(const std::string& file, std::string_view text, cons
                             bool once = true) {
   const TextPosition where = position_of(text, needle, once);
   return file + ":" + std::to_string(where.line) + ":" + std::to_string(where.column) + ": ";
+}
+
+/// "file:line:column: " of the first occurrence of `needle` in `text` (a '^' in the needle marks the character meant).
+inline std::string first_location(const std::string& file, std::string_view text, const std::string& needle) {
+  return location(file, text, needle, false);
 }
 
 /// (1/(pi R^2)) times the integral of max(0, s - v) over the disc u^2 + v^2 <= R^2, v the height above its centre:

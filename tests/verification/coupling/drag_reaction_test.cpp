@@ -38,13 +38,13 @@ using riffle::test::SceneBuilder;
 namespace riffle {
 namespace {
 
-constexpr double kSpacing = 0.01;
-constexpr double kVolume = kSpacing * kSpacing * kSpacing;
+constexpr double kReactionSpacing = 0.01;
+constexpr double kVolume = kReactionSpacing * kReactionSpacing * kReactionSpacing;
 
 /// The small test model with water at l0 = 1 cm and the reaction spread by the sampling kernel (or the grid);
 /// periodic along x and y in a 0.1 m box if asked.
 Model reaction_model(bool kernel, bool mixture, bool periodic = false, double vertical_radius = 0.0) {
-  Model model = test::small_coupled_model(kSpacing);
+  Model model = test::small_coupled_model(kReactionSpacing);
   model.coupling.sampling_vertical_radius = vertical_radius;
   model.coupling.fluid_velocity = mixture ? CouplingModel::FluidVelocity::kMixture : CouplingModel::FluidVelocity::kPore;
   model.coupling.sampling_kernel_reaction = kernel;
@@ -66,7 +66,7 @@ struct GrainSpec {
 /// Water filling [0, 0.1]^3 on the l0 lattice, and the grains with their pending drag impulses.
 World reaction_world(const std::vector<GrainSpec>& grains) {
   World world;
-  test::fill_with_water(world, Vec3(0.1, 0.1, 0.1), kSpacing);
+  test::fill_with_water(world, Vec3(0.1, 0.1, 0.1), kReactionSpacing);
   world.solids.emplace();
   for (const GrainSpec& grain : grains) {
     const std::size_t slot = world.solids->add(grain.centre, Vec3::Zero(), grain.radius, 2650.0, 0, 0);
@@ -143,7 +143,7 @@ TEST_CASE("sampling-kernel reaction: the water receives exactly minus the grains
       for (const GrainSpec& grain : grains) {
         World alone = reaction_world({grain});
         run_reaction(model, alone);
-        const double horizontal = grain.radius + 2.4 * kSpacing;
+        const double horizontal = grain.radius + 2.4 * kReactionSpacing;
         const FluidParticles& water = *alone.fluid;
         double weight_sum = 0.0;
         for (std::size_t j = 0; j < water.size(); ++j)

@@ -19,16 +19,16 @@ using riffle::test::SceneBuilder;
 
 namespace {
 // Beads of 3 mm, 1100 kg/m^3 in a liquid of 1000 kg/m^3 and 0.2 Pa s: Re_t = 0.036, u_t = 2.4 mm/s.
-constexpr double kDiameter = 0.003, kSolidDensity = 1100.0, kDensity = 1000.0, kViscosity = 0.2, kGravity = 9.81;
+constexpr double kDiameter = 0.003, kSolidDensity = 1100.0, kSuspensionDensity = 1000.0, kSuspensionViscosity = 0.2, kSuspensionGravity = 9.81;
 constexpr double kColumn = 0.06, kFillLow = 0.01, kFillHigh = 0.13;
 
 /// Terminal speed of a lone sphere under Schiller-Naumann, 3 pi mu d u (1 + 0.15 Re^0.687) = (rho_s - rho) V g.
 double terminal_speed() {
-  const double weight = (kSolidDensity - kDensity) * kGravity * std::numbers::pi / 6.0 * std::pow(kDiameter, 3);
-  double u = weight / (3.0 * std::numbers::pi * kViscosity * kDiameter);
+  const double weight = (kSolidDensity - kSuspensionDensity) * kSuspensionGravity * std::numbers::pi / 6.0 * std::pow(kDiameter, 3);
+  double u = weight / (3.0 * std::numbers::pi * kSuspensionViscosity * kDiameter);
   for (int k = 0; k < 100; ++k) {
-    const double reynolds = kDensity * u * kDiameter / kViscosity;
-    u = weight / (3.0 * std::numbers::pi * kViscosity * kDiameter * (1.0 + 0.15 * std::pow(reynolds, 0.687)));
+    const double reynolds = kSuspensionDensity * u * kDiameter / kSuspensionViscosity;
+    u = weight / (3.0 * std::numbers::pi * kSuspensionViscosity * kDiameter * (1.0 + 0.15 * std::pow(reynolds, 0.687)));
   }
   return u;
 }
@@ -41,7 +41,7 @@ std::string column_scene(double solid_fraction, const std::string& reading, cons
              .tank({.size = {0.06, 0.06, 0.18}, .open_faces = {"z_max"}, .wall_material = "glass"}).solids()
              .array_table("solids.fills").set("min", {0.0, 0.0, 0.01}).set("max", {0.06, 0.06, 0.13}).set("seed", 5)
              .array_table("solids.fills.classes").set("diameter", 0.003).set("count", count).set("material", "bead")
-             .fluid({.spacing = 0.005, .kinematic_viscosity = kViscosity / kDensity}).set("density", 1000.0)
+             .fluid({.spacing = 0.005, .kinematic_viscosity = kSuspensionViscosity / kSuspensionDensity}).set("density", 1000.0)
              .fluid_box({0.0, 0.0, 0.0}, {0.06, 0.06, 0.16}).coupling().set("fluid_velocity", reading).toml() +
          extra;
 }
@@ -91,8 +91,8 @@ Bulk bulk_settling(double solid_fraction, const std::string& reading, const std:
       const double eps = solids.voidage[g], flux = solids.fluid_velocity[g].z(), u_s = solids.velocity[g].z();
       speed -= u_s - flux, lab -= u_s, voidage += eps, count += 1.0;
       fluid += solids.fluid_velocity[g].z();
-      pressure += solids.pressure_force[g].z() / (kDensity * kGravity * volume);
-      drag += solids.drag_force[g].z() / ((kSolidDensity - kDensity) * kGravity * volume);
+      pressure += solids.pressure_force[g].z() / (kSuspensionDensity * kSuspensionGravity * volume);
+      drag += solids.drag_force[g].z() / ((kSolidDensity - kSuspensionDensity) * kSuspensionGravity * volume);
     }
     if (step == window.first) {
       // The suspension's solid fraction: grain centres in z = 30-110 mm (the fill puts the centres in a box shrunk

@@ -44,7 +44,7 @@ struct LubeScene {
   std::string coupling = "lubrication = true\n";
 };
 
-std::string scene_text(const LubeScene& spec) {
+std::string lubrication_scene_text(const LubeScene& spec) {
   return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-4, .gravity = {0.0, 0.0, 0.0}})
       .material("grain", {.density = spec.density, .young_modulus = spec.young, .poisson_ratio = 0.3})
       .tank({.size = {0.1, 0.1, 0.1}, .wall_material = "grain"})
@@ -64,7 +64,7 @@ struct Bench {
   double time = 0.0;
 
   Bench(const LubeScene& spec, const std::vector<std::pair<Vec3, double>>& grains) {
-    model = parse_scene(scene_text(spec), "lubrication.toml");
+    model = parse_scene(lubrication_scene_text(spec), "lubrication.toml");
     world.solids.emplace();
     for (const auto& [position, radius] : grains) {
       const std::size_t slot = world.solids->add(position, Vec3::Zero(), radius, spec.density, 0, 0);

@@ -32,7 +32,7 @@ namespace {
 
 /// A 5 mm grain (2650 kg/m^3) settling from (x, y, 0.12) in still water 0.16 m deep, l0 = 1 cm, in a tank of
 /// 0.08 x 0.08 m periodic along x and y (sampling radius r + r_e = 0.029 m < half the period).
-std::string settling_scene(double x, double y, const std::string& extra = "") {
+std::string periodic_settling_scene(double x, double y, const std::string& extra = "") {
   return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3})
              .material("grain", {.density = 2650.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
              .material("glass", {.density = 2500.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
@@ -81,8 +81,8 @@ TEST_CASE("a grain settling across the seam and corner matches the grain half a 
     CAPTURE(estimate);
     const std::string extra = "\n[coupling]\nvoidage_estimate = \"" + estimate + "\"\n";
     const int steps = 150;
-    const std::vector<GrainRecord> seam = settle(settling_scene(0.002, 0.078, extra), steps);
-    const std::vector<GrainRecord> middle = settle(settling_scene(0.042, 0.038, extra), steps);
+    const std::vector<GrainRecord> seam = settle(periodic_settling_scene(0.002, 0.078, extra), steps);
+    const std::vector<GrainRecord> middle = settle(periodic_settling_scene(0.042, 0.038, extra), steps);
     const double speed = std::max(1e-3, middle.back().velocity.norm());
     double drag_scale = 0.0, weight_scale = 0.0;
     for (const GrainRecord& record : middle) {
@@ -207,7 +207,7 @@ TEST_CASE("grains and water periodic: one and two threads, and a resumed run, gi
   Vec3 centre_without = Vec3::Zero();
   for (const bool viscous : {false, true}) {
   CAPTURE(viscous);
-  std::string text = settling_scene(0.002, 0.078);
+  std::string text = periodic_settling_scene(0.002, 0.078);
   const std::string sphere_material = "material = \"grain\"\n";
   REQUIRE(text.find(sphere_material) != std::string::npos);
   text.replace(text.find(sphere_material), sphere_material.size(),

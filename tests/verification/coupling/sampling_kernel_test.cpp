@@ -25,7 +25,7 @@
 namespace riffle {
 namespace {
 
-constexpr double kSpacing = 0.01;
+constexpr double kKernelSpacing = 0.01;
 constexpr double kBox = 0.1;
 
 /// (1 - s)^4 (1 + 4 s) for s < 1, written out from the definition (R_v = R_h when vertical = 0).
@@ -45,14 +45,14 @@ struct Sampled {
 /// gradient g0 + G x; one grain of radius 2.5 mm at `centre` sampled once (added mass on: the acceleration too).
 Sampled sample(const Vec3& centre, double vertical, bool periodic, const Vec3& a, const Eigen::Matrix3d& b,
                const Vec3& g0, const Eigen::Matrix3d& g) {
-  Model model = test::small_coupled_model(kSpacing);
+  Model model = test::small_coupled_model(kKernelSpacing);
   model.coupling.added_mass = true;
   model.coupling.sampling_vertical_radius = vertical;
   model.tank.origin = Vec3::Zero();
   model.tank.size = Vec3(kBox, kBox, kBox);
   if (periodic) model.tank.periodic = {true, true, false};
   World world;
-  test::fill_with_water(world, Vec3(kBox, kBox, kBox), kSpacing);
+  test::fill_with_water(world, Vec3(kBox, kBox, kBox), kKernelSpacing);
   FluidParticles& water = *world.fluid;
   for (std::size_t j = 0; j < water.size(); ++j) {
     water.velocity[j] = a + b * water.position[j];
@@ -103,7 +103,7 @@ TEST_CASE("ellipsoidal sampling kernel: a grain reads a linear field at its cent
   Eigen::Matrix3d b, g;
   b << 0.3, -1.1, 4.0, 0.7, 0.2, -2.5, -0.4, 1.3, 0.9;  // [1/s], every component
   g << 200.0, -50.0, 800.0, 10.0, -300.0, 120.0, -60.0, 40.0, 500.0;  // [Pa/m^2]
-  const double horizontal = 0.0025 + 2.4 * kSpacing;
+  const double horizontal = 0.0025 + 2.4 * kKernelSpacing;
   const double volume = 4.0 / 3.0 * std::numbers::pi * 0.0025 * 0.0025 * 0.0025;
   // Centres on a lattice node (x, y) and between layers (z = 50 mm), or between layers (55 mm) and on the x seam of
   // a periodic box: the lattice mirrors through the centre in each case.
@@ -130,7 +130,7 @@ TEST_CASE("ellipsoidal sampling kernel: a grain reads a linear field at its cent
       for (int i = 0; i < 10; ++i)
         for (int j = 0; j < 10; ++j)
           for (int k = 0; k < 10; ++k) {
-            Vec3 offset = Vec3((i + 0.5) * kSpacing, (j + 0.5) * kSpacing, (k + 0.5) * kSpacing) - c.centre;
+            Vec3 offset = Vec3((i + 0.5) * kKernelSpacing, (j + 0.5) * kKernelSpacing, (k + 0.5) * kKernelSpacing) - c.centre;
             if (c.periodic) offset.x() -= kBox * std::round(offset.x() / kBox);
             expected_sum += formula_weight(offset, horizontal, vertical);
           }

@@ -125,10 +125,7 @@ std::string name_of(Target target) {
 double effective_radius_of(Target target) { return target == Target::kFloor ? kRadius : 0.5 * kRadius; }
 double effective_mass_of(Target target) { return target == Target::kSphere ? 0.5 * kMass : kMass; }
 
-/// The slot of grain `id` (neighbour-list rebuilds may reorder the slots).
-std::size_t slot_of(const Solids& solids, EntityId id) {
-  return static_cast<std::size_t>(std::find(solids.id.begin(), solids.id.end(), id) - solids.id.begin());
-}
+using test::slot_of;
 
 /// The signed overlap of the one contact of a collision scene (the floor is z = 0), negative while apart.
 double signed_overlap(const Solids& solids, Target target) {
@@ -136,7 +133,7 @@ double signed_overlap(const Solids& solids, Target target) {
                                   : 2.0 * kRadius - (solids.position[1] - solids.position[0]).norm();
 }
 
-struct Impact {
+struct CollisionImpact {
   double duration = 0.0;     ///< [s] time with positive overlap (zero crossings of the sampled overlap)
   double max_overlap = 0.0;  ///< [m] largest sampled overlap
   Solids final_state;        ///< the grains once apart
@@ -144,10 +141,10 @@ struct Impact {
 };
 
 /// Runs `spec` (solid_substeps = 1, so every sub-step is sampled) until its one contact has come and gone.
-Impact run_collision(const SceneSpec& spec, Target target) {
+CollisionImpact run_collision(const SceneSpec& spec, Target target) {
   auto simulation = simulate(spec);
   const World& world = simulation->world();
-  Impact impact;
+  CollisionImpact impact;
   double previous = signed_overlap(*world.solids, target), entry = 0.0, mismatch = 0.0;
   bool touched = false;
   for (int step = 1; step < 100000 && !impact.finished; ++step) {
@@ -176,7 +173,7 @@ Impact run_collision(const SceneSpec& spec, Target target) {
 
 /// A head-on impact at relative `speed`, gravity off. Contact begins at the fraction `phase` of a sub-step (free
 /// flight is exact), so that different runs exercise different phases. Returns the impact and e = v_after/v_before.
-std::pair<Impact, double> normal_impact(const std::string& law, Target target, double speed, double restitution,
+std::pair<CollisionImpact, double> normal_impact(const std::string& law, Target target, double speed, double restitution,
                                         double dt, double phase) {
   SceneSpec spec;
   spec.law = law;
@@ -194,7 +191,7 @@ std::pair<Impact, double> normal_impact(const std::string& law, Target target, d
     spec.bodies.push_back({centre - Vec3(2.0 * kRadius + gap, 0.0, 0.0), Vec3(speed, 0.0, 0.0)});
     spec.bodies.push_back({centre, Vec3::Zero(), Vec3::Zero(), true});
   }
-  Impact impact = run_collision(spec, target);
+  CollisionImpact impact = run_collision(spec, target);
   double restitution_achieved = 0.0;
   if (impact.finished) {
     const Solids& solids = impact.final_state;
@@ -307,7 +304,7 @@ TEST_CASE("an oblique impact in gross sliding: dv_t = -mu (1 + e) v_n and dw = (
     spec.dt = scales.duration / N;
     const double gap = 3.5 * v_n * spec.dt;
     spec.bodies.push_back({Vec3(0.01, 0.01, kRadius + gap), Vec3(v_t, 0.0, -v_n)});
-    const Impact impact = run_collision(spec, Target::kFloor);
+    const CollisionImpact impact = run_collision(spec, Target::kFloor);
     INFO(law);
     REQUIRE(impact.finished);
     const Vec3& v = impact.final_state.velocity[0];
@@ -344,7 +341,7 @@ TEST_CASE("two spinning spheres in gross sliding: friction impulse mu P_n, equal
     const Vec3 centre = 0.5 * spec.tank, spin_z(0.0, 0.0, spin);
     spec.bodies.push_back({centre - Vec3(kRadius + 0.5 * gap, 0.0, 0.0), Vec3(0.5 * v_n, 0.0, 0.0), spin_z});
     spec.bodies.push_back({centre + Vec3(kRadius + 0.5 * gap, 0.0, 0.0), Vec3(-0.5 * v_n, 0.0, 0.0), spin_z});
-    const Impact impact = run_collision(spec, Target::kSphere);
+    const CollisionImpact impact = run_collision(spec, Target::kSphere);
     INFO(law);
     REQUIRE(impact.finished);
     const Solids& solids = impact.final_state;
@@ -388,7 +385,7 @@ TEST_CASE("an oblique elastic impact that sticks reverses the contact-point slip
   spec.dt = spec.collision_time / N;
   const double gap = 3.3 * v_n * spec.dt;
   spec.bodies.push_back({Vec3(0.01, 0.01, kRadius + gap), Vec3(v_t, 0.0, -v_n), Vec3(0.0, spin, 0.0)});
-  const Impact impact = run_collision(spec, Target::kFloor);
+  const CollisionImpact impact = run_collision(spec, Target::kFloor);
   REQUIRE(impact.finished);
   const Vec3& v = impact.final_state.velocity[0];
   const Vec3& w = impact.final_state.angular_velocity[0];

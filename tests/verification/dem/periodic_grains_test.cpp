@@ -54,9 +54,7 @@ std::string scene(const Vec3& size, const std::string& periodic, const Vec3& gra
   return text.toml();
 }
 
-std::size_t slot_of(const Solids& solids, EntityId id) {
-  return static_cast<std::size_t>(std::find(solids.id.begin(), solids.id.end(), id) - solids.id.begin());
-}
+using test::slot_of;
 
 /// The tangential spring of the pair of ids 0 and 1, oriented for grain 0, and whether the list holds it through a
 /// ghost (across the seam); zero if not in contact.

@@ -24,7 +24,7 @@ using riffle::test::SceneBuilder;
 namespace riffle {
 namespace {
 
-constexpr double kG = 9.81;
+using test::kG;
 
 /// Least-squares plane p = c + a x + b z over the particles `use` selects: returns (a, b).
 template <class Use>

@@ -20,7 +20,7 @@
 namespace riffle {
 namespace {
 
-constexpr double kG = 9.81;
+using test::kG;
 
 std::vector<std::pair<double, double>> read_table(const std::string& name) {
   std::ifstream in(std::string(RIFFLE_SOURCE_DIR) + "/tests/data/" + name);

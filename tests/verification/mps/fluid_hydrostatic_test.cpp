@@ -21,8 +21,8 @@
 namespace riffle {
 namespace {
 
-constexpr double kG = 9.81;
-constexpr double kRho = 1000.0;
+using test::kG;
+using test::kRho;
 
 struct PressureErrors {
   double rms_offset = 0.0;  ///< RMS(p - rho g (H - l0/2 - z)) / (rho g H)

@@ -21,7 +21,9 @@
 namespace riffle {
 namespace {
 
-constexpr double kH = 0.3, kG = 9.81, kRho = 1000.0;
+constexpr double kH = 0.3;
+using test::kG;
+using test::kRho;
 
 struct SensorRow {
   double median = 0.0, low = 0.0, high = 0.0;  ///< P = p / (rho g H): median, 2.5 % and 97.5 % of the peak

@@ -21,7 +21,7 @@
 namespace riffle {
 namespace {
 
-constexpr double kG = 9.81;
+using test::kG;
 
 double mean_x(const test::FluidRun& run) {
   double sum = 0.0;

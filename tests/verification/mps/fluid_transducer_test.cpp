@@ -28,15 +28,15 @@
 namespace riffle {
 namespace {
 
-constexpr double kG = 9.81;
-constexpr double kRho = 1000.0;
-constexpr double kSpacing = 0.01;
+using test::kG;
+using test::kRho;
+constexpr double kTransducerSpacing = 0.01;
 constexpr double kDepth = 0.10;  // [m] H
 
 using test::half_submerged_mean;
 
 Model still_water_model() {
-  Model model = test::fluid_model(Vec3(0.06, 0.04, 0.14), kSpacing,
+  Model model = test::fluid_model(Vec3(0.06, 0.04, 0.14), kTransducerSpacing,
                                   {ParticleBoxModel{Vec3::Zero(), Vec3(0.06, 0.04, kDepth)}});
   model.dt = 2.0e-3;
   return model;
@@ -55,7 +55,7 @@ struct Disc {
 TEST_CASE("a transducer in still water reads rho g h, the wetted-area mean across the water line, 0 in air") {
   test::FluidRun run(still_water_model());
   const FluidProbeSettings settings = fluid_probe_settings(run.model);
-  const double line = kDepth - 0.5 * kSpacing;  // the discrete water line (p = 0 at the surface particles)
+  const double line = kDepth - 0.5 * kTransducerSpacing;  // the discrete water line (p = 0 at the surface particles)
   const double rho_g = kRho * kG;
   const std::vector<Disc> discs = {
       {"x_min wall, 5 cm deep", Vec3(0.0, 0.02, 0.05), -Vec3::UnitX(), 0.01, rho_g * (line - 0.05)},
@@ -83,14 +83,14 @@ TEST_CASE("a transducer in still water reads rho g h, the wetted-area mean acros
   for (std::size_t k = 0; k < discs.size(); ++k) {
     CAPTURE(discs[k].where);
     MESSAGE(discs[k].where << ": expected " << discs[k].expected << " Pa, largest deviation " << worst[k] << " Pa ("
-                           << worst[k] / (rho_g * kSpacing) << " rho g l0)");
+                           << worst[k] / (rho_g * kTransducerSpacing) << " rho g l0)");
     // Offset-line theory within rho g 0.1 l0; across the line also the quadrature's 0.25 % of rho g R.
-    CHECK(worst[k] <= rho_g * (0.1 * kSpacing + 0.0025 * 0.5 * discs[k].diameter));
+    CHECK(worst[k] <= rho_g * (0.1 * kTransducerSpacing + 0.0025 * 0.5 * discs[k].diameter));
   }
   // Against the continuum rho g h (h from the real surface, H): the offset line's l0/2 more.
   const double reading = pressure_transducer_reading(*run.world.fluid, settings, at_rest, discs[0].point,
                                                      discs[0].normal, discs[0].diameter);
-  CHECK(std::abs(reading - rho_g * (kDepth - 0.05)) <= rho_g * 0.6 * kSpacing);
+  CHECK(std::abs(reading - rho_g * (kDepth - 0.05)) <= rho_g * 0.6 * kTransducerSpacing);
 }
 
 TEST_CASE("transducers on an obstacle's faces, placed by the scene, read the still water's rho g h") {
@@ -147,7 +147,7 @@ diameter = 0.01
   CHECK(probe.normals == std::vector<Vec3>{Vec3::UnitX(), -Vec3::UnitX(), -Vec3::UnitZ()});
   test::FluidRun run(std::move(model));
   const FluidProbeSettings settings = fluid_probe_settings(run.model);
-  const double line = kDepth - 0.5 * kSpacing;
+  const double line = kDepth - 0.5 * kTransducerSpacing;
   const double rho_g = kRho * kG;
   const std::vector<double> expected = {rho_g * (line - 0.02), rho_g * (line - 0.015), rho_g * (line - 0.04)};
   const std::vector<std::string> where = {"upstream face, 8 cm deep", "downstream face, 8.5 cm deep",
@@ -166,9 +166,9 @@ diameter = 0.01
   for (std::size_t k = 0; k < expected.size(); ++k) {
     CAPTURE(where[k]);
     MESSAGE(where[k] << ": expected " << expected[k] << " Pa, largest deviation " << worst[k] << " Pa ("
-                     << worst[k] / (rho_g * kSpacing) << " rho g l0)");
+                     << worst[k] / (rho_g * kTransducerSpacing) << " rho g l0)");
     // Offset-line theory within rho g 0.1 l0, as on the tank's walls.
-    CHECK(worst[k] <= rho_g * 0.1 * kSpacing);
+    CHECK(worst[k] <= rho_g * 0.1 * kTransducerSpacing);
   }
 }
 
@@ -187,7 +187,7 @@ TEST_CASE("a transducer in a vertically shaken tank moves with it and reads rho 
   model.tank.motion.ramp_time = 0.5 / frequency;
   test::FluidRun run(std::move(model));
   const FluidProbeSettings settings = fluid_probe_settings(run.model);
-  const double line = kDepth - 0.5 * kSpacing;
+  const double line = kDepth - 0.5 * kTransducerSpacing;
   const std::vector<Disc> discs = {
       {"x_min wall, 5 cm deep", Vec3(0.0, 0.02, 0.05), -Vec3::UnitX(), 0.01, line - 0.05},
       {"y_min wall, 8 cm deep", Vec3(0.03, 0.0, 0.02), -Vec3::UnitY(), 0.01, line - 0.02},
@@ -210,7 +210,7 @@ TEST_CASE("a transducer in a vertically shaken tank moves with it and reads rho 
                                                          discs[k].normal, discs[k].diameter);
       if (discs[k].expected == 0.0) CHECK(reading == 0.0);
       // Relative to the tolerance: rho |g - a| 0.1 l0 (still water) + rho h' |da/dt| dt (the one-step lag).
-      const double tolerance = kRho * (body * 0.1 * kSpacing + discs[k].expected * jerk * run.model.dt);
+      const double tolerance = kRho * (body * 0.1 * kTransducerSpacing + discs[k].expected * jerk * run.model.dt);
       worst[k] = std::max(worst[k], std::abs(reading - kRho * body * discs[k].expected) / tolerance);
     }
   }

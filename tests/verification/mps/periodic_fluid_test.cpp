@@ -39,8 +39,8 @@ using riffle::test::SceneBuilder;
 namespace riffle {
 namespace {
 
-constexpr double kG = 9.81;
-constexpr double kRho = 1000.0;
+using test::kG;
+using test::kRho;
 
 /// Whether any fluid particle's list holds a ghost slot (a neighbour across the seam).
 bool lists_cross_seam(const World& world) {

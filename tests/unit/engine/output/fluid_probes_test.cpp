@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double kSpacing = 0.01;     // [m] l0
+constexpr double kProbeSpacing = 0.01;     // [m] l0
 constexpr double kRadiusRatio = 2.4;  // r_e / l0
 constexpr double kDensity = 1000.0;   // [kg/m^3]
 constexpr double kGravity = 9.81;     // [m/s^2]
@@ -38,11 +38,11 @@ constexpr double kDepth = 0.05;        // [m] H
 
 FluidProbeSettings settings() {
   FluidProbeSettings s;
-  s.spacing = kSpacing;
-  s.effective_radius = kRadiusRatio * kSpacing;
+  s.spacing = kProbeSpacing;
+  s.effective_radius = kRadiusRatio * kProbeSpacing;
   s.density = kDensity;
   s.gravity = Vec3(0.0, 0.0, -kGravity);
-  s.reference_number_density = lattice_constants(3, kSpacing, s.effective_radius).number_density;
+  s.reference_number_density = lattice_constants(3, kProbeSpacing, s.effective_radius).number_density;
   s.floor_height = 0.0;
   return s;
 }
@@ -51,9 +51,9 @@ FluidProbeSettings settings() {
 /// `extra` fluid particles (drops) are added after the block. Number densities are left at zero: no probe reads them.
 FluidParticles still_water(const std::vector<Vec3>& extra = {}) {
   FluidParticles particles;
-  append_layout(particles, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), kWater, kSpacing));
+  append_layout(particles, fluid_box_layout(Vec3::Zero(), Vec3::Zero(), kWater, kProbeSpacing));
   for (const Vec3& drop : extra) particles.add(drop, Vec3::Zero(), FluidKind::kFluid);
-  append_layout(particles, tank_wall_layout(Vec3::Zero(), kTankSize, {"z_max"}, kSpacing, kRadiusRatio * kSpacing));
+  append_layout(particles, tank_wall_layout(Vec3::Zero(), kTankSize, {"z_max"}, kProbeSpacing, kRadiusRatio * kProbeSpacing));
   for (std::size_t j = 0; j < particles.size(); ++j)
     if (particles.kind[j] == static_cast<std::int32_t>(FluidKind::kFluid))
       particles.pressure[j] = kDensity * kGravity * (kDepth - particles.position[j].z());
@@ -137,18 +137,18 @@ TEST_CASE("a wave gauge reads the top of the water and ignores isolated spray") 
   for (const Vec3& gauge : {Vec3(0.035, 0.035, 0.0), Vec3(0.03, 0.03, 0.0), Vec3(0.005, 0.03, 0.0)}) {
     CAPTURE(gauge.transpose());
     // The top layer's centres are at H - l0/2; the surface is l0/2 higher, exactly H (to rounding).
-    CHECK(wave_gauge_height(water, s, TankMotion{}, gauge, kSpacing) == doctest::Approx(kDepth).epsilon(1e-12));
+    CHECK(wave_gauge_height(water, s, TankMotion{}, gauge, kProbeSpacing) == doctest::Approx(kDepth).epsilon(1e-12));
   }
   // Beyond the front no particle is within the radius: no value.
-  CHECK(std::isnan(wave_gauge_height(water, s, TankMotion{}, Vec3(0.08, 0.03, 0.0), kSpacing)));
+  CHECK(std::isnan(wave_gauge_height(water, s, TankMotion{}, Vec3(0.08, 0.03, 0.0), kProbeSpacing)));
   // A radius of 3 l0 reaches the front column from there (its nearest centres are 2.55 l0 away); its top edge
   // particle has n = 0.55 n0 (a quarter space of support), just above the threshold.
-  CHECK(wave_gauge_height(water, s, TankMotion{}, Vec3(0.08, 0.03, 0.0), 3.0 * kSpacing) ==
+  CHECK(wave_gauge_height(water, s, TankMotion{}, Vec3(0.08, 0.03, 0.0), 3.0 * kProbeSpacing) ==
         doctest::Approx(kDepth).epsilon(1e-12));
 
   // Two drops l0 apart are still spray: n = w(l0) = 0.31 < 0.5 n0 = 1.6 for r_e = 2.4 l0.
   const FluidParticles pair = still_water({Vec3(0.035, 0.035, 0.085), Vec3(0.035, 0.045, 0.085)});
-  CHECK(wave_gauge_height(pair, s, TankMotion{}, Vec3(0.035, 0.035, 0.0), kSpacing) ==
+  CHECK(wave_gauge_height(pair, s, TankMotion{}, Vec3(0.035, 0.035, 0.0), kProbeSpacing) ==
         doctest::Approx(kDepth).epsilon(1e-12));
 
   SUBCASE("in the tank frame") {
@@ -156,7 +156,7 @@ TEST_CASE("a wave gauge reads the top of the water and ignores isolated spray") 
     TankMotion tank;
     tank.displacement = Vec3(0.013, 0.004, 0.002);
     shift(moved, tank.displacement);
-    CHECK(wave_gauge_height(moved, s, tank, Vec3(0.005, 0.03, 0.0), kSpacing) ==
+    CHECK(wave_gauge_height(moved, s, tank, Vec3(0.005, 0.03, 0.0), kProbeSpacing) ==
           doctest::Approx(kDepth).epsilon(1e-12));
   }
 }
@@ -198,7 +198,7 @@ Model fluid_model() {
   model.dt = 1e-3;
   model.tank.size = kTankSize;
   model.fluid.enabled = true;
-  model.fluid.spacing = kSpacing;
+  model.fluid.spacing = kProbeSpacing;
   model.fluid.effective_radius_ratio = kRadiusRatio;
   fill_mps_constants(model.fluid);
   return model;
@@ -217,17 +217,6 @@ std::vector<std::string> read_output_probes(const std::string& text, Model& mode
   return problems.lines;
 }
 
-/// "file:line:column: " of the first `needle` in `text` ('^' in the needle marks the character meant).
-std::string location(const std::string& file, const std::string& text, const std::string& needle) {
-  return test::location(file, text, needle, false);
-}
-
-std::vector<std::string> lines_of(const fs::path& path) {
-  std::ifstream file(path);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(file, line);) lines.push_back(line);
-  return lines;
-}
 
 /// A bad [[output.probes]] table, and the one problem it must raise.
 struct BadProbe {
@@ -244,7 +233,7 @@ void check_one_problem(const std::string& text, Model& model, const BadProbe& ba
   for (const std::string& problem : problems) all_problems += problem + "\n";
   CAPTURE(all_problems);
   REQUIRE(problems.size() == 1);
-  const std::string expected_start = location("fluid.toml", text, bad.at) + bad.key + ": ";
+  const std::string expected_start = test::first_location("fluid.toml", text, bad.at) + bad.key + ": ";
   CHECK_MESSAGE(problems[0].rfind(expected_start, 0) == 0, problems[0], " should start with ", expected_start);
   CHECK_MESSAGE(problems[0].find(bad.message) != std::string::npos, problems[0]);
 }
@@ -270,7 +259,7 @@ TEST_CASE("fluid probes are read with their defaults") {
   CHECK(probes[0].points == std::vector<Vec3>{Vec3(0.0, 0.03, 0.01), Vec3(0.1, 0.06, 0.0)});
   CHECK(probes[1].kind == ProbeModel::Kind::kWaveGauge);
   CHECK(probes[1].points == std::vector<Vec3>{Vec3(0.005, 0.03, 0.0), Vec3(0.05, 0.03, 0.0)});
-  CHECK(probes[1].radius == kSpacing);  // default: l0
+  CHECK(probes[1].radius == kProbeSpacing);  // default: l0
   CHECK(probes[2].radius == 0.02);
   CHECK(probes[3].kind == ProbeModel::Kind::kSurgeFront);
   CHECK(probes[3].direction == Vec3::UnitX());
@@ -338,7 +327,7 @@ TEST_CASE("a fluid probe in a scene without [fluid] is an error at its kind") {
       FAIL_CHECK("the scene was accepted");
     } catch (const SceneError& error) {
       REQUIRE(error.problems().size() == 1);
-      const std::string expected = location("dry.toml", text, std::string("kind = ^\"") + kind) +
+      const std::string expected = test::first_location("dry.toml", text, std::string("kind = ^\"") + kind) +
                                    "output.probes[0].kind: \"" + kind + "\" probes need a [fluid] table";
       CHECK_MESSAGE(error.problems()[0].rfind(expected, 0) == 0, error.problems()[0]);
     }
@@ -365,19 +354,19 @@ TEST_CASE("ProbeWriter writes one column per sensor, empty fields where nothing 
   for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, world, true).write(world);
 
   // 6 x 6 x 5 fluid particles; the floor sensor reads rho g H (to the rounding of %.9g), the one above is dry.
-  const std::vector<std::string> pressure = lines_of(directory / "probe_fluid_pressure.csv");
+  const std::vector<std::string> pressure = test::file_lines(directory / "probe_fluid_pressure.csv");
   REQUIRE(pressure.size() == 2);
   CHECK(pressure[0] == "time_s,step,p0_Pa,p1_Pa");
   CHECK(pressure[1] == "0,0,490.5,");
-  const std::vector<std::string> gauges = lines_of(directory / "probe_wave_gauge.csv");
+  const std::vector<std::string> gauges = test::file_lines(directory / "probe_wave_gauge.csv");
   REQUIRE(gauges.size() == 2);
   CHECK(gauges[0] == "time_s,step,gauge0_z_m,gauge1_z_m");
   CHECK(gauges[1] == "0,0,0.05,");
-  const std::vector<std::string> front = lines_of(directory / "probe_surge_front.csv");
+  const std::vector<std::string> front = test::file_lines(directory / "probe_surge_front.csv");
   REQUIRE(front.size() == 2);
   CHECK(front[0] == "time_s,step,front_m");
   CHECK(front[1] == "0,0,0.06");
-  const std::vector<std::string> totals = lines_of(directory / "probe_fluid_totals.csv");
+  const std::vector<std::string> totals = test::file_lines(directory / "probe_fluid_totals.csv");
   REQUIRE(totals.size() == 2);
   CHECK(totals[0] == "time_s,step,fluid_particles,volume_m3,kinetic_energy_J,max_speed_m_s,mean_density_ratio,"
                      "surface_particles,ppe_iterations,ppe_residual,removed_particles,removed_mass_kg,"
@@ -389,15 +378,15 @@ TEST_CASE("ProbeWriter writes one column per sensor, empty fields where nothing 
     world.fluid_summary->removed_left_domain = 1;
     world.fluid_summary->removed_lone_droplet = 2;
     for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, world, true).write(world);
-    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] ==
+    CHECK(test::file_lines(directory / "probe_fluid_totals.csv")[1] ==
           "0,0,180,0.00018,0,0,1,0,42,5e-09,3,0.003,3e-06,1,2");
   }
   SUBCASE("without fluid particles or summary (yet) every field is empty") {
     World empty;
     for (const ProbeModel& probe : model.output.probes) ProbeWriter(model, probe, directory, empty, true).write(empty);
-    CHECK(lines_of(directory / "probe_fluid_pressure.csv")[1] == "0,0,,");
-    CHECK(lines_of(directory / "probe_surge_front.csv")[1] == "0,0,");
-    CHECK(lines_of(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,,,,,,");
+    CHECK(test::file_lines(directory / "probe_fluid_pressure.csv")[1] == "0,0,,");
+    CHECK(test::file_lines(directory / "probe_surge_front.csv")[1] == "0,0,");
+    CHECK(test::file_lines(directory / "probe_fluid_totals.csv")[1] == "0,0,,,,,,,,,,,,,");
   }
 }
 
@@ -409,17 +398,17 @@ TEST_CASE("a pressure sensor above the water reads 0, not its negative hydrostat
   FluidProbeSettings s = settings();
   // Above the free surface (z = H) the extrapolation rho g (H - z) is negative: the sensor is in air and reads 0.
   // Extrapolated, they would read -24.5, -49, -98 and -147 Pa.
-  for (const Vec3& point : {Vec3(0.03, 0.03, kDepth + 0.25 * kSpacing), Vec3(0.03, 0.03, kDepth + 0.5 * kSpacing),
-                            Vec3(0.03, 0.03, kDepth + kSpacing), Vec3(0.0, 0.03, kDepth + 1.5 * kSpacing)}) {
+  for (const Vec3& point : {Vec3(0.03, 0.03, kDepth + 0.25 * kProbeSpacing), Vec3(0.03, 0.03, kDepth + 0.5 * kProbeSpacing),
+                            Vec3(0.03, 0.03, kDepth + kProbeSpacing), Vec3(0.0, 0.03, kDepth + 1.5 * kProbeSpacing)}) {
     CAPTURE(point.transpose());
     CHECK(fluid_pressure_at(water, s, TankMotion{}, point) == 0.0);
   }
   // With tension allowed ([fluid] clamp_negative_pressure = false) the extrapolation stands where the support is
   // wet (l0/4 above the surface: a third of it holds water), and is 0 where it is dry (l0 above: 3 %).
   s.allow_tension = true;
-  CHECK(std::abs(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.03, 0.03, kDepth + 0.25 * kSpacing)) +
-                 0.25 * kDensity * kGravity * kSpacing) <= kPressureTolerance);
-  CHECK(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.03, 0.03, kDepth + kSpacing)) == 0.0);
+  CHECK(std::abs(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.03, 0.03, kDepth + 0.25 * kProbeSpacing)) +
+                 0.25 * kDensity * kGravity * kProbeSpacing) <= kPressureTolerance);
+  CHECK(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.03, 0.03, kDepth + kProbeSpacing)) == 0.0);
   // Inside the water nothing changes.
   CHECK(std::abs(fluid_pressure_at(water, s, TankMotion{}, Vec3(0.0, 0.03, 0.01)) -
                  kDensity * kGravity * (kDepth - 0.01)) <= kPressureTolerance);
@@ -680,11 +669,11 @@ TEST_CASE("ProbeWriter: a transducer's rows, instant or the time-weighted mean o
     for (ProbeWriter& writer : writers) writer.write_if_due(world);
   }
   // Instant: the reading at t = 0, 3 and 6 ms; the disc high on the x_min wall is in air: 0, not empty.
-  CHECK(lines_of(directory / "probe_instant.csv") ==
+  CHECK(test::file_lines(directory / "probe_instant.csv") ==
         std::vector<std::string>{"time_s,step,p0_Pa,p1_Pa", "0,0,490.5,0", "0.0030000000000000001,3,790.5,0",
                                  "0.0060000000000000001,6,1090.5,0"});
   // Mean over 2 ms: the steps that ended in (1, 3] ms and (4, 6] ms, equally long: +250 and +550 Pa.
-  CHECK(lines_of(directory / "probe_mean.csv") ==
+  CHECK(test::file_lines(directory / "probe_mean.csv") ==
         std::vector<std::string>{"time_s,step,p0_Pa", "0,0,490.5", "0.0030000000000000001,3,740.5",
                                  "0.0060000000000000001,6,1040.5"});
 }
@@ -705,7 +694,7 @@ TEST_CASE("a scene with pressure transducers runs and writes their CSV, and on r
   options.out_dir = a.string();
   options.threads = 1;
   REQUIRE(simulation->run(options).exit_code == kExitOk);
-  const std::vector<std::string> walls = lines_of(a / "probe_walls.csv");
+  const std::vector<std::string> walls = test::file_lines(a / "probe_walls.csv");
   REQUIRE(walls.size() == 7);  // t = 0, 0.002, ..., 0.01
   CHECK(walls[0] == "time_s,step,p0_Pa,p1_Pa,p2_Pa");
   for (std::size_t row = 1; row < walls.size(); ++row) {
@@ -719,7 +708,7 @@ TEST_CASE("a scene with pressure transducers runs and writes their CSV, and on r
     CHECK(values[3] > 0.0);
     CHECK(values[4] == 0.0);
   }
-  const std::vector<std::string> mean = lines_of(a / "probe_mean.csv");
+  const std::vector<std::string> mean = test::file_lines(a / "probe_mean.csv");
   REQUIRE(mean.size() == 7);
   CHECK(mean[0] == "time_s,step,p0_Pa");
   CHECK(mean[1] == walls[1].substr(0, walls[1].find(',', 4)));  // t = 0: the initial reading alone
@@ -731,8 +720,8 @@ TEST_CASE("a scene with pressure transducers runs and writes their CSV, and on r
   auto resumed = Simulation::from_checkpoint((b / "checkpoints" / "step_0000000005.ckpt").string());
   options.out_dir = b.string();
   REQUIRE(resumed->run(options).exit_code == kExitOk);
-  CHECK(lines_of(b / "probe_walls.csv") == walls);
-  const std::vector<std::string> resumed_mean = lines_of(b / "probe_mean.csv");
+  CHECK(test::file_lines(b / "probe_walls.csv") == walls);
+  const std::vector<std::string> resumed_mean = test::file_lines(b / "probe_mean.csv");
   REQUIRE(resumed_mean.size() == 7);
   CHECK(std::vector<std::string>(resumed_mean.begin(), resumed_mean.begin() + 4) ==
         std::vector<std::string>(mean.begin(), mean.begin() + 4));
@@ -757,7 +746,7 @@ TEST_CASE("driven_flow probe: body force, bulk velocity and each lid's force and
   world.fluid_summary->body_force = 0.5;
   world.fluid_summary->lid_force = {Vec3(0.02, 0.0, -0.01), Vec3(-0.005, 0.0, 0.0)};
   ProbeWriter(model, model.output.probes[0], directory, world, true).write(world);
-  const std::vector<std::string> lines = lines_of(directory / "probe_driven_flow.csv");
+  const std::vector<std::string> lines = test::file_lines(directory / "probe_driven_flow.csv");
   REQUIRE(lines.size() == 2);
   CHECK(lines[0] == "time_s,step,body_force_m_s2,bulk_velocity_m_s,lid0_fx_N,lid0_fy_N,lid0_fz_N,lid0_shear_Pa,"
                     "lid1_fx_N,lid1_fy_N,lid1_fz_N,lid1_shear_Pa");
@@ -773,8 +762,8 @@ TEST_CASE("in a tank periodic along x a pressure sensor on the seam reads the pa
   const double length = kTankSize.x();
   FluidParticles particles;
   append_layout(particles,
-                fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(length, kTankSize.y(), kDepth), kSpacing));
-  append_layout(particles, tank_wall_layout(Vec3::Zero(), kTankSize, {"z_max"}, kSpacing, kRadiusRatio * kSpacing,
+                fluid_box_layout(Vec3::Zero(), Vec3::Zero(), Vec3(length, kTankSize.y(), kDepth), kProbeSpacing));
+  append_layout(particles, tank_wall_layout(Vec3::Zero(), kTankSize, {"z_max"}, kProbeSpacing, kRadiusRatio * kProbeSpacing,
                                             {true, false, false}));
   for (std::size_t j = 0; j < particles.size(); ++j)
     if (particles.kind[j] == static_cast<std::int32_t>(FluidKind::kFluid))

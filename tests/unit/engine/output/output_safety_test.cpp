@@ -66,7 +66,7 @@ RunOutcome run_small(const fs::path& out, double until) {
 }
 
 /// The problems parse_scene reports for the small scene with `find` replaced by `replace`.
-std::vector<std::string> problems_with(const std::string& find, const std::string& replace) {
+std::vector<std::string> output_problems_with(const std::string& find, const std::string& replace) {
   std::string text = test::small_scene_text();
   const std::size_t at = text.find(find);
   REQUIRE(at != std::string::npos);
@@ -250,23 +250,23 @@ TEST_CASE("run.name must be one plain folder name") {
   };
   for (const Case& bad : cases) {
     CAPTURE(bad.name);
-    const std::vector<std::string> problems = problems_with("name = \"small\"", std::string("name = ") + bad.name);
+    const std::vector<std::string> problems = output_problems_with("name = \"small\"", std::string("name = ") + bad.name);
     REQUIRE(problems.size() == 1);
     CHECK(problems[0].rfind("named.toml:3:8: run.name: ", 0) == 0);
     CHECK(problems[0].find(bad.message) != std::string::npos);
   }
   const std::string long_name = "\"" + std::string(201, 'x') + "\"";
-  const std::vector<std::string> problems = problems_with("name = \"small\"", "name = " + long_name);
+  const std::vector<std::string> problems = output_problems_with("name = \"small\"", "name = " + long_name);
   REQUIRE(problems.size() == 1);
   CHECK(problems[0].find("expected at most 200 bytes") != std::string::npos);
-  CHECK(problems_with("name = \"small\"", "name = \"run 2, é_ok.v1\"").empty());
+  CHECK(output_problems_with("name = \"small\"", "name = \"run 2, é_ok.v1\"").empty());
 }
 
 TEST_CASE("a dt longer than end_time is refused: the run would take no step") {
-  const std::vector<std::string> problems = problems_with("dt = 1.0e-3", "dt = 0.06");
+  const std::vector<std::string> problems = output_problems_with("dt = 1.0e-3", "dt = 0.06");
   REQUIRE(problems.size() == 1);
   CHECK(problems[0].rfind("named.toml:5:6: run.dt: dt = 0.06 s is longer than end_time = 0.05 s", 0) == 0);
-  CHECK(problems_with("dt = 1.0e-3", "dt = 0.05").empty());  // one step exactly
+  CHECK(output_problems_with("dt = 1.0e-3", "dt = 0.05").empty());  // one step exactly
 }
 
 TEST_CASE("the temporary files a killed run left behind are removed by the next run into the folder, nothing else") {

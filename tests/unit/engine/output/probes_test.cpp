@@ -40,28 +40,11 @@ std::string contact_scene(const std::string& output) {
       .output().toml() + output;
 }
 
-/// "file:line:column: " of the first occurrence of `needle` in `text` (a '^' in the needle marks the character meant).
-std::string location(const std::string& file, const std::string& text, const std::string& needle) {
-  return test::location(file, text, needle, false);
-}
+std::vector<std::string> probe_problems(const std::string& text) { return test::problems_of(text, "probes.toml"); }
 
-std::vector<std::string> problems_of(const std::string& text) { return test::problems_of(text, "probes.toml"); }
-
-std::vector<std::string> lines_of(const fs::path& path) {
-  std::ifstream file(path);
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(file, line);) lines.push_back(line);
-  return lines;
-}
 
 std::string first_field(const std::string& line) { return line.substr(0, line.find(',')); }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 }  // namespace
 
@@ -131,12 +114,12 @@ TEST_CASE("bad probes are reported as file:line:column: key: message") {
   for (const Bad& bad : cases) {
     const std::string text = contact_scene(std::string("\n[[output.probes]]\n") + bad.probe);
     CAPTURE(text);
-    const std::vector<std::string> problems = problems_of(text);
+    const std::vector<std::string> problems = probe_problems(text);
     std::string all_problems;
     for (const std::string& problem : problems) all_problems += problem + "\n";
     CAPTURE(all_problems);
     REQUIRE(problems.size() == 1);
-    const std::string expected_start = location("probes.toml", text, bad.at) + bad.key + ": ";
+    const std::string expected_start = test::first_location("probes.toml", text, bad.at) + bad.key + ": ";
     CHECK_MESSAGE(problems[0].rfind(expected_start, 0) == 0, problems[0], " should start with ", expected_start);
     CHECK_MESSAGE(problems[0].find(bad.message) != std::string::npos, problems[0]);
   }
@@ -144,14 +127,14 @@ TEST_CASE("bad probes are reported as file:line:column: key: message") {
   SUBCASE("two probes writing the same file") {
     const std::string text = contact_scene(
         "[[output.probes]]\nkind = \"wall_forces\"\n[[output.probes]]\nkind = \"wall_forces\"\ninterval = 0.1\n");
-    const std::vector<std::string> problems = problems_of(text);
+    const std::vector<std::string> problems = probe_problems(text);
     REQUIRE(problems.size() == 1);
     CHECK(problems[0].find("output.probes[1].name: another probe (\"wall_forces\") already writes "
                            "\"probe_wall_forces.csv\"") != std::string::npos);
   }
   SUBCASE("wall forces without [contact]") {
     const std::string text = test::small_scene_text("\n[output]\n[[output.probes]]\nkind = \"wall_forces\"\n");
-    const std::vector<std::string> problems = problems_of(text);
+    const std::vector<std::string> problems = probe_problems(text);
     REQUIRE(problems.size() == 1);
     CHECK(problems[0].find("output.probes[0].kind: wall forces need [contact]") != std::string::npos);
   }
@@ -256,7 +239,7 @@ interval = 0.005
   // Grains: a row at t = 0 and every 0.01 s up to 0.04: 5 rows, 2 + 3 x 31 columns, the first 12 of each grain as
   // before the fluid's forces were added (tools read them by position), then the voidage, the undisturbed fluid
   // velocity and each force by source.
-  const std::vector<std::string> grains = lines_of(a / "probe_grains.csv");
+  const std::vector<std::string> grains = test::file_lines(a / "probe_grains.csv");
   REQUIRE(grains.size() == 6);
   CHECK(grains[0].rfind("time_s,step,grain0_x_m,grain0_y_m,grain0_z_m,grain0_vx_m_s,grain0_vy_m_s,grain0_vz_m_s,"
                         "grain0_wx_rad_s,grain0_wy_rad_s,grain0_wz_rad_s,grain0_fx_N,grain0_fy_N,grain0_fz_N,"
@@ -277,7 +260,7 @@ interval = 0.005
   CHECK(grains[1].rfind("0,0,0.005,0.005,0.005,", 0) == 0);  // grain 0 starts at (0.005, 0.005, 0.005)
 
   // Wall forces: 5 walls (z_max is open), a row every 0.005 s: 9 rows; t = 0 has no contact list yet (empty).
-  const std::vector<std::string> walls = lines_of(a / "probe_wall_forces.csv");
+  const std::vector<std::string> walls = test::file_lines(a / "probe_wall_forces.csv");
   REQUIRE(walls.size() == 10);
   CHECK(walls[0] == "time_s,step,x_min_fx_N,x_min_fy_N,x_min_fz_N,x_max_fx_N,x_max_fy_N,x_max_fz_N,y_min_fx_N,"
                     "y_min_fy_N,y_min_fz_N,y_max_fx_N,y_max_fy_N,y_max_fz_N,z_min_fx_N,z_min_fy_N,z_min_fz_N");
@@ -291,12 +274,12 @@ interval = 0.005
         doctest::Approx(-9 * 2500.0 * 4.0 / 3.0 * 3.14159265358979 * 1.25e-7 * 9.81).epsilon(0.01));
 
   // Bed profile: 12 layers of 5 mm (the smallest diameter) over the 6 cm tank, at 5 times; centroids at 5 times.
-  const std::vector<std::string> profile = lines_of(a / "bed_profile.csv");
+  const std::vector<std::string> profile = test::file_lines(a / "bed_profile.csv");
   REQUIRE(profile.size() == 1 + 5 * 12);
   CHECK(profile[0] == "time_s,t_over_T,layer,z_low_m,z_high_m,grains,contacts,coordination_number,"
                       "mean_dimensionless_overlap");
   CHECK(profile[2] == "0,0,1,0.005,0.01,9,0,0,");  // large grains' centres at 5 mm: layer 1; none touching at t = 0
-  const std::vector<std::string> centroids = lines_of(a / "class_centroids.csv");
+  const std::vector<std::string> centroids = test::file_lines(a / "class_centroids.csv");
   REQUIRE(centroids.size() == 6);
   CHECK(centroids[0] == "time_s,t_over_T,class_0_centroid_m,class_1_centroid_m");
   CHECK(centroids[1] == "0,0,0.02255,0.005");  // small grains at 20, 25.1 mm (36 each) - large at 5 mm
@@ -320,7 +303,7 @@ interval = 0.005
   REQUIRE(resumed->run(options).exit_code == kExitOk);
   for (const char* file : {"probe_grains.csv", "probe_wall_forces.csv", "bed_profile.csv", "class_centroids.csv"}) {
     CAPTURE(file);
-    CHECK(read_text(b / file) == read_text(a / file));
+    CHECK(test::file_text(b / file) == test::file_text(a / file));
   }
   // A resume that stops earlier leaves no rows from the first run's later times behind.
   const fs::path c = directory / "c";
@@ -329,10 +312,10 @@ interval = 0.005
   options.out_dir = c.string();
   options.until = 0.025;
   REQUIRE(shorter->run(options).exit_code == kExitOk);
-  const std::vector<std::string> short_walls = lines_of(c / "probe_wall_forces.csv");
+  const std::vector<std::string> short_walls = test::file_lines(c / "probe_wall_forces.csv");
   REQUIRE(short_walls.size() == 7);  // t = 0, 0.005, ..., 0.025
   CHECK(short_walls.back() == walls[6]);
-  CHECK(lines_of(c / "class_centroids.csv").size() == 4);  // t = 0, 0.01, 0.02
+  CHECK(test::file_lines(c / "class_centroids.csv").size() == 4);  // t = 0, 0.01, 0.02
 }
 
 TEST_CASE("a grains probe writes a grain past a periodic face at its place in the period") {
@@ -365,7 +348,7 @@ TEST_CASE("a grains probe writes a grain past a periodic face at its place in th
   RunOptions options;
   options.out_dir = directory.string();
   REQUIRE(simulation->run(options).exit_code == kExitOk);
-  const std::vector<std::string> rows = lines_of(directory / "probe_grains.csv");
+  const std::vector<std::string> rows = test::file_lines(directory / "probe_grains.csv");
   REQUIRE(rows.size() == 202);  // the header, t = 0 and 200 steps
   for (std::size_t row = 1; row < rows.size(); ++row) {
     const std::string& line = rows[row];

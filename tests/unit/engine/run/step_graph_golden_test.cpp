@@ -16,18 +16,12 @@ using namespace riffle;
 
 namespace {
 
-std::string read_text(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 }  // namespace
 
 TEST_CASE("the seed scene's step graph is the pinned one (tests/data/seed_step_graph.dot)") {
   const std::string source = RIFFLE_SOURCE_DIR;
-  std::string scene = read_text(source + "/scenes/oscillating_tank_quick.toml");
+  std::string scene = test::file_text(source + "/scenes/oscillating_tank_quick.toml");
   // The scene starts from the settled bed's checkpoint, which a fresh clone does not have. The graph depends on
   // which systems the scene enables, not on the grains, so one grain stands in for the bed.
   const std::regex initial_state(R"(\ninitial_state = [^\n]*)");
@@ -37,7 +31,7 @@ TEST_CASE("the seed scene's step graph is the pinned one (tests/data/seed_step_g
   const Model model = parse_scene(scene, source + "/scenes/oscillating_tank_quick.toml");
   World world = initial_world(model);
   const Stepper stepper(build_pipeline(model), world, model);
-  const std::string expected = read_text(source + "/tests/data/seed_step_graph.dot");
+  const std::string expected = test::file_text(source + "/tests/data/seed_step_graph.dot");
   INFO("the step graph changed; if that is intended, check the new edges and regenerate the file with\n"
        "  build/riffle graph scenes/oscillating_tank_quick.toml > tests/data/seed_step_graph.dot\n"
        "(the scene needs the settled bed: build/riffle run scenes/dry_bed_settle.toml). The graph now:\n"

@@ -25,19 +25,16 @@ using riffle::test::SceneBuilder;
 
 namespace {
 
+using test::joined;
+
 /// "file:line:column: " of the character marked '^' in `needle` (default its first), which occurs once in `text`.
-std::string location(const std::string& text, const std::string& needle, const std::string& file) {
+std::string marked_location(const std::string& text, const std::string& needle, const std::string& file) {
   return test::location(file, text, needle);
 }
 
 using test::problems_of;
 using test::replace_once;
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const std::string& line : lines) out += "  " + line + "\n";
-  return out;
-}
 
 std::size_t count_kind(const FluidParticles& particles, FluidKind kind) {
   return static_cast<std::size_t>(
@@ -273,7 +270,7 @@ TEST_CASE("bad fluid tables are rejected at file, line, column and key") {
   };
   for (const BadFluid& bad : cases) {
     const std::string text = replace_once(test::fluid_scene_text(), bad.find, bad.replace);
-    const std::string prefix = location(text, bad.at, "bad.toml") + bad.key + ": ";
+    const std::string prefix = marked_location(text, bad.at, "bad.toml") + bad.key + ": ";
     CAPTURE(text);
     const std::vector<std::string> problems = problems_of(text);
     const bool found = std::any_of(problems.begin(), problems.end(), [&](const std::string& line) {
@@ -292,7 +289,7 @@ TEST_CASE("a fluid without boxes is refused, and tank_walls = false lifts the wh
   text = text.substr(0, text.find("[[fluid.boxes]]"));
   std::vector<std::string> problems = problems_of(text);
   REQUIRE(problems.size() == 1);
-  CHECK(problems[0].rfind(location(text, "^[fluid]", "bad.toml") +
+  CHECK(problems[0].rfind(marked_location(text, "^[fluid]", "bad.toml") +
                               "fluid.boxes: expected at least one [[fluid.boxes]] table",
                           0) == 0);
   text = replace_once(test::fluid_scene_text(), "size = [0.04, 0.02, 0.03]", "size = [0.04, 0.023, 0.03]");
@@ -454,7 +451,7 @@ TEST_CASE("fluid.preconditioner: two_level by default, jacobi, and boomeramg whe
     const std::vector<std::string> problems = problems_of(amg);
     REQUIRE(problems.size() == 1);
     CAPTURE(problems[0]);
-    CHECK(problems[0].rfind(location(amg, "\"boomeramg\"", "bad.toml") + "fluid.preconditioner: ", 0) == 0);
+    CHECK(problems[0].rfind(marked_location(amg, "\"boomeramg\"", "bad.toml") + "fluid.preconditioner: ", 0) == 0);
     CHECK(problems[0].find("built with hypre") != std::string::npos);
   }
   const std::vector<std::string> problems = problems_of(with("\"amg\""));

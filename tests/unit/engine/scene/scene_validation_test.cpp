@@ -25,6 +25,8 @@
 
 namespace {
 
+using test::joined;
+
 // Small but uses every key the reader knows, so that mutations (and the fuzz test) reach every code path.
 // Blocks: x and y from 0.02 to 0.08 step 0.01 -> 7 each, z from 0.02 to 0.04 -> 3: 147 grains, plus 1 sphere.
 constexpr std::string_view kBaseScene = R"(# Base scene for the validation tests.
@@ -86,11 +88,6 @@ constexpr std::size_t kBaseGrains = 7 * 7 * 3 + 1;
 using riffle::test::count_of, riffle::test::replace_once, riffle::test::position_of, riffle::test::problems_of,
     riffle::test::TextPosition;
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const std::string& line : lines) out += "  " + line + "\n";
-  return out;
-}
 
 /// One problem line "file:line:column: key: message", split up; nullopt if it does not have that shape.
 struct ProblemLine {

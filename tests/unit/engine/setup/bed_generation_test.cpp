@@ -25,6 +25,8 @@
 
 namespace {
 
+using test::joined;
+
 using riffle::BedArrangement;
 using riffle::BedGenerationError;
 using riffle::FillSpec;
@@ -411,11 +413,6 @@ std::string location_of(std::string_view text, const std::string& needle) {
   return riffle::test::location("beds.toml", text, needle);
 }
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const std::string& line : lines) out += "  " + line + "\n";
-  return out;
-}
 
 /// The problems set-up finds generating the beds and fills of a model read without problems (none if it generates).
 std::vector<std::string> setup_problems(const riffle::Model& model) {

@@ -11,11 +11,11 @@ using namespace riffle;
 
 namespace {
 
-constexpr double kSpacing = 0.005;  // [m] l0
+constexpr double kLayoutSpacing = 0.005;  // [m] l0
 const Vec3 kOrigin(0.1, -0.2, 0.03);
 
 /// Closed form of tank_wall_layout: prod (n_a + L_a^- + L_a^+) - prod n_a.
-std::size_t shell_count(const std::array<std::int64_t, 3>& cells, const std::array<bool, 6>& closed, std::int64_t layers) {
+std::size_t layout_shell_count(const std::array<std::int64_t, 3>& cells, const std::array<bool, 6>& closed, std::int64_t layers) {
   std::int64_t outer = 1, inner = 1;
   for (std::size_t a = 0; a < 3; ++a) {
     outer *= cells[a] + (closed[2 * a] ? layers : 0) + (closed[2 * a + 1] ? layers : 0);
@@ -25,7 +25,7 @@ std::size_t shell_count(const std::array<std::int64_t, 3>& cells, const std::arr
 }
 
 Vec3 cells_to_size(const std::array<std::int64_t, 3>& cells) {
-  return kSpacing * Vec3(static_cast<double>(cells[0]), static_cast<double>(cells[1]), static_cast<double>(cells[2]));
+  return kLayoutSpacing * Vec3(static_cast<double>(cells[0]), static_cast<double>(cells[1]), static_cast<double>(cells[2]));
 }
 
 /// Smallest distance from each particle to any other (brute force).
@@ -43,10 +43,10 @@ std::vector<double> nearest_distances(const std::vector<Vec3>& positions) {
 }  // namespace
 
 TEST_CASE("dummy layers: ceil(r_e / l0) - 1") {
-  CHECK(dummy_layer_count(kSpacing, 2.6 * kSpacing) == 2);
-  CHECK(dummy_layer_count(kSpacing, 3.1 * kSpacing) == 3);
-  CHECK(dummy_layer_count(kSpacing, 2.4 * kSpacing) == 2);
-  CHECK(dummy_layer_count(kSpacing, 3.0 * kSpacing) == 2);  // w(r_e) = 0: a layer at exactly r_e adds nothing
+  CHECK(dummy_layer_count(kLayoutSpacing, 2.6 * kLayoutSpacing) == 2);
+  CHECK(dummy_layer_count(kLayoutSpacing, 3.1 * kLayoutSpacing) == 3);
+  CHECK(dummy_layer_count(kLayoutSpacing, 2.4 * kLayoutSpacing) == 2);
+  CHECK(dummy_layer_count(kLayoutSpacing, 3.0 * kLayoutSpacing) == 2);  // w(r_e) = 0: a layer at exactly r_e adds nothing
   CHECK(dummy_layer_count(0.1, 0.3) == 2);                  // 0.3 / 0.1 = 2.9999999999999996
   CHECK_THROWS_AS(dummy_layer_count(0.0, 1.0), std::invalid_argument);
 }
@@ -54,7 +54,7 @@ TEST_CASE("dummy layers: ceil(r_e / l0) - 1") {
 TEST_CASE("a fluid box is cell-centred: n_x n_y n_z particles, first layer l0/2 inside each face") {
   const std::array<std::int64_t, 3> cells{10, 7, 12};
   const Vec3 high = kOrigin + cells_to_size(cells);
-  const FluidLayout layout = fluid_box_layout(kOrigin, kOrigin, high, kSpacing);
+  const FluidLayout layout = fluid_box_layout(kOrigin, kOrigin, high, kLayoutSpacing);
   CHECK(layout.fluid == 10 * 7 * 12);
   CHECK(layout.particles.size() == layout.fluid);
   CHECK(layout.wall == 0);
@@ -67,12 +67,12 @@ TEST_CASE("a fluid box is cell-centred: n_x n_y n_z particles, first layer l0/2 
     high_seen = high_seen.cwiseMax(particle.position);
   }
   for (int axis = 0; axis < 3; ++axis) {
-    CHECK(low_seen[axis] - kOrigin[axis] == doctest::Approx(0.5 * kSpacing).epsilon(1e-9));
-    CHECK(high[axis] - high_seen[axis] == doctest::Approx(0.5 * kSpacing).epsilon(1e-9));
+    CHECK(low_seen[axis] - kOrigin[axis] == doctest::Approx(0.5 * kLayoutSpacing).epsilon(1e-9));
+    CHECK(high[axis] - high_seen[axis] == doctest::Approx(0.5 * kLayoutSpacing).epsilon(1e-9));
   }
   // A box off the lattice keeps the cells whose centres it contains: centres 0.5 .. 3.5 l0 in [0.3, 4.2] l0.
   const FluidLayout shifted =
-      fluid_box_layout(kOrigin, kOrigin + Vec3::Constant(0.3 * kSpacing), kOrigin + Vec3::Constant(4.2 * kSpacing), kSpacing);
+      fluid_box_layout(kOrigin, kOrigin + Vec3::Constant(0.3 * kLayoutSpacing), kOrigin + Vec3::Constant(4.2 * kLayoutSpacing), kLayoutSpacing);
   CHECK(shifted.fluid == 4 * 4 * 4);
   CHECK(shifted.particles.front().cell == std::array<std::int64_t, 3>{0, 0, 0});
 }
@@ -94,17 +94,17 @@ TEST_CASE("tank walls and dummies: closed-form counts for r_e = 2.6 l0 and 3.1 l
       CAPTURE(radius_ratio);
       CAPTURE(tank.open.size());
       const FluidLayout layout =
-          tank_wall_layout(kOrigin, cells_to_size(cells), tank.open, kSpacing, radius_ratio * kSpacing);
+          tank_wall_layout(kOrigin, cells_to_size(cells), tank.open, kLayoutSpacing, radius_ratio * kLayoutSpacing);
       CHECK(layout.fluid == 0);
-      CHECK(layout.wall == shell_count(cells, tank.closed, 1));
-      CHECK(layout.dummy == shell_count(cells, tank.closed, 1 + dummies) - shell_count(cells, tank.closed, 1));
+      CHECK(layout.wall == layout_shell_count(cells, tank.closed, 1));
+      CHECK(layout.dummy == layout_shell_count(cells, tank.closed, 1 + dummies) - layout_shell_count(cells, tank.closed, 1));
       CHECK(layout.particles.size() == layout.wall + layout.dummy);
       for (const LatticeParticle& particle : layout.particles) {
         // Position on the lattice; kind from the depth outside the inner box; owned by a closed face it lies beyond.
         std::int64_t depth = 0;
         for (std::size_t a = 0; a < 3; ++a) {
           CHECK(particle.position[static_cast<int>(a)] ==
-                doctest::Approx(kOrigin[static_cast<int>(a)] + (static_cast<double>(particle.cell[a]) + 0.5) * kSpacing)
+                doctest::Approx(kOrigin[static_cast<int>(a)] + (static_cast<double>(particle.cell[a]) + 0.5) * kLayoutSpacing)
                     .epsilon(1e-12));
           depth = std::max({depth, -particle.cell[a], particle.cell[a] - cells[a] + 1});
         }
@@ -125,15 +125,15 @@ TEST_CASE("tank walls and dummies: closed-form counts for r_e = 2.6 l0 and 3.1 l
       }
     }
   }
-  CHECK_THROWS_AS(tank_wall_layout(kOrigin, Vec3(0.0503, 0.04, 0.06), {}, kSpacing, 2.6 * kSpacing), std::invalid_argument);
-  CHECK_THROWS_AS(tank_wall_layout(kOrigin, cells_to_size(cells), {"top"}, kSpacing, 2.6 * kSpacing), std::invalid_argument);
+  CHECK_THROWS_AS(tank_wall_layout(kOrigin, Vec3(0.0503, 0.04, 0.06), {}, kLayoutSpacing, 2.6 * kLayoutSpacing), std::invalid_argument);
+  CHECK_THROWS_AS(tank_wall_layout(kOrigin, cells_to_size(cells), {"top"}, kLayoutSpacing, 2.6 * kLayoutSpacing), std::invalid_argument);
 }
 
 TEST_CASE("fluid and tank share one lattice: no duplicates, nearest neighbour exactly l0") {
   const std::array<std::int64_t, 3> tank_cells{6, 5, 8};
   const std::array<std::int64_t, 3> water_cells{6, 5, 5};
-  const FluidLayout walls = tank_wall_layout(kOrigin, cells_to_size(tank_cells), {"z_max"}, kSpacing, 3.1 * kSpacing);
-  const FluidLayout water = fluid_box_layout(kOrigin, kOrigin, kOrigin + cells_to_size(water_cells), kSpacing);
+  const FluidLayout walls = tank_wall_layout(kOrigin, cells_to_size(tank_cells), {"z_max"}, kLayoutSpacing, 3.1 * kLayoutSpacing);
+  const FluidLayout water = fluid_box_layout(kOrigin, kOrigin, kOrigin + cells_to_size(water_cells), kLayoutSpacing);
   FluidParticles particles;
   append_layout(particles, water);
   const std::size_t first_wall = append_layout(particles, walls);
@@ -153,13 +153,13 @@ TEST_CASE("fluid and tank share one lattice: no duplicates, nearest neighbour ex
   // Every particle's nearest other particle is exactly l0 away (rounding only): no duplicates, no gaps at the
   // fluid-wall seam (first fluid layer l0/2 inside, wall layer l0/2 outside).
   for (const double nearest : nearest_distances(particles.position))
-    CHECK(nearest == doctest::Approx(kSpacing).epsilon(1e-12));
+    CHECK(nearest == doctest::Approx(kLayoutSpacing).epsilon(1e-12));
   // Each fluid particle in the first layer has a wall particle exactly l0 away across every closed face it touches.
   std::size_t seam_pairs = 0;
   for (std::size_t i = 0; i < water.fluid; ++i)
     for (std::size_t j = first_wall; j < particles.size(); ++j)
       if (particles.kind[j] == static_cast<std::int32_t>(FluidKind::kWall) &&
-          std::abs((particles.position[j] - particles.position[i]).norm() - kSpacing) < 1e-12)
+          std::abs((particles.position[j] - particles.position[i]).norm() - kLayoutSpacing) < 1e-12)
         ++seam_pairs;
   // Face-adjacent fluid-wall pairs: the bottom (6 x 5) and four sides over 5 water layers: 2 (6 + 5) 5.
   CHECK(seam_pairs == 6 * 5 + 2 * (6 + 5) * 5);

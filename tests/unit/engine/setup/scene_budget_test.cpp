@@ -52,7 +52,7 @@ std::string fluid_scene(int side, const std::string& extra_run = "") {
   return text;
 }
 
-std::string problems_of(const std::string& text, const riffle::SceneLimits& limits = {}) {
+std::string budget_problems(const std::string& text, const riffle::SceneLimits& limits = {}) {
   try {
     riffle::parse_scene(text, "budget.toml", limits);
   } catch (const riffle::SceneError& error) {
@@ -74,7 +74,7 @@ TEST_CASE("scene budget: grains over the scene's total are refused before they a
   const std::string second =
       "[[solids.blocks]]\nmin = [0.0005, 0.0005, 0.1005]\nmax = [0.2995, 0.1995, 0.1995]\nspacing = 0.00057\n"
       "radius = 0.00025\nmaterial = \"sand\"\n";
-  const std::string problems = problems_of(dem_scene(block + second, "", "memory_limit = 1.0e6\n"));
+  const std::string problems = budget_problems(dem_scene(block + second, "", "memory_limit = 1.0e6\n"));
   INFO(problems);
   CHECK(contains(problems, "budget.toml:"));
   CHECK(contains(problems, "grains in all, more than the 5e7 a scene may have"));
@@ -84,7 +84,7 @@ TEST_CASE("scene budget: a fill whose classes exceed the memory limit is refused
   const std::string fill =
       "[[solids.fills]]\nmin = [0.0, 0.0, 0.0]\nmax = [0.3, 0.2, 0.2]\n"
       "[[solids.fills.classes]]\ndiameter = 0.0005\ncount = 4000000\nmaterial = \"sand\"\n";
-  const std::string problems = problems_of(dem_scene(fill, "", "memory_limit = 0.25\n"));
+  const std::string problems = budget_problems(dem_scene(fill, "", "memory_limit = 0.25\n"));
   INFO(problems);
   CHECK(contains(problems, "solids.fills[0].classes"));
   CHECK(contains(problems, "4e+06 grains would need at least an estimated"));
@@ -93,7 +93,7 @@ TEST_CASE("scene budget: a fill whose classes exceed the memory limit is refused
 
 TEST_CASE("scene budget: MPS particles over the memory limit are refused, naming fluid.spacing and the estimate") {
   // 200^3 = 8e6 fluid particles: several GiB with their neighbour lists.
-  const std::string problems = problems_of(fluid_scene(200, "memory_limit = 1.0\n"));
+  const std::string problems = budget_problems(fluid_scene(200, "memory_limit = 1.0\n"));
   INFO(problems);
   CHECK(contains(problems, "fluid.spacing: the scene needs an estimated"));
   CHECK(contains(problems, "8e+06 particles"));
@@ -106,15 +106,15 @@ TEST_CASE("scene budget: the limit is raised by run.memory_limit and by --memory
   const double need_gib = budget.bytes / (1024.0 * 1024.0 * 1024.0);
   const std::string below = "memory_limit = " + std::to_string(0.5 * need_gib) + "\n";
   const std::string above = "memory_limit = " + std::to_string(2.0 * need_gib) + "\n";
-  CHECK(contains(problems_of(fluid_scene(40, below)), "the memory limit is"));
-  CHECK(problems_of(fluid_scene(40, above)).empty());
+  CHECK(contains(budget_problems(fluid_scene(40, below)), "the memory limit is"));
+  CHECK(budget_problems(fluid_scene(40, above)).empty());
   riffle::SceneLimits small, large;
   small.memory_limit = 0.5 * budget.bytes;
   large.memory_limit = 2.0 * budget.bytes;
-  CHECK(contains(problems_of(fluid_scene(40), small), "(--memory-limit)"));
+  CHECK(contains(budget_problems(fluid_scene(40), small), "(--memory-limit)"));
   // The command line beats the scene key either way.
-  CHECK(problems_of(fluid_scene(40, below), large).empty());
-  CHECK(contains(problems_of(fluid_scene(40, above), small), "(--memory-limit)"));
+  CHECK(budget_problems(fluid_scene(40, below), large).empty());
+  CHECK(contains(budget_problems(fluid_scene(40, above), small), "(--memory-limit)"));
 }
 
 TEST_CASE("scene budget: a contact skin far beyond the grains is refused") {
@@ -123,7 +123,7 @@ TEST_CASE("scene budget: a contact skin far beyond the grains is refused") {
       "[[solids.spheres]]\nposition = [0.2, 0.1, 0.1]\nradius = 0.001\nmaterial = \"sand\"\n";
   std::string scene = dem_scene(spheres);
   scene.insert(scene.find("[solids]"), "skin = 1.0\n\n");
-  const std::string problems = problems_of(scene);
+  const std::string problems = budget_problems(scene);
   INFO(problems);
   CHECK(contains(problems, "contact.skin: a skin of 1 m is more than twice the largest grain diameter"));
 }

@@ -18,17 +18,17 @@ using namespace riffle;
 
 namespace {
 
-constexpr double kSpacing = 0.005;  // [m] l0
+constexpr double kNeighbourSpacing = 0.005;  // [m] l0
 
 /// A jittered 9 x 8 x 7 lattice block plus a far stray particle, a particle on top of another and a NaN.
 std::vector<Vec3> jittered_block() {
   std::vector<Vec3> positions;
   std::mt19937 random(7);
-  std::uniform_real_distribution<double> offset(-0.4 * kSpacing, 0.4 * kSpacing);
+  std::uniform_real_distribution<double> offset(-0.4 * kNeighbourSpacing, 0.4 * kNeighbourSpacing);
   for (int k = 0; k < 7; ++k)
     for (int j = 0; j < 8; ++j)
       for (int i = 0; i < 9; ++i)
-        positions.push_back(kSpacing * Vec3(i, j, k) + Vec3(offset(random), offset(random), offset(random)));
+        positions.push_back(kNeighbourSpacing * Vec3(i, j, k) + Vec3(offset(random), offset(random), offset(random)));
   // Shuffle so slot order is not spatial order.
   std::shuffle(positions.begin(), positions.end(), random);
   positions.push_back(Vec3(1.0e4, -3.0e3, 2.0e4));  // stray: the grid must not explode, it has no neighbours
@@ -52,7 +52,7 @@ TEST_CASE("fluid neighbour lists equal a brute-force search, in ascending slot o
   const std::vector<Vec3> positions = jittered_block();
   for (const double ratio : {2.6, 3.1}) {
     CAPTURE(ratio);
-    const double radius = ratio * kSpacing;
+    const double radius = ratio * kNeighbourSpacing;
     FluidNeighbours neighbours;
     build_fluid_neighbours(positions, radius, neighbours);
     const auto expected = brute_force(positions, radius);
@@ -78,13 +78,13 @@ TEST_CASE("fluid neighbour lists equal a brute-force search, in ascending slot o
 TEST_CASE("fluid neighbour lists do not depend on the grid's cells: a narrow search on the wide skin's cells") {
   // The adaptive skin (FluidNeighbourSearch) searches r_e + 0.1 l0 on the cells of r_e + 0.3 l0.
   const std::vector<Vec3> positions = jittered_block();
-  const double radius = 2.5 * kSpacing;
+  const double radius = 2.5 * kNeighbourSpacing;
   const auto expected = brute_force(positions, radius);
   for (const double cell_ratio : {0.0, 2.7, 6.0}) {
     CAPTURE(cell_ratio);
     FluidNeighbours neighbours;
     build_fluid_neighbours(positions, radius, neighbours, static_cast<std::size_t>(-1), Vec3(0.001, -0.002, 0.0),
-                           cell_ratio * kSpacing);
+                           cell_ratio * kNeighbourSpacing);
     CHECK(neighbours.radius == radius);
     for (std::size_t i = 0; i < positions.size(); ++i)
       CHECK(std::vector<std::uint32_t>(neighbours.slots.begin() + neighbours.offsets[i],
@@ -96,17 +96,17 @@ TEST_CASE("fluid neighbour lists do not depend on the thread count and rebuild i
   const std::vector<Vec3> positions = jittered_block();
   FluidNeighbours serial, parallel;
   tbb::task_arena one(1);
-  one.execute([&] { build_fluid_neighbours(positions, 2.6 * kSpacing, serial); });
-  build_fluid_neighbours(positions, 2.6 * kSpacing, parallel);
+  one.execute([&] { build_fluid_neighbours(positions, 2.6 * kNeighbourSpacing, serial); });
+  build_fluid_neighbours(positions, 2.6 * kNeighbourSpacing, parallel);
   CHECK(serial.offsets == parallel.offsets);
   CHECK(serial.slots == parallel.slots);
   // A second build over different data replaces the lists.
-  const std::vector<Vec3> few = {Vec3::Zero(), Vec3(kSpacing, 0, 0), Vec3(10 * kSpacing, 0, 0)};
-  build_fluid_neighbours(few, 2.6 * kSpacing, parallel);
+  const std::vector<Vec3> few = {Vec3::Zero(), Vec3(kNeighbourSpacing, 0, 0), Vec3(10 * kNeighbourSpacing, 0, 0)};
+  build_fluid_neighbours(few, 2.6 * kNeighbourSpacing, parallel);
   CHECK(parallel.builds == 2);
   CHECK(parallel.offsets == std::vector<std::uint32_t>{0, 1, 2, 2});
   CHECK(parallel.slots == std::vector<std::uint32_t>{1, 0});
-  build_fluid_neighbours({}, 2.6 * kSpacing, parallel);
+  build_fluid_neighbours({}, 2.6 * kNeighbourSpacing, parallel);
   CHECK(parallel.offsets == std::vector<std::uint32_t>{0});
   CHECK(parallel.slots.empty());
   CHECK_THROWS_AS(build_fluid_neighbours(few, 0.0, parallel), std::invalid_argument);
@@ -118,7 +118,7 @@ TEST_CASE("the search's 4- and 8-wide candidate tests keep exactly the pairs of 
   // Candidates within a rounding error of the radius (on a sphere of radius (1 +- 1e-15) R around some queries, and
   // at R) check that all sum the squared distance in the same order.
   std::vector<Vec3> positions = jittered_block();
-  const double radius = 2.6 * kSpacing;
+  const double radius = 2.6 * kNeighbourSpacing;
   std::mt19937 random(11);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), scale(-1.0e-15, 1.0e-15);
   for (std::size_t centre = 0; centre < 40; ++centre)
@@ -160,13 +160,13 @@ TEST_CASE("a box of water periodic along x: no walls on the x faces, and the hal
   // along x, so every particle's number density depends on its (y, z) layer only (no dip at the seam), and equals
   // the sum over the infinite lattice (here three periods, searched by brute force).
   const std::array<std::int64_t, 3> cells{8, 5, 6};  // period 8 l0 > 2 r_e
-  const double radius = 3.1 * kSpacing;
+  const double radius = 3.1 * kNeighbourSpacing;
   const Vec3 origin(0.02, -0.01, 0.0);
-  const Vec3 size = kSpacing * Vec3(8.0, 5.0, 6.0);
+  const Vec3 size = kNeighbourSpacing * Vec3(8.0, 5.0, 6.0);
   const std::array<bool, 3> periodic{true, false, false};
-  const FluidLayout water = fluid_box_layout(origin, origin, origin + size, kSpacing);
-  const FluidLayout shell = tank_wall_layout(origin, size, {}, kSpacing, radius, periodic);
-  const std::int64_t layers = 1 + dummy_layer_count(kSpacing, radius);
+  const FluidLayout water = fluid_box_layout(origin, origin, origin + size, kNeighbourSpacing);
+  const FluidLayout shell = tank_wall_layout(origin, size, {}, kNeighbourSpacing, radius, periodic);
+  const std::int64_t layers = 1 + dummy_layer_count(kNeighbourSpacing, radius);
   REQUIRE(water.fluid == 8 * 5 * 6);
   CHECK(shell.particles.size() ==
         static_cast<std::size_t>(cells[0] * (cells[1] + 2 * layers) * (cells[2] + 2 * layers) - 8 * 5 * 6));
@@ -216,7 +216,7 @@ TEST_CASE("a box of water periodic along x: no walls on the x faces, and the hal
       nearest = std::min(nearest, distance);
       density[i] += kernel.weight(distance);
     }
-    CHECK(nearest == doctest::Approx(kSpacing).epsilon(1e-12));  // no gap nor overlap across the seam
+    CHECK(nearest == doctest::Approx(kNeighbourSpacing).epsilon(1e-12));  // no gap nor overlap across the seam
     double expected = 0.0;
     for (std::size_t j = 0; j < extended.size(); ++j)
       if (j != real + i) expected += kernel.weight((extended[j] - positions[i]).norm());

@@ -11,10 +11,10 @@ using namespace riffle;
 
 namespace {
 /// Points on an nx x ny x nz lattice of spacing 1 (cell centres), the domain the lattice's box.
-struct Lattice {
+struct BisectionLattice {
   std::vector<Vec3> points;
   PartBox domain;
-  Lattice(int nx, int ny, int nz) {
+  BisectionLattice(int nx, int ny, int nz) {
     for (int z = 0; z < nz; ++z)
       for (int y = 0; y < ny; ++y)
         for (int x = 0; x < nx; ++x) points.emplace_back(x + 0.5, y + 0.5, z + 0.5);
@@ -33,7 +33,7 @@ double volume(const PartBox& box) { return (box.high - box.low).prod(); }
 }  // namespace
 
 TEST_CASE("recursive bisection tiles the domain and gives every point one box") {
-  const Lattice lattice(24, 16, 6);
+  const BisectionLattice lattice(24, 16, 6);
   const std::vector<double> weights(lattice.points.size(), 1.0);
   for (const int parts : {1, 2, 3, 4, 5, 7, 8, 16}) {
     CAPTURE(parts);
@@ -60,7 +60,7 @@ TEST_CASE("recursive bisection shares uniform weights to within one lattice plan
   // 2304 points. Every cut falls between lattice planes, so a part can miss its share by at most one plane of
   // points per cut above it: at 8 parts (3 cuts, planes of at most 16 x 6 = 96 points) within 3 * 96 / 2304 of the
   // mean; with a power of two along the long axis, exactly.
-  const Lattice lattice(24, 16, 6);
+  const BisectionLattice lattice(24, 16, 6);
   const std::vector<double> weights(lattice.points.size(), 1.0);
   const std::vector<PartBox> four = recursive_bisection(lattice.points, weights, lattice.domain, 4);
   for (const double sum : part_weights(four, lattice.points, weights)) CHECK(sum == 576.0);
@@ -75,7 +75,7 @@ TEST_CASE("recursive bisection shares uniform weights to within one lattice plan
 TEST_CASE("recursive bisection follows the weights, not the volume") {
   // The lower half along x (12 planes of 96 points) weighs 3 a point, the upper half 1: 4608 in all, half of it in
   // the first 8 planes (8 x 96 x 3 = 2304), so the cut sits at x = 8, not at the middle (12).
-  const Lattice lattice(24, 16, 6);
+  const BisectionLattice lattice(24, 16, 6);
   std::vector<double> weights(lattice.points.size());
   for (std::size_t i = 0; i < weights.size(); ++i) weights[i] = lattice.points[i].x() < 12.0 ? 3.0 : 1.0;
   const std::vector<PartBox> boxes = recursive_bisection(lattice.points, weights, lattice.domain, 2);

@@ -23,6 +23,8 @@ using namespace riffle;
 
 namespace {
 
+using test::joined;
+
 
 /// A sampled A sin(w t + phi) on [0, periods T] at `per_period` points per period.
 struct SampledSine {
@@ -86,17 +88,12 @@ std::string motion_scene(const std::string& motion, double end_time = 0.1) {
 
 using test::problems_of;
 
-bool mentions(const std::vector<std::string>& problems, const std::string& start, const std::string& fragment) {
+bool mentions_in_order(const std::vector<std::string>& problems, const std::string& start, const std::string& fragment) {
   return std::any_of(problems.begin(), problems.end(), [&](const std::string& line) {
     return line.rfind(start, 0) == 0 && line.find(fragment) != std::string::npos;
   });
 }
 
-std::string joined(const std::vector<std::string>& lines) {
-  std::string out;
-  for (const std::string& line : lines) out += "  " + line + "\n";
-  return out;
-}
 
 }  // namespace
 
@@ -342,7 +339,7 @@ TEST_CASE("[tank.motion] new keys: phase in degrees, start_time, kind = table an
     const std::string text = motion_scene(bad.motion);
     CAPTURE(text);
     const std::vector<std::string> problems = problems_of(text, scene_file);
-    CHECK_MESSAGE(mentions(problems, bad.start, bad.fragment), "expected ", bad.start, "... ", bad.fragment, "; got\n",
+    CHECK_MESSAGE(mentions_in_order(problems, bad.start, bad.fragment), "expected ", bad.start, "... ", bad.fragment, "; got\n",
                   joined(problems));
   }
   // A run that ends before the table does is fine even though the table ends moving.

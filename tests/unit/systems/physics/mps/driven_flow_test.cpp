@@ -21,7 +21,7 @@ using riffle::test::SceneBuilder;
 
 namespace {
 
-bool mentions(const std::vector<std::string>& problems, const std::string& a, const std::string& b) {
+bool drive_mentions(const std::vector<std::string>& problems, const std::string& a, const std::string& b) {
   for (const std::string& line : problems)
     if (line.find(a) != std::string::npos && line.find(b) != std::string::npos) return true;
   return false;
@@ -202,7 +202,7 @@ TEST_CASE("scene keys: body force, turbulence and lids read with their defaults"
       .body_force("bulk_velocity").set("target_velocity", 0.3).set("response_time", 0.5)
       .set("viscous_time", 2.0)
       .toml());
-  CHECK(mentions(test::problems_of(bulk_text), "fluid.body_force.kind", "does not move along x"));
+  CHECK(drive_mentions(test::problems_of(bulk_text), "fluid.body_force.kind", "does not move along x"));
   bulk_text.replace(bulk_text.find("[tank.motion]\n"), 14, "[tank.motion]\ndirection = [0.0, 0.0, 1.0]\n");
   const Model bulk = parse_scene(bulk_text, "bulk.toml");
   CHECK(bulk.fluid.body_force.integral_gain == doctest::Approx(4.0));
@@ -212,30 +212,30 @@ TEST_CASE("scene keys: body force, turbulence and lids read with their defaults"
 
 TEST_CASE("scene keys: bad driven-flow input is refused naming the key") {
   auto problems = [](const std::string& extra) { return test::problems_of(test::fluid_scene_text(extra)); };
-  CHECK(mentions(problems("\n[fluid.body_force]\nkind = \"pump\"\n"), "fluid.body_force.kind", "pump"));
-  CHECK(mentions(problems("\n[fluid.body_force]\nkind = \"constant\"\n"), "fluid.body_force.acceleration", "missing"));
-  CHECK(mentions(problems("\n[fluid.body_force]\nkind = \"sinusoidal\"\namplitude = 1.0\nperiod = 0.0\n"),
+  CHECK(drive_mentions(problems("\n[fluid.body_force]\nkind = \"pump\"\n"), "fluid.body_force.kind", "pump"));
+  CHECK(drive_mentions(problems("\n[fluid.body_force]\nkind = \"constant\"\n"), "fluid.body_force.acceleration", "missing"));
+  CHECK(drive_mentions(problems("\n[fluid.body_force]\nkind = \"sinusoidal\"\namplitude = 1.0\nperiod = 0.0\n"),
                  "fluid.body_force.period", ""));
-  CHECK(mentions(problems("\n[fluid.body_force]\nkind = \"constant\"\nacceleration = 1e6\n"),
+  CHECK(drive_mentions(problems("\n[fluid.body_force]\nkind = \"constant\"\nacceleration = 1e6\n"),
                  "fluid.body_force.acceleration", ""));
-  CHECK(mentions(problems("\n[fluid.body_force]\nkind = \"bulk_velocity\"\ntarget_velocity = 0.1\n"
+  CHECK(drive_mentions(problems("\n[fluid.body_force]\nkind = \"bulk_velocity\"\ntarget_velocity = 0.1\n"
                           "integral_gain = 1.0\nproportional_gain = 1.0\nresponse_time = 1.0\n"),
                  "fluid.body_force.response_time", "not both"));
-  CHECK(mentions(problems("\n[fluid.body_force]\nkind = \"constant\"\nacceleration = 1.0\nperiod = 2.0\n"),
+  CHECK(drive_mentions(problems("\n[fluid.body_force]\nkind = \"constant\"\nacceleration = 1.0\nperiod = 2.0\n"),
                  "fluid.body_force.period", ""));
-  CHECK(mentions(problems("\n[[fluid.wall_boxes]]\nlow = [0.1, -0.01, 0.02]\nhigh = [0.14, 0.01, 0.03]\n"
+  CHECK(drive_mentions(problems("\n[[fluid.wall_boxes]]\nlow = [0.1, -0.01, 0.02]\nhigh = [0.14, 0.01, 0.03]\n"
                           "lid = \"free_slip\"\nvelocity = 0.1\n"),
                  "velocity", "free-slip"));
-  CHECK(mentions(problems("\n[[fluid.wall_boxes]]\nlow = [0.1, -0.01, 0.02]\nhigh = [0.14, 0.01, 0.03]\n"
+  CHECK(drive_mentions(problems("\n[[fluid.wall_boxes]]\nlow = [0.1, -0.01, 0.02]\nhigh = [0.14, 0.01, 0.03]\n"
                           "lid = \"sticky\"\n"),
                  "lid", "sticky"));
-  CHECK(mentions(problems("\n[[fluid.wall_boxes]]\nlow = [0.1, -0.01, 0.02]\nhigh = [0.14, 0.01, 0.03]\n"
+  CHECK(drive_mentions(problems("\n[[fluid.wall_boxes]]\nlow = [0.1, -0.01, 0.02]\nhigh = [0.14, 0.01, 0.03]\n"
                           "velocity = 0.1\n"),
                  "velocity", ""));  // velocity without lid: an unknown key
   std::string text = test::fluid_scene_text();
   text.replace(text.find("spacing = 0.005"), 15, "spacing = 0.005\nsmagorinsky_constant = 0.1");
-  CHECK(mentions(test::problems_of(text), "fluid.smagorinsky_constant", "sps"));
+  CHECK(drive_mentions(test::problems_of(text), "fluid.smagorinsky_constant", "sps"));
   text = test::fluid_scene_text();
   text.replace(text.find("spacing = 0.005"), 15, "spacing = 0.005\nturbulence = \"les\"");
-  CHECK(mentions(test::problems_of(text), "fluid.turbulence", "les"));
+  CHECK(drive_mentions(test::problems_of(text), "fluid.turbulence", "les"));
 }

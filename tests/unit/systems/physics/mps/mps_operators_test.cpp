@@ -15,8 +15,8 @@ using namespace riffle;
 
 namespace {
 
-constexpr double kSpacing = 0.005;        // [m] l0
-constexpr double kRadius = 2.6 * kSpacing;  // r_e
+constexpr double kOperatorSpacing = 0.005;        // [m] l0
+constexpr double kRadius = 2.6 * kOperatorSpacing;  // r_e
 
 /// A cubic lattice of (2 n + 1)^3 points centred on the origin, optionally jittered, with the centre first.
 struct Patch {
@@ -33,7 +33,7 @@ Patch lattice_patch(int n, double jitter, unsigned seed) {
     for (int j = -n; j <= n; ++j)
       for (int k = -n; k <= n; ++k) {
         if (i == 0 && j == 0 && k == 0) continue;
-        patch.positions.push_back(kSpacing * Vec3(i + offset(random), j + offset(random), k + offset(random)));
+        patch.positions.push_back(kOperatorSpacing * Vec3(i + offset(random), j + offset(random), k + offset(random)));
       }
   for (std::uint32_t index = 1; index < patch.positions.size(); ++index)
     if (patch.positions[index].norm() < kRadius) patch.centre_neighbours.push_back(index);
@@ -71,7 +71,7 @@ Vec3 corrected_gradient(const Patch& patch, const std::vector<double>& values, c
 TEST_CASE("number density of the lattice centre is n0") {
   const WendlandKernel kernel{kRadius};
   const Patch patch = lattice_patch(3, 0.0, 1);
-  const LatticeConstants constants = lattice_constants(3, kSpacing, kRadius);
+  const LatticeConstants constants = lattice_constants(3, kOperatorSpacing, kRadius);
   double density = 0.0;
   std::int64_t count = 0;
   for_each_centre_pair(patch, kernel, [&](const FluidPairBatch& pair, std::size_t k) {
@@ -85,7 +85,7 @@ TEST_CASE("number density of the lattice centre is n0") {
 TEST_CASE("HS divergence and HL Laplacian carry the same lattice bias, so it cancels in the PPE") {
   const WendlandKernel kernel{kRadius};
   const Patch patch = lattice_patch(3, 0.0, 1);
-  const LatticeConstants constants = lattice_constants(3, kSpacing, kRadius);
+  const LatticeConstants constants = lattice_constants(3, kOperatorSpacing, kRadius);
   const double n0 = constants.number_density;
   // u = x: div u = 3; (1/n0) Dn/Dt = -bias * div u. p = |x|^2: lap p = 6, times the same bias.
   double rate = 0.0, laplacian = 0.0, linear_laplacian = 0.0;
@@ -99,9 +99,9 @@ TEST_CASE("HS divergence and HL Laplacian carry the same lattice bias, so it can
   CHECK(rate / n0 == doctest::Approx(-3.0 * constants.operator_bias).epsilon(1e-12));
   CHECK(laplacian / n0 == doctest::Approx(6.0 * constants.operator_bias).epsilon(1e-12));
   // A linear field has zero Laplacian on the lattice (its terms cancel in symmetric pairs): 1e-9 of one term's size.
-  CHECK(std::abs(linear_laplacian / n0) < 1e-9 * 9810.0 / kSpacing);
+  CHECK(std::abs(linear_laplacian / n0) < 1e-9 * 9810.0 / kOperatorSpacing);
   // A wall neighbour stands for itself and its mirror image: twice a fluid one's term.
-  const Vec3 offset(0.3 * kSpacing, -0.2 * kSpacing, 0.9 * kSpacing), velocity(0.1, 0.2, -0.3);
+  const Vec3 offset(0.3 * kOperatorSpacing, -0.2 * kOperatorSpacing, 0.9 * kOperatorSpacing), velocity(0.1, 0.2, -0.3);
   const double derivative_over_distance = kernel.derivative_over_distance(offset.norm());
   CHECK(density_rate_term(false, derivative_over_distance, offset, velocity) ==
         2.0 * density_rate_term(true, derivative_over_distance, offset, velocity));
@@ -109,7 +109,7 @@ TEST_CASE("HS divergence and HL Laplacian carry the same lattice bias, so it can
 
 TEST_CASE("the corrected gradient is exact for linear fields, on the lattice and on a jittered arrangement") {
   const WendlandKernel kernel{kRadius};
-  const double n0 = lattice_constants(3, kSpacing, kRadius).number_density;
+  const double n0 = lattice_constants(3, kOperatorSpacing, kRadius).number_density;
   const Vec3 slope(1200.0, -300.0, 9810.0);  // [Pa/m]
   for (double jitter : {0.0, 0.15, 0.3}) {
     CAPTURE(jitter);
@@ -126,12 +126,12 @@ TEST_CASE("the corrected gradient is exact for linear fields, on the lattice and
 
 TEST_CASE("the gradient correction falls back to the identity for a one-sided, flat neighbourhood") {
   const WendlandKernel kernel{kRadius};
-  const double n0 = lattice_constants(3, kSpacing, kRadius).number_density;
+  const double n0 = lattice_constants(3, kOperatorSpacing, kRadius).number_density;
   Patch patch;
   patch.positions.push_back(Vec3::Zero());
   for (int i = -2; i <= 2; ++i)
     for (int j = -2; j <= 2; ++j)
-      if (i != 0 || j != 0) patch.positions.push_back(kSpacing * Vec3(i, j, 0.0));  // a plane: A is singular in z
+      if (i != 0 || j != 0) patch.positions.push_back(kOperatorSpacing * Vec3(i, j, 0.0));  // a plane: A is singular in z
   for (std::uint32_t k = 1; k < patch.positions.size(); ++k)
     if (patch.positions[k].norm() < kRadius) patch.centre_neighbours.push_back(k);
   Eigen::Matrix3d correction;
@@ -171,11 +171,11 @@ TEST_CASE("the Gershgorin shortcut of the gradient correction decides as the eig
 
 TEST_CASE("dynamic stabilisation pushes particles that came too close apart, and leaves others alone") {
   const WendlandKernel kernel{kRadius};
-  const double n0 = lattice_constants(3, kSpacing, kRadius).number_density;
+  const double n0 = lattice_constants(3, kOperatorSpacing, kRadius).number_density;
   const double dt = 1e-3;
-  const double closest = 0.9 * kSpacing;  // alpha_DS l0 with C_r = 0.1
+  const double closest = 0.9 * kOperatorSpacing;  // alpha_DS l0 with C_r = 0.1
   Patch patch;
-  patch.positions = {Vec3::Zero(), Vec3(0.7 * kSpacing, 0.0, 0.0), Vec3(0.0, kSpacing, 0.0)};
+  patch.positions = {Vec3::Zero(), Vec3(0.7 * kOperatorSpacing, 0.0, 0.0), Vec3(0.0, kOperatorSpacing, 0.0)};
   patch.centre_neighbours = {1, 2};
   Vec3 stabilisation = Vec3::Zero();
   for_each_centre_pair(patch, kernel, [&](const FluidPairBatch& pair, std::size_t k) {
@@ -188,6 +188,6 @@ TEST_CASE("dynamic stabilisation pushes particles that came too close apart, and
   CHECK(push.x() < 0.0);
   CHECK(push.y() == 0.0);
   CHECK(push.z() == 0.0);
-  const double expected = 0.5 * (0.2 * kSpacing) / dt * kernel.weight(0.7 * kSpacing) / n0;
+  const double expected = 0.5 * (0.2 * kOperatorSpacing) / dt * kernel.weight(0.7 * kOperatorSpacing) / n0;
   CHECK(-push.x() == doctest::Approx(expected).epsilon(1e-12));
 }

@@ -22,7 +22,7 @@
 namespace riffle {
 namespace {
 
-bool mentions(const std::vector<std::string>& problems, const std::string& a, const std::string& b) {
+bool shifting_mentions(const std::vector<std::string>& problems, const std::string& a, const std::string& b) {
   for (const std::string& line : problems)
     if (line.find(a) != std::string::npos && line.find(b) != std::string::npos) return true;
   return false;
@@ -198,19 +198,19 @@ TEST_CASE("scene keys: [fluid] shifting, read with units and bounds, and fluid_s
   CHECK(constant.fluid.shifting_max_ratio == 0.2);
   CHECK_FALSE(constant.fluid.shifting_velocity_correction);
 
-  CHECK(mentions(test::problems_of(with("shifting = \"xsph\"")), "fluid.shifting", "xsph"));
-  CHECK(mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_coefficient = 0.0")),
+  CHECK(shifting_mentions(test::problems_of(with("shifting = \"xsph\"")), "fluid.shifting", "xsph"));
+  CHECK(shifting_mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_coefficient = 0.0")),
                  "fluid.shifting_coefficient", ""));
-  CHECK(mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_coefficient = 11.0")),
+  CHECK(shifting_mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_coefficient = 11.0")),
                  "fluid.shifting_coefficient", ""));
-  CHECK(mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_diffusivity = \"constant\"\n"
+  CHECK(shifting_mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_diffusivity = \"constant\"\n"
                                         "shifting_coefficient = 2.0")),
                  "fluid.shifting_coefficient", ""));
-  CHECK(mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_max = 0.5")), "fluid.shifting_max", ""));
-  CHECK(mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_diffusivity = \"fast\"")),
+  CHECK(shifting_mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_max = 0.5")), "fluid.shifting_max", ""));
+  CHECK(shifting_mentions(test::problems_of(with("shifting = \"fickian\"\nshifting_diffusivity = \"fast\"")),
                  "fluid.shifting_diffusivity", "fast"));
-  CHECK(mentions(test::problems_of(with("shifting_coefficient = 1.0")), "fluid.shifting_coefficient", "fickian"));
-  CHECK(mentions(test::problems_of(with("shifting_max = 0.1")), "fluid.shifting_max", "fickian"));
+  CHECK(shifting_mentions(test::problems_of(with("shifting_coefficient = 1.0")), "fluid.shifting_coefficient", "fickian"));
+  CHECK(shifting_mentions(test::problems_of(with("shifting_max = 0.1")), "fluid.shifting_max", "fickian"));
 }
 
 }  // namespace riffle

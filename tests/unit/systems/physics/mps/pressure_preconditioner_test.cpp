@@ -18,14 +18,14 @@ using namespace riffle;
 namespace {
 /// A 3D 7-point Laplacian with a Dirichlet boundary on an n^3 lattice of spacing 1 (M = 6 I - neighbours), points at
 /// the lattice sites: an SPD M-matrix like the PPE's.
-struct Lattice {
+struct PressureLattice {
   std::size_t n;
   std::vector<double> diagonal, values;
   std::vector<std::size_t> row_start{0};
   std::vector<std::uint32_t> columns;
   std::vector<Vec3> positions;
 
-  explicit Lattice(std::size_t size) : n(size) {
+  explicit PressureLattice(std::size_t size) : n(size) {
     for (std::size_t z = 0; z < n; ++z)
       for (std::size_t y = 0; y < n; ++y)
         for (std::size_t x = 0; x < n; ++x) {
@@ -56,7 +56,7 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 }  // namespace
 
 TEST_CASE("the two-level preconditioner is symmetric and positive definite") {
-  const Lattice lattice(8);
+  const PressureLattice lattice(8);
   TwoLevelPreconditioner preconditioner;
   REQUIRE(preconditioner.setup(lattice.matrix(), lattice.positions, Vec3::Zero(), 4.0));
   CHECK(preconditioner.coarse_size() == 8);  // 8^3 sites in cells of 4: 2 x 2 x 2 aggregates
@@ -74,7 +74,7 @@ TEST_CASE("the two-level preconditioner is symmetric and positive definite") {
 
 TEST_CASE("the coarse correction is exact for residuals in the coarse space's range") {
   // r = A P e for a coarse vector e: the coarse part returns P e exactly, so M^-1 r - D^-1 r = P e.
-  const Lattice lattice(8);
+  const PressureLattice lattice(8);
   TwoLevelPreconditioner preconditioner;
   REQUIRE(preconditioner.setup(lattice.matrix(), lattice.positions, Vec3::Zero(), 4.0));
   std::vector<double> prolonged(lattice.diagonal.size()), residual(prolonged.size()), result(prolonged.size());
@@ -119,7 +119,7 @@ struct TwoRanks {
   std::vector<double> shared;  ///< every row's entry, for the ghost refresh
   std::barrier<> barrier{2};
 
-  TwoRanks(const Lattice& lattice, double split) : shared(lattice.diagonal.size()) {
+  TwoRanks(const PressureLattice& lattice, double split) : shared(lattice.diagonal.size()) {
     const auto rank_of = [&](std::size_t row) { return lattice.positions[row][2] < split ? 0 : 1; };
     for (std::size_t row = 0; row < lattice.diagonal.size(); ++row) own[rank_of(row)].push_back(row);
     for (int r = 0; r < 2; ++r) {
@@ -205,7 +205,7 @@ std::vector<double> varied(std::size_t size, double a, double b) {
 TEST_CASE("over two ranks whose boundary follows the coarse cells, the preconditioner is the one-rank one") {
   // Sites below z = 4 on rank 0: every aggregate (cells of 4) lies on one rank, so the coarse space, A_c and M^-1 are
   // one rank's, numbered in another order: equal to rounding. The ranks' coarse dot shares add up to the whole.
-  const Lattice lattice(8);
+  const PressureLattice lattice(8);
   TwoLevelPreconditioner alone;
   REQUIRE(alone.setup(lattice.matrix(), lattice.positions, Vec3::Zero(), 4.0));
   const std::vector<double> x = varied(lattice.diagonal.size(), 0.37, 0.1);
@@ -225,7 +225,7 @@ TEST_CASE("over two ranks whose boundary follows the coarse cells, the precondit
 TEST_CASE("over two ranks that cut the coarse cells, the preconditioner stays symmetric and positive definite") {
   // Sites below z = 3 on rank 0: the cells of 4 that straddle z = 3 become one aggregate on each rank (2 x 2 x 2
   // cells, the lower 4 split: 12 aggregates). M^-1 over the whole domain is still D^-1 + P A_c^-1 P^T.
-  const Lattice lattice(8);
+  const PressureLattice lattice(8);
   TwoRanks ranks(lattice, 3.0);
   const std::vector<double> x = varied(lattice.diagonal.size(), 0.37, 0.1);
   const std::vector<double> y = varied(lattice.diagonal.size(), 1.3, -0.2);
