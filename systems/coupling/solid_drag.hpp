@@ -48,6 +48,14 @@ inline Vec3 carried_self_induced_disturbance(const GrainDrag& drag, std::size_t 
          drag.self_induced_wall_x[grain] + drag.self_induced_wall_y[grain] + drag.self_induced_wall_z[grain];
 }
 
+/// The forces besides the drag that the grain handed the water with its drag impulse over its last sub-step: the
+/// added-mass force (both implicit parts, as the last half kick applied it) and the history force's memory
+/// (solid_integrate adds their impulse to drag_impulse; zero when off). Their reaction disturbs the water as the
+/// drag's does, so what the correction takes out of the water the grain reads includes them.
+inline Vec3 inertial_reaction_force(const GrainAddedMass& added, std::size_t grain) {
+  return added.added_mass_force[grain] + added.history_force[grain];
+}
+
 class SolidDrag final : public System {
  public:
   explicit SolidDrag(const Model& model);

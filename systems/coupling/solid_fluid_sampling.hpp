@@ -18,15 +18,17 @@ class SolidFluidSampling final : public System {
   explicit SolidFluidSampling(const Model& model);
   std::string_view name() const override { return "solid_fluid_sampling"; }
   Access access() const override {
-    // With the self-induced correction, the pressure force loses the grain's own drag reaction (GrainDrag's last
-    // drag, GrainVoidage's reading of it), docs/COUPLING.md; the water's acceleration (added mass, history force)
-    // gains the other grains' reaction, estimated from the same two.
+    // With the self-induced correction, the pressure force loses the grain's own reaction (GrainDrag's last drag
+    // with GrainAddedMass's added-mass and history forces, which the water took back with it; GrainVoidage's reading
+    // of it), docs/COUPLING.md; the water's acceleration (added mass, history force) gains the other grains'
+    // reaction, estimated from the drag and the voidage.
     // A bulk-velocity body force is the controller's state (FluidSummary, the last step's force), read only then.
     Access access{component_ids<FluidSample, GrainState, GrainProperties>(), component_ids<GrainSampledFluid>()};
     if (self_induced_velocity_ || fluid_acceleration_) {
       access.reads.push_back(component_id<GrainDrag>);
       access.reads.push_back(component_id<GrainVoidage>);
     }
+    if (self_induced_velocity_ && pressure_gradient_) access.reads.push_back(component_id<GrainAddedMass>);
     if (body_force_.kind == BodyForceModel::Kind::kBulkVelocity) access.reads.push_back(component_id<FluidSummary>);
     return access;
   }

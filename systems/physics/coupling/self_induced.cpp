@@ -412,6 +412,16 @@ double self_induced_oseen_buildup(double time, double reynolds_r) {
   return OseenBuildupCurve(reynolds_r).at(time);
 }
 
+double stokeslet_point_buildup(double time) {
+  if (time <= 0.0) return 0.0;
+  return std::erfc(0.5 / std::sqrt(time));
+}
+
+double self_induced_wall_time(double reynolds_r) {
+  const double stokes = kStokesletHalfRiseTime / std::numbers::ln2;
+  return stokes / (1.0 + stokes * std::max(reynolds_r, 0.0));
+}
+
 double self_induced_mode_time(int mode, double reynolds_r) {
   const double stokes = SelfInducedModes::time[static_cast<std::size_t>(mode)];
   return stokes / (1.0 + stokes * std::max(reynolds_r, 0.0));

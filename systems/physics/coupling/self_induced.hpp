@@ -66,6 +66,18 @@ double self_induced_mode_time(int mode, double reynolds_r);
 /// tenth of it at Re_R = 10). Tabulated in log Re_R on first use, interpolated.
 std::array<double, SelfInducedModes::kCount> self_induced_mode_amplitudes(double reynolds_r);
 
+/// The build-up of a point Stokeslet's velocity at distance r after its force switched on at t = 0, averaged over
+/// the directions along the force: erfc(1 / (2 sqrt(T))), T = nu t / r^2 (the transform of 1 - exp(-nu k^2 t) over
+/// mu k^2 with the projector's weight 2/3, (2/pi) int sin q / q (1 - exp(-q^2 T)) dq). A wall's reflection of the
+/// grain's disturbance reaches the grain from its image, 2h away, along this curve: half of it after T = 1.099.
+double stokeslet_point_buildup(double time);
+
+/// The lag time, in nu t / r^2, of the one first-order lag that a wall's reflection feeds: the point build-up's
+/// half-rise time over ln 2 (1.5856), so that the lag is half built when the reflection is; the Oseen reduction
+/// shortens it as the modes' times, T / (1 + T Re_r), Re_r = |u - v| r / nu.
+inline constexpr double kStokesletHalfRiseTime = 1.0990;  ///< T with erfc(1 / (2 sqrt(T))) = 1/2
+double self_induced_wall_time(double reynolds_r);
+
 /// The steady self-induced velocity next to one no-slip plane over the free one, along the plane's normal and
 /// along the plane, for a grain whose centre is `height_over_radius` = h / R from it. The kernel-spread force's
 /// Stokeslet with Blake's (1971, Proc. Camb. Phil. Soc. 70) image system, sampled by the same kernel; both kernels

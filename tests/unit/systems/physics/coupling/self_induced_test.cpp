@@ -85,6 +85,30 @@ TEST_CASE("the three lags reproduce the build-up of the regularised Stokeslet wi
   CHECK(self_induced_buildup(1e4) > 0.99);
 }
 
+TEST_CASE("a point Stokeslet builds as erfc(1 / (2 sqrt T)) at distance r, and the wall's lag is half built with it") {
+  // Independent of the closed form: (2/pi) int_0^inf sin q / q (1 - exp(-q^2 T)) dq by the midpoint rule up to
+  // q = 12 / sqrt(T) (the exponential is below e^-144 beyond; the rest of sin q / q is zero there).
+  for (double t : {0.02, 0.1, 0.3, 1.0, 3.0, 10.0}) {
+    CAPTURE(t);
+    const double top = 12.0 / std::sqrt(t);
+    const int steps = 400000;
+    const double h = top / steps;
+    double sum = 0.0;
+    for (int k = 0; k < steps; ++k) {
+      const double q = (k + 0.5) * h;
+      sum += std::sin(q) / q * std::exp(-q * q * t) * h;
+    }
+    CHECK(stokeslet_point_buildup(t) == doctest::Approx(1.0 - 2.0 / std::numbers::pi * sum).epsilon(1e-6));
+  }
+  CHECK(stokeslet_point_buildup(kStokesletHalfRiseTime) == doctest::Approx(0.5).epsilon(1e-4));
+  // The lag of time T_w (Stokes) is half built at the half-rise time; the Oseen reduction shortens it as the modes'.
+  CHECK(1.0 - std::exp(-kStokesletHalfRiseTime / self_induced_wall_time(0.0)) == doctest::Approx(0.5).epsilon(1e-12));
+  CHECK(self_induced_wall_time(10.0) == doctest::Approx(self_induced_wall_time(0.0) /
+                                                        (1.0 + 10.0 * self_induced_wall_time(0.0))));
+  CHECK(stokeslet_point_buildup(0.0) == 0.0);
+  CHECK(stokeslet_point_buildup(1e6) > 0.999);
+}
+
 TEST_CASE("the unsteady Oseen build-up is the Stokes one at Re_R = 0 and tends to the steady Oseen factor") {
   for (double t : {1e-3, 0.01, 0.1, 1.0, 10.0})
     CHECK(self_induced_oseen_buildup(t, 0.0) == doctest::Approx(self_induced_buildup(t)).epsilon(3e-3));
