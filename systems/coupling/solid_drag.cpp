@@ -174,9 +174,9 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // the slip, so that a steady slip is lambda times the undisturbed one. Both are the same reflection, so each pair
   // of walls across an axis feeds one lag, built as the disturbance reaches the nearer wall and comes back (at least
   // as slow as the disturbance's slowest mode, which builds its far field), with the Oseen reduction at that
-  // distance (the water's inertia screens a far wall). The walls add (reflections to first order). Below the lubrication cut-off the
-  // normal resistance is the lubrication's (solid_lubrication); below 0.1 a both are held (the explicit drag stays
-  // stable; contact is the lubrication's and the contact law's).
+  // distance (the water's inertia screens a far wall). The walls add (reflections to first order). Below the
+  // lubrication cut-off the normal resistance is the lubrication's (solid_lubrication); below 0.1 a both are held
+  // (the explicit drag stays stable; contact is the lubrication's and the contact law's).
   std::array<Vec3*, 3> walls = {&drag.self_induced_wall_x[grain], &drag.self_induced_wall_y[grain],
                                 &drag.self_induced_wall_z[grain]};
   // Per axis: the share of phi K F / flux_share each component loses, and the share of the slip added (the sum of
@@ -242,7 +242,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
     }
   }
   // u_self,new = carried - K diag(m) F / flux_share - diag(rho) w, with m_i = alpha - the walls' reductions
-  // (at least 0: the walls' lag is the slowest mode's, so (1 - keep) phi <= alpha) and rho_i the walls' resistance
+  // (at least 0: the walls' lags are at least as slow as the slowest mode, so (1 - keep) phi <= alpha) and rho_i the walls' resistance
   // shares, each through its lag's step (1 - keep).
   Vec3 gain_share = Vec3::Constant(alpha), resistance_gain = Vec3::Zero();
   for (int axis = 0; axis < 3; ++axis) {
