@@ -242,8 +242,8 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
     }
   }
   // u_self,new = carried - K diag(m) F / flux_share - diag(rho) w, with m_i = alpha - the walls' reductions
-  // (at least 0: the walls' lags are at least as slow as the slowest mode, so (1 - keep) phi <= alpha) and rho_i the walls' resistance
-  // shares, each through its lag's step (1 - keep).
+  // (at least 0: the walls' lags are at least as slow as the slowest mode, so (1 - keep) phi <= alpha) and rho_i the
+  // walls' resistance shares, each through its lag's step (1 - keep).
   Vec3 gain_share = Vec3::Constant(alpha), resistance_gain = Vec3::Zero();
   for (int axis = 0; axis < 3; ++axis) {
     gain_share -= (1.0 - wall_keep[axis]) * wall_reduction[axis];

@@ -53,7 +53,8 @@ void SolidHistoryForce::run(SystemContext& context) {
                          ? carried_self_induced_disturbance(drag, grain)
                          : Vec3::Zero();
     const Vec3 relative = sampled.fluid_velocity[grain] - own - grains.velocity[grain];
-    const Vec3 slip = relative / flux_share(fluid_velocity_, voidage);
+    const double share = flux_share(fluid_velocity_, voidage);
+    const Vec3 slip = relative / share;
     const Vec3 change = slip - added.history_relative_velocity[grain];
     added.history_relative_velocity[grain] = slip;
     const double diameter = 2.0 * properties.radius[grain];
@@ -65,8 +66,7 @@ void SolidHistoryForce::run(SystemContext& context) {
     // becomes sqrt(s / nu + l_B^-2), so the memory is Basset's kernel times exp(-nu t / l_B^2) (the rest of that
     // symbol is steady drag, the hindered drag law's). Every mode's rate grows by nu / l_B^2; zero for a lone grain.
     const double screening_rate =
-        suspension_resistance_per_volume(coupling_, voidage, diameter, relative.norm(), flux_share(fluid_velocity_, voidage),
-                                         density_, viscosity_) /
+        suspension_resistance_per_volume(coupling_, voidage, diameter, relative.norm(), share, density_, viscosity_) /
         density_;
     // The states take the last step's change; the force held over this step is the memory of the changes so far at
     // the step's end (each state decayed over one more step), and this step's own change of slip is the kicks'
@@ -77,7 +77,8 @@ void SolidHistoryForce::run(SystemContext& context) {
     double own_step = 0.0;
     for (std::size_t k = 0; k < BassetModes::kCount; ++k) {
       Vec3& mode = added.history_mode[k][grain];
-      const BassetModeStep step = screening_rate > 0.0 ? basset_mode_step(modes_.rate[k] + screening_rate, dt) : steps[k];
+      const BassetModeStep step =
+          screening_rate > 0.0 ? basset_mode_step(modes_.rate[k] + screening_rate, dt) : steps[k];
       mode = step.decay * mode + step.gain * change;
       memory += (weight[k] * step.decay) * mode;
       own_step += weight[k] * step.gain;

@@ -417,14 +417,19 @@ double stokeslet_point_buildup(double time) {
   return std::erfc(0.5 / std::sqrt(time));
 }
 
+namespace {
+/// A Stokes build-up time T shortened by convection at Re: T / (1 + T Re), the same for the modes and the walls.
+double oseen_shortened_time(double stokes_time, double reynolds) {
+  return stokes_time / (1.0 + stokes_time * std::max(reynolds, 0.0));
+}
+}  // namespace
+
 double self_induced_wall_time(double reynolds_r) {
-  const double stokes = kStokesletHalfRiseTime / std::numbers::ln2;
-  return stokes / (1.0 + stokes * std::max(reynolds_r, 0.0));
+  return oseen_shortened_time(kStokesletHalfRiseTime / std::numbers::ln2, reynolds_r);
 }
 
 double self_induced_mode_time(int mode, double reynolds_r) {
-  const double stokes = SelfInducedModes::time[static_cast<std::size_t>(mode)];
-  return stokes / (1.0 + stokes * std::max(reynolds_r, 0.0));
+  return oseen_shortened_time(SelfInducedModes::time[static_cast<std::size_t>(mode)], reynolds_r);
 }
 
 std::array<double, SelfInducedModes::kCount> self_induced_mode_amplitudes(double reynolds_r) {
