@@ -204,18 +204,12 @@ TEST_CASE("a run with a fluid writes fluid frames and the fluid.pvd series") {
   options.out_dir = out.string();
   options.threads = 1;
   REQUIRE(simulation->run(options).exit_code == kExitOk);
-  const auto read = [](const std::filesystem::path& path) {
-    std::ifstream file(path, std::ios::binary);
-    std::ostringstream text;
-    text << file.rdbuf();
-    return text.str();
-  };
-  const std::string pvd = read(out / "fluid.pvd");
+  const std::string pvd = test::file_text(out / "fluid.pvd");
   for (const char* frame : {"vtk/fluid_000000.vtp", "vtk/fluid_000001.vtp", "vtk/fluid_000002.vtp"}) {
     CHECK_MESSAGE(pvd.find(std::string("file=\"") + frame + "\"") != std::string::npos, frame);
     CHECK_MESSAGE(std::filesystem::exists(out / frame), frame);
   }
-  const std::string last = read(out / "vtk/fluid_000002.vtp");
+  const std::string last = test::file_text(out / "vtk/fluid_000002.vtp");
   CHECK(values<std::int32_t>(array_bytes(last, "kind")) == simulation->world().fluid->kind);
   CHECK_FALSE(std::filesystem::exists(out / "solids.pvd"));  // no grains in this scene
 }
