@@ -217,11 +217,11 @@ def case_geometry(reynolds, d_over_l0, box_over_d, approach=False):
                 clearance=clearance, approach=approach)
 
 
-def scene_text(g, correction, added_mass, voidage_radius, extra=()):
+def scene_text(g, correction, added_mass, voidage_radius, extra=(), dt_scale=1.0):
     """The scene; `correction` is "on", "off" or "default" (no `self_induced_velocity` key: what a user gets);
-    `extra` holds more `[coupling]` lines ("key = value")."""
+    `extra` holds more `[coupling]` lines ("key = value"); `dt_scale` multiplies the step (its convergence)."""
     d, l0, nu, side, height = g["d"], g["l0"], g["nu"], g["side"], g["height"]
-    dt = min(0.2 * l0 * l0 / nu, 0.2 * l0 / max(g["u"], 1e-9), 2e-3)
+    dt = dt_scale * min(0.2 * l0 * l0 / nu, 0.2 * l0 / max(g["u"], 1e-9), 2e-3)
     release = height - g["kernel"] - l0  # the sampling sphere under the surface
     lines = [
         "[run]", f"end_time = {g['t_end']:.15g}", f"dt = {dt:.15g}", "solid_substeps = 20", "",
@@ -360,12 +360,14 @@ def analyse_approach(g, heights, speeds, added_mass):
 
 
 def run_case(riffle, out, reynolds, d_over_l0, box_over_d, correction, added_mass, voidage_radius, threads,
-             approach=False, extra=()):
+             approach=False, extra=(), dt_scale=1.0):
     g = case_geometry(reynolds, d_over_l0, box_over_d, approach)
     name = f"re{reynolds:g}_dl{d_over_l0:g}_{correction}{'_approach' if approach else ''}"
+    if dt_scale != 1.0:
+        name += f"_dt{dt_scale:g}"
     case_dir = pathlib.Path(out) / name
     case_dir.mkdir(parents=True, exist_ok=True)
-    text, _ = scene_text(g, correction, added_mass, voidage_radius, extra)
+    text, _ = scene_text(g, correction, added_mass, voidage_radius, extra, dt_scale)
     scene = case_dir / "scene.toml"
     scene.write_text(text)
     run_dir = case_dir / "run"
@@ -406,6 +408,8 @@ def main(argv=None):
     parser.add_argument("--voidage-radius", type=float, default=0.0,
                         help="[coupling] voidage_radius (m); a huge one makes a lone grain read eps = 1")
     parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--dt-scale", type=float, default=1.0,
+                        help="the step over the study's own (min(0.2 l0^2/nu, 0.2 l0/U, 2 ms)): its convergence")
     parser.add_argument("--check", nargs="+", type=float, metavar="TOL",
                         help="TERMINAL RMS [APPROACH_RMS]: exit 1 when a case (not off) misses them")
     args = parser.parse_args(argv)
@@ -426,7 +430,7 @@ def main(argv=None):
     for reynolds, d_over_l0 in cases:
         for correction in switches:
             r = run_case(args.riffle, args.out, reynolds, d_over_l0, args.box, correction, args.added_mass,
-                         args.voidage_radius, args.threads, args.approach, args.coupling)
+                         args.voidage_radius, args.threads, args.approach, args.coupling, args.dt_scale)
             g = r["geometry"]
             row = (f"| {reynolds:g} | {d_over_l0:g} | {g['side'] / g['d']:.1f} | {correction} | "
                    f"{r['terminal'] * 1e3:.3f} / {r['expected'] * 1e3:.3f} mm/s (x{r['wall']:.3f}) | "
