@@ -73,7 +73,8 @@ Pipeline build_pipeline(const Model& model) {
       // Over MPI ranks the coupling's systems also read the other ranks' grains and water near this rank's
       // (systems/physics/ranks/coupling_ranks.hpp).
       pipeline.step_start.push_back(
-          std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress, over_ranks, fluid.effective_radius()));
+          std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress, over_ranks, fluid.effective_radius(),
+                                            fluid.spacing, model.coupling.self_induced_velocity));
       pipeline.solid_step.push_back(std::make_unique<SolidFluidSampling>(model));
       // The history force of the step start, from the relative velocity just sampled; held over the sub-steps.
       if (model.coupling.history_force) pipeline.solid_step.push_back(std::make_unique<SolidHistoryForce>(model));
@@ -112,7 +113,8 @@ Pipeline build_pipeline(const Model& model) {
         phase->push_back(std::make_unique<SolidMeanFlowSampling>(model));  // the column as set up
       } else if (coupled && phase == &pipeline.initial_forces) {
         phase->push_back(std::make_unique<FluidSampleCopy>(model.coupling.viscous_stress, ranks::distributed(),
-                                                           model.fluid.effective_radius()));
+                                                           model.fluid.effective_radius(), model.fluid.spacing,
+                                                           model.coupling.self_induced_velocity));
         phase->push_back(std::make_unique<SolidVoidage>(model, ranks::distributed()));
         phase->push_back(std::make_unique<SolidFluidSampling>(model));
       }

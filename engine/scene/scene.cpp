@@ -23,6 +23,7 @@
 #include "engine/scene/motion_table.hpp"
 #include "systems/physics/math/cubic_spline.hpp"
 #include "systems/physics/dem/contact_law.hpp"
+#include "systems/physics/coupling/sampling_kernel.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
 #include "systems/physics/mps/mps_common.hpp"
@@ -518,14 +519,17 @@ void check_periodic(TableReader& scene, const Model& model) {
     return;
   }
   if (!model.fluid.enabled) return;
-  // A grain samples the water (and spreads its drag back) within r + r_e, through its images across the seams:
-  // one image per axis, never two, only while the period exceeds twice that radius.
-  const double sampling = largest + model.fluid.effective_radius();
+  // A grain samples the water (and spreads its drag back) within r + r_e (with the self-induced correction a dilute
+  // grain's kernel is no narrower than at l0 = r: coupling_kernel_radius), through its images across the seams: one image per axis, never
+  // two, only while the period exceeds twice that radius.
+  const double sampling =
+      coupling_kernel_radius(largest, model.fluid.effective_radius(), model.fluid.spacing,
+                             model.coupling.self_induced_velocity);
   if (!periodic_cutoff_fits(periodic_box(model), sampling)) {
     char text[512];
     std::snprintf(text, sizeof text,
                   "a periodic period must exceed twice the grains' sampling radius of the water (largest radius + "
-                  "r_e = %g m), so that a grain never samples two images of one fluid particle: make tank.size "
+                  "r_e, or a dilute grain's kernel: %g m), so that a grain never samples two images of one fluid particle: make tank.size "
                   "along the periodic axes larger than %g m",
                   sampling, 2.0 * sampling);
     tank->problem("periodic", text);

@@ -33,7 +33,7 @@ void FluidDragReaction::run(SystemContext& context) {
     // cell of them and the fluid volume within a cell of them, and each such grain's share depends on which of its
     // nodes hold water: grains within two cells, fluid within three; the kernel's: grains within R of a fluid
     // particle, and the fluid within R of those grains. A fourth cell for the cells' rounding.
-    const double kernel_radius = largest_radius + constants_.effective_radius;
+    const double kernel_radius = widest_kernel_radius(coupling_, largest_radius, constants_.effective_radius, constants_.spacing);
     const double cell = kGridCellPerKernel * kernel_radius;
     points = gather_near_ranks(context, std::max(4.0 * cell, 2.0 * kernel_radius + cell));
   } else {
@@ -192,7 +192,7 @@ struct KernelPairBatch {
 }  // namespace
 
 // The sampling kernel's spreading (docs/COUPLING.md, "Where the drag reaction lands"; seed Eq. 26's own form): grain
-// I's impulse goes to the fluid particles j within R_I = r_I + r_e with the weights w_Ij / W_I it samples the water
+// I's impulse goes to the fluid particles j within R_I (r_I + r_e; grain_kernel_radius) with the weights w_Ij / W_I it samples the water
 // with (W_I = sum_j w_Ij), at the positions of now. The water then receives exactly minus the grains' impulse, and
 // what a grain pushes is what it reads: the reaction's power on the water is -share_I J_I . u_bar_I, which for a held
 // grain (J_I = k u_bar_I dt, k > 0) is <= 0 in any water velocity field.
@@ -221,7 +221,9 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, cons
     if (dilute_only && !(points.grain_voidage[grain] > kSelfInducedMinVoidage)) continue;
     spread_slot_.push_back(static_cast<std::uint32_t>(grain));
     spread_centre_.push_back(box.any() ? box.wrap(points.grain_position[grain]) : points.grain_position[grain]);
-    spread_kernel_.emplace_back(points.grain_radius[grain] + effective_radius);
+    // The kernel it samples with (grain_kernel_radius: a dilute grain's no narrower than at l0 = r).
+    spread_kernel_.emplace_back(grain_kernel_radius(coupling_, points.grain_radius[grain], effective_radius,
+                                                    constants_.spacing, points.grain_voidage[grain]));
     spread_stretch_.push_back(sampling_vertical_stretch(spread_kernel_.back().effective_radius, vertical_radius_));
   }
   // A bed has no dilute grain (the seed's never does): then no grid is built at all.

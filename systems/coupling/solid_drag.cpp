@@ -21,6 +21,7 @@ SolidDrag::SolidDrag(const Model& model)
       density_(model.water_density()),
       kinematic_viscosity_(model.water_kinematic_viscosity()),
       effective_radius_(model.fluid.enabled ? mps_constants(model.fluid).effective_radius : 0.0),
+      spacing_(model.fluid.spacing),
       fluid_step_(model.dt),
       inverse_distance_(model.coupling.self_induced_velocity ? self_induced_inverse_distance() : 0.0) {}
 
@@ -117,7 +118,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   const double viscosity = nu * density;
   const double diameter = 2.0 * properties.radius[grain];
   const double volume = std::numbers::pi / 6.0 * diameter * diameter * diameter;
-  const double kernel_radius = properties.radius[grain] + effective_radius_;
+  const double kernel_radius = coupling_kernel_radius(properties.radius[grain], effective_radius_, spacing_, true);
   const double mobility = inverse_distance_ / (6.0 * std::numbers::pi * viscosity * kernel_radius);  // K [m/s per N]
   const Vec3& velocity = grains.velocity[grain];
   const Vec3& sampled_velocity = sampled.fluid_velocity[grain];

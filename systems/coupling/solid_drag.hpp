@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "systems/physics/coupling/drag_law.hpp"
+#include "systems/physics/coupling/sampling_kernel.hpp"
 #include "systems/system.hpp"
 
 namespace riffle {
@@ -21,6 +22,20 @@ inline constexpr double kSelfInducedMinVoidage = 0.8;
 /// Whether the self-induced correction acts on a grain: it has water around it (`fluid_weight` > 0) and is dilute.
 inline bool carries_self_induced_disturbance(const CouplingModel& coupling, double fluid_weight, double voidage) {
   return coupling.self_induced_velocity && fluid_weight > 0.0 && voidage > kSelfInducedMinVoidage;
+}
+
+/// [m] A grain's coupling kernel (coupling_kernel_radius): the dilute grain's where the correction acts on it at
+/// this voidage (whether it is in the water or not: the sampling decides before the water is read).
+inline double grain_kernel_radius(const CouplingModel& coupling, double radius, double effective_radius,
+                                  double spacing, double voidage) {
+  return coupling_kernel_radius(radius, effective_radius, spacing,
+                                coupling.self_induced_velocity && voidage > kSelfInducedMinVoidage);
+}
+
+/// [m] The widest kernel a grain of radius `largest_radius` can have (reaches, halos, the periodic check).
+inline double widest_kernel_radius(const CouplingModel& coupling, double largest_radius, double effective_radius,
+                                   double spacing) {
+  return coupling_kernel_radius(largest_radius, effective_radius, spacing, coupling.self_induced_velocity);
 }
 
 /// [kg / (m^3 s)] mu / l_B^2: the other grains' resistance to the water around a grain (Brinkman 1947), (1 - eps)
@@ -87,6 +102,7 @@ class SolidDrag final : public System {
   double density_;           ///< [kg/m^3] the water's, of either fluid family
   double kinematic_viscosity_;  ///< [m^2/s]
   double effective_radius_;  ///< [m] r_e of the MPS water (FluidModel::constants); 0 with the mean-flow fluid
+  double spacing_;           ///< [m] l0 of the MPS water (a dilute grain's kernel, coupling_kernel_radius)
   double fluid_step_;        ///< [s] run.dt, the fluid step before the first (SystemContext::fluid_step)
   double inverse_distance_;  ///< R <1/r> of the spreading and sampling kernels (self_induced.hpp)
 };

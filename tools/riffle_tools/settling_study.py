@@ -196,7 +196,7 @@ def case_geometry(reynolds, d_over_l0, box_over_d, approach=False):
     side = max(round(box_over_d * d / l0), 8) * l0
     u = schiller_naumann_speed(d, nu)
     relax = (RHO_S / RHO + 0.5) * d * d / (18.0 * nu * (1.0 + 0.15 * reynolds ** 0.687))
-    kernel = d / 2 + RATIO_RE * l0
+    kernel = d / 2 + RATIO_RE * max(l0, d / 2)  # the lone grain's kernel: no narrower than at l0 = r (riffle's rule)
     # Run long enough for the slowest mode of the disturbance's build-up (8 R^2 / nu, shortened by the Oseen
     # factor ~ 3.5 / Re_R) and ten relaxation times; the fall then sets the height (plus room at both ends).
     # The run: twelve relaxation times (the window is the last half). The box's walls are met by the sphere's

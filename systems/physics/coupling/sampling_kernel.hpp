@@ -10,6 +10,18 @@
 
 namespace riffle {
 
+/// [m] The radius of the kernel a grain samples the water with and spreads its reaction over: r + r_e, and for a
+/// `dilute` grain (one the self-induced correction acts on) at least the kernel it has where l0 = r, d/l0 = 2:
+/// r + (r_e / l0) max(l0, r), 1.7 d with r_e = 2.4 l0 (docs/COUPLING.md, "The kernel of a dilute grain"). Finer water
+/// no longer narrows it, so a dilute grain's coupling tends to the one verified at d/l0 = 2 as l0 shrinks: with
+/// r + r_e the kernel closed in on the grain (1.3 d at d/l0 = 3), the water inside it moved with the grain at up to
+/// 0.9 of its speed, and the correction's estimate of that disturbance became the difference of two near-equal
+/// speeds (a sphere settling in a small box swung by +-30 %). Where r <= l0 it is r + r_e exactly.
+inline double coupling_kernel_radius(double radius, double effective_radius, double spacing, bool dilute) {
+  if (!dilute || !(radius > spacing)) return radius + effective_radius;
+  return radius + effective_radius * (radius / spacing);
+}
+
 /// R_h / min(R_v, R_h) [1], >= 1; 1 when R_v <= 0 (isotropic).
 inline double sampling_vertical_stretch(double horizontal_radius, double vertical_radius) {
   return vertical_radius > 0.0 && vertical_radius < horizontal_radius ? horizontal_radius / vertical_radius : 1.0;

@@ -147,4 +147,49 @@ TEST_CASE("ellipsoidal sampling kernel: a grain reads a linear field at its cent
   }
 }
 
+
+TEST_CASE("a dilute grain larger than l0 samples with the kernel it has at l0 = r; a bed grain with r + r_e") {
+  // coupling_kernel_radius: r + r_e for r <= l0 (bit for bit) and for a grain the self-induced correction does not
+  // act on; r + (r_e / l0) r for a dilute grain with r > l0, which no longer narrows as l0 shrinks.
+  const double r_e = 2.4 * kKernelSpacing;
+  CHECK(coupling_kernel_radius(0.004, r_e, kKernelSpacing, true) == 0.004 + r_e);
+  CHECK(coupling_kernel_radius(kKernelSpacing, r_e, kKernelSpacing, true) == kKernelSpacing + r_e);
+  CHECK(coupling_kernel_radius(0.012, r_e, kKernelSpacing, false) == 0.012 + r_e);
+  CHECK(coupling_kernel_radius(0.012, r_e, kKernelSpacing, true) == doctest::Approx(0.012 * 3.4).epsilon(1e-15));
+  for (const double spacing : {0.012, 0.008, 0.004, 0.002})  // 1.7 d whatever the finer water (r_e = 2.4 l0)
+    CHECK(coupling_kernel_radius(0.012, 2.4 * spacing, spacing, true) == doctest::Approx(0.0408).epsilon(1e-14));
+
+  // On the system that runs: a 24 mm grain (d/l0 = 2.4) in the 1 cm water, dilute (eps = 1) and in a bed (0.5).
+  const Vec3 centre(0.05, 0.05, 0.05);
+  for (const double voidage : {1.0, 0.5}) {
+    CAPTURE(voidage);
+    Model model = test::small_coupled_model(kKernelSpacing);
+    model.coupling.self_induced_velocity = true;
+    model.tank.origin = Vec3::Zero();
+    model.tank.size = Vec3(kBox, kBox, kBox);
+    World world;
+    test::fill_with_water(world, Vec3(kBox, kBox, kBox), kKernelSpacing);
+    world.fluid_sample.emplace();
+    world.solids.emplace();
+    const std::size_t grain = world.solids->add(centre, Vec3::Zero(), 0.012, 2650.0, 0, 0);
+    world.solids->voidage[grain] = voidage;
+    FluidSampleCopy copy;
+    SolidFluidSampling sampling(model);
+    for (System* system : std::vector<System*>{&copy, &sampling}) {
+      const Access access = system->access();
+      SystemContext context(world, model, *system, access, 0.0, 1.0e-3);
+      system->run(context);
+    }
+    const double radius = voidage > 0.8 ? 0.012 * 3.4 : 0.012 + r_e;
+    double expected_sum = 0.0;
+    for (int i = 0; i < 10; ++i)
+      for (int j = 0; j < 10; ++j)
+        for (int k = 0; k < 10; ++k)
+          expected_sum += formula_weight(
+              Vec3((i + 0.5) * kKernelSpacing, (j + 0.5) * kKernelSpacing, (k + 0.5) * kKernelSpacing) - centre,
+              radius, 0.0);
+    CHECK(world.solids->fluid_weight[grain] == doctest::Approx(expected_sum).epsilon(1e-12));
+  }
+}
+
 }  // namespace riffle
