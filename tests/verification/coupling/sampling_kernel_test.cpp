@@ -148,7 +148,7 @@ TEST_CASE("ellipsoidal sampling kernel: a grain reads a linear field at its cent
 }
 
 
-TEST_CASE("a dilute grain larger than l0 samples with the kernel it has at l0 = r; a bed grain with r + r_e") {
+TEST_CASE("a dilute grain larger than l0 samples with the kernel it has at l0 = r, a bed grain with r + r_e") {
   // coupling_kernel_radius: r + r_e for r <= l0 (bit for bit) and for a grain the self-induced correction does not
   // act on; r + (r_e / l0) r for a dilute grain with r > l0, which no longer narrows as l0 shrinks.
   const double r_e = 2.4 * kKernelSpacing;
