@@ -520,8 +520,8 @@ void check_periodic(TableReader& scene, const Model& model) {
   }
   if (!model.fluid.enabled) return;
   // A grain samples the water (and spreads its drag back) within r + r_e (with the self-induced correction a dilute
-  // grain's kernel is no narrower than at l0 = r: coupling_kernel_radius), through its images across the seams: one image per axis, never
-  // two, only while the period exceeds twice that radius.
+  // grain's kernel is no narrower than at l0 = r: coupling_kernel_radius), through its images across the seams: one
+  // image per axis, never two, only while the period exceeds twice that radius.
   const double sampling =
       coupling_kernel_radius(largest, model.fluid.effective_radius(), model.fluid.spacing,
                              model.coupling.self_induced_velocity);
@@ -529,8 +529,8 @@ void check_periodic(TableReader& scene, const Model& model) {
     char text[512];
     std::snprintf(text, sizeof text,
                   "a periodic period must exceed twice the grains' sampling radius of the water (largest radius + "
-                  "r_e, or a dilute grain's kernel: %g m), so that a grain never samples two images of one fluid particle: make tank.size "
-                  "along the periodic axes larger than %g m",
+                  "r_e, or a dilute grain's kernel: %g m), so that a grain never samples two images of one fluid "
+                  "particle: make tank.size along the periodic axes larger than %g m",
                   sampling, 2.0 * sampling);
     tank->problem("periodic", text);
   }

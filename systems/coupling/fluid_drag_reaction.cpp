@@ -33,7 +33,8 @@ void FluidDragReaction::run(SystemContext& context) {
     // cell of them and the fluid volume within a cell of them, and each such grain's share depends on which of its
     // nodes hold water: grains within two cells, fluid within three; the kernel's: grains within R of a fluid
     // particle, and the fluid within R of those grains. A fourth cell for the cells' rounding.
-    const double kernel_radius = widest_kernel_radius(coupling_, largest_radius, constants_.effective_radius, constants_.spacing);
+    const double kernel_radius = coupling_kernel_radius(largest_radius, constants_.effective_radius,
+                                                        constants_.spacing, self_induced_velocity_);
     const double cell = kGridCellPerKernel * kernel_radius;
     points = gather_near_ranks(context, std::max(4.0 * cell, 2.0 * kernel_radius + cell));
   } else {
@@ -222,8 +223,9 @@ void FluidDragReaction::spread_with_sampling_kernel(SystemContext& context, cons
     spread_slot_.push_back(static_cast<std::uint32_t>(grain));
     spread_centre_.push_back(box.any() ? box.wrap(points.grain_position[grain]) : points.grain_position[grain]);
     // The kernel it samples with (grain_kernel_radius: a dilute grain's no narrower than at l0 = r).
-    spread_kernel_.emplace_back(grain_kernel_radius(coupling_, points.grain_radius[grain], effective_radius,
-                                                    constants_.spacing, points.grain_voidage[grain]));
+    spread_kernel_.emplace_back(grain_kernel_radius(self_induced_velocity_, points.grain_radius[grain],
+                                                    effective_radius, constants_.spacing,
+                                                    points.grain_voidage[grain]));
     spread_stretch_.push_back(sampling_vertical_stretch(spread_kernel_.back().effective_radius, vertical_radius_));
   }
   // A bed has no dilute grain (the seed's never does): then no grid is built at all.

@@ -32,7 +32,6 @@ class FluidDragReaction final : public System {
       : over_ranks_(over_ranks),
         constants_(mps_constants(model.fluid)),
         fluid_velocity_(model.coupling.fluid_velocity),
-        coupling_(model.coupling),
         self_induced_velocity_(model.coupling.self_induced_velocity),
         kernel_reaction_(model.coupling.sampling_kernel_reaction),
         vertical_radius_(model.coupling.sampling_vertical_radius) {}
@@ -75,14 +74,13 @@ class FluidDragReaction final : public System {
 
   MpsConstants constants_;
   CouplingModel::FluidVelocity fluid_velocity_;  ///< the water takes the drag per volume over flux_share
-  CouplingModel coupling_;              ///< the kernels' rule (grain_kernel_radius)
   bool self_induced_velocity_ = false;  ///< dilute grains spread with the sampling kernel (CouplingModel)
   bool kernel_reaction_ = false;        ///< every grain spreads with it (CouplingModel::sampling_kernel_reaction)
   double vertical_radius_ = 0.0;        ///< [m] R_v (CouplingModel::sampling_vertical_radius), 0 = isotropic
   CellGrid fluid_grid_;          ///< the fluid particles, for the kernel spreading's weight sums
   CellGrid grain_grid_;          ///< the spreading grains' centres, for the fluid particles' gather
-  // The kernel spreading's grains, compact, in slot order: slot, centre (wrapped into a periodic box), kernel (grain_kernel_radius),
-  // and the impulse per volume per unit weight the water takes from it (zero: not spread, dry).
+  // The kernel spreading's grains, compact, in slot order: slot, centre (wrapped into a periodic box), kernel
+  // (grain_kernel_radius), and the impulse per volume per unit weight the water takes from it (zero: not spread, dry).
   std::vector<std::uint32_t> spread_slot_;
   std::vector<Vec3> spread_centre_;
   std::vector<WendlandKernel> spread_kernel_;

@@ -39,10 +39,10 @@ void FluidSampleCopy::append_other_ranks(SystemContext& context, FluidSample& sa
   for (const double radius : context.read<GrainProperties>().radius) largest_radius = std::max(largest_radius, radius);
   // A grain samples within r + r_e of its centre (a dilute grain's kernel no narrower than at l0 = r).
   const PeriodicBox box = periodic_box(context.model);
-  const CouplingBoxes boxes = coupling_boxes(grain_ranks.box_low, grain_ranks.box_high, grains.position,
-                                             coupling_kernel_radius(ranks::max(largest_radius), effective_radius_, spacing_,
-                                                                    dilute_kernels_),
-                                             box);
+  const double kernel_radius =
+      coupling_kernel_radius(ranks::max(largest_radius), effective_radius_, spacing_, dilute_kernels_);
+  const CouplingBoxes boxes =
+      coupling_boxes(grain_ranks.box_low, grain_ranks.box_high, grains.position, kernel_radius, box);
   const std::size_t own = sample.size();
   const std::vector<std::vector<std::uint32_t>> near =
       indices_near_other_ranks(std::span<const Vec3>(sample.position.data(), own), boxes, box);

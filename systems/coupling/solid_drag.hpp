@@ -24,18 +24,12 @@ inline bool carries_self_induced_disturbance(const CouplingModel& coupling, doub
   return coupling.self_induced_velocity && fluid_weight > 0.0 && voidage > kSelfInducedMinVoidage;
 }
 
-/// [m] A grain's coupling kernel (coupling_kernel_radius): the dilute grain's where the correction acts on it at
-/// this voidage (whether it is in the water or not: the sampling decides before the water is read).
-inline double grain_kernel_radius(const CouplingModel& coupling, double radius, double effective_radius,
-                                  double spacing, double voidage) {
-  return coupling_kernel_radius(radius, effective_radius, spacing,
-                                coupling.self_induced_velocity && voidage > kSelfInducedMinVoidage);
-}
-
-/// [m] The widest kernel a grain of radius `largest_radius` can have (reaches, halos, the periodic check).
-inline double widest_kernel_radius(const CouplingModel& coupling, double largest_radius, double effective_radius,
-                                   double spacing) {
-  return coupling_kernel_radius(largest_radius, effective_radius, spacing, coupling.self_induced_velocity);
+/// [m] A grain's coupling kernel (coupling_kernel_radius): the dilute grain's where the self-induced correction is on
+/// (`self_induced`) and would act at this voidage, whether the grain is in the water or not (the sampling decides
+/// before the water is read).
+inline double grain_kernel_radius(bool self_induced, double radius, double effective_radius, double spacing,
+                                  double voidage) {
+  return coupling_kernel_radius(radius, effective_radius, spacing, self_induced && voidage > kSelfInducedMinVoidage);
 }
 
 /// [kg / (m^3 s)] mu / l_B^2: the other grains' resistance to the water around a grain (Brinkman 1947), (1 - eps)

@@ -57,7 +57,6 @@ void SolidFluidSampling::run(SystemContext& context) {
 
   // The grains' last drag and voidage, read once (the self-induced correction and the water's acceleration use them).
   const bool reads_drag = self_induced_velocity_ || fluid_acceleration_;
-  const CouplingModel& coupling = context.model.coupling;
   const GrainVoidage* const voidages = reads_drag ? &context.read<GrainVoidage>() : nullptr;
   const GrainDrag* const drags = reads_drag ? &context.read<GrainDrag>() : nullptr;
   const GrainAddedMass* const added =
@@ -65,12 +64,12 @@ void SolidFluidSampling::run(SystemContext& context) {
 
   for_each_particle(grains.size(), [&](std::size_t grain) {
     const Vec3 centre = grains.position[grain];
-    // A dilute grain's kernel does not narrow below its own at l0 = r (coupling_kernel_radius); the voidage is the last step's,
-    // the one the drag reads over this step. Without the correction no grain is dilute in this sense.
-    const double kernel_radius = self_induced_velocity_ ? grain_kernel_radius(coupling, properties.radius[grain],
-                                                                              effective_radius, constants_.spacing,
-                                                                              voidages->voidage[grain])
-                                                        : properties.radius[grain] + effective_radius;
+    // A dilute grain's kernel does not narrow below its own at l0 = r (coupling_kernel_radius); the voidage is the
+    // last step's, the one the drag reads over this step (read only with the correction on: without it no grain is
+    // dilute in this sense).
+    const double voidage = self_induced_velocity_ ? voidages->voidage[grain] : 1.0;
+    const double kernel_radius = grain_kernel_radius(self_induced_velocity_, properties.radius[grain],
+                                                     effective_radius, constants_.spacing, voidage);
     const WendlandKernel sampling_kernel(kernel_radius);
     const double radius_squared = sampling_kernel.effective_radius * sampling_kernel.effective_radius;
     // An ellipsoidal kernel (sampling_vertical_radius) measures the offsets with dz stretched by R_h / R_v: the same
