@@ -8,6 +8,7 @@ const char* step_limit_name(StepLimit limit) {
     case StepLimit::kCourant: return "courant";
     case StepLimit::kDiffusion: return "diffusion";
     case StepLimit::kDrag: return "drag";
+    case StepLimit::kHydrostatic: return "hydrostatic";
   }
   return "?";
 }

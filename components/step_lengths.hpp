@@ -11,6 +11,7 @@ enum class StepLimit : std::uint8_t {
   kCourant,    ///< C_r l0 / max|u| of the fluid
   kDiffusion,  ///< diffusion_number l0^2 / nu of the fluid
   kDrag,       ///< coupling.drag_number / (the fastest rate at which the grains' drag relaxes the water)
+  kHydrostatic,  ///< hydrostatic_number sqrt(l0 / |g|) l0 / H of the fluid, H its depth
 };
 
 const char* step_limit_name(StepLimit limit);

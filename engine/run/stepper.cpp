@@ -1,6 +1,7 @@
 #include "engine/run/stepper.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "systems/physics/ranks/rank_comm.hpp"
 #include "systems/physics/time/time_step.hpp"
@@ -83,13 +84,21 @@ void Stepper::step() {
   // Over MPI ranks every rank takes the same step: the fastest relaxation of any rank's grains.
   if (world_.contacts && world_.contacts->ranks.active) drag_rate = ranks::max(drag_rate);
   std::optional<double> fluid_max_speed_squared;
+  double depth = 0.0;
   if (world_.fluid) {
     fluid_max_speed_squared = max_squared_speed(*world_.fluid);
-    // Over MPI ranks with the water spread over them: the fastest particle of any rank's.
-    if (world_.fluid_neighbours && world_.fluid_neighbours->ranks.active)
+    WaterExtent extent = water_extent(*world_.fluid, model_.gravity);
+    // Over MPI ranks with the water spread over them: the fastest particle of any rank's, the whole water's extent
+    // (a rank without water reports an empty one, low > high).
+    if (world_.fluid_neighbours && world_.fluid_neighbours->ranks.active) {
       fluid_max_speed_squared = ranks::max(*fluid_max_speed_squared);
+      const bool empty = extent.low > extent.high;
+      extent.low = -ranks::max(empty ? -std::numeric_limits<double>::infinity() : -extent.low);
+      extent.high = ranks::max(empty ? -std::numeric_limits<double>::infinity() : extent.high);
+    }
+    depth = water_depth(extent, model_.fluid.spacing);
   }
-  world_.last_step = decide_step_lengths(model_, fluid_max_speed_squared, drag_rate);
+  world_.last_step = decide_step_lengths(model_, fluid_max_speed_squared, drag_rate, depth);
   const double dt = world_.last_step.dt;
   if (world_.fluid && dt < model_.fluid.min_dt) {
     // Name the fastest fluid particle: that is where the flow blew up.

@@ -321,6 +321,8 @@ void read_fluid(TableReader& fluid, Model& model) {
   out.sound_speed = fluid.number("sound_speed", out.sound_speed, "m/s", Bounds::non_negative());
   out.courant = fluid.number("courant", out.courant, "1", Bounds{0.0, 0.5, false, true});
   out.diffusion_number = fluid.number("diffusion_number", out.diffusion_number, "1", Bounds{0.0, 1.0, false, true});
+  out.hydrostatic_number =
+      fluid.number("hydrostatic_number", out.hydrostatic_number, "1", Bounds{0.0, 100.0, false, true});
   out.min_dt = fluid.number("min_dt", out.min_dt, "s", Bounds::positive());
   out.solver_tolerance = fluid.number("solver_tolerance", out.solver_tolerance, "1", Bounds{0.0, 1.0, false, false});
   out.solver_max_iterations = fluid.integer("solver_max_iterations", out.solver_max_iterations, 1, 100000000);

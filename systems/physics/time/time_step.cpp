@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "systems/physics/coupling/drag_law.hpp"
 
@@ -20,6 +22,26 @@ double max_squared_speed(const ParticleState& particles) {
         return found;
       },
       [](double a, double b) { return std::max(a, b); });
+}
+
+WaterExtent water_extent(const ParticleState& particles, const Vec3& gravity) {
+  const double g = gravity.norm();
+  const std::size_t fluid_count = fluid_slot_count(particles);
+  if (!(g > 0.0) || fluid_count == 0) return {};
+  const Vec3 down = gravity / g;
+  using Range = std::pair<double, double>;
+  const Range range = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, fluid_count, 4096),
+      Range{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
+      [&](const tbb::blocked_range<std::size_t>& block, Range found) {
+        for (std::size_t i = block.begin(); i < block.end(); ++i) {
+          const double along = down.dot(particles.position[i]);
+          found = {std::min(found.first, along), std::max(found.second, along)};
+        }
+        return found;
+      },
+      [](const Range& a, const Range& b) { return Range{std::min(a.first, b.first), std::max(a.second, b.second)}; });
+  return {range.first, range.second};
 }
 
 namespace {
@@ -61,10 +83,13 @@ double water_drag_rate(const Model& model, const GrainState& grains, const Grain
 }
 
 StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid, double drag_rate) {
-  return decide_step_lengths(model, fluid ? std::optional<double>(max_squared_speed(*fluid)) : std::nullopt, drag_rate);
+  if (!fluid) return decide_step_lengths(model, std::nullopt, drag_rate);
+  return decide_step_lengths(model, max_squared_speed(*fluid), drag_rate,
+                             water_depth(water_extent(*fluid, model.gravity), model.fluid.spacing));
 }
 
-StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_max_speed_squared, double drag_rate) {
+StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_max_speed_squared, double drag_rate,
+                                double water_depth) {
   StepLengths lengths;
   lengths.dt = model.dt;
   lengths.drag_rate = drag_rate;
@@ -76,6 +101,12 @@ StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_
     if (water.kinematic_viscosity > 0.0)
       shorten(lengths, water.diffusion_number * water.spacing * water.spacing / water.kinematic_viscosity,
               StepLimit::kDiffusion);
+    // Deep water: with a longer step still water more than about 3 / (dt sqrt(g / l0)) layers deep grows a motion
+    // from its surface down until it blows up (measured: docs/FLUID.md, "Deep water's step limit").
+    const double g = model.gravity.norm();
+    if (water_depth > 0.0 && g > 0.0)
+      shorten(lengths, water.hydrostatic_number * std::sqrt(water.spacing / g) * water.spacing / water_depth,
+              StepLimit::kHydrostatic);
     if (drag_rate > 0.0 && model.coupling.drag_number > 0.0)
       shorten(lengths, model.coupling.drag_number / drag_rate, StepLimit::kDrag);
   } else if (model.mean_flow.enabled && drag_rate > 0.0 && model.coupling.drag_number > 0.0) {

@@ -1,7 +1,7 @@
 #pragma once
 // The one place that decides how long an engine step is and how it is cut into the grains' sub-steps: run.dt,
-// shortened by the fluid's stability limits (numerics 1.5: the Courant number and the viscous diffusion number) and
-// by the water's relaxation under the grains' drag (docs/COUPLING.md, "The drag's step limit"), then split into
+// shortened by the fluid's stability limits (numerics 1.5: the Courant number and the viscous diffusion number; the
+// deep water's hydrostatic limit, docs/FLUID.md) and by the water's relaxation under the grains' drag (docs/COUPLING.md, "The drag's step limit"), then split into
 // sub-steps no longer than the scene's solid_dt(). The stepper asks once per step and stores the
 // answer in the World; the diagnostics print it.
 #include <optional>
@@ -28,15 +28,29 @@ namespace riffle {
 double water_drag_rate(const Model& model, const GrainState& grains, const GrainProperties& properties,
                        const GrainSampledFluid& sampled, const GrainVoidage& voidages);
 
-/// The lengths of the next step. `fluid` is the scene's MPS particles (nullptr without a fluid): its largest speed
-/// and the viscosity may shorten run.dt, and so may `drag_rate` (water_drag_rate, 0 = no grains in the water): the
-/// step is at most coupling.drag_number / drag_rate. A step below fluid.min_dt is returned as it is; the stepper
-/// stops on it.
+/// The lengths of the next step. `fluid` is the scene's MPS particles (nullptr without a fluid): its largest speed,
+/// its depth and the viscosity may shorten run.dt, and so may `drag_rate` (water_drag_rate, 0 = no grains in the
+/// water): the step is at most coupling.drag_number / drag_rate. A step below fluid.min_dt is returned as it is; the
+/// stepper stops on it.
 StepLengths decide_step_lengths(const Model& model, const ParticleState* fluid, double drag_rate = 0.0);
-/// The same from the water's largest squared speed (none: no water), given where it is not this table's: over MPI
-/// ranks, the largest of every rank's (max_squared_speed).
-StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_max_speed_squared, double drag_rate);
+/// The same from the water's largest squared speed (none: no water) and its depth [m] (water_depth; 0: no limit),
+/// given where they are not this table's: over MPI ranks, every rank's largest speed and the whole water's extent.
+StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_max_speed_squared, double drag_rate,
+                                double water_depth = 0.0);
 /// The largest |u|^2 of the table's fluid particles (0 without any).
 double max_squared_speed(const ParticleState& particles);
+
+/// [m] The lowest and highest of the fluid particles' centres along gravity's direction (low > high: no fluid
+/// particle, or no gravity): the water's extent that sets its hydrostatic head.
+struct WaterExtent {
+  double low = 0.0;
+  double high = -1.0;
+};
+WaterExtent water_extent(const ParticleState& particles, const Vec3& gravity);
+/// [m] H, the water's depth for the hydrostatic limit: the extent plus l0 (each particle stands for a layer l0
+/// thick); 0 without fluid or gravity.
+inline double water_depth(const WaterExtent& extent, double spacing) {
+  return extent.high >= extent.low ? extent.high - extent.low + spacing : 0.0;
+}
 
 }  // namespace riffle

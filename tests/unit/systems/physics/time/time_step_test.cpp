@@ -28,6 +28,8 @@ FluidParticles water(double fast) {
   FluidParticles particles;
   particles.kind = {0, 0, 1};
   particles.velocity = {Vec3(0.0, fast, 0.0), Vec3(0.1, 0.0, 0.0), Vec3(0.0, 0.0, 1.0e3)};
+  // One layer of water (depth l0: the hydrostatic limit, 2.5 sqrt(l0 / g) = 80 ms, never binds) above a deep wall.
+  particles.position = {Vec3(0.0, 0.0, 0.5), Vec3(0.1, 0.0, 0.5), Vec3(0.0, 0.0, -10.0)};
   return particles;
 }
 
@@ -76,6 +78,34 @@ TEST_CASE("viscous water limits the step by its diffusion number") {
     const StepLengths both = decide_step_lengths(model, &faster);
     CHECK(both.dt == 0.2 * 0.01 / 20.0);
     CHECK(both.limit == StepLimit::kCourant);
+  }
+}
+
+TEST_CASE("deep water limits the step by its hydrostatic number, its depth along gravity from its particles") {
+  Model model = step_model();
+  model.gravity = Vec3(0.0, 0.0, -9.81);
+  // A column 0.99 m tall (centres) of particles l0 = 1 cm apart: H = 1 m, 2.5 sqrt(l0 / g) l0 / H = 0.798 ms.
+  FluidParticles particles = water(1.0);
+  particles.position[1] = Vec3(0.1, 0.0, 1.49);
+  const double expected = 2.5 * std::sqrt(0.01 / 9.81) * 0.01 / 1.0;
+  const StepLengths lengths = decide_step_lengths(model, &particles);
+  CHECK(lengths.dt == doctest::Approx(expected).epsilon(1e-12));
+  CHECK(lengths.limit == StepLimit::kHydrostatic);
+  CHECK(std::string(step_limit_name(lengths.limit)) == "hydrostatic");
+  // The wall particle 10 m down is not water; the extent is along gravity, whichever way it points.
+  const WaterExtent extent = water_extent(particles, model.gravity);
+  CHECK(extent.high - extent.low == doctest::Approx(0.99).epsilon(1e-12));
+  CHECK(water_extent(particles, Vec3(9.81, 0.0, 0.0)).high - water_extent(particles, Vec3(9.81, 0.0, 0.0)).low ==
+        doctest::Approx(0.1).epsilon(1e-12));
+  SUBCASE("without gravity, or without water, no depth and no limit") {
+    model.gravity = Vec3::Zero();
+    CHECK(decide_step_lengths(model, &particles).limit == StepLimit::kRunDt);
+    CHECK(water_depth(water_extent(particles, model.gravity), 0.01) == 0.0);
+    CHECK(water_depth(water_extent(FluidParticles{}, Vec3(0.0, 0.0, -9.81)), 0.01) == 0.0);
+  }
+  SUBCASE("the key scales it") {
+    model.fluid.hydrostatic_number = 5.0;  // 1.6 ms > run.dt
+    CHECK(decide_step_lengths(model, &particles).limit == StepLimit::kRunDt);
   }
 }
 
