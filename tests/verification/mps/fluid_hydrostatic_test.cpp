@@ -280,4 +280,49 @@ TEST_CASE("hydrostatic column on hypre's BoomerAMG-PCG: the in-house solve's pre
   CHECK(drift < 0.1 * l0);
 }
 
+// Deep still water (docs/FLUID.md, "Deep water's step limit"): a column 50 layers deep (40 x 40 x 250 mm at
+// l0 = 5 mm, water's viscosity) at run.dt = 2 ms, where dt sqrt(g / l0) = 0.089 makes X = 4.4: with the step as
+// asked a vertical motion grows from the surface down (0.2 m/s by 2 s); the default hydrostatic limit
+// (dt <= 2 sqrt(l0 / g) l0 / H = 0.90 ms) keeps it still. The bound on the speed, 1e-4 m/s, is 5e-4 of the particle
+// scale's sqrt(g l0), a hundredth of what the unlimited column reaches within a second.
+TEST_CASE("deep still water: the hydrostatic step limit keeps a column 50 layers deep still, which dt = 2 ms blows up") {
+  const double l0 = 0.005, depth = 0.25;
+  const auto column = [&](double hydrostatic_number) {
+    Model model =
+        test::fluid_model(Vec3(0.04, 0.04, 0.255), l0, {ParticleBoxModel{Vec3::Zero(), Vec3(0.04, 0.04, depth)}});
+    model.dt = 2.0e-3;
+    model.end_time = 2.0;
+    model.fluid.hydrostatic_number = hydrostatic_number;
+    return model;
+  };
+  SUBCASE("with the default limit it stays still for 2 s") {
+    test::FluidRun run(column(FluidModel{}.hydrostatic_number));
+    REQUIRE(run.fluid_count() == 8 * 8 * 50);
+    double late_speed = 0.0;
+    while (run.world.time < 2.0 - 1e-12) {
+      REQUIRE_MESSAGE(run.step(), run.diagnosis());
+      if (run.world.time > 1.0) late_speed = std::max(late_speed, run.world.fluid_summary->max_speed);
+    }
+    // The step is the limit's: H = 49 l0 of centres plus l0.
+    CHECK(run.world.last_step.limit == StepLimit::kHydrostatic);
+    CHECK(run.world.last_step.dt == doctest::Approx(2.0 * std::sqrt(l0 / kG) * l0 / depth).epsilon(2e-3));
+    MESSAGE("largest speed over 1-2 s with the limit: " << late_speed << " m/s, dt " << run.world.last_step.dt);
+    CHECK(late_speed < 1e-4);
+  }
+  SUBCASE("without it (hydrostatic_number = 100) the same column runs away within 1.5 s") {
+    test::FluidRun run(column(100.0));
+    double largest = 0.0;
+    bool failed = false;
+    while (run.world.time < 1.5 - 1e-12 && largest < 1e-2) {
+      if (!run.step()) {
+        failed = true;
+        break;
+      }
+      largest = std::max(largest, run.world.fluid_summary->max_speed);
+    }
+    MESSAGE("without the limit: largest speed " << largest << " m/s by t = " << run.world.time << " s");
+    CHECK((failed || largest >= 1e-2));
+  }
+}
+
 }  // namespace riffle
