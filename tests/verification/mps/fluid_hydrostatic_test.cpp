@@ -283,8 +283,9 @@ TEST_CASE("hydrostatic column on hypre's BoomerAMG-PCG: the in-house solve's pre
 // Deep still water (docs/FLUID.md, "Deep water's step limit"): a column 50 layers deep (40 x 40 x 250 mm at
 // l0 = 5 mm, water's viscosity) at run.dt = 2 ms, where dt sqrt(g / l0) = 0.089 makes X = 4.4: with the step as
 // asked a vertical motion grows from the surface down (0.2 m/s by 2 s); the default hydrostatic limit
-// (dt <= 2 sqrt(l0 / g) l0 / H = 0.90 ms) keeps it still. The bound on the speed, 1e-4 m/s, is 5e-4 of the particle
-// scale's sqrt(g l0), a hundredth of what the unlimited column reaches within a second.
+// (dt <= 2 sqrt(l0 / g) l0 / H = 0.90 ms) keeps it still. The bound on the speed, 5e-4 m/s (2e-3 of the particle
+// scale's sqrt(g l0)), is the top of the bounded noise the marginal limit 2.5 leaves (2-5e-4 m/s; 2 leaves below 1e-4)
+// and a fiftieth of what the unlimited column reaches within 0.7 s.
 TEST_CASE("deep still water: the hydrostatic step limit keeps a column 50 layers deep still, which dt = 2 ms blows up") {
   const double l0 = 0.005, depth = 0.25;
   const auto column = [&](double hydrostatic_number) {
@@ -307,7 +308,7 @@ TEST_CASE("deep still water: the hydrostatic step limit keeps a column 50 layers
     CHECK(run.world.last_step.limit == StepLimit::kHydrostatic);
     CHECK(run.world.last_step.dt == doctest::Approx(2.0 * std::sqrt(l0 / kG) * l0 / depth).epsilon(2e-3));
     MESSAGE("largest speed over 1-2 s with the limit: " << late_speed << " m/s, dt " << run.world.last_step.dt);
-    CHECK(late_speed < 1e-4);
+    CHECK(late_speed < 5e-4);
   }
   SUBCASE("without it (hydrostatic_number = 100) the same column runs away within 1.5 s") {
     test::FluidRun run(column(100.0));
