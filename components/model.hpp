@@ -270,8 +270,8 @@ struct FluidModel {
   double courant = 0.2;                  ///< [1] C_r: dt <= C_r l0 / |u|max; alpha_DS = 1 - C_r (seed)
   double diffusion_number = 0.2;         ///< [1] dt <= this l0^2 / nu
   /// [1] dt <= this sqrt(l0 / |g|) l0 / H, H the water's depth (its particles' extent along gravity plus l0): still
-  /// water deeper than about 3 / (dt sqrt(|g| / l0)) layers grows a motion from its surface down and blows up
-  /// (docs/FLUID.md, "Deep water's step limit"); 2.0 keeps it still.
+  /// water deeper than about 4 / (dt sqrt(|g| / l0)) layers grows a motion from its surface down and blows up, from
+  /// 2.5 it is noisy (docs/FLUID.md, "Deep water's step limit"); 2 keeps it still.
   double hydrostatic_number = 2.0;
   double min_dt = 1.0e-6;                ///< [s] a step below this stops the run as unstable
   double solver_tolerance = 1.0e-8;      ///< [1] PCG stops at |r| <= tol |b| (1e-6 shifts the sloshing frequency by 1 %)

@@ -101,7 +101,7 @@ StepLengths decide_step_lengths(const Model& model, std::optional<double> fluid_
     if (water.kinematic_viscosity > 0.0)
       shorten(lengths, water.diffusion_number * water.spacing * water.spacing / water.kinematic_viscosity,
               StepLimit::kDiffusion);
-    // Deep water: with a longer step still water more than about 3 / (dt sqrt(g / l0)) layers deep grows a motion
+    // Deep water: with a longer step still water more than about 4 / (dt sqrt(g / l0)) layers deep grows a motion
     // from its surface down until it blows up (measured: docs/FLUID.md, "Deep water's step limit").
     const double g = model.gravity.norm();
     if (water_depth > 0.0 && g > 0.0)
