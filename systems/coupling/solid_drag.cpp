@@ -104,11 +104,13 @@ void clear_self_induced_disturbance(GrainDrag& drag, std::size_t grain) {
 // spread force moves through it at the grain's velocity relative to the undisturbed water, Re_R = |u_sampled -
 // u_carried - v| R / nu (the disturbance carried from the last sub-step: explicit). The fast and middle modes are
 // the kernel's own scale, where the Lagrangian MPS water moves with the disturbance: Re_near = |u_sampled - v| R /
-// nu. Each mode takes its amplitude and time at its own Reynolds number (the mode times T_m R^2 / (nu (1 + T_m Re)):
-// convection ends each build-up within about the time the water takes to pass the kernel). Measured on a grain
-// settling at Re 1, d/l0 = 1: the MPS water's own disturbance follows the unsteady Oseen response at Re_R within
-// 8 % until the floor comes near; with Re_near on every mode the model's came out 11-13 % higher, and with Re_R on
-// every mode the build-up at Re 10, d/l0 = 2 lagged the water's (the terminal speed 3.3 % fast; docs/cases/settling.md).
+// nu. Each mode takes its time at its own Reynolds number (the mode times T_m R^2 / (nu (1 + T_m Re)): convection
+// ends each build-up within about the time the water takes to pass the kernel); the near modes their amplitudes at
+// Re_near, and the slow mode what they leave of the far field's steady phi(Re_R) (self_induced_two_speed_amplitudes).
+// Measured on grains settling at Re 1, d/l0 = 1 and 2: the MPS water's own disturbance follows the unsteady Oseen
+// response at Re_R (within 8 % and 3 %) until the floor comes near; with Re_near on every mode the model's came out
+// 11-13 % higher, with the slow mode's own fit at Re_R beside the near modes 16 % higher, and with Re_R on every mode
+// the build-up at Re 10, d/l0 = 2 lagged the water's (the terminal speed 3.3 % fast; docs/cases/settling.md).
 void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState& grains,
                                              const GrainProperties& properties, const GrainSampledFluid& sampled,
                                              double voidage, double flux_share, double dt, double fluid_step,
@@ -143,13 +145,9 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   // The slow mode is the far field (Re_R); the fast and middle ones the kernel's scale (Re_near).
   const double reynolds_near = (sampled_velocity - velocity).norm() * kernel_radius / nu;
   const auto mode_reynolds = [&](int m) { return m + 1 == SelfInducedModes::kCount ? reynolds_r : reynolds_near; };
-  const std::array<double, SelfInducedModes::kCount> far_amplitudes = self_induced_mode_amplitudes(reynolds_r);
-  const std::array<double, SelfInducedModes::kCount> near_amplitudes = self_induced_mode_amplitudes(reynolds_near);
-  std::array<double, SelfInducedModes::kCount> amplitudes{};
-  for (int m = 0; m < SelfInducedModes::kCount; ++m) {
-    const auto i = static_cast<std::size_t>(m);
-    amplitudes[i] = m + 1 == SelfInducedModes::kCount ? far_amplitudes[i] : near_amplitudes[i];
-  }
+  // The near modes shape the early build-up; the total, once built, is the far field's phi(Re_R).
+  const std::array<double, SelfInducedModes::kCount> amplitudes =
+      self_induced_two_speed_amplitudes(reynolds_near, reynolds_r);
   const double phi = (amplitudes[0] + amplitudes[1] + amplitudes[2]) * brinkman;
   // The water shows a sub-step's drag about two fluid steps later (spread at the step's end, applied in the next
   // step's prediction, sampled at the start of the one after, used over it): each lag also waits that long (a

@@ -47,6 +47,8 @@ COMMANDS = [
     # verification and studies of the physics
     ("settling-study", "settling_study", "a lone sphere settling in still liquid against Schiller-Naumann "
                                          "(runs riffle)"),
+    ("self-disturbance", "self_disturbance", "a lone grain's own disturbance of the water: the MPS water's, the "
+                                             "self-induced model's and the continuum's, from its frames"),
     ("ten-cate", "ten_cate", "ten Cate et al.'s sphere settling onto a box's floor against the measurements "
                              "(runs riffle)"),
     ("hindered-settling", "hindered_settling", "hindered settling of a suspension against Richardson & Zaki "

@@ -458,4 +458,12 @@ std::array<double, SelfInducedModes::kCount> self_induced_mode_amplitudes(double
   return result;
 }
 
+std::array<double, SelfInducedModes::kCount> self_induced_two_speed_amplitudes(double reynolds_near, double reynolds_r) {
+  std::array<double, SelfInducedModes::kCount> amplitudes = self_induced_mode_amplitudes(reynolds_near);
+  const std::array<double, SelfInducedModes::kCount> far = self_induced_mode_amplitudes(reynolds_r);
+  const double far_total = far[0] + far[1] + far[2];
+  amplitudes[2] = std::max(0.0, far_total - amplitudes[0] - amplitudes[1]);
+  return amplitudes;
+}
+
 }  // namespace riffle

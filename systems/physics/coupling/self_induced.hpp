@@ -66,6 +66,15 @@ double self_induced_mode_time(int mode, double reynolds_r);
 /// tenth of it at Re_R = 10). Tabulated in log Re_R on first use, interpolated.
 std::array<double, SelfInducedModes::kCount> self_induced_mode_amplitudes(double reynolds_r);
 
+/// The modes' amplitudes with the water passing at two speeds: the fast and middle modes (the kernel's own scale,
+/// where the Lagrangian water moves with the disturbance) at Re_near = |u_sampled - v| R / nu, the slow one (the far
+/// field) at Re_R = |u_undisturbed - v| R / nu. The steady disturbance is the far field's Oseen one, phi(Re_R): the
+/// slow mode carries what the near modes leave of it, max(0, phi(Re_R) - b_fast(Re_near) - b_middle(Re_near)).
+/// Taking the slow mode's own fit at Re_R instead added up to more than either speed's phi (at Re_near 0.6, Re_R
+/// 1.65: 0.88 against phi 0.77, above even the Stokes build-up from nu t / R^2 = 1), and a grain that fell for long
+/// read the water moving up past it (docs/cases/settling.md, "After a long fall").
+std::array<double, SelfInducedModes::kCount> self_induced_two_speed_amplitudes(double reynolds_near, double reynolds_r);
+
 /// The build-up of a point Stokeslet's velocity at distance r after its force switched on at t = 0, averaged over
 /// the directions along the force: erfc(1 / (2 sqrt(T))), T = nu t / r^2 (the transform of 1 - exp(-nu k^2 t) over
 /// mu k^2 with the projector's weight 2/3, (2/pi) int sin q / q (1 - exp(-q^2 T)) dq). A wall's reflection of the

@@ -124,6 +124,35 @@ TEST_CASE("the unsteady Oseen build-up is the Stokes one at Re_R = 0 and tends t
   CHECK(self_induced_oseen_buildup(0.2, 10.0) == doctest::Approx(0.3284).epsilon(3e-3));
 }
 
+TEST_CASE("with two speeds the modes build up to the far field's Oseen disturbance, not beyond it") {
+  // The same speed twice: the one-speed fit.
+  for (double re : {0.0, 0.3, 1.7, 20.0}) {
+    const auto one = self_induced_mode_amplitudes(re);
+    const auto two = self_induced_two_speed_amplitudes(re, re);
+    for (std::size_t m = 0; m < one.size(); ++m) CHECK(two[m] == doctest::Approx(one[m]).epsilon(1e-12));
+  }
+  // A grain settling at Re 1 after a long fall (d/l0 = 2, R = 1.7 d): the kernel's water moves with the disturbance
+  // (Re_near 0.6), the far field passes at Re_R 1.65. The step response of the modes, each mode's time at its own
+  // speed, against the unsteady Oseen build-up at Re_R (the continuum's, which the MPS water was measured to follow):
+  // once the near modes are built (nu t / R^2 >= 1) within the mode fit's own bound, and at most phi(Re_R) for ever.
+  const double near = 0.6, far = 1.65;
+  const auto b = self_induced_two_speed_amplitudes(near, far);
+  const double phi = self_induced_oseen_factor(far);
+  CHECK(b[0] + b[1] + b[2] == doctest::Approx(phi).epsilon(0.01));
+  for (double t : {1.0, 1.65, 3.0, 10.0, 100.0}) {
+    CAPTURE(t);
+    double response = 0.0;
+    for (int m = 0; m < SelfInducedModes::kCount; ++m)
+      response += b[static_cast<std::size_t>(m)] *
+                  (1.0 - std::exp(-t / self_induced_mode_time(m, m + 1 == SelfInducedModes::kCount ? far : near)));
+    CHECK(std::abs(response - self_induced_oseen_buildup(t, far)) < 0.045);
+    CHECK(response <= phi * (1.0 + 1e-9));
+  }
+  // Where the near modes alone hold more than the far field's phi (high Re), the slow mode carries nothing.
+  const auto fast = self_induced_two_speed_amplitudes(12.7, 17.0);
+  CHECK(fast[2] == 0.0);
+}
+
 TEST_CASE("the modes' amplitudes sum to the Oseen factor and follow the unsteady build-up at every Re_R") {
   const auto stokes = self_induced_mode_amplitudes(0.0);
   for (int m = 0; m < SelfInducedModes::kCount; ++m)
