@@ -130,25 +130,27 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   const Vec3 carried_disturbance = carried_self_induced_disturbance(drag, grain);
   const double relative_speed = (sampled_velocity - carried_disturbance - velocity).norm();
   const double reynolds_r = relative_speed * kernel_radius / nu;
-  // The other grains around screen the disturbance (Brinkman): the water between them is resisted by
-  // (1 - eps) times the drag per grain volume, mu / l_B^2, at the sub-step's known slip. A lone grain reads eps = 1
-  // (the self-corrected voidage) and is not screened.
-  // Only with the self-corrected voidage estimate: the cloud-in-cell reading counts the grain's own volume, so a lone
-  // grain would screen itself.
-  // The drag per grain volume at the sub-step's known slip: the suspension's resistance here, the walls' bound below.
+  // In a suspension the water this grain samples holds, beyond the suspension's mean flow, the share S(0) of its own
+  // disturbance that its neighbours' disturbances and their backflow leave (self_induced_suspension_share): the
+  // drag law's hindrance already holds the neighbours' mean effect. A lone grain reads eps = 1 (the self-corrected
+  // voidage): all of it. Only with the self-corrected voidage estimate: the cloud-in-cell reading counts the grain's
+  // own volume, so a lone grain would read a suspension of itself. (The Brinkman screening of a fixed array put the
+  // share at 0.07-0.30 at phi = 0.05, where the water holds 0.6-0.85 of it: the suspension settled 2-18 % fast in the
+  // column's frame, more as l0 shrank; docs/cases/settling.md, "Hindered settling".)
+  const double suspension =
+      model_.voidage_estimate == CouplingModel::VoidageEstimate::kSelfCorrected
+          ? self_induced_suspension_share(1.0 - voidage)
+          : 1.0;
+  // The drag per grain volume at the sub-step's known slip: the walls' bound below.
   const double known_drag_per_volume =
       drag_per_volume(voidage, diameter, relative_speed / flux_share, density, viscosity, model_);
-  const double resistance_per_volume = suspension_resistance_per_volume(model_, voidage, diameter, relative_speed,
-                                                                        flux_share, density, viscosity);
-  const double kernel_over_screening = kernel_radius * std::sqrt(resistance_per_volume / viscosity);
-  const double brinkman = self_induced_brinkman_factor(kernel_over_screening);
   // The slow mode is the far field (Re_R); the fast and middle ones the kernel's scale (Re_near).
   const double reynolds_near = (sampled_velocity - velocity).norm() * kernel_radius / nu;
   const auto mode_reynolds = [&](int m) { return m + 1 == SelfInducedModes::kCount ? reynolds_r : reynolds_near; };
   // The near modes shape the early build-up; the total, once built, is the far field's phi(Re_R).
   const std::array<double, SelfInducedModes::kCount> amplitudes =
       self_induced_two_speed_amplitudes(reynolds_near, reynolds_r);
-  const double phi = (amplitudes[0] + amplitudes[1] + amplitudes[2]) * brinkman;
+  const double phi = (amplitudes[0] + amplitudes[1] + amplitudes[2]) * suspension;
   // The water shows a sub-step's drag about two fluid steps later (spread at the step's end, applied in the next
   // step's prediction, sampled at the start of the one after, used over it): each lag also waits that long (a
   // delay d ahead of a lag tau is a lag tau + d to first order).
@@ -163,7 +165,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
     slow_time = std::max(slow_time, tau);
     keep[m] = std::exp(-dt / tau);
     carried += keep[m] * *modes[m];
-    alpha += amplitudes[static_cast<std::size_t>(m)] * brinkman * (1.0 - keep[m]);
+    alpha += amplitudes[static_cast<std::size_t>(m)] * suspension * (1.0 - keep[m]);
   }
   // The tank's walls hold the water, so the disturbance next to them is smaller (self_induced_wall_factors), along
   // a wall's normal most: each wall takes off (1 - f) of the free disturbance, per component. And the drag law is the
@@ -264,7 +266,7 @@ void SolidDrag::drag_without_own_disturbance(std::size_t grain, const GrainState
   Vec3 disturbance = Vec3::Zero();
   for (int m = 0; m < SelfInducedModes::kCount; ++m) {
     *modes[m] = keep[m] * *modes[m] -
-                (amplitudes[static_cast<std::size_t>(m)] * brinkman * (1.0 - keep[m]) * mobility / flux_share) * on_water;
+                (amplitudes[static_cast<std::size_t>(m)] * suspension * (1.0 - keep[m]) * mobility / flux_share) * on_water;
     disturbance += *modes[m];
   }
   for (int axis = 0; axis < 3; ++axis) {

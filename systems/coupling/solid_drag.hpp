@@ -34,9 +34,10 @@ inline double grain_kernel_radius(bool self_induced, double radius, double effec
 
 /// [kg / (m^3 s)] mu / l_B^2: the other grains' resistance to the water around a grain (Brinkman 1947), (1 - eps)
 /// times the drag per grain volume at the slip speed `relative_speed` (the undisturbed water's), over the flux share.
-/// It screens the grain's disturbance beyond l_B (the self-induced correction) and ends its history's memory after
-/// l_B^2 / nu (the history force). Zero for a lone grain, and with the cloud-in-cell voidage, which counts the
-/// grain's own volume (a lone grain would screen itself).
+/// It ends a grain's history memory after l_B^2 / nu (the history force). (The self-induced correction's share in a
+/// suspension is not this screening: settling grains carry fixed forces; self_induced_suspension_share.) Zero for a
+/// lone grain, and with the cloud-in-cell voidage, which counts the grain's own volume (a lone grain would screen
+/// itself).
 inline double suspension_resistance_per_volume(const CouplingModel& coupling, double voidage, double diameter,
                                                double relative_speed, double flux_share, double density,
                                                double viscosity) {

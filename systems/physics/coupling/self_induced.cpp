@@ -271,6 +271,14 @@ SelfInducedWallFactors self_induced_wall_factors(double height_over_radius) {
   return {(1.0 - t) * a.normal + t * b.normal, (1.0 - t) * a.tangential + t * b.tangential};
 }
 
+double self_induced_suspension_share(double solid_fraction) {
+  if (!(solid_fraction > 0.0)) return 1.0;
+  const double p = std::min(solid_fraction, 0.74);
+  const double q = 1.0 - p;
+  const double p2 = p * p;
+  return (q * q) * (q * q) / (1.0 + 4.0 * p + 4.0 * p2 - 4.0 * p2 * p + p2 * p2);
+}
+
 double self_induced_brinkman_factor(double kernel_over_screening) {
   const KernelTransform& table = kernel_transform();
   if (!(kernel_over_screening > 0.0)) return 1.0;

@@ -29,11 +29,23 @@ double self_induced_overlap();
 /// (1 at Re_R = 0, about 3.5 / Re_R for Re_R >> 1). Interpolated in a table built on first use.
 double self_induced_oseen_factor(double reynolds_r);
 
+/// The share of a grain's own disturbance that the water it samples in a settling suspension holds beyond the
+/// suspension's mean flow: the hard-sphere structure factor at zero wavenumber (Carnahan & Starling 1969's
+/// compressibility), S(0) = (1 - phi)^4 / (1 + 4 phi + 4 phi^2 - 4 phi^3 + phi^4), 1 for a lone grain. The grains carry
+/// fixed forces (their weights), so the water at a grain holds its own disturbance and its neighbours' less the
+/// suspension's backflow; uniform neighbours cancel the backflow but for those the grain excludes (none within a
+/// diameter: 8 phi of the own term to first order, Batchelor 1972), and their pair correlation beyond contact gives
+/// part of that back. Over a kernel wider than the pair correlation the sum is S(0) of the own term. `solid_fraction`
+/// is clamped to [0, 0.74].
+double self_induced_suspension_share(double solid_fraction);
+
 /// s(R / l_B): the steady self-induced velocity in a suspension over the one in clear water. The other grains resist
 /// the water's motion (Brinkman 1947: mu lap u - (mu / l_B^2) u, l_B^2 the suspension's permeability), which
 /// screens the Stokeslet beyond l_B: the Stokes symbol 1 / (mu k^2) becomes 1 / (mu (k^2 + l_B^-2)), so
 /// s = int W^2 kappa^2 / (kappa^2 + (R / l_B)^2) d kappa / int W^2 d kappa (1 for a lone grain, falling as the
-/// suspension thickens or the kernel widens). Interpolated in a table built with the Oseen one.
+/// suspension thickens or the kernel widens). Interpolated in a table built with the Oseen one. This is the screening
+/// by grains that resist the water (a fixed array); grains that settle carry fixed forces and do not screen it (the
+/// correction in a settling suspension takes self_induced_suspension_share instead).
 double self_induced_brinkman_factor(double kernel_over_screening);
 
 /// The build-up of the Stokes disturbance after a force switched on at t = 0, psi(nu t / R^2), fitted by

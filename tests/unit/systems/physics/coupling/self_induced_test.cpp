@@ -274,6 +274,33 @@ TEST_CASE("Blake's image system stops the water on the plane, and the table agre
   }
 }
 
+TEST_CASE("a settling suspension's share of the own disturbance is the hard-sphere structure factor S(0)") {
+  // A lone grain keeps all of it, exactly (the settling cases run bit for bit as before).
+  CHECK(self_induced_suspension_share(0.0) == 1.0);
+  CHECK(self_induced_suspension_share(-0.1) == 1.0);
+  // First order: the neighbours a grain excludes, none within a diameter, 8 phi of the own term (Batchelor 1972).
+  for (double phi : {1e-4, 1e-3}) CHECK((1.0 - self_induced_suspension_share(phi)) / phi == doctest::Approx(8.0).epsilon(0.05));
+  // Second order: the virial expansion of the hard-sphere structure factor, S(0) = 1 - 8 phi + 34 phi^2 + O(phi^3)
+  // (Carnahan & Starling's compressibility, and Percus-Yevick's, agree to this order).
+  const double small = 1e-3;
+  CHECK((self_induced_suspension_share(small) - 1.0 + 8.0 * small) / (small * small) == doctest::Approx(34.0).epsilon(0.05));
+  // Against Percus-Yevick's (1 - phi)^4 / (1 + 2 phi)^2, an independent theory, within 2 % where the correction acts
+  // (eps > 0.8; the two part by 4 % at phi = 0.3).
+  for (double phi : {0.05, 0.1, 0.2}) {
+    CAPTURE(phi);
+    const double percus_yevick = std::pow(1.0 - phi, 4) / std::pow(1.0 + 2.0 * phi, 2);
+    CHECK(self_induced_suspension_share(phi) == doctest::Approx(percus_yevick).epsilon(0.02));
+  }
+  // Falls as the suspension thickens, and stays positive where the correction acts (eps > 0.8) and beyond.
+  double previous = 1.0;
+  for (double phi = 0.01; phi < 0.74; phi += 0.01) {
+    const double share = self_induced_suspension_share(phi);
+    CHECK(share < previous);
+    CHECK(share > 0.0);
+    previous = share;
+  }
+}
+
 TEST_CASE("the Brinkman screening is the kernels' mean of exp(-r / l_B) / r over their mean of 1 / r") {
   // The screened symbol 1 / (k^2 + l_B^-2) is the Yukawa potential exp(-r / l_B) / (4 pi r) in real space: pairs of
   // kernel points by plain Monte Carlo (an independent route to the Fourier-space table).
