@@ -82,6 +82,18 @@ def periodic_spheres(count, seed=5):
     cell = COLUMN / cells
     grid = {}
     centres = []
+
+    def neighbours(key):
+        """The beads placed in the 27 cells around `key` (wrapped across x and y)."""
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    yield from grid.get(((key[0] + dx) % cells, (key[1] + dy) % cells, key[2] + dz), ())
+
+    def overlaps(c, other):
+        offset = c - other
+        offset[:2] -= COLUMN * np.round(offset[:2] / COLUMN)  # the nearest image across the seams
+        return offset @ offset < DIAMETER * DIAMETER
     tries = 0
     while len(centres) < count:
         tries += 1
@@ -90,23 +102,7 @@ def periodic_spheres(count, seed=5):
         c = np.array([rng.uniform(0.0, COLUMN), rng.uniform(0.0, COLUMN),
                       rng.uniform(FILL_LOW + radius, FILL_HIGH - radius)])
         key = (int(c[0] // cell) % cells, int(c[1] // cell) % cells, int(c[2] // DIAMETER))
-        clear = True
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dz in (-1, 0, 1):
-                    for other in grid.get(((key[0] + dx) % cells, (key[1] + dy) % cells, key[2] + dz), ()):
-                        offset = c - other
-                        offset[:2] -= COLUMN * np.round(offset[:2] / COLUMN)
-                        if offset @ offset < DIAMETER * DIAMETER:
-                            clear = False
-                            break
-                    if not clear:
-                        break
-                if not clear:
-                    break
-            if not clear:
-                break
-        if clear:
+        if not any(overlaps(c, other) for other in neighbours(key)):
             grid.setdefault(key, []).append(c)
             centres.append(c)
     return "".join(f"""[[solids.spheres]]

@@ -122,13 +122,6 @@ struct Window {
 };
 constexpr Window kEarly{15, 50}, kLate{75, 150};
 
-Bulk bulk_of(const std::string& scene, Window window);
-
-Bulk bulk_settling(double solid_fraction, const std::string& reading, const std::string& extra = "",
-                   Window window = kEarly) {
-  return bulk_of(column_scene(solid_fraction, reading, extra), window);
-}
-
 Bulk bulk_of(const std::string& scene, Window window) {
   auto simulation = Simulation::from_model(parse_scene(scene, "column.toml"));
   Bulk bulk;
@@ -165,6 +158,11 @@ Bulk bulk_of(const std::string& scene, Window window) {
   }
   bulk.speed /= samples, bulk.undisturbed /= samples, bulk.lab /= samples, bulk.voidage /= samples, bulk.fluid /= samples, bulk.pressure /= samples, bulk.drag /= samples;
   return bulk;
+}
+
+Bulk bulk_settling(double solid_fraction, const std::string& reading, const std::string& extra = "",
+                   Window window = kEarly) {
+  return bulk_of(column_scene(solid_fraction, reading, extra), window);
 }
 
 // The drag law's steady suspension, over the early window: without the history force's transient (the test case
