@@ -313,6 +313,10 @@ struct FluidModel {
   double shifting_coefficient = 2.0;  ///< [1] A (the scene's default: 2 for kVelocity, 0.25 for kConstant)
   double shifting_max_ratio = 0.1;    ///< [1] the largest shift per step / l0
   bool shifting_velocity_correction = true;  ///< u += (delta r . grad) u after the shift (Lind et al. 2012)
+  /// The water's starting arrangement (docs/FLUID.md, "A packed start"; systems/physics/mps/particle_packing.hpp):
+  /// the cubic lattice, or packed off it into a disordered arrangement of uniform number density.
+  enum class Arrangement { kLattice, kPacked };
+  Arrangement initial_arrangement = Arrangement::kLattice;
   /// Derived from spacing and effective_radius_ratio by fill_mps_constants once they are final (the scene reader
   /// calls it; so must code that builds a model by hand); zero while the fluid is off.
   MpsConstants constants;

@@ -17,7 +17,9 @@
 #include "engine/run/simulation.hpp"
 #include "engine/run/stepper.hpp"
 #include "engine/setup/initial_state.hpp"
+#include "engine/toml/scene_reader.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/mps/particle_packing.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 
 namespace riffle {
@@ -89,6 +91,15 @@ void print_check(const std::string& scene_path, const Model& model) {
     std::printf("  fluid: %.0f MPS particles, %.0f of them fluid, spacing %g m, r_e = %g spacing\n",
                 budget.fluid_particles + budget.wall_particles + budget.dummy_particles, budget.fluid_particles,
                 model.fluid.spacing, model.fluid.effective_radius_ratio);
+  if (model.fluid.enabled && model.fluid.initial_arrangement == FluidModel::Arrangement::kPacked) {
+    const double floor = packed_start_viscosity_floor(model.fluid.spacing, model.gravity.norm());
+    std::printf("  fluid: a packed start (off the lattice)%s\n",
+                model.fluid.kinematic_viscosity < floor
+                    ? (", but nu = " + format_number(model.fluid.kinematic_viscosity) + " m^2/s is below 0.01 l0 sqrt(g l0) = " +
+                       format_number(floor) + " m^2/s: packed water at rest may not come to rest (docs/FLUID.md)")
+                          .c_str()
+                    : "");
+  }
   if (model.mean_flow.enabled) {
     const MeanFlowModel& flow = model.mean_flow;
     std::printf("  mean-flow fluid: %zu cells of %.4g m from z = %g to %g m (%s top), %s\n", flow.cells,

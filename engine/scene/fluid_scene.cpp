@@ -207,8 +207,12 @@ void check_period_fits_lattice(TableReader& fluid, const Model& model) {
 }
 
 
-// Particle shifting (docs/FLUID.md, "Particle shifting"): the law, its coefficient A and the cap per step.
+// Particle shifting (docs/FLUID.md, "Particle shifting"): the law, its coefficient A and the cap per step; and the
+// water's starting arrangement ("A packed start"), whose packing shifts the same way before the run.
 void read_shifting(TableReader& fluid, FluidModel& out) {
+  out.initial_arrangement = fluid.choice("initial_arrangement", "lattice", {"lattice", "packed"}) == "packed"
+                                ? FluidModel::Arrangement::kPacked
+                                : FluidModel::Arrangement::kLattice;
   out.shifting = fluid.choice("shifting", "off", {"off", "fickian"}) == "fickian" ? FluidModel::Shifting::kFickian
                                                                                  : FluidModel::Shifting::kOff;
   const bool constant = fluid.choice("shifting_diffusivity", "velocity", {"velocity", "constant"}) == "constant";

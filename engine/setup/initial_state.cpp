@@ -7,12 +7,16 @@
 #include <set>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 #include "engine/output/checkpoint.hpp"
 #include "engine/setup/bed_generation.hpp"
 #include "engine/output/checkpoint_validation.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "engine/toml/scene_reader.hpp"
 #include "systems/physics/mps/initial_profile.hpp"
+#include "systems/physics/mps/particle_packing.hpp"
+#include "systems/physics/geometry/periodic_box.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
 
 namespace riffle {
@@ -75,6 +79,43 @@ Solids read_initial_grains(const Model& model) {
   validate_grains(grains, model.materials.size(), path);
   return grains;
 }
+
+namespace {
+
+/// The water moved off the lattice (docs/FLUID.md, "A packed start"): its particles with a complete kernel are
+/// packed around the walls, dummies and the surface water, which stay put; a [fluid.initial_velocity] profile is
+/// re-read at each moved particle's new height.
+void pack_initial_fluid(const Model& model, const TankMotion& tank, FluidParticles& particles) {
+  const FluidModel& fluid = model.fluid;
+  std::vector<char> movable(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    movable[i] = particles.kind[i] == static_cast<std::int32_t>(FluidKind::kFluid) ? 1 : 0;
+  PeriodicBox box = periodic_box(model);
+  box.low += tank.displacement;
+  PackingSettings settings;
+  settings.spacing = fluid.spacing;
+  settings.effective_radius = fluid.effective_radius();
+  std::vector<Vec3> positions = particles.position;
+  const PackingReport report = pack_particles(positions, movable, box, settings);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (!movable[i]) continue;
+    const double before = particles.position[i].z() - tank.displacement.z();
+    const double after = positions[i].z() - tank.displacement.z();
+    particles.velocity[i].x() += initial_profile_velocity(fluid.initial_velocity, after) -
+                                 initial_profile_velocity(fluid.initial_velocity, before);
+    particles.position[i] = positions[i];
+  }
+  const double floor = packed_start_viscosity_floor(fluid.spacing, model.gravity.norm());
+  if (fluid.kinematic_viscosity < floor)
+    spdlog::warn("packed start in a liquid of nu = {:.3g} m^2/s, below 0.01 l0 sqrt(g l0) = {:.3g} m^2/s: packed water "
+                 "at rest may not come to rest (docs/FLUID.md, \"A packed start\")",
+                 fluid.kinematic_viscosity, floor);
+  spdlog::info("packed start: {} of the water's particles moved off the lattice (mean {:.3f} l0 from their sites); "
+               "their number density's RMS deviation {:.4f} after the random offset, {:.4f} after packing",
+               report.moved, report.mean_offset, report.spread_after_offset, report.spread_after_packing);
+}
+
+}  // namespace
 
 FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
   const FluidModel& fluid = model.fluid;
@@ -151,6 +192,7 @@ FluidParticles initial_fluid(const Model& model, const TankMotion& tank) {
   for (const ParticleBoxModel& box : fluid.wall_boxes)
     for (const LatticeParticle& particle : layout_of(box, FluidKind::kWall).particles)
       add_wall(particle, FluidKind::kWall, true);
+  if (fluid.initial_arrangement == FluidModel::Arrangement::kPacked) pack_initial_fluid(model, tank, particles);
   return particles;
 }
 

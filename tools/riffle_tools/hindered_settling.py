@@ -112,7 +112,7 @@ material = "bead"
 """ for c in centres)
 
 
-def scene(phi, reading, extra, spacing=0.005, window=LATE_WINDOW, periodic=False):
+def scene(phi, reading, extra, spacing=0.005, window=LATE_WINDOW, periodic=False, fluid_extra=""):
     count = round(phi * COLUMN * COLUMN * (FILL_HIGH - FILL_LOW) / (math.pi / 6.0 * DIAMETER ** 3))
     # Periodic across: no side walls, so no wall layer thinner in beads and no circulation (down in the middle, up at
     # the walls) carrying the beads in the column's frame; Richardson-Zaki's d/D -> 0. A periodic box needs a contact
@@ -145,6 +145,7 @@ wall_material = "glass"
 spacing = {spacing}
 density = {DENSITY}
 kinematic_viscosity = {VISCOSITY / DENSITY}
+{fluid_extra}
 [[fluid.boxes]]
 low = [0.0, 0.0, 0.0]
 high = [0.06, 0.06, 0.16]
@@ -191,6 +192,7 @@ def main(argv=None):
     parser.add_argument("--phi", default="0.05,0.1,0.2,0.3")
     parser.add_argument("--readings", default="mixture,pore")
     parser.add_argument("--extra", default="", help="more [coupling] lines")
+    parser.add_argument("--fluid", default="", help="more [fluid] lines, e.g. 'initial_arrangement = \"packed\"'")
     parser.add_argument("--threads", default="1")
     parser.add_argument("--spacings", default="0.005",
                         help="l0 [m], comma-separated (each a divisor of the 60 x 60 x 180 mm column: 0.01, 0.0075, "
@@ -219,7 +221,7 @@ def main(argv=None):
                 os.makedirs(out, exist_ok=True)
                 scene_file = os.path.join(out, "scene.toml")
                 with open(scene_file, "w") as f:
-                    f.write(scene(phi, reading, args.extra, spacing, window, args.periodic))
+                    f.write(scene(phi, reading, args.extra, spacing, window, args.periodic, args.fluid))
                 subprocess.run([args.riffle, "run", scene_file, "--out", os.path.join(out, "run"), "--threads",
                                 args.threads], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
                 speed, undisturbed, lab, voidage, truth = bulk_speed(os.path.join(out, "run"), window)

@@ -217,9 +217,10 @@ def case_geometry(reynolds, d_over_l0, box_over_d, approach=False):
                 clearance=clearance, approach=approach)
 
 
-def scene_text(g, correction, added_mass, voidage_radius, extra=(), dt_scale=1.0):
+def scene_text(g, correction, added_mass, voidage_radius, extra=(), dt_scale=1.0, fluid_extra=()):
     """The scene; `correction` is "on", "off" or "default" (no `self_induced_velocity` key: what a user gets);
-    `extra` holds more `[coupling]` lines ("key = value"); `dt_scale` multiplies the step (its convergence)."""
+    `extra` holds more `[coupling]` lines ("key = value"), `fluid_extra` more `[fluid]` lines; `dt_scale`
+    multiplies the step (its convergence)."""
     d, l0, nu, side, height = g["d"], g["l0"], g["nu"], g["side"], g["height"]
     dt = dt_scale * min(0.2 * l0 * l0 / nu, 0.2 * l0 / max(g["u"], 1e-9), 2e-3)
     release = height - g["kernel"] - l0  # the sampling sphere under the surface
@@ -232,6 +233,7 @@ def scene_text(g, correction, added_mass, voidage_radius, extra=(), dt_scale=1.0
         "[solids]", "[[solids.spheres]]", f"position = [{side / 2:.15g}, {side / 2:.15g}, {release:.15g}]",
         f"radius = {d / 2:.15g}", 'material = "grain"', "",
         "[fluid]", f"spacing = {l0:.15g}", f"kinematic_viscosity = {nu:.15g}", f"density = {RHO}",
+        *fluid_extra,
         "[[fluid.boxes]]", "low = [0.0, 0.0, 0.0]", f"high = [{side:.15g}, {side:.15g}, {height:.15g}]", "",
     ]
     if g["approach"]:  # the floor stops the sphere (the window ends a diameter above it)
@@ -360,14 +362,14 @@ def analyse_approach(g, heights, speeds, added_mass):
 
 
 def run_case(riffle, out, reynolds, d_over_l0, box_over_d, correction, added_mass, voidage_radius, threads,
-             approach=False, extra=(), dt_scale=1.0):
+             approach=False, extra=(), dt_scale=1.0, fluid_extra=()):
     g = case_geometry(reynolds, d_over_l0, box_over_d, approach)
     name = f"re{reynolds:g}_dl{d_over_l0:g}_{correction}{'_approach' if approach else ''}"
     if dt_scale != 1.0:
         name += f"_dt{dt_scale:g}"
     case_dir = pathlib.Path(out) / name
     case_dir.mkdir(parents=True, exist_ok=True)
-    text, _ = scene_text(g, correction, added_mass, voidage_radius, extra, dt_scale)
+    text, _ = scene_text(g, correction, added_mass, voidage_radius, extra, dt_scale, fluid_extra)
     scene = case_dir / "scene.toml"
     scene.write_text(text)
     run_dir = case_dir / "run"
@@ -402,6 +404,8 @@ def main(argv=None):
                              "approaching a no-slip plane (Brenner 1961's resistance)")
     parser.add_argument("--coupling", action="append", default=[], metavar="'KEY = VALUE'",
                         help="another [coupling] line for every case (repeatable)")
+    parser.add_argument("--fluid", action="append", default=[], metavar="'KEY = VALUE'",
+                        help="another [fluid] line for every case (repeatable), e.g. 'initial_arrangement = \"packed\"'")
     parser.add_argument("--added-mass", type=float, default=None,
                         help="C_a of the reference ODE, and the scene's added_mass (0: false, else true); without "
                              "it the scene has no key (riffle's default, on) and the reference C_a = 1/2")
@@ -430,7 +434,8 @@ def main(argv=None):
     for reynolds, d_over_l0 in cases:
         for correction in switches:
             r = run_case(args.riffle, args.out, reynolds, d_over_l0, args.box, correction, args.added_mass,
-                         args.voidage_radius, args.threads, args.approach, args.coupling, args.dt_scale)
+                         args.voidage_radius, args.threads, args.approach, args.coupling, args.dt_scale,
+                         args.fluid)
             g = r["geometry"]
             row = (f"| {reynolds:g} | {d_over_l0:g} | {g['side'] / g['d']:.1f} | {correction} | "
                    f"{r['terminal'] * 1e3:.3f} / {r['expected'] * 1e3:.3f} mm/s (x{r['wall']:.3f}) | "
