@@ -1,14 +1,15 @@
 #pragma once
 // A packed start for the MPS water (docs/FLUID.md, "A packed start"): the water's particles moved off the cubic
 // lattice into a disordered arrangement of uniform number density before the run starts. Water laid on the lattice
-// resists being sheared through its first spacing (rows of particles sliding past each other meet the lattice's
-// number-density barrier): a grain settling from rest in lattice water stalls its own disturbance at 0.7-0.8 of the
-// continuum's until the water next to it has moved about one spacing, where water started off the lattice follows
-// the continuum within a few hundredths. Packing (Colagrossi, Bouscasse, Antuono & Marrone 2012, Comput. Phys.
-// Commun. 183, 1641-1653: particle arrangements for meshless schemes are made uniform and isotropic, not
-// lattices) here: each particle whose kernel lies wholly in water and walls is displaced by a seeded uniform random
-// offset, then relaxed by Fickian shifts, delta r = -D grad C with C = n / n0 (Lind, Xu, Stansby & Rogers 2012; the
-// pieces of particle_shifting.hpp), the walls and the water within r_e of a free surface held on the lattice.
+// resists being sheared through its first spacing (measured; its mechanism is not isolated): a grain settling from
+// rest in lattice water stalls its own disturbance at 0.7-0.8 of the continuum's until the water next to it has
+// moved about one spacing, where water started off the lattice follows the continuum within a few hundredths.
+// Packing (Colagrossi, Bouscasse, Antuono & Marrone 2012, Comput. Phys. Commun. 183, 1641-1653: particle
+// arrangements for meshless schemes are made uniform and isotropic, not lattices) here: each particle whose kernel
+// lies wholly in water and walls is displaced by a seeded uniform random offset, then relaxed by Fickian shifts,
+// delta r = -D grad C with C = n / n0 (Lind, Xu, Stansby & Rogers 2012; the pieces of particle_shifting.hpp), the
+// walls and the water within r_e of a free surface held on the lattice. Off the lattice the projection keeps water
+// at rest only in a viscous liquid (packed_start_viscosity_floor below).
 #include <cmath>
 #include <cstdint>
 #include <vector>
