@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <unordered_map>
 
+#include "systems/physics/geometry/cell_grid.hpp"
+#include "systems/physics/math/counter_random.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "systems/physics/mps/particle_shifting.hpp"
 
@@ -12,17 +13,13 @@ namespace riffle {
 
 namespace {
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a uniform number in [-1, 1) from a counter.
+/// A uniform number in [-1, 1) named by a counter (SplitMix64's mixing, systems/physics/math/counter_random.hpp).
 double uniform_symmetric(std::uint64_t counter) {
-  std::uint64_t z = counter + 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * 0x1.0p-53 * 2.0 - 1.0;
+  return static_cast<double>(splitmix64(counter) >> 11) * 0x1.0p-53 * 2.0 - 1.0;
 }
 
-/// A cell list of every particle and, along periodic axes, of the images within r_e of the box: the neighbours
-/// of any particle are in its own and the 26 adjacent cells.
+/// Every particle and, along periodic axes, its images within r_e of the box, in a CellGrid of r_e cells: the
+/// neighbours of any particle within r_e, across the seams too.
 class NeighbourCells {
  public:
   NeighbourCells(const std::vector<Vec3>& positions, const PeriodicBox& box, double radius) : radius_(radius) {
@@ -33,26 +30,20 @@ class NeighbourCells {
         if (!shift.isZero() && !near_box(box, image)) continue;
         points_.push_back(image);
         owners_.push_back(static_cast<std::uint32_t>(i));
-        cells_[key(image)].push_back(static_cast<std::uint32_t>(points_.size() - 1));
       }
+    const Vec3 unbounded = Vec3::Constant(1e300);
+    grid_.build(points_, 0, points_.size(), radius, -unbounded, unbounded);
   }
 
-  /// Calls visit(owner, offset) for every point within r_e of `position` but the particle `self` itself.
+  /// Calls visit(owner, offset, distance) for every point within r_e of `position` but the particle `self` itself.
   template <class Visit>
   void for_each_neighbour(std::size_t self, const Vec3& position, Visit&& visit) const {
-    const std::array<std::int64_t, 3> centre = cell_of(position);
-    for (std::int64_t dz = -1; dz <= 1; ++dz)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dx = -1; dx <= 1; ++dx) {
-          const auto found = cells_.find(pack({centre[0] + dx, centre[1] + dy, centre[2] + dz}));
-          if (found == cells_.end()) continue;
-          for (const std::uint32_t point : found->second) {
-            const Vec3 offset = points_[point] - position;
-            const double distance = offset.norm();
-            if (distance >= radius_ || (owners_[point] == self && distance == 0.0)) continue;
-            visit(owners_[point], offset, distance);
-          }
-        }
+    grid_.for_each_within(points_, position, radius_, [&](std::uint32_t point) {
+      const Vec3 offset = points_[point] - position;
+      const double distance = offset.norm();
+      if (owners_[point] == self && distance == 0.0) return;
+      visit(owners_[point], offset, distance);
+    });
   }
 
  private:
@@ -63,22 +54,11 @@ class NeighbourCells {
         return false;
     return true;
   }
-  std::array<std::int64_t, 3> cell_of(const Vec3& point) const {
-    return {static_cast<std::int64_t>(std::floor(point.x() / radius_)),
-            static_cast<std::int64_t>(std::floor(point.y() / radius_)),
-            static_cast<std::int64_t>(std::floor(point.z() / radius_))};
-  }
-  static std::uint64_t pack(const std::array<std::int64_t, 3>& cell) {
-    // 21 bits per axis: cells of r_e over any tank riffle can hold (the budget bounds the particle count).
-    const auto part = [](std::int64_t c) { return static_cast<std::uint64_t>(c + (1 << 20)) & 0x1FFFFFull; };
-    return part(cell[0]) | (part(cell[1]) << 21) | (part(cell[2]) << 42);
-  }
-  std::uint64_t key(const Vec3& point) const { return pack(cell_of(point)); }
 
   double radius_;
   std::vector<Vec3> points_;
   std::vector<std::uint32_t> owners_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+  CellGrid grid_;
 };
 
 /// n_i / n0 and grad C_i of every particle in `which`.
