@@ -302,23 +302,30 @@ void FluidPressureSolve::finish(SystemContext& context, const PressureSolveOutco
   ParticlePressure& pressures = context.write<ParticlePressure>();
   FluidSummary& summary = context.write<FluidSummary>();
   const std::size_t fluid_count = fluid_slot_count(particles);
-  const bool clamp = fluid_.clamp_negative_pressure;
   std::size_t surface = 0;
   for (std::size_t i = 0; i < fluid_count; ++i) surface += densities.free_surface[i] ? 1 : 0;
+  const bool spread = over_ranks_ && context.read<FluidNeighbours>().ranks.active;
+  const std::size_t surface_total =
+      spread ? static_cast<std::size_t>(ranks::sum_in_rank_order({static_cast<double>(surface)})[0]) : surface;
+  // The clamp is a free surface's (no tension where the water meets air, numerics 2.8). Water without a free-surface
+  // particle (a sealed box full of it) has no p = 0 anywhere: its pressure's level is set only by the compressibility
+  // term, so a clamp at zero cuts an arbitrary level, and measured it drives still water off the lattice (a packed
+  // sealed box at water's viscosity: KE from 3e-8 J up to 6e-6 J in 3 s clamped, down to 5e-10 J not; docs/FLUID.md).
+  const bool clamp = fluid_.clamp_negative_pressure && surface_total > 0;
   for_each_particle(fluid_count, [&](std::size_t i) {
     pressures.previous_pressure[i] = pressures.pressure[i];
     const double pressure = row_of_[i] >= 0 ? solution_[static_cast<std::size_t>(row_of_[i])] : 0.0;
     pressures.pressure[i] = clamp && pressure < 0.0 ? 0.0 : pressure;
   });
   // The exchange of p^{k+1}: fluid_correct reads the ghosts' pressures.
-  if (over_ranks_ && context.read<FluidNeighbours>().ranks.active) {
+  if (spread) {
     FluidNeighbours& halo_owner = context.write<FluidNeighbours>();
     exchange_fluid_ghost_field(pressures.pressure, halo_owner.ranks, halo_owner.ghosts.pressure);
     summary.solver_iterations = outcome.iterations;
     summary.solver_residual = outcome.relative_residual;
     summary.solver_unknowns = rank_rows_.global_rows;
     summary.solver_converged = outcome.converged;
-    summary.surface_count = static_cast<std::size_t>(ranks::sum_in_rank_order({static_cast<double>(surface)})[0]);
+    summary.surface_count = surface_total;
     context.count_items(slot_of_.size());
     return;
   }

@@ -8,8 +8,8 @@
 // arrangements for meshless schemes are made uniform and isotropic, not lattices) here: each particle whose kernel
 // lies wholly in water and walls is displaced by a seeded uniform random offset, then relaxed by Fickian shifts,
 // delta r = -D grad C with C = n / n0 (Lind, Xu, Stansby & Rogers 2012; the pieces of particle_shifting.hpp), the
-// walls and the water within r_e of a free surface held on the lattice. Off the lattice the projection keeps water
-// at rest only in a viscous liquid (packed_start_viscosity_floor below).
+// walls and the water within r_e of a free surface held on the lattice. Off the lattice, under a free surface, the
+// projection keeps water at rest only in a viscous liquid (packed_start_viscosity_floor below).
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -38,9 +38,9 @@ struct PackingReport {
 
 /// The least kinematic viscosity [m^2/s] at which packed water at rest comes to rest, 0.01 l0 sqrt(g l0): measured
 /// with scenes/hydrostatic.toml (l0 = 5 mm, 3 s) packed, its largest speed falls to 2e-5 m/s at nu = 1e-4
-/// (0.09 l0 sqrt(g l0)), stays near 1 mm/s at 1e-5 (0.009) and grows to 0.1 m/s at water's 1e-6 (0.0009), in a
-/// box without a free surface too: off the lattice the projection's own motion grows unless viscosity damps it on
-/// the spacing's scale.
+/// (0.09 l0 sqrt(g l0)), stays near 1 mm/s at 1e-5 (0.009) and grows to 0.1 m/s at water's 1e-6 (0.0009): the
+/// motion starts in the top layers and grows with the density term's rate (docs/FLUID.md, "A packed start"). A sealed
+/// box full of water (no free-surface particle, so no clamp) comes to rest at water's viscosity too.
 inline double packed_start_viscosity_floor(double spacing, double gravity) {
   return 0.01 * spacing * std::sqrt(gravity * spacing);
 }
