@@ -49,6 +49,8 @@ COMMANDS = [
                                          "(runs riffle)"),
     ("self-disturbance", "self_disturbance", "a lone grain's own disturbance of the water: the MPS water's, the "
                                              "self-induced model's and the continuum's, from its frames"),
+    ("particle-scatter", "particle_scatter", "the MPS water's particle-scale velocity scatter and number-density "
+                                             "spread, frame by frame"),
     ("lattice-response", "lattice_response", "the MPS water's response at a grain's kernel on the particle lattice "
                                              "against the continuum the self-induced correction models"),
     ("ten-cate", "ten_cate", "ten Cate et al.'s sphere settling onto a box's floor against the measurements "
