@@ -302,6 +302,9 @@ struct FluidModel {
   enum class Turbulence { kNone, kSps };
   Turbulence turbulence = Turbulence::kNone;
   double smagorinsky_constant = 0.12;  ///< [1] C_s
+  /// [1] C_p of the particle-scale viscosity nu_p = C_p l0 s, s a particle's velocity scatter about the linear fit
+  /// through its neighbours (0: off; docs/FLUID.md, "Disordered water's particle-scale noise").
+  double scatter_viscosity = 0.0;
   /// Particle shifting after each step (docs/FLUID.md, "Particle shifting"; systems/mps/fluid_shift.hpp): each fluid
   /// particle moves by delta r = -D grad C (Lind et al. 2012), its velocity carried along to first order. Off by
   /// default (and then the step graph has no fluid_shift).

@@ -367,6 +367,7 @@ void read_fluid(TableReader& fluid, Model& model) {
   // constant is 0.1-0.2 in the literature; 0.17 from the Kolmogorov spectrum, Lilly 1967).
   out.smagorinsky_constant =
       fluid.number("smagorinsky_constant", out.smagorinsky_constant, "1", Bounds::closed(0.0, 1.0));
+  out.scatter_viscosity = fluid.number("scatter_viscosity", out.scatter_viscosity, "1", Bounds::closed(0.0, 10.0));
   if (fluid.has("smagorinsky_constant") && out.turbulence != FluidModel::Turbulence::kSps)
     fluid.problem("smagorinsky_constant", "needs turbulence = \"sps\"");
   read_shifting(fluid, out);

@@ -34,7 +34,7 @@ void FluidPredict::run(SystemContext& context) {
   const Ghosted<Vec3> velocity_of = fluid_ghosted(particles.velocity, neighbours.ghosts.velocity, neighbours);
   const Ghosted<std::int32_t> kind_of = fluid_ghosted(particles.kind, neighbours.ghosts.kind, neighbours);
   // The body force joins gravity; eddy viscosity and lids take their own loop, so this one keeps main's bits.
-  if (fluid_.turbulence == FluidModel::Turbulence::kSps || fluid_.has_lids())
+  if (fluid_.turbulence == FluidModel::Turbulence::kSps || fluid_.scatter_viscosity > 0.0 || fluid_.has_lids())
     driven_viscous_loop(context, gravity);
   else
   for_each_particle(fluid_count, [&](std::size_t i) {
@@ -112,7 +112,11 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants_.reference_density;
   const bool error_compensation = fluid_.schemes.error_compensating_source;
-  const bool sps = fluid_.turbulence == FluidModel::Turbulence::kSps;
+  // The particles' eddy viscosity: the SPS closure's and the particle-scale one's, either or both.
+  const EddyViscosityConstants closures{
+      fluid_.turbulence == FluidModel::Turbulence::kSps ? fluid_.smagorinsky_constant : 0.0, fluid_.scatter_viscosity,
+      0.1 * fluid_.spacing * fluid_.spacing / context.dt};
+  const bool eddy = closures.smagorinsky > 0.0 || closures.scatter > 0.0;
   const double nu = fluid_.kinematic_viscosity;
   // nu <lap u> of run() with the pair viscosity in place of nu: 2D / (lambda0 n0) sum_j nu_ij (u_j - u_i) w_ij.
   const double laplacian_factor = 6.0 / (constants_.laplacian_lambda * n0);
@@ -183,11 +187,11 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   // nu_t of each fluid particle from the GC-corrected velocity gradient at u^k (wall and lid particles enter with
   // their velocities): grad u_a = A^-1 (1/n0) sum_j (u_a,j - u_a,i) (w_ij / r_ij^2) r_ij, exact for a linear field
   // wherever A is well conditioned (seed Eqs. 8-9, numerics 2.6).
-  eddy_viscosity_.assign(sps ? fluid_count : 0, 0.0);
-  if (sps) sps_eddy_viscosity(particles, neighbours, fluid_count, constants_, fluid_.smagorinsky_constant, eddy_viscosity_);
+  eddy_viscosity_.assign(eddy ? fluid_count : 0, 0.0);
+  if (eddy) particle_eddy_viscosity(particles, neighbours, fluid_count, constants_, closures, eddy_viscosity_);
   // nu_t of a neighbour slot: a fluid slot's own, a periodic ghost's owner's (the exchange of nu_t: it lives and
   // dies within this system), over MPI ranks a ghost's as its owner sends it; 0 for walls.
-  if (sps && spread) {
+  if (eddy && spread) {
     real_eddy_.assign(real_count, 0.0);
     std::copy(eddy_viscosity_.begin(), eddy_viscosity_.end(), real_eddy_.begin());
     exchange_fluid_ghost_field(real_eddy_, neighbours.ranks, ghost_eddy_);
@@ -206,7 +210,7 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
   for_each_particle(fluid_count, [&](std::size_t i) {
     const Vec3 position = particles.position[i];
     const Vec3 velocity = particles.velocity[i];
-    const double own_eddy = sps ? eddy_viscosity_[i] : 0.0;
+    const double own_eddy = eddy ? eddy_viscosity_[i] : 0.0;
     Vec3 viscous = Vec3::Zero();
     double density = 0.0, rate = 0.0;
     FluidPairBatch batch;
@@ -223,7 +227,7 @@ void FluidPredict::driven_viscous_loop(SystemContext& context, const Vec3& body_
           if (lid < 0 || !free_slip[static_cast<std::size_t>(lid)]) {
             // Pair viscosity nu + (nu_t,i + nu_t,j)/2 (a wall's nu_t is 0): symmetric, so the fluid's momentum is
             // exchanged in pairs (a periodic ghost's nu_t is its owner's).
-            const double pair_viscosity = nu + 0.5 * (own_eddy + (sps && fluid_partner ? eddy_of(j) : 0.0));
+            const double pair_viscosity = nu + 0.5 * (own_eddy + (eddy && fluid_partner ? eddy_of(j) : 0.0));
             const double beta = lid >= 0 ? extrapolation(static_cast<std::size_t>(lid), position.z(),
                                                          position_of[j].z())
                                          : 1.0;

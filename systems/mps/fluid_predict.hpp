@@ -43,7 +43,7 @@ class FluidPredict final : public System {
   MpsConstants constants_;
   WendlandKernel kernel_;
   std::vector<Vec3> acceleration_;  ///< [m/s^2] scratch: the gather reads u^k while u* is formed
-  std::vector<double> eddy_viscosity_;  ///< [m^2/s] nu_t per fluid slot (turbulence = sps)
+  std::vector<double> eddy_viscosity_;  ///< [m^2/s] nu_t per fluid slot (turbulence = "sps", scatter_viscosity > 0)
   std::vector<std::int32_t> lid_of_;    ///< per slot: the lid (index among the lid boxes) or -1
   std::vector<Vec3> lid_force_;         ///< [N] per fluid slot and lid: the lid's viscous force on the particle
   /// Over MPI ranks: each real's lid and nu_t (0 for walls) as sent to the other ranks' ghosts, and the ghosts' own.

@@ -41,8 +41,9 @@ double smagorinsky_viscosity(double constant, double filter_width, const Eigen::
   return length * length * strain_rate_magnitude(velocity_gradient);
 }
 
-void sps_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& neighbours, std::size_t fluid_count,
-                        const MpsConstants& constants, double smagorinsky_constant, std::vector<double>& out) {
+void particle_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& neighbours, std::size_t fluid_count,
+                             const MpsConstants& constants, const EddyViscosityConstants& closures,
+                             std::vector<double>& out) {
   const WendlandKernel kernel{constants.effective_radius};
   const double radius_squared = kernel.effective_radius * kernel.effective_radius;
   const double n0 = constants.reference_density;
@@ -54,6 +55,7 @@ void sps_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& n
     const Vec3 position = particles.position[i];
     const Vec3 velocity = particles.velocity[i];
     Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();  // sum_j (w / r^2) r_ij (u_j - u_i)^T
+    Vec3 difference = Vec3::Zero(), first_moment = Vec3::Zero();  // sum_j w (u_j - u_i), sum_j w r_ij
     GradientMoment moment;
     FluidPairBatch batch;
     for_each_pair_within(
@@ -63,12 +65,23 @@ void sps_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& n
           if (pair.distance_squared[k] == 0.0) return;
           const Vec3 offset = pair.offset(k);
           const double weight_over_squared = pair.weight[k] * pair.inverse_squared[k];
-          sum += (weight_over_squared * offset) * (velocity_of[pair.slot[k]] - velocity).transpose();
+          const Vec3 relative_velocity = velocity_of[pair.slot[k]] - velocity;
+          sum += (weight_over_squared * offset) * relative_velocity.transpose();
+          difference += pair.weight[k] * relative_velocity;
+          first_moment += pair.weight[k] * offset;
           moment.add(pair.weight[k], weight_over_squared, offset);
         });
     // Column a of (D/n0) C sum is grad u_a; the transpose puts d u_a / d x_b at [a][b].
     const Eigen::Matrix3d gradient = ((3.0 / n0) * gradient_correction_matrix(moment, n0) * sum).transpose();
-    out[i] = smagorinsky_viscosity(smagorinsky_constant, constants.spacing, gradient);
+    double viscosity = closures.smagorinsky > 0.0
+                           ? smagorinsky_viscosity(closures.smagorinsky, constants.spacing, gradient)
+                           : 0.0;
+    if (closures.scatter > 0.0 && moment.density > 0.0) {
+      // sum_j w (u_j - u_i - grad u r_ij) = sum_j w (u_j - u_i) - grad u sum_j w r_ij
+      const double scatter = (difference - gradient * first_moment).norm() / moment.density;
+      viscosity += std::min(scatter_viscosity(closures.scatter, constants.spacing, scatter), closures.scatter_ceiling);
+    }
+    out[i] = viscosity;
   });
 }
 

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "components/fluid.hpp"
@@ -53,12 +54,29 @@ double strain_rate_magnitude(const Eigen::Matrix3d& velocity_gradient);
 /// The Smagorinsky eddy viscosity nu_t = (C_s Delta)^2 |S| [m^2/s] (Gotoh et al. 2001, Eq. 13; Delta = l0).
 double smagorinsky_viscosity(double constant, double filter_width, const Eigen::Matrix3d& velocity_gradient);
 
-/// nu_t of fluid slots [0, fluid_count) into `out` (sized fluid_count): the Smagorinsky viscosity with Delta = l0 of
-/// the GC-corrected velocity gradient at the particles' current positions and velocities (wall and lid particles
-/// enter with theirs): grad u_a = A^-1 (1/n0) sum_j (u_a,j - u_a,i) (w_ij / r_ij^2) r_ij (seed 000 Eqs. 8-9 with the
-/// inversion safety of numerics 2.6), exact for a linear field wherever A is well conditioned (whatever the scene's
-/// GC switch says: the closure needs the gradient, not the pressure scheme). `neighbours`: lists at least r_e wide.
-void sps_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& neighbours, std::size_t fluid_count,
-                        const MpsConstants& constants, double smagorinsky_constant, std::vector<double>& out);
+/// The particle-scale viscosity nu_p = C_p l0 s [m^2/s] of a particle whose velocity scatters by s [m/s] about the
+/// linear fit through its neighbours (docs/FLUID.md, "Disordered water's particle-scale noise").
+inline double scatter_viscosity(double constant, double spacing, double scatter) { return constant * spacing * scatter; }
+
+/// The two particle eddy viscosities fluid_predict adds to nu in its pair form, each 0 when its constant is.
+struct EddyViscosityConstants {
+  double smagorinsky = 0.0;  ///< C_s of the SPS closure ([fluid] turbulence = "sps")
+  double scatter = 0.0;      ///< C_p of the particle-scale viscosity ([fluid] scatter_viscosity)
+  /// [m^2/s] the particle-scale viscosity's ceiling (the explicit viscous term's stability: fluid_predict gives
+  /// 0.1 l0^2 / dt), so that a violent splash's scatter cannot make the step unstable
+  double scatter_ceiling = std::numeric_limits<double>::infinity();
+};
+
+/// nu_t of fluid slots [0, fluid_count) into `out` (sized fluid_count), from the particles' current positions and
+/// velocities (wall and lid particles enter with theirs) and the GC-corrected velocity gradient
+/// grad u_a = A^-1 (1/n0) sum_j (u_a,j - u_a,i) (w_ij / r_ij^2) r_ij (seed 000 Eqs. 8-9 with the inversion safety of
+/// numerics 2.6), exact for a linear field wherever A is well conditioned (whatever the scene's GC switch says: the
+/// closures need the gradient, not the pressure scheme): the Smagorinsky viscosity with Delta = l0 plus the
+/// particle-scale viscosity of the scatter s_i = |sum_j w_ij (u_j - u_i - grad u r_ij)| / sum_j w_ij, the particle's
+/// distance from the linear field its neighbours and its gradient describe (0 for any linear field, O(l0^2 lap u)
+/// for a resolved curved one). `neighbours`: lists at least r_e wide.
+void particle_eddy_viscosity(const ParticleState& particles, const FluidNeighbours& neighbours, std::size_t fluid_count,
+                             const MpsConstants& constants, const EddyViscosityConstants& closures,
+                             std::vector<double>& out);
 
 }  // namespace riffle

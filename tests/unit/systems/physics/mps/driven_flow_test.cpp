@@ -153,7 +153,8 @@ TEST_CASE("SPS eddy viscosity from the MPS gradient: exact on a lattice in linea
   FluidNeighbours neighbours;
   build_fluid_neighbours(group.position, fluid.effective_radius(), neighbours);
   std::vector<double> viscosity;
-  sps_eddy_viscosity(group, neighbours, group.size(), constants, constant, viscosity);
+  particle_eddy_viscosity(group, neighbours, group.size(), constants, {.smagorinsky = constant, .scatter = 0.0},
+                          viscosity);
   REQUIRE(viscosity.size() == group.size());
   const double expected = (constant * l0) * (constant * l0) * a;
   const double reach = std::ceil(fluid.effective_radius() / l0) * l0;
@@ -166,6 +167,70 @@ TEST_CASE("SPS eddy viscosity from the MPS gradient: exact on a lattice in linea
     CHECK(viscosity[i] == doctest::Approx(expected).epsilon(1e-10));
   }
   CHECK(interior == 125);  // the 5^3 particles at least 3 l0 inside
+}
+
+// The particle-scale viscosity nu_p = C_p l0 s (particle_eddy_viscosity's scatter part): s is the particle's distance
+// from the linear field its neighbours and the GC gradient describe. A linear field gives s = 0 on any arrangement
+// (the GC gradient is exact for it and sum_j w (L r_ij) - L sum_j w r_ij = 0); on the lattice a lone particle
+// kicked by delta reads s = |delta| exactly (its neighbourhood's symmetry leaves its gradient the field's and its
+// first moment zero), and the ceiling caps it.
+TEST_CASE("particle-scale viscosity: zero for a linear field on a disordered arrangement, C_p l0 |delta| for a kick") {
+  const double l0 = 0.002, cp = 2.0;
+  FluidModel fluid;
+  fluid.spacing = l0;
+  fill_mps_constants(fluid);
+  const MpsConstants& constants = mps_constants(fluid);
+  const Eigen::Matrix3d field = (Eigen::Matrix3d() << 1.0, 2.0, -3.0, 0.5, -1.0, 4.0, 2.0, 0.0, 1.5).finished();
+  const int n = 11;
+  const double reach = std::ceil(fluid.effective_radius() / l0) * l0;
+  const auto interior = [&](const Vec3& site) {
+    return (site.array() >= reach - 1e-12).all() && (site.array() <= (n - 1) * l0 - reach + 1e-12).all();
+  };
+  std::uint64_t state = 12345;
+  const auto jitter = [&]() {  // a uniform offset in [-0.2, 0.2) l0 (splitmix64's finaliser on a counter)
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return (static_cast<double>(z >> 11) * 0x1.0p-53 - 0.5) * 0.4 * l0;
+  };
+  FluidParticles disordered, lattice;
+  std::vector<Vec3> sites;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vec3 site(i * l0, j * l0, k * l0);
+        const Vec3 moved = site + Vec3(jitter(), jitter(), jitter());
+        disordered.add(moved, field * moved, FluidKind::kFluid);
+        lattice.add(site, field * site, FluidKind::kFluid);
+        sites.push_back(site);
+      }
+  const EddyViscosityConstants closures{.smagorinsky = 0.0, .scatter = cp};
+  FluidNeighbours neighbours;
+  build_fluid_neighbours(disordered.position, fluid.effective_radius(), neighbours);
+  std::vector<double> viscosity;
+  particle_eddy_viscosity(disordered, neighbours, disordered.size(), constants, closures, viscosity);
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < disordered.size(); ++i) {
+    if (!interior(sites[i])) continue;
+    ++checked;
+    CHECK(viscosity[i] < 1e-12 * cp * l0 * field.norm() * l0);  // rounding of a velocity ~ |L| l0
+  }
+  CHECK(checked == 125);
+
+  // One interior particle of the lattice kicked by delta.
+  const std::size_t kicked = (5 * n + 5) * n + 5;
+  const Vec3 delta(0.03, -0.01, 0.02);
+  lattice.velocity[kicked] += delta;
+  build_fluid_neighbours(lattice.position, fluid.effective_radius(), neighbours);
+  particle_eddy_viscosity(lattice, neighbours, lattice.size(), constants, closures, viscosity);
+  CHECK(viscosity[kicked] == doctest::Approx(cp * l0 * delta.norm()).epsilon(1e-10));
+  const std::size_t far = (3 * n + 3) * n + 3;  // 2 sqrt(3) l0 > r_e away from the kick
+  CHECK(viscosity[far] < 1e-12 * cp * l0 * field.norm() * l0);
+  EddyViscosityConstants capped = closures;
+  capped.scatter_ceiling = 0.5 * cp * l0 * delta.norm();
+  particle_eddy_viscosity(lattice, neighbours, lattice.size(), constants, capped, viscosity);
+  CHECK(viscosity[kicked] == doctest::Approx(capped.scatter_ceiling).epsilon(1e-12));
 }
 
 TEST_CASE("scene keys: body force, turbulence and lids read with their defaults") {
