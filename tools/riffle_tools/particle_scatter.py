@@ -15,7 +15,6 @@ l0 and r_e / l0 come from the run's scene (`fluid.spacing`, `fluid.effective_rad
 """
 import argparse
 import sys
-import tomllib
 
 import numpy as np
 
@@ -100,14 +99,8 @@ def frame_summary(frame, spacing, ratio, gravity=9.81):
 
 
 def scene_spacing(run_dir):
-    scene, named = vtp.run_scene(run_dir)
-    if scene is None:
-        sys.exit(f"particle-scatter: no scene found for {run_dir} (riffle.log names {named})")
-    with open(scene, "rb") as handle:
-        data = tomllib.load(handle)
-    fluid = data.get("fluid", {})
-    if "spacing" not in fluid:
-        sys.exit(f"particle-scatter: {scene} has no [fluid] spacing: not a run with the MPS water")
+    data = vtp.fluid_scene(run_dir, "particle-scatter")
+    fluid = data["fluid"]
     gravity = float(np.linalg.norm(data.get("run", {}).get("gravity", [0.0, 0.0, -9.81])))
     return float(fluid["spacing"]), float(fluid.get("effective_radius_ratio", 2.4)), gravity
 

@@ -16,7 +16,6 @@ scene's spacing and r_e / l0 (2.4 unless the scene sets `fluid.effective_radius_
 """
 import argparse
 import sys
-import tomllib
 
 import numpy as np
 
@@ -83,14 +82,7 @@ def continuum_disturbance(times, forces, reynolds, kernel_radius, nu, viscosity)
 
 
 def scene_numbers(run_dir):
-    scene, named = vtp.run_scene(run_dir)
-    if scene is None:
-        sys.exit(f"self-disturbance: no scene found for {run_dir} (riffle.log names {named})")
-    with open(scene, "rb") as handle:
-        data = tomllib.load(handle)
-    fluid = data.get("fluid", {})
-    if "spacing" not in fluid:
-        sys.exit(f"self-disturbance: {scene} has no [fluid] spacing: not a run with the MPS water")
+    fluid = vtp.fluid_scene(run_dir, "self-disturbance")["fluid"]
     return (float(fluid["spacing"]), float(fluid.get("effective_radius_ratio", 2.4)),
             float(fluid["kinematic_viscosity"]), float(fluid.get("density", 1000.0)))
 

@@ -16,6 +16,8 @@ then walls and dummies: match particles by id or kind, not by index, across the 
 import base64
 import pathlib
 import re
+import sys
+import tomllib
 import xml.etree.ElementTree as ElementTree
 
 import numpy as np
@@ -158,3 +160,16 @@ def run_scene(out_dir):
         if candidate.exists():
             return candidate, named
     return None, named
+
+
+def fluid_scene(out_dir, tool):
+    """The scene a run with the MPS water used, parsed (run_scene's file): `tool` exits naming the run when no scene
+    is found or it has no [fluid] spacing."""
+    scene, named = run_scene(out_dir)
+    if scene is None:
+        sys.exit(f"{tool}: no scene found for {out_dir} (riffle.log names {named})")
+    with open(scene, "rb") as handle:
+        data = tomllib.load(handle)
+    if "spacing" not in data.get("fluid", {}):
+        sys.exit(f"{tool}: {scene} has no [fluid] spacing: not a run with the MPS water")
+    return data

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,18 @@ double max_drift(const test::FluidRun& run, const std::vector<Vec3>& start) {
   double drift = 0.0;
   for (std::size_t id = 0; id < start.size(); ++id) drift = std::max(drift, (now[id] - start[id]).norm());
   return drift;
+}
+
+/// Still water packed off the lattice at water's viscosity (l0 = 1 cm, dt = 2 ms, 6 s): a tank `size` filled up to
+/// `depth`, open at the top if `open_top`, with `fluid_lines` added to [fluid].
+std::string packed_still_water(const Vec3& size, double depth, bool open_top, const std::string& fluid_lines = "") {
+  std::ostringstream text;
+  text << "[run]\nend_time = 6.0\ndt = 2.0e-3\ngravity = [0.0, 0.0, -9.81]\n[materials.glass]\ndensity = 2500.0\n"
+       << "[tank]\nsize = [" << size.x() << ", " << size.y() << ", " << size.z() << "]\n"
+       << (open_top ? "open_faces = [\"z_max\"]\n" : "") << "wall_material = \"glass\"\n"
+       << "[fluid]\nspacing = 0.01\nkinematic_viscosity = 1.0e-6\ninitial_arrangement = \"packed\"\n" << fluid_lines
+       << "[[fluid.boxes]]\nlow = [0.0, 0.0, 0.0]\nhigh = [" << size.x() << ", " << size.y() << ", " << depth << "]\n";
+  return text.str();
 }
 
 }  // namespace
@@ -218,24 +231,7 @@ TEST_CASE("a sealed box full of still water holds still with the conservative gr
 // in this box its kinetic energy fell to 7e-8 J and then grew to 5e-5 J between 3.5 and 6 s (max speed 6 cm/s). With
 // no energy put in, still water's kinetic energy cannot grow: the solve does not clamp water without a free surface.
 TEST_CASE("a sealed box full of packed still water at water's viscosity comes to rest with the default clamp") {
-  const std::string text = R"(
-[run]
-end_time = 6.0
-dt = 2.0e-3
-gravity = [0.0, 0.0, -9.81]
-[materials.glass]
-density = 2500.0
-[tank]
-size = [0.1, 0.08, 0.08]
-wall_material = "glass"
-[fluid]
-spacing = 0.01
-kinematic_viscosity = 1.0e-6
-initial_arrangement = "packed"
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.1, 0.08, 0.08]
-)";
+  const std::string text = packed_still_water(Vec3(0.1, 0.08, 0.08), 0.08, false);
   Model model = parse_scene(text, "sealed_packed.toml");
   REQUIRE(model.fluid.clamp_negative_pressure);  // the default the test is about
   test::FluidRun run(std::move(model));
@@ -265,26 +261,7 @@ high = [0.1, 0.08, 0.08]
 // speed 0.11 m/s). The particle-scale viscosity acts on the particles' scatter about their neighbours' linear field
 // only; with it the column comes to rest (measured: 3.8e-8 J at 1 s, 3.5e-9 J at 6 s), its pressure hydrostatic.
 TEST_CASE("packed still water under a free surface comes to rest with the particle-scale viscosity") {
-  const std::string text = R"(
-[run]
-end_time = 6.0
-dt = 2.0e-3
-gravity = [0.0, 0.0, -9.81]
-[materials.glass]
-density = 2500.0
-[tank]
-size = [0.12, 0.06, 0.10]
-open_faces = ["z_max"]
-wall_material = "glass"
-[fluid]
-spacing = 0.01
-kinematic_viscosity = 1.0e-6
-initial_arrangement = "packed"
-scatter_viscosity = 2.0
-[[fluid.boxes]]
-low = [0.0, 0.0, 0.0]
-high = [0.12, 0.06, 0.06]
-)";
+  const std::string text = packed_still_water(Vec3(0.12, 0.06, 0.10), 0.06, true, "scatter_viscosity = 2.0\n");
   test::FluidRun run(parse_scene(text, "packed_column.toml"));
   REQUIRE_MESSAGE(run.run_until(1.0), run.diagnosis());
   const double early_energy = run.world.fluid_summary->kinetic_energy;
