@@ -94,9 +94,11 @@ void print_check(const std::string& scene_path, const Model& model) {
   if (model.fluid.enabled && model.fluid.initial_arrangement == FluidModel::Arrangement::kPacked) {
     const double floor = packed_start_viscosity_floor(model.fluid.spacing, model.gravity.norm());
     std::printf("  fluid: a packed start (off the lattice)%s\n",
-                model.fluid.kinematic_viscosity < floor
+                packed_water_may_not_rest(model.fluid.kinematic_viscosity, model.fluid.scatter_viscosity,
+                                          model.fluid.spacing, model.gravity.norm())
                     ? (", but nu = " + format_number(model.fluid.kinematic_viscosity) + " m^2/s is below 0.01 l0 sqrt(g l0) = " +
-                       format_number(floor) + " m^2/s: packed water at rest may not come to rest (docs/FLUID.md)")
+                       format_number(floor) + " m^2/s: packed water at rest may not come to rest; [fluid] "
+                       "scatter_viscosity = 2 holds it (docs/FLUID.md)")
                           .c_str()
                     : "");
   }

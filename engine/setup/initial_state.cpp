@@ -106,9 +106,11 @@ void pack_initial_fluid(const Model& model, const TankMotion& tank, FluidParticl
     particles.position[i] = positions[i];
   }
   const double floor = packed_start_viscosity_floor(fluid.spacing, model.gravity.norm());
-  if (fluid.kinematic_viscosity < floor)
+  if (packed_water_may_not_rest(fluid.kinematic_viscosity, fluid.scatter_viscosity, fluid.spacing,
+                                 model.gravity.norm()))
     spdlog::warn("packed start in a liquid of nu = {:.3g} m^2/s, below 0.01 l0 sqrt(g l0) = {:.3g} m^2/s: packed water "
-                 "at rest may not come to rest (docs/FLUID.md, \"A packed start\")",
+                 "at rest may not come to rest; [fluid] scatter_viscosity = 2 holds it (docs/FLUID.md, \"A packed "
+                 "start\")",
                  fluid.kinematic_viscosity, floor);
   spdlog::info("packed start: {} of the water's particles moved off the lattice (mean {:.3f} l0 from their sites); "
                "their number density's RMS deviation {:.4f} after the random offset, {:.4f} after packing",

@@ -45,6 +45,14 @@ inline double packed_start_viscosity_floor(double spacing, double gravity) {
   return 0.01 * spacing * std::sqrt(gravity * spacing);
 }
 
+/// Whether packed water at rest may not come to rest: a liquid below the floor above, unless the particle-scale
+/// viscosity ([fluid] scatter_viscosity > 0) damps the scatter it grows from (measured: packed water under a free
+/// surface at water's viscosity then comes to rest; docs/FLUID.md).
+inline bool packed_water_may_not_rest(double kinematic_viscosity, double scatter_viscosity, double spacing,
+                                      double gravity) {
+  return scatter_viscosity <= 0.0 && kinematic_viscosity < packed_start_viscosity_floor(spacing, gravity);
+}
+
 /// Packs `positions` (every MPS particle: water, walls and dummies) in place. Only particles with `movable[i]` set
 /// may move (the caller's water); of those, only the ones whose number density on the lattice is n0 (a complete
 /// kernel of water, wall or dummy particles: not within r_e of a free surface) are displaced. Along `box`'s periodic
