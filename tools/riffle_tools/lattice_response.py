@@ -39,16 +39,22 @@ def wavenumbers(lattice):
     return np.meshgrid(k1, k1, k1, indexing="ij")
 
 
-def laplacian_symbol(kx, ky, kz, effective_radius):
-    """L(k) of the classic MPS Laplacian on the cubic lattice of spacing 1, and lambda, n0."""
+def lattice_neighbours(effective_radius):
+    """The neighbours of a site of the cubic lattice of spacing 1 within r_e = effective_radius: their offsets x, y, z,
+    distances r and Wendland weights w (whose sum is the lattice's n0: 3.2083 at r_e = 2.4)."""
     import numpy as np
     reach = int(math.ceil(effective_radius))
     offsets = np.arange(-reach, reach + 1)
     x, y, z = (a.ravel() for a in np.meshgrid(offsets, offsets, offsets, indexing="ij"))
     r = np.sqrt(x * x + y * y + z * z)
     keep = (r > 0.0) & (r < effective_radius)
-    x, y, z, r = x[keep], y[keep], z[keep], r[keep]
-    w = wendland(r / effective_radius)
+    return x[keep], y[keep], z[keep], r[keep], wendland(r[keep] / effective_radius)
+
+
+def laplacian_symbol(kx, ky, kz, effective_radius):
+    """L(k) of the classic MPS Laplacian on the cubic lattice of spacing 1, and lambda, n0."""
+    import numpy as np
+    x, y, z, r, w = lattice_neighbours(effective_radius)
     n0 = w.sum()
     lam = (w * r * r).sum() / n0
     symbol = np.zeros_like(kx)

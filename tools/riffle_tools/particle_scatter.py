@@ -19,24 +19,14 @@ import sys
 import numpy as np
 
 from . import vtp
+from .lattice_response import lattice_neighbours, wendland as kernel
 
 _COMPLETE = 0.97  # water weight sum / n0 above which a particle's kernel counts as wholly in water
 
 
-def kernel(q):
-    """Wendland C2 on its support, unnormalised as riffle's number density: w(0) = 1, w(1) = 0."""
-    q = np.clip(q, 0.0, 1.0)
-    return (1.0 - q) ** 4 * (1.0 + 4.0 * q)
-
-
 def lattice_number_density(ratio):
     """n0 of the cubic lattice's interior for r_e / l0 = ratio (3.2083 at 2.4)."""
-    reach = int(np.ceil(ratio))
-    k = np.arange(-reach, reach + 1)
-    offsets = np.stack(np.meshgrid(k, k, k, indexing="ij"), axis=-1).reshape(-1, 3)
-    distance = np.linalg.norm(offsets, axis=1)
-    near = (distance > 0.0) & (distance < ratio)
-    return float(kernel(distance[near] / ratio).sum())
+    return float(lattice_neighbours(ratio)[4].sum())
 
 
 def neighbour_fits(points, velocity, radius):

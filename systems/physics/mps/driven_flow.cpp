@@ -67,8 +67,10 @@ void particle_eddy_viscosity(const ParticleState& particles, const FluidNeighbou
           const double weight_over_squared = pair.weight[k] * pair.inverse_squared[k];
           const Vec3 relative_velocity = velocity_of[pair.slot[k]] - velocity;
           sum += (weight_over_squared * offset) * relative_velocity.transpose();
-          difference += pair.weight[k] * relative_velocity;
-          first_moment += pair.weight[k] * offset;
+          if (closures.scatter > 0.0) {
+            difference += pair.weight[k] * relative_velocity;
+            first_moment += pair.weight[k] * offset;
+          }
           moment.add(pair.weight[k], weight_over_squared, offset);
         });
     // Column a of (D/n0) C sum is grad u_a; the transpose puts d u_a / d x_b at [a][b].
