@@ -12,6 +12,7 @@
 #include "engine/scene/scene.hpp"
 #include "engine/setup/fluid_layout.hpp"
 #include "systems/mps/fluid_neighbours.hpp"
+#include "systems/physics/math/counter_random.hpp"
 #include "systems/physics/mps/driven_flow.hpp"
 #include "tests/support/test_support.hpp"
 #include "tests/support/scene_builder.hpp"
@@ -186,13 +187,9 @@ TEST_CASE("particle-scale viscosity: zero for a linear field on a disordered arr
   const auto interior = [&](const Vec3& site) {
     return (site.array() >= reach - 1e-12).all() && (site.array() <= (n - 1) * l0 - reach + 1e-12).all();
   };
-  std::uint64_t state = 12345;
-  const auto jitter = [&]() {  // a uniform offset in [-0.2, 0.2) l0 (splitmix64's finaliser on a counter)
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return (static_cast<double>(z >> 11) * 0x1.0p-53 - 0.5) * 0.4 * l0;
+  std::uint64_t draw = 0;
+  const auto jitter = [&]() {  // a uniform offset in (-0.2, 0.2) l0
+    return (counter_uniform(12345, draw++, 0, 0) - 0.5) * 0.4 * l0;
   };
   FluidParticles disordered, lattice;
   std::vector<Vec3> sites;
