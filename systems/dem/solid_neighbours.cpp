@@ -170,18 +170,27 @@ void exchange_grain_halo(const Solids& solids, Contacts& contacts) {
   halo_copy(halo, solids.material, ghosts.material);
 }
 
-bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank) {
+bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank,
+                          bool tank_frame) {
   if (!contacts.valid || contacts.build_position.size() != solids.size()) return true;
+  // A list holds while no pair's gap has closed by more than the skin: each grain within skin / 2 of where it was
+  // built, measured in any frame that translates (a pair's gap changes by the difference of the two displacements).
+  // In the tank's frame a bed that rides with a shaken tank, and the walls, stand still, so only the grains' motion
+  // relative to the tank uses the skin (a wall's gap changes by the grain's displacement relative to it). Over MPI
+  // ranks or periodic faces the ranks' boxes and the halo are fixed in the lab, so the lab frame is kept there.
+  const Vec3 wall_shift = tank.displacement - contacts.build_tank_displacement;
+  const Vec3 frame_shift = tank_frame ? wall_shift : Vec3::Zero();
   const double largest_move = tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, solids.size(), 4096), 0.0,
       [&](const tbb::blocked_range<std::size_t>& range, double largest) {
         for (std::size_t i = range.begin(); i < range.end(); ++i)
-          largest = std::max(largest, (solids.position[i] - contacts.build_position[i]).squaredNorm());
+          largest = std::max(largest, (solids.position[i] - contacts.build_position[i] - frame_shift).squaredNorm());
         return largest;
       },
       [](double a, double b) { return std::max(a, b); });
   const double grain_move = std::sqrt(largest_move);
-  const double wall_move = (tank.displacement - contacts.build_tank_displacement).norm();
+  if (tank_frame) return 2.0 * grain_move > contacts.skin;
+  const double wall_move = wall_shift.norm();
   return 2.0 * grain_move > contacts.skin || grain_move + wall_move > contacts.skin;
 }
 
@@ -419,7 +428,7 @@ void SolidNeighbours::run(SystemContext& context) {
   // A grain past a periodic face is wrapped at the next rebuild, not at once: until its skin is used up its pairs
   // stay the same (ghost = owner + period, so a pair across the seam is the same pair on either side of it).
   // Over MPI ranks every rank rebuilds when any list is stale (the rebuild moves grains between them).
-  const bool stale = neighbour_list_stale(solids, contacts, tank);
+  const bool stale = neighbour_list_stale(solids, contacts, tank, !contacts.ranks.active && !box.any());
   if (contacts.ranks.active ? ranks::any(stale) : stale) {
     const bool reorder = contacts.rebuilds % static_cast<std::uint64_t>(context.model.contact.sort_every_rebuild) == 0;
     rebuild_neighbour_list(solids, contacts, context.read<Walls>(), tank, context.model, reorder);

@@ -33,8 +33,10 @@ void restore_halo_and_slabs(const Solids& solids, Contacts& contacts, const Mode
 /// at the build, the list's reach and the periodic box.
 void slice_contact_slabs(const Solids& solids, Contacts& contacts, const Model& model);
 
-/// True if the list built with `contacts` may miss a contact at the current positions.
-bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank);
+/// True if the list built with `contacts` may miss a contact at the current positions: some grain has moved more than
+/// half the skin since the build, in the tank's frame where `tank_frame` (the walls ride with the tank: a bed that moves
+/// with a shaken tank keeps its list), else in the lab's, with the walls' own motion added.
+bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank, bool tank_frame);
 
 /// Rebuilds the list (and reorders the grains by cell if `reorder`), keeping tangential springs by id.
 void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& walls, const TankMotion& tank,
