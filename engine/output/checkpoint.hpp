@@ -50,7 +50,7 @@ struct OutputState {
 };
 
 struct CheckpointData {
-  std::string scene_file;  ///< the scene's file name as given when the run started (for messages)
+  std::string scene_file;  ///< the scene's file, absolute (files it names are relative to it)
   std::string scene_text;  ///< the full scene; the model is rebuilt from it
   World world;
   OutputState output;

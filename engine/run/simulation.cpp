@@ -539,7 +539,11 @@ CheckpointData Simulation::checkpoint_data() const { return checkpoint_data_of(w
 
 CheckpointData Simulation::checkpoint_data_of(const World& world) const {
   CheckpointData data;
-  data.scene_file = model_->scene_file;
+  // Absolute, as the run's working directory sees it: a resume from another directory then finds the files the
+  // scene names relative to itself ([solids] initial_state, a motion table).
+  std::error_code error;
+  const std::filesystem::path scene_file = std::filesystem::absolute(model_->scene_file, error);
+  data.scene_file = error ? model_->scene_file : scene_file.lexically_normal().string();
   data.scene_text = model_->scene_text;
   data.world.time = world.time;
   data.world.step = world.step;

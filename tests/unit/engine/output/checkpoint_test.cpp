@@ -6,6 +6,7 @@
 #include <iterator>
 #include <limits>
 #include <type_traits>
+#include <filesystem>
 #include <fstream>
 
 #include "engine/output/checkpoint.hpp"
@@ -292,8 +293,46 @@ TEST_CASE("a format-4 checkpoint with a fluid loads without its last_dt, resumes
   std::memcpy(as_v5.data() + 8, &version, sizeof version);
   CHECK_THROWS_AS(decode_checkpoint(as_v5, "x.ckpt"), CheckpointError);
 
-  // Resuming from it gives the world it stored, and the next checkpoint is format 5.
+  // Resuming from it gives the world it stored, and the next checkpoint is in the current format, its scene's path
+  // made absolute.
   auto resumed = Simulation::from_checkpoint(path);
   CHECK(resumed->world().fluid->position == data.world.fluid->position);
-  CHECK(encode_checkpoint(resumed->checkpoint_data()) == v5);
+  CheckpointData rewritten = resumed->checkpoint_data();
+  CHECK(std::filesystem::path(rewritten.scene_file).is_absolute());
+  rewritten.scene_file = data.scene_file;
+  CHECK(encode_checkpoint(rewritten) == v5);
+}
+
+TEST_CASE("a run whose scene names a settled bed relative to itself resumes from another working directory") {
+  const std::filesystem::path directory = test::scratch_dir("resume_elsewhere");
+  std::filesystem::create_directories(directory / "scenes");
+  std::filesystem::create_directories(directory / "elsewhere");
+  write_checkpoint((directory / "scenes" / "bed.ckpt").string(), sample_checkpoint());
+  {
+    std::ofstream scene(directory / "scenes" / "continued.toml");
+    scene << SceneBuilder(SceneBuilder::kSpaced)
+                 .run({.name = "continued", .end_time = 0.05, .dt = 1.0e-3, .solid_substeps = 4})
+                 .material("grain", {.density = 1318.0}).tank({.size = {0.24, 0.16, 0.20}, .wall_material = "grain"})
+                 .solids().set("initial_state", "bed.ckpt").toml();
+  }
+  const std::filesystem::path started_in = std::filesystem::current_path();
+  // The run starts in `directory` with the scene's path relative to it, as `riffle run scenes/continued.toml` would.
+  std::filesystem::current_path(directory);
+  auto run = Simulation::from_scene_file("scenes/continued.toml");
+  const std::size_t grains = run->world().solids->size();
+  REQUIRE(grains > 0);
+  run->step();
+  const std::string checkpoint = (directory / "continued.ckpt").string();
+  write_checkpoint(checkpoint, run->checkpoint_data());
+  run.reset();
+  // The resume runs from elsewhere: the checkpoint's scene path must still lead to bed.ckpt.
+  std::filesystem::current_path(directory / "elsewhere");
+  std::unique_ptr<Simulation> resumed;
+  CHECK_NOTHROW(resumed = Simulation::from_checkpoint(checkpoint));
+  std::filesystem::current_path(started_in);
+  REQUIRE(resumed);
+  CHECK(std::filesystem::path(resumed->model().scene_file).is_absolute());
+  CHECK(resumed->world().solids->size() == grains);
+  resumed->step();
+  CHECK(resumed->world().step_status.ok());
 }
