@@ -15,6 +15,7 @@
 #include "systems/physics/dem/touching_springs.hpp"
 #include "systems/physics/geometry/domain.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/physics/geometry/verlet_skin.hpp"
 #include "systems/physics/ranks/grain_ranks.hpp"
 #include "systems/physics/ranks/rank_comm.hpp"
 
@@ -173,25 +174,16 @@ void exchange_grain_halo(const Solids& solids, Contacts& contacts) {
 bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank,
                           bool tank_frame) {
   if (!contacts.valid || contacts.build_position.size() != solids.size()) return true;
-  // A list holds while no pair's gap has closed by more than the skin: each grain within skin / 2 of where it was
-  // built, measured in any frame that translates (a pair's gap changes by the difference of the two displacements).
-  // In the tank's frame a bed that rides with a shaken tank, and the walls, stand still, so only the grains' motion
+  // A list holds while no pair's gap has closed by more than the skin: the two largest displacements since the build
+  // add up to no more than it (systems/physics/geometry/verlet_skin.hpp), measured in any frame that translates. In
+  // the tank's frame a bed that rides with a shaken tank, and the walls, stand still, so only the grains' motion
   // relative to the tank uses the skin (a wall's gap changes by the grain's displacement relative to it). Over MPI
   // ranks or periodic faces the ranks' boxes and the halo are fixed in the lab, so the lab frame is kept there.
   const Vec3 wall_shift = tank.displacement - contacts.build_tank_displacement;
-  const Vec3 frame_shift = tank_frame ? wall_shift : Vec3::Zero();
-  const double largest_move = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, solids.size(), 4096), 0.0,
-      [&](const tbb::blocked_range<std::size_t>& range, double largest) {
-        for (std::size_t i = range.begin(); i < range.end(); ++i)
-          largest = std::max(largest, (solids.position[i] - contacts.build_position[i] - frame_shift).squaredNorm());
-        return largest;
-      },
-      [](double a, double b) { return std::max(a, b); });
-  const double grain_move = std::sqrt(largest_move);
-  if (tank_frame) return 2.0 * grain_move > contacts.skin;
-  const double wall_move = wall_shift.norm();
-  return 2.0 * grain_move > contacts.skin || grain_move + wall_move > contacts.skin;
+  const LargestMoves moves =
+      largest_moves(solids.position, contacts.build_position, tank_frame ? wall_shift : Vec3::Zero());
+  if (!skin_holds(moves, contacts.skin, contacts.ranks.active)) return true;
+  return !tank_frame && moves.first + wall_shift.norm() > contacts.skin;
 }
 
 namespace {

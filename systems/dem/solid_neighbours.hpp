@@ -1,7 +1,7 @@
 #pragma once
 // Neighbour list for the grains: Verlet candidates within r_i + r_j + skin (and grain-wall candidates within
-// r + skin of a wall), rebuilt only when some grain has moved more than half the skin, or a grain plus the tank
-// more than the skin, since the last build. A uniform cell grid sized for the smallest pair; each grain searches as
+// r + skin of a wall), rebuilt only when the two grains that moved most since the last build moved more than the skin together
+// (systems/physics/geometry/verlet_skin.hpp), or a grain plus the tank more than the skin. A uniform cell grid sized for the smallest pair; each grain searches as
 // many cells as its own reach needs, so small grains among large ones stay cheap. On rebuild the grains may be
 // reordered by cell for memory locality; tangential springs are carried over by grain id. In a periodic box
 // ([tank] periodic) the rebuild wraps the grains into the box and builds the halo of ghosts near the seams
@@ -33,9 +33,10 @@ void restore_halo_and_slabs(const Solids& solids, Contacts& contacts, const Mode
 /// at the build, the list's reach and the periodic box.
 void slice_contact_slabs(const Solids& solids, Contacts& contacts, const Model& model);
 
-/// True if the list built with `contacts` may miss a contact at the current positions: some grain has moved more than
-/// half the skin since the build, in the tank's frame where `tank_frame` (the walls ride with the tank: a bed that moves
-/// with a shaken tank keeps its list), else in the lab's, with the walls' own motion added.
+/// True if the list built with `contacts` may miss a contact at the current positions: the two largest displacements
+/// since the build add up to more than the skin (over MPI ranks: twice the largest), in the tank's frame where
+/// `tank_frame` (the walls ride with the tank: a bed that moves with a shaken tank keeps its list), else in the lab's,
+/// with the walls' own motion added.
 bool neighbour_list_stale(const Solids& solids, const Contacts& contacts, const TankMotion& tank, bool tank_frame);
 
 /// Rebuilds the list (and reorders the grains by cell if `reorder`), keeping tangential springs by id.

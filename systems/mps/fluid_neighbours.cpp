@@ -2,6 +2,7 @@
 
 #include "systems/physics/geometry/cell_index.hpp"
 #include "systems/physics/geometry/tank_kinematics.hpp"
+#include "systems/physics/geometry/verlet_skin.hpp"
 #include "systems/physics/ranks/fluid_ranks.hpp"
 
 #include <tbb/blocked_range.h>
@@ -440,21 +441,15 @@ void FluidNeighbourSearch::exchange_ghosts(const ParticleState& particles, const
 bool FluidNeighbourSearch::lists_still_valid(const std::vector<Vec3>& positions, std::size_t queries,
                                              const FluidNeighbours& neighbours, double effective_radius,
                                              const Vec3& tank_displacement) {
-  // Every pair within r_e now was within r_e + skin at the build if no particle has moved more than skin / 2.
+  // Every pair within r_e now was within r_e + skin at the build if the two largest moves since (in the tank's
+  // frame) add up to no more than the skin (systems/physics/geometry/verlet_skin.hpp); over ranks, twice the largest.
   const double built_skin = neighbours.radius - effective_radius;
   if (!(built_skin >= 0.0 && neighbours.built_positions.size() == positions.size() &&
         neighbours.particle_count() == queries))
     return false;
-  const double limit = 0.25 * built_skin * built_skin;
-  const Vec3 frame_shift = tank_displacement - neighbours.built_tank_displacement;
-  return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, positions.size(), 4096), true,
-      [&](const tbb::blocked_range<std::size_t>& range, bool ok) {
-        for (std::size_t i = range.begin(); ok && i < range.end(); ++i)
-          ok = (positions[i] - neighbours.built_positions[i] - frame_shift).squaredNorm() <= limit;
-        return ok;
-      },
-      [](bool a, bool b) { return a && b; });
+  const LargestMoves moves = largest_moves(positions, neighbours.built_positions,
+                                           tank_displacement - neighbours.built_tank_displacement);
+  return skin_holds(moves, built_skin, neighbours.ranks.active);
 }
 
 void FluidNeighbourSearch::exchange_rank_ghosts(const ParticleState& particles, const std::vector<Vec3>& positions,

@@ -39,7 +39,8 @@ void set_fluid_search_simd_cap(FluidSearchSimd cap);
 FluidSearchSimd fluid_search_simd();
 
 /// Verlet lists of the fluid particles (queries) among all MPS particles, built with radius r_e + skin and rebuilt
-/// only when some particle (walls included: they move with the tank) has moved more than skin / 2 since the build.
+/// only when the two particles that moved most since the build (walls included: they move with the tank) moved more
+/// than the skin together (systems/physics/geometry/verlet_skin.hpp: no pair's distance changed by more).
 /// The operators cut at r_e and the lists are ascending, so when a rebuild happens, and with which skin, changes
 /// no result. Two instances run per step: at the step start (current positions) and after the prediction (r*).
 ///
@@ -53,11 +54,11 @@ FluidSearchSimd fluid_search_simd();
 /// [N, N + G) are ghosts. Every run (rebuild or not) exchanges the ghosts' positions (the ones searched at),
 /// velocities and kinds. fluid_correct wraps the positions into the period at every step: a particle that crosses
 /// a face jumps by one period, which uses up any skin and so forces the next rebuild. The halo reaches r_e + skin:
-/// a particle that comes within r_e of a face before the next rebuild was within r_e + skin / 2 of it at the build,
-/// as for the lists themselves.
+/// a real more than that from a face at the build lies more than r_e + skin from every particle on the far side of
+/// the face, and no pair's distance shrinks by more than the skin before the next rebuild.
 ///
 /// Over MPI ranks (FluidNeighbours::ranks active) a rebuild is decided over all the ranks (any rank's particle past
-/// half the skin), and the ghosts are the other ranks' particles (and the images across periodic faces) within the
+/// half the skin: a pair across two ranks joins moves measured apart), and the ghosts are the other ranks' particles (and the images across periodic faces) within the
 /// list radius of this rank's box, widened by how far any rank's particle lies outside its box
 /// (fluid_box_overflow); between rebuilds their positions and velocities come from their owners. fluid_rank_migration
 /// has handed the particles to the ranks whose boxes hold them just before the step-start search rebuilds.
@@ -77,7 +78,8 @@ class FluidNeighbourSearch final : public System {
   void run(SystemContext& context) override;
 
   /// Whether the lists in `neighbours` still hold every pair within `effective_radius` of the particles at
-  /// `positions` (no particle, in the tank's frame, past half the skin they were built with; the same particles).
+  /// `positions` (the two largest moves, in the tank's frame, within the skin they were built with; over ranks the largest within
+  /// half of it; the same particles).
   /// This rank's answer only; fluid_rank_migration asks it of the step-start search.
   static bool lists_still_valid(const std::vector<Vec3>& positions, std::size_t queries,
                                 const FluidNeighbours& neighbours, double effective_radius,

@@ -118,9 +118,16 @@ TEST_CASE("the tank frame's rule: a bed carried with the tank keeps its list, a 
   tank.displacement += carried;
   CHECK_FALSE(neighbour_list_stale(solids, contacts, tank, true));
   CHECK(neighbour_list_stale(solids, contacts, tank, false));  // the lab frame cannot tell
-  // One grain moves against the tank by just under and just over half the skin.
-  solids.position[0] += Vec3(0.49 * contacts.skin, 0.0, 0.0);
+  // One grain moves against the tank by just under the skin (its gaps to the others and to the walls close by at most
+  // that), then a second by so much that the two moves add up to just under and just over the skin.
+  solids.position[0] += Vec3(0.99 * contacts.skin, 0.0, 0.0);
   CHECK_FALSE(neighbour_list_stale(solids, contacts, tank, true));
-  solids.position[0] += Vec3(0.02 * contacts.skin, 0.0, 0.0);
+  solids.position[0] -= Vec3(0.50 * contacts.skin, 0.0, 0.0);
+  solids.position[1] += Vec3(0.0, 0.0, 0.50 * contacts.skin);
+  CHECK_FALSE(neighbour_list_stale(solids, contacts, tank, true));
+  solids.position[1] += Vec3(0.0, 0.0, 0.02 * contacts.skin);
+  CHECK(neighbour_list_stale(solids, contacts, tank, true));
+  solids.position[1] -= Vec3(0.0, 0.0, 0.52 * contacts.skin);
+  solids.position[0] += Vec3(0.52 * contacts.skin, 0.0, 0.0);  // one grain past the skin alone
   CHECK(neighbour_list_stale(solids, contacts, tank, true));
 }
