@@ -282,8 +282,9 @@ struct FluidModel {
   double neighbour_skin_ratio = 0.3;     ///< [1] Verlet skin / l0 of the neighbour lists
   double narrow_neighbour_skin_ratio = 0.1;  ///< [1] the skin / l0 when the last lists lasted one step (<= the skin)
   std::int64_t sort_every = 20;          ///< [steps] reorder fluid particles by cell this often (memory locality); 0 = never
-  /// [steps] ... and this often while the fastest particle moves more than 0.15 l0 in a step: then no list outlives a
-  /// step (half the default skin of 0.3 l0), so a sort costs no extra rebuild; 0 = only sort_every
+  /// [steps] ... and this often while the fastest particle moves more than 0.15 l0 in a step: then hardly a list
+  /// outlives a step (half the default skin of 0.3 l0; the next fastest moves about as far), so a sort costs no extra
+  /// rebuild; 0 = only sort_every
   std::int64_t sort_every_fast = 5;
   /// What happens to a fluid particle that escapes (systems/mps/fluid_escape.hpp): kRemove takes it out of the
   /// water (counted, logged, reported; the run stops only when more than escape_fraction_limit of the fluid has

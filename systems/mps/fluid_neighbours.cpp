@@ -515,7 +515,9 @@ void FluidNeighbourSearch::run(SystemContext& context) {
     if (over_ranks) {
       build_rank_ghosts(particles, positions, effective_radius_ + skin, neighbours);
     } else {
-      build_halo(positions, particles.id, box_, effective_radius_ + skin, neighbours.halo);
+      // r* may lie up to a step's travel past a face (wrapped at the correction): the halo reaches that much further.
+      build_halo(positions, particles.id, box_, effective_radius_ + skin + periodic_overshoot(positions, box_),
+                 neighbours.halo);
       exchange_ghosts(particles, positions, neighbours);
     }
     const std::vector<Vec3>& ghost_positions =

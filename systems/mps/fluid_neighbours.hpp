@@ -53,9 +53,10 @@ FluidSearchSimd fluid_search_simd();
 /// slot within the list radius of a periodic face and searches the reals and their ghosts together: list slots
 /// [N, N + G) are ghosts. Every run (rebuild or not) exchanges the ghosts' positions (the ones searched at),
 /// velocities and kinds. fluid_correct wraps the positions into the period at every step: a particle that crosses
-/// a face jumps by one period, which uses up any skin and so forces the next rebuild. The halo reaches r_e + skin:
-/// a real more than that from a face at the build lies more than r_e + skin from every particle on the far side of
-/// the face, and no pair's distance shrinks by more than the skin before the next rebuild.
+/// a face jumps by one period, which uses up any skin and so forces the next rebuild. The halo reaches r_e + skin, and
+/// at r* as far again as the farthest particle lies past a face (periodic_overshoot: r* is wrapped only at the
+/// correction): a real farther than that from a face at the build lies more than r_e + skin from every particle on
+/// the far side of the face, and no pair's distance shrinks by more than the skin before the next rebuild.
 ///
 /// Over MPI ranks (FluidNeighbours::ranks active) a rebuild is decided over all the ranks (any rank's particle past
 /// half the skin: a pair across two ranks joins moves measured apart), and the ghosts are the other ranks' particles (and the images across periodic faces) within the

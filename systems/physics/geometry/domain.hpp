@@ -17,7 +17,7 @@ struct DomainBox {
 DomainBox domain_box(const Model& model);
 /// The box a grain's centre must stay in: domain_box, widened by one period either side along the tank's periodic
 /// axes. A grain that crosses a periodic face keeps its path past it (its ghosts and pairs stay valid, ghost = owner +
-/// period) until the next neighbour-list rebuild wraps it back, at most half a skin and a sub-step's travel later;
+/// period) until the next neighbour-list rebuild wraps it back, at most a skin and a sub-step's travel later;
 /// nothing is lost through a seam, and a grain a whole period out has been thrown there by a blow-up.
 DomainBox grain_domain_box(const Model& model);
 

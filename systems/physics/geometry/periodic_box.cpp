@@ -1,5 +1,6 @@
 #include "systems/physics/geometry/periodic_box.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace riffle {
@@ -46,6 +47,17 @@ int PeriodicBox::image_shifts(const Vec3& point, double cutoff, std::array<Vec3,
   if (axis_shift[0] != 0.0 && axis_shift[1] != 0.0)
     shifts[static_cast<std::size_t>(count++)] = Vec3(axis_shift[0], axis_shift[1], 0.0);
   return count;
+}
+
+double periodic_overshoot(const std::vector<Vec3>& positions, const PeriodicBox& box) {
+  double overshoot = 0.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!box.periodic[static_cast<std::size_t>(axis)]) continue;
+    const double low = box.low[axis], high = box.low[axis] + box.length[axis];
+    for (const Vec3& point : positions)
+      if (std::isfinite(point[axis])) overshoot = std::max({overshoot, low - point[axis], point[axis] - high});
+  }
+  return overshoot;
 }
 
 PeriodicBox periodic_box(const Model& model) {

@@ -41,6 +41,12 @@ std::vector<Vec3> periodic_image_shifts(const PeriodicBox& box);
 /// each pair across the seam is seen once from each side.
 bool periodic_cutoff_fits(const PeriodicBox& box, double cutoff);
 
+/// [m] How far the farthest of `positions` lies beyond a periodic face of `box` (0 when every one is inside; non-finite
+/// coordinates are left out): the fluid's r* may lie a step's travel past a face before fluid_correct wraps it, and a
+/// halo built there must reach that much further (a particle δ past the high face meets the images of particles up to
+/// cutoff + δ from the low one).
+double periodic_overshoot(const std::vector<Vec3>& positions, const PeriodicBox& box);
+
 /// Builds `halo` for `positions` (inside the box, or less than `cutoff` beyond a periodic face, where image_shifts
 /// still gives the one image back inside: the fluid's r*): for each real within `cutoff` of a periodic face, one ghost
 /// per image image_shifts lists, ordered by owner slot then image: a pure function of the positions, so a resumed

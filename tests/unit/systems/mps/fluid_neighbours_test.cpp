@@ -13,6 +13,8 @@
 #include "systems/mps/fluid_neighbours.hpp"
 #include "systems/physics/mps/mps_kernel.hpp"
 #include "systems/physics/geometry/periodic_box.hpp"
+#include "systems/system.hpp"
+#include "tests/support/test_support.hpp"
 
 using namespace riffle;
 
@@ -228,4 +230,68 @@ TEST_CASE("a box of water periodic along x: no walls on the x faces, and the hal
     const std::size_t row_start = i - i % static_cast<std::size_t>(cells[0]);  // fluid_box_layout: x fastest
     CHECK(density[i] == doctest::Approx(density[row_start]).epsilon(1e-12));
   }
+}
+
+TEST_CASE("the search at r* past a periodic face reaches the images of particles up to a step's travel further") {
+  // r* is wrapped only at the correction, so at the predicted positions a particle may lie a step's travel δ past
+  // the high face; it then meets the image of a particle up to r_e + skin + δ from the low face, which the halo must
+  // hold. Theory: the brute-force pairs of the reals and their images one period either side.
+  const double spacing = 0.01, effective_radius = 0.021, skin = 0.001;  // the narrow skin: a rebuild every step
+  Model model = test::small_coupled_model(spacing);
+  model.tank.motion = TankMotionModel{};
+  model.tank.origin = Vec3::Zero();
+  model.tank.size = Vec3(0.1, 0.1, 0.1);
+  model.tank.periodic = {true, false, false};
+  const PeriodicBox box = periodic_box(model);
+  World world;
+  test::fill_with_water(world, Vec3(0.1, 0.1, 0.1), spacing);
+  world.fluid_neighbours.emplace();
+  FluidParticles& water = *world.fluid;
+  water.predicted_position = water.position;
+  // The particle nearest the high face at mid-height steps 0.4 l0 past it; one particle of its row is put 0.3 l0
+  // beyond the unwidened halo's reach (r_e + skin) from the low face, where the first one's image meets it 0.1 l0
+  // inside r_e.
+  const auto slot_at = [&](const Vec3& where) {
+    std::size_t found = water.size();
+    for (std::size_t i = 0; i < water.size(); ++i)
+      if ((water.position[i] - where).norm() < 1e-9) found = i;
+    REQUIRE(found < water.size());
+    return found;
+  };
+  const std::size_t past = slot_at(Vec3(0.095, 0.055, 0.055)), beyond = slot_at(Vec3(0.025, 0.055, 0.055));
+  const double travel = 0.4 * spacing;
+  water.predicted_position[past].x() = 0.1 + travel;
+  water.predicted_position[beyond].x() = effective_radius + skin + 0.3 * spacing;
+  const double image_gap = (water.predicted_position[beyond] + Vec3(0.1, 0.0, 0.0) - water.predicted_position[past]).norm();
+  REQUIRE(image_gap < effective_radius);
+  CHECK(periodic_overshoot(water.predicted_position, box) == doctest::Approx(travel).epsilon(1e-12));
+
+  FluidNeighbourSearch search(effective_radius, skin, skin, FluidNeighbourSearch::Positions::kPredicted, box);
+  const Access access = search.access();
+  SystemContext context(world, model, search, access, 0.0, 1.0e-3);
+  search.run(context);
+  const FluidNeighbours& lists = *world.fluid_neighbours;
+  // Every pair within r_e of the reals and their images, by brute force, is in the lists (cut at r_e).
+  const std::size_t reals = water.size();
+  std::vector<Vec3> all = water.predicted_position;
+  all.insert(all.end(), lists.ghosts.predicted_position.begin(), lists.ghosts.predicted_position.end());
+  std::size_t missed = 0, checked = 0;
+  for (std::size_t i = 0; i < reals; ++i) {
+    std::vector<std::uint32_t> owners_found;
+    for (std::uint32_t k = lists.offsets[i]; k < lists.offsets[i + 1]; ++k) {
+      const std::uint32_t j = lists.slots[k];
+      if ((all[j] - all[i]).norm() < effective_radius) owners_found.push_back(lists.halo.owner_of(j));
+    }
+    for (std::size_t j = 0; j < reals; ++j)
+      for (const double shift : {-0.1, 0.0, 0.1}) {
+        if (j == i && shift == 0.0) continue;
+        const Vec3 image = water.predicted_position[j] + Vec3(shift, 0.0, 0.0);
+        if ((image - water.predicted_position[i]).norm() >= effective_radius) continue;
+        ++checked;
+        if (std::count(owners_found.begin(), owners_found.end(), static_cast<std::uint32_t>(j)) == 0) ++missed;
+      }
+  }
+  MESSAGE(checked, " pairs within r_e checked, ", missed, " missed");
+  CHECK(checked > 10000);
+  CHECK(missed == 0);
 }
