@@ -1,8 +1,9 @@
 #pragma once
 // Neighbour list for the grains: Verlet candidates within r_i + r_j + skin (and grain-wall candidates within
-// r + skin of a wall), rebuilt only when the two grains that moved most since the last build moved more than the skin together
-// (systems/physics/geometry/verlet_skin.hpp), or a grain plus the tank more than the skin. A uniform cell grid sized for the smallest pair; each grain searches as
-// many cells as its own reach needs, so small grains among large ones stay cheap. On rebuild the grains may be
+// r + skin of a wall), rebuilt only when the two grains that moved most since the last build moved more than the
+// skin together (systems/physics/geometry/verlet_skin.hpp), or a grain plus the tank more than the skin. A uniform
+// cell grid sized for the smallest pair; each grain searches as many cells as its own reach needs, so small grains
+// among large ones stay cheap. On rebuild the grains may be
 // reordered by cell for memory locality; tangential springs are carried over by grain id. In a periodic box
 // ([tank] periodic) the rebuild wraps the grains into the box and builds the halo of ghosts near the seams
 // (components/halo.hpp); every sub-step between rebuilds exchanges the ghosts' copies.

@@ -5,12 +5,12 @@
 // within a few periods (docs/BENCHMARKS.md).
 //
 // When: every `fluid.sort_every` steps, and every `fluid.sort_every_fast` steps while the fastest particle moves more
-// than 0.15 l0 in a step (half the default skin of 0.3 l0: the water moves together, the next fastest about as far,
-// so then not even the wide lists outlive a step; the threshold does not follow the skin settings, so that they
-// change no result). It runs after the prediction, right before the
-// search at the predicted positions r*, and sorts by the cells of r*: in fast flow that search rebuilds the lists
-// every step anyway, so a sort then costs only the permutation, no extra rebuild. The decision depends only on the step and the state, so a
-// resumed run sorts where the uninterrupted one did.
+// than 0.15 l0 in a step (half the default skin of 0.3 l0: the water moves together, the next fastest about as far, so
+// then not even the wide lists outlive a step; the threshold does not follow the skin settings, so that they change no
+// result). It runs after the prediction, right before the search at the predicted positions r*, and sorts by the cells
+// of r*: in fast flow that search rebuilds the lists every step anyway, so a sort then costs only the permutation, no
+// extra rebuild. The decision depends only on the step and the state, so a resumed run sorts where the uninterrupted
+// one did.
 //
 // The cells are those of the neighbour search (fluid_search_cell_size) on a lattice that rides with the tank, so
 // wall and dummy particles keep their cells and their order after the first sort, and then only the fluid slots move.

@@ -59,10 +59,11 @@ FluidSearchSimd fluid_search_simd();
 /// the far side of the face, and no pair's distance shrinks by more than the skin before the next rebuild.
 ///
 /// Over MPI ranks (FluidNeighbours::ranks active) a rebuild is decided over all the ranks (any rank's particle past
-/// half the skin: a pair across two ranks joins moves measured apart), and the ghosts are the other ranks' particles (and the images across periodic faces) within the
-/// list radius of this rank's box, widened by how far any rank's particle lies outside its box
-/// (fluid_box_overflow); between rebuilds their positions and velocities come from their owners. fluid_rank_migration
-/// has handed the particles to the ranks whose boxes hold them just before the step-start search rebuilds.
+/// half the skin: a pair across two ranks joins moves measured apart), and the ghosts are the other ranks' particles
+/// (and the images across periodic faces) within the list radius of this rank's box, widened by how far any rank's
+/// particle lies outside its box (fluid_box_overflow); between rebuilds their positions and velocities come from their
+/// owners. fluid_rank_migration has handed the particles to the ranks whose boxes hold them just before the step-start
+/// search rebuilds.
 class FluidNeighbourSearch final : public System {
  public:
   enum class Positions { kCurrent, kPredicted };
@@ -78,10 +79,9 @@ class FluidNeighbourSearch final : public System {
   }
   void run(SystemContext& context) override;
 
-  /// Whether the lists in `neighbours` still hold every pair within `effective_radius` of the particles at
-  /// `positions` (the two largest moves, in the tank's frame, within the skin they were built with; over ranks the largest within
-  /// half of it; the same particles).
-  /// This rank's answer only; fluid_rank_migration asks it of the step-start search.
+  /// Whether the lists in `neighbours` still hold every pair within `effective_radius` of the particles at `positions`
+  /// (the two largest moves, in the tank's frame, within the skin they were built with; over ranks the largest within
+  /// half of it; the same particles). This rank's answer only; fluid_rank_migration asks it of the step-start search.
   static bool lists_still_valid(const std::vector<Vec3>& positions, std::size_t queries,
                                 const FluidNeighbours& neighbours, double effective_radius,
                                 const Vec3& tank_displacement);

@@ -1,10 +1,10 @@
-// Speed against error for the DEM sub-step: one 5 mm grain of the seed bed (E = 1e7 Pa, nu = 0.3, e = 0.5) hits
-// the floor at 0.35 m/s (the bed's fastest grain moves at 0.22 m/s; the seed scene keeps max_impact_speed 0.5) with
-// N sub-steps per Hertz collision; prints the restitution error (the worst and the mean over 8 first-touch phases, as the scene's check integrates it, and the
-// one the full DEM gives at one phase) and the maximum-overlap error against theory, and the wall time the seed run
-// (8,162 grains, 100 periods of 1/1.7 s) would need at a given DEM throughput. The scene's restitution check is
-// relaxed here (restitution_tolerance 0.5) so that the coarse sub-steps run at all.
-//   riffle_dem_accuracy [particle-steps-per-second]
+// Speed against error for the DEM sub-step: one 5 mm grain of the seed bed (E = 1e7 Pa, nu = 0.3, e = 0.5) hits the
+// floor at 0.35 m/s (the bed's fastest grain moves at 0.22 m/s; the seed scene keeps max_impact_speed 0.5) with N
+// sub-steps per Hertz collision; prints the restitution error (the worst and the mean over 8 first-touch phases, as the
+// scene's check integrates it, and the one the full DEM gives at one phase) and the maximum-overlap error against
+// theory, and the wall time the seed run (8,162 grains, 100 periods of 1/1.7 s) would need at a given DEM throughput.
+// The scene's restitution check is relaxed here (restitution_tolerance 0.5) so that the coarse sub-steps run at all.
+// riffle_dem_accuracy [particle-steps-per-second]
 #include <spdlog/spdlog.h>
 
 #include <cmath>

@@ -108,9 +108,9 @@ TEST_CASE("the gathered world holds every grain and touching spring, and its che
   CHECK((wall_force - gathered_wall_force).norm() <= 1e-12 * wall_force.norm());
   CHECK(wall_force.norm() > 0.0);
   // Resumed from the gathered checkpoint, the bed goes on as the run does: to rounding (the resumed list is built at
-  // other times, so its slots, hence its sums' order, differ), grown where a contact starts or a spring slips, over the
-  // next 10 steps of colliding grains (1e-15 m after 9 steps, 8e-12 m after 10). A contact missed or a spring lost would
-  // move a grain by the order of the contacts' overlaps (a few 1e-6 m for these E = 1e7 grains).
+  // other times, so its slots, hence its sums' order, differ), grown where a contact starts or a spring slips, over
+  // the next 10 steps of colliding grains (1e-15 m after 9 steps, 8e-12 m after 10). A contact missed or a spring
+  // lost would move a grain by the order of the contacts' overlaps (a few 1e-6 m for these E = 1e7 grains).
   auto resumed = Simulation::from_checkpoint_data(run->checkpoint_data_of(whole), "gathered");
   CHECK_FALSE(resumed->over_ranks());
   for (int step = 0; step < 10; ++step) {

@@ -262,7 +262,8 @@ TEST_CASE("the search at r* past a periodic face reaches the images of particles
   const double travel = 0.4 * spacing;
   water.predicted_position[past].x() = 0.1 + travel;
   water.predicted_position[beyond].x() = effective_radius + skin + 0.3 * spacing;
-  const double image_gap = (water.predicted_position[beyond] + Vec3(0.1, 0.0, 0.0) - water.predicted_position[past]).norm();
+  const Vec3 image = water.predicted_position[beyond] + Vec3(0.1, 0.0, 0.0);
+  const double image_gap = (image - water.predicted_position[past]).norm();
   REQUIRE(image_gap < effective_radius);
   CHECK(periodic_overshoot(water.predicted_position, box) == doctest::Approx(travel).epsilon(1e-12));
 
