@@ -559,6 +559,17 @@ struct OutputModel {
   static constexpr SceneNames<VtkPieces, 2> kVtkPiecesNames{
       {{"per_rank", VtkPieces::kPerRank}, {"gathered", VtkPieces::kGathered}}};
   VtkPieces vtk_pieces = VtkPieces::kPerRank;
+  /// Where a frame's array bytes go: kAppended, raw after the XML (VTK's appended data); kInline, base64 inside each
+  /// DataArray element (XML a plain parser reads whole).
+  enum class VtkEncoding { kAppended, kInline };
+  static constexpr SceneNames<VtkEncoding, 2> kVtkEncodingNames{
+      {{"appended", VtkEncoding::kAppended}, {"inline", VtkEncoding::kInline}}};
+  VtkEncoding vtk_encoding = VtkEncoding::kAppended;
+  /// The frames' real values (points, velocities, pressures, forces): kSingle as Float32, kDouble as Float64.
+  enum class VtkPrecision { kSingle, kDouble };
+  static constexpr SceneNames<VtkPrecision, 2> kVtkPrecisionNames{
+      {{"single", VtkPrecision::kSingle}, {"double", VtkPrecision::kDouble}}};
+  VtkPrecision vtk_precision = VtkPrecision::kSingle;
   /// [s] 0 = only on signal and at the end; unset in the scene: end_time / 10 for runs of at least 1000 steps of dt
   double checkpoint_interval = 0.0;
   std::int64_t checkpoint_keep = 3;  ///< newest interval checkpoints kept on disk

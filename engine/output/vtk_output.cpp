@@ -3,75 +3,128 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 
 namespace riffle {
 
 namespace {
 
+/// The arrays of one frame as they are written: each DataArray element (inline: its base64 text inside; appended:
+/// its offset into the block after the XML), and the appended block, each array a UInt32 byte count followed by
+/// its raw bytes.
+class FrameArrays {
+ public:
+  explicit FrameArrays(const VtkFormat& format) : format_(format) {}
+
+  const VtkFormat& format() const { return format_; }
+  const char* real_type() const { return format_.single_precision ? "Float32" : "Float64"; }
+
+  /// One DataArray of `bytes` raw bytes of `type`.
+  std::string array(const char* name, const char* type, int components, const void* values, std::size_t bytes) {
+    const auto count = static_cast<std::uint32_t>(bytes);
+    char head[320];
+    if (format_.appended) {
+      std::snprintf(head, sizeof head,
+                    "        <DataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\" format=\"appended\" "
+                    "offset=\"%zu\"/>\n",
+                    type, name, components, appended_.size());
+      appended_.append(reinterpret_cast<const char*>(&count), sizeof count);
+      if (bytes) appended_.append(static_cast<const char*>(values), bytes);
+      return head;
+    }
+    std::string block(sizeof count + bytes, '\0');
+    std::memcpy(block.data(), &count, sizeof count);
+    if (bytes) std::memcpy(block.data() + sizeof count, values, bytes);
+    std::snprintf(head, sizeof head,
+                  "        <DataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\" format=\"binary\">\n", type,
+                  name, components);
+    return std::string(head) + "          " + base64_encode(block.data(), block.size()) + "\n        </DataArray>\n";
+  }
+
+  /// Real values (`components` per point) in the frame's precision.
+  std::string reals(const char* name, int components, const double* values, std::size_t count) {
+    if (!format_.single_precision) return array(name, "Float64", components, values, count * sizeof(double));
+    narrowed_.resize(count);
+    for (std::size_t k = 0; k < count; ++k) narrowed_[k] = static_cast<float>(values[k]);
+    return array(name, "Float32", components, narrowed_.data(), count * sizeof(float));
+  }
+
+  /// Vertex or cell indices: Int32 while they fit (every frame riffle writes), else Int64.
+  std::string indices(const char* name, const std::vector<std::int64_t>& values) {
+    const bool fits = values.empty() || values.back() <= std::numeric_limits<std::int32_t>::max();
+    if (!fits) return array(name, "Int64", 1, values.data(), values.size() * sizeof(std::int64_t));
+    std::vector<std::int32_t> narrow(values.begin(), values.end());
+    return array(name, "Int32", 1, narrow.data(), narrow.size() * sizeof(std::int32_t));
+  }
+
+  /// What follows the frame's XML elements: the appended block (empty inline).
+  std::string appended_data() const {
+    if (!format_.appended) return "";
+    return "  <AppendedData encoding=\"raw\">\n   _" + appended_ + "\n  </AppendedData>\n";
+  }
+
+ private:
+  VtkFormat format_;
+  std::string appended_;
+  std::vector<float> narrowed_;
+};
+
 template <class T>
-const char* vtk_type() {
-  if constexpr (std::is_same_v<T, double> || std::is_same_v<T, Vec3>) return "Float64";
-  else if constexpr (std::is_same_v<T, std::int32_t>) return "Int32";
+const char* integer_type() {
+  if constexpr (std::is_same_v<T, std::int32_t>) return "Int32";
   else if constexpr (std::is_same_v<T, std::uint64_t>) return "UInt64";
   else return nullptr;
 }
 
-/// One <DataArray> in VTK's inline binary form: base64 of a UInt32 byte count followed by the raw values.
-std::string data_array(const char* name, const char* type, int components, const void* values, std::size_t bytes) {
-  std::string block(sizeof(std::uint32_t) + bytes, '\0');
-  const auto count = static_cast<std::uint32_t>(bytes);
-  std::memcpy(block.data(), &count, sizeof count);
-  if (bytes) std::memcpy(block.data() + sizeof count, values, bytes);
-  char head[256];
-  std::snprintf(head, sizeof head,
-                "        <DataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\" format=\"binary\">\n", type,
-                name, components);
-  return std::string(head) + "          " + base64_encode(block.data(), block.size()) + "\n        </DataArray>\n";
-}
-
 template <class T>
-std::string field_array(const char* name, const std::vector<T>& field) {
+std::string field_array(FrameArrays& arrays, const char* name, const std::vector<T>& field) {
   if constexpr (std::is_same_v<T, Vec3>) {
     std::vector<double> flat(3 * field.size());
     for (std::size_t i = 0; i < field.size(); ++i)
       for (int c = 0; c < 3; ++c) flat[3 * i + static_cast<std::size_t>(c)] = field[i][c];
-    return data_array(name, "Float64", 3, flat.data(), flat.size() * sizeof(double));
+    return arrays.reals(name, 3, flat.data(), flat.size());
+  } else if constexpr (std::is_same_v<T, double>) {
+    return arrays.reals(name, 1, field.data(), field.size());
   } else {
-    return data_array(name, vtk_type<T>(), 1, field.data(), field.size() * sizeof(T));
+    return arrays.array(name, integer_type<T>(), 1, field.data(), field.size() * sizeof(T));
   }
 }
 
 /// Every output field of a component's table, as the arrays of one PointData or CellData block.
 template <class Component>
-std::string field_arrays(const Component& component) {
+std::string field_arrays(FrameArrays& arrays, const Component& component) {
   std::string out;
   for_each_field_in_order(component, [&](const FieldInfo& info, const auto& field) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     if constexpr (!std::is_same_v<T, std::string>)
-      if (info.output) out += field_array(info.name, field);
+      if (info.output) out += field_array(arrays, info.name, field);
   });
   return out;
 }
 
-std::string points_block(const std::vector<double>& xyz) {
-  return "      <Points>\n" + data_array("Points", "Float64", 3, xyz.data(), xyz.size() * sizeof(double)) +
-         "      </Points>\n";
+std::string points_block(FrameArrays& arrays, const std::vector<double>& xyz) {
+  return "      <Points>\n" + arrays.reals("Points", 3, xyz.data(), xyz.size()) + "      </Points>\n";
 }
 
-std::string connectivity_block(const char* tag, const std::vector<std::int64_t>& connectivity,
+std::string connectivity_block(FrameArrays& arrays, const char* tag, const std::vector<std::int64_t>& connectivity,
                                const std::vector<std::int64_t>& offsets) {
-  return std::string("      <") + tag + ">\n" +
-         data_array("connectivity", "Int64", 1, connectivity.data(), connectivity.size() * sizeof(std::int64_t)) +
-         data_array("offsets", "Int64", 1, offsets.data(), offsets.size() * sizeof(std::int64_t)) + "      </" + tag +
-         ">\n";
+  // One statement each: the operands of one + are evaluated in no fixed order, and the appended block's order
+  // must be the elements' (readers take the offsets, but a frame should not depend on the compiler).
+  std::string out = std::string("      <") + tag + ">\n";
+  out += arrays.indices("connectivity", connectivity);
+  out += arrays.indices("offsets", offsets);
+  return out + "      </" + tag + ">\n";
 }
 
 const char* kHeader =
     "<?xml version=\"1.0\"?>\n"
     "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt32\">\n"
     "  <PolyData>\n";
-const char* kFooter = "    </Piece>\n  </PolyData>\n</VTKFile>\n";
+/// The end of a frame: its piece and PolyData closed, the appended data (if any), the file closed.
+std::string footer(const FrameArrays& arrays) {
+  return "    </Piece>\n  </PolyData>\n" + arrays.appended_data() + "</VTKFile>\n";
+}
 
 }  // namespace
 
@@ -102,7 +155,9 @@ namespace {
 /// Particles of any SoA component as vertices at `position`, its output fields as point data.
 /// Positions wrapped into `box`'s period (unchanged without periodic axes).
 template <class Component>
-std::string particles_vtp(const Component& particles, const char* scalars, const PeriodicBox& box = {}) {
+std::string particles_vtp(const Component& particles, const char* scalars, const PeriodicBox& box,
+                          const VtkFormat& format) {
+  FrameArrays arrays(format);
   const std::size_t count = particles.size();
   std::vector<double> xyz(3 * count);
   std::vector<std::int64_t> connectivity(count), offsets(count);
@@ -117,14 +172,19 @@ std::string particles_vtp(const Component& particles, const char* scalars, const
                 "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"%zu\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
                 "NumberOfPolys=\"0\">\n",
                 count, count);
-  return std::string(kHeader) + piece + "      <PointData Scalars=\"" + scalars + "\">\n" +
-         field_arrays(particles) + "      </PointData>\n" + points_block(xyz) +
-         connectivity_block("Verts", connectivity, offsets) + kFooter;
+  // Built in this order: the arrays' offsets into the appended block follow it.
+  std::string out = std::string(kHeader) + piece + "      <PointData Scalars=\"" + scalars + "\">\n";
+  out += field_arrays(arrays, particles);
+  out += "      </PointData>\n";
+  out += points_block(arrays, xyz);
+  out += connectivity_block(arrays, "Verts", connectivity, offsets);
+  return out + footer(arrays);
 }
 
 /// The .pvtp of a frame of `Component` in pieces: each output field as a PDataArray of its type and components.
 template <class Component>
-std::string particles_pvtp(const char* scalars, const std::vector<std::string>& pieces) {
+std::string particles_pvtp(const char* scalars, const std::vector<std::string>& pieces, const VtkFormat& format) {
+  const FrameArrays arrays(format);
   std::string out = std::string(
                         "<?xml version=\"1.0\"?>\n"
                         "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
@@ -139,31 +199,48 @@ std::string particles_pvtp(const char* scalars, const std::vector<std::string>& 
     if constexpr (!std::is_same_v<T, std::string>) {
       if (!info.output) return;
       std::snprintf(line, sizeof line, "      <PDataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\"/>\n",
-                    vtk_type<T>(), info.name, std::is_same_v<T, Vec3> ? 3 : 1);
+                    std::is_same_v<T, Vec3> || std::is_same_v<T, double> ? arrays.real_type() : integer_type<T>(),
+                    info.name, std::is_same_v<T, Vec3> ? 3 : 1);
       out += line;
     }
   });
   out +=
       "    </PPointData>\n"
       "    <PPoints>\n"
-      "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+      "      <PDataArray type=\"" +
+      std::string(arrays.real_type()) +
+      "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
       "    </PPoints>\n";
   for (const std::string& piece : pieces) out += "    <Piece Source=\"" + piece + "\"/>\n";
   return out + "  </PPolyData>\n</VTKFile>\n";
 }
 }  // namespace
 
-std::string solids_vtp(const Solids& solids, const PeriodicBox& box) { return particles_vtp(solids, "radius", box); }
-
-std::string solids_pvtp(const std::vector<std::string>& pieces) { return particles_pvtp<Solids>("radius", pieces); }
-
-std::string fluid_pvtp(const std::vector<std::string>& pieces) {
-  return particles_pvtp<FluidParticles>("pressure", pieces);
+VtkFormat vtk_format(const OutputModel& output) {
+  VtkFormat format;
+  format.appended = output.vtk_encoding == OutputModel::VtkEncoding::kAppended;
+  format.single_precision = output.vtk_precision == OutputModel::VtkPrecision::kSingle;
+  return format;
 }
 
-std::string fluid_vtp(const FluidParticles& fluid) { return particles_vtp(fluid, "pressure"); }
+std::string solids_vtp(const Solids& solids, const PeriodicBox& box, const VtkFormat& format) {
+  return particles_vtp(solids, "radius", box, format);
+}
 
-std::string walls_vtp(const Walls& walls) {
+std::string solids_pvtp(const std::vector<std::string>& pieces, const VtkFormat& format) {
+  return particles_pvtp<Solids>("radius", pieces, format);
+}
+
+std::string fluid_pvtp(const std::vector<std::string>& pieces, const VtkFormat& format) {
+  return particles_pvtp<FluidParticles>("pressure", pieces, format);
+}
+
+std::string fluid_vtp(const FluidParticles& fluid, const VtkFormat& format) {
+  return particles_vtp(fluid, "pressure", PeriodicBox{}, format);
+}
+
+std::string walls_vtp(const Walls& walls, const VtkFormat& format) {
+  FrameArrays arrays(format);
   const std::size_t count = walls.size();
   std::vector<double> xyz;
   std::vector<std::int64_t> connectivity, offsets;
@@ -181,8 +258,12 @@ std::string walls_vtp(const Walls& walls) {
                 "    <Piece NumberOfPoints=\"%zu\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
                 "NumberOfPolys=\"%zu\">\n",
                 4 * count, count);
-  return std::string(kHeader) + piece + "      <CellData>\n" + field_arrays(walls) + "      </CellData>\n" +
-         points_block(xyz) + connectivity_block("Polys", connectivity, offsets) + kFooter;
+  std::string out = std::string(kHeader) + piece + "      <CellData>\n";
+  out += field_arrays(arrays, walls);
+  out += "      </CellData>\n";
+  out += points_block(arrays, xyz);
+  out += connectivity_block(arrays, "Polys", connectivity, offsets);
+  return out + footer(arrays);
 }
 
 std::string pvd_collection(const std::vector<double>& times, const std::vector<std::string>& files) {

@@ -366,6 +366,14 @@ class FrameFiles {
   std::vector<bool> pieces_;
 };
 
+/// The grains where a run failed: the scene's encoding, in double precision (a diagnosis may turn on overlaps of
+/// 1e-9 m).
+VtkFormat failure_frame_format(const Model& model) {
+  VtkFormat format = vtk_format(model.output);
+  format.single_precision = false;
+  return format;
+}
+
 /// Appends a VTK frame of every phase, one .vtp each, and rewrites the .pvd series that list all frames so far. A
 /// .pvtp of the same frame left by an earlier run over ranks is removed, so that the series names this frame.
 void write_vtk_frame(const fs::path& out, const World& world, const Model& model, OutputState& output,
@@ -378,9 +386,10 @@ void write_vtk_frame(const fs::path& out, const World& world, const Model& model
     write_text_file(out / frame_name(phase, index, ".vtp"), text);
     files.write_series(phase, output.frame_times);
   };
-  if (world.solids) write("solids", solids_vtp(*world.solids, periodic_box(model)));
-  if (world.walls) write("walls", walls_vtp(*world.walls));
-  if (world.fluid) write("fluid", fluid_vtp(*world.fluid));
+  const VtkFormat format = vtk_format(model.output);
+  if (world.solids) write("solids", solids_vtp(*world.solids, periodic_box(model), format));
+  if (world.walls) write("walls", walls_vtp(*world.walls, format));
+  if (world.fluid) write("fluid", fluid_vtp(*world.fluid, format));
 }
 
 }  // namespace
@@ -857,7 +866,8 @@ RunOutcome Simulation::run(const RunOptions& options) {
         outcome.message = diagnosis(world_, *model_);
         diagnostics.row(world_, *model_, min_radius, step_seconds, stepper_->timers());
         if (world_.solids)
-          write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*world_.solids, periodic_box(*model_)));
+          write_text_file(vtk_dir / "solids_failed.vtp",
+                          solids_vtp(*world_.solids, periodic_box(*model_), failure_frame_format(*model_)));
         break;
       }
       if (world_.step % static_cast<std::uint64_t>(model_->output.diagnostics_every) == 0)
@@ -950,6 +960,7 @@ std::string write_vtk_pieces(const fs::path& out, const World& mine, const Model
   const std::size_t index = output.frame_times.size();
   output.frame_times.push_back(mine.time);
   const int rank_count = ranks::size();
+  const VtkFormat format = vtk_format(model.output);
   const auto piece = [&](const char* phase, int rank) {
     char name[64];
     std::snprintf(name, sizeof name, "%s_%06zu_%d.vtp", phase, index, rank);
@@ -957,8 +968,9 @@ std::string write_vtk_pieces(const fs::path& out, const World& mine, const Model
   };
   std::string problem;
   try {
-    if (mine.solids) write_text_file(out / "vtk" / piece("solids", ranks::rank()), solids_vtp(*mine.solids, periodic_box(model)));
-    if (mine.fluid) write_text_file(out / "vtk" / piece("fluid", ranks::rank()), fluid_vtp(*mine.fluid));
+    if (mine.solids)
+      write_text_file(out / "vtk" / piece("solids", ranks::rank()), solids_vtp(*mine.solids, periodic_box(model), format));
+    if (mine.fluid) write_text_file(out / "vtk" / piece("fluid", ranks::rank()), fluid_vtp(*mine.fluid, format));
   } catch (const std::exception& error) {
     problem = error.what();
   }
@@ -969,16 +981,17 @@ std::string write_vtk_pieces(const fs::path& out, const World& mine, const Model
   if (ranks::rank() != 0) return "";
   files.written(index, true);
   try {
-    const auto parallel = [&](const char* phase, std::string (*pvtp)(const std::vector<std::string>&)) {
+    const auto parallel = [&](const char* phase,
+                              std::string (*pvtp)(const std::vector<std::string>&, const VtkFormat&)) {
       std::vector<std::string> pieces;
       for (int rank = 0; rank < rank_count; ++rank) pieces.push_back(piece(phase, rank));
-      write_text_file(out / frame_name(phase, index, ".pvtp"), pvtp(pieces));
+      write_text_file(out / frame_name(phase, index, ".pvtp"), pvtp(pieces, format));
       fs::remove(out / frame_name(phase, index, ".vtp"));
       files.write_series(phase, output.frame_times);
     };
     if (mine.solids) parallel("solids", solids_pvtp);
     if (mine.walls) {
-      write_text_file(out / frame_name("walls", index, ".vtp"), walls_vtp(*mine.walls));
+      write_text_file(out / frame_name("walls", index, ".vtp"), walls_vtp(*mine.walls, format));
       files.write_series("walls", output.frame_times);
     }
     if (mine.fluid) parallel("fluid", fluid_pvtp);
@@ -1227,7 +1240,9 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
       outcome.exit_code = kExitUnstable;
       outcome.message = message;
       write_on_root([&] {
-        if (whole.solids) write_text_file(vtk_dir / "solids_failed.vtp", solids_vtp(*whole.solids, periodic_box(*model_)));
+        if (whole.solids)
+          write_text_file(vtk_dir / "solids_failed.vtp",
+                          solids_vtp(*whole.solids, periodic_box(*model_), failure_frame_format(*model_)));
       });
       break;
     }

@@ -374,6 +374,10 @@ namespace {
 void read_output(TableReader& output, Model& model) {
   model.output.vtk_interval = output.number("vtk_interval", model.output.vtk_interval, "s", Bounds::non_negative());
   model.output.vtk_pieces = enum_choice(output, "vtk_pieces", model.output.vtk_pieces, OutputModel::kVtkPiecesNames);
+  model.output.vtk_encoding =
+      enum_choice(output, "vtk_encoding", model.output.vtk_encoding, OutputModel::kVtkEncodingNames);
+  model.output.vtk_precision =
+      enum_choice(output, "vtk_precision", model.output.vtk_precision, OutputModel::kVtkPrecisionNames);
   model.output.checkpoint_interval =
       output.number("checkpoint_interval", model.output.checkpoint_interval, "s", Bounds::non_negative());
   model.output.checkpoint_keep = output.integer("checkpoint_keep", model.output.checkpoint_keep, 1, 1000000);

@@ -337,7 +337,7 @@ check "... to the overridden end time (step 4)" test -e "set_resumed/checkpoints
 riffle_as A run small.toml --out A --threads 2
 expect_rc "riffle run on a small scene exits 0" A 0
 final=$(ckpt_name 50)
-grains=$(grep -o 'NumberOfPoints="[0-9]*"' A/vtk/solids_000000.vtp 2>/dev/null | head -n 1 | tr -dc 0-9)
+grains=$(grep -a -o 'NumberOfPoints="[0-9]*"' A/vtk/solids_000000.vtp 2>/dev/null | head -n 1 | tr -dc 0-9)
 diagnostics_ok() {
   head -n 1 A/diagnostics.csv | grep -q '^step,time_s,dt_s,' || { echo "#   bad header"; return 1; }
   local steps

@@ -76,6 +76,56 @@ def check_pieces(work):
         raise AssertionError("a piece without the radius was read")
 
 
+def write_appended_vtp(path, points, data, point_type="Float32"):
+    """A frame as riffle writes it by default: every array's bytes raw after the XML, at its offset."""
+    types = {"Float32": "<f4", "Float64": "<f8", "Int32": "<i4", "UInt64": "<u8"}
+    block = bytearray()
+    elements = []
+    for name, (values, kind) in list(data.items()) + [("Points", (points, point_type))]:
+        raw = np.ascontiguousarray(values, dtype=types[kind]).tobytes()
+        components = 3 if np.ndim(values) == 2 else 1
+        elements.append(f'<DataArray type="{kind}" Name="{name}" NumberOfComponents="{components}" '
+                        f'format="appended" offset="{len(block)}"/>\n')
+        block += struct.pack("<I", len(raw)) + raw
+    n = len(points)
+    head = ('<?xml version="1.0"?>\n<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian" '
+            'header_type="UInt32">\n<PolyData>\n'
+            f'<Piece NumberOfPoints="{n}" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" '
+            f'NumberOfPolys="0">\n<PointData>\n{"".join(elements[:-1])}</PointData>\n<Points>\n{elements[-1]}'
+            '</Points>\n</Piece>\n</PolyData>\n  <AppendedData encoding="raw">\n   _')
+    path.write_bytes(head.encode() + bytes(block) + b"\n  </AppendedData>\n</VTKFile>\n")
+
+
+def check_appended(work):
+    """A frame with its arrays raw after the XML (riffle's default) reads as the same frame written inline: the
+    single-precision arrays as their float values, in double; bytes that spell "<" or "_" in the block do not
+    confuse it; an offset past the block is refused, naming the array."""
+    vtk = work / "appended"
+    vtk.mkdir(parents=True, exist_ok=True)
+    points = np.array([[0.1, 0.2, 0.3], [1.0 / 3.0, 60.0, 0.0078125], [-2.5, 1e-7, 4.0]])
+    velocity = np.array([[1.0, 2.0, 3.0], [0.1, 0.2, 0.3], [5.0, 6.0, 7.0]])
+    ids = np.array([7, ord("<") * 256 + ord("_"), 2 ** 40])  # an id whose bytes hold '<' and '_'
+    data = {"id": (ids, "UInt64"), "velocity": (velocity, "Float32"), "pressure": (np.array([1.5, 2.5, 1e5]), "Float64"),
+            "kind": (np.array([0, 1, 2], dtype=np.int32), "Int32")}
+    write_appended_vtp(vtk / "a.vtp", points, data)
+    frame = vtp.read_vtp(vtk / "a.vtp")
+    assert frame["points"].dtype == np.float64 and frame["velocity"].dtype == np.float64
+    assert np.array_equal(frame["points"], points.astype(np.float32).astype(np.float64)), frame["points"]
+    assert np.array_equal(frame["velocity"], velocity.astype(np.float32).astype(np.float64))
+    assert np.array_equal(frame["pressure"], [1.5, 2.5, 1e5]) and frame["id"].tolist() == ids.tolist()
+    assert frame["kind"].tolist() == [0, 1, 2]
+    only = vtp.read_vtp(vtk / "a.vtp", ["pressure"])
+    assert sorted(only) == ["points", "pressure"], only
+    broken = (vtk / "a.vtp").read_bytes().replace(b'offset="0"', b'offset="9999"', 1)
+    (vtk / "broken.vtp").write_bytes(broken)
+    try:
+        vtp.read_vtp(vtk / "broken.vtp")
+    except vtp.VtpError as error:
+        assert "array id" in str(error) and "offset 9999" in str(error), error
+    else:
+        raise AssertionError("an offset past the appended block was read")
+
+
 def check_velocity_gradient():
     """The least-squares gradient is exact for linear velocity fields, whatever the neighbours' arrangement: on a
     jittered lattice block (free faces and corners included) a simple shear u = (a z, 0, 0) has |S|^2 = a^2/2 and
@@ -341,6 +391,7 @@ def main():
         assert (out / name).stat().st_size > 1000, name
     check_velocity_gradient()
     check_pieces(work)
+    check_appended(work)
     check_views(work)
     print(f"test_seed_figures: passed ({work})")
     return 0

@@ -1,9 +1,11 @@
 """Read riffle's ParaView output (engine/output/vtk_output.cpp) into numpy arrays. numpy only.
 
-riffle writes PolyData (.vtp) with every DataArray inline, format="binary", header_type="UInt32", little endian:
-the text of an array is base64 of one block, a UInt32 byte count followed by the raw values (no compression,
-one base64 run per array). Types used: Float64 (scalars and 3-vectors), Int32, Int64, UInt64. Points are the
-particle centres; point data are the component's output fields. A .pvd collection lists (time, file) pairs. A
+riffle writes PolyData (.vtp), header_type="UInt32", little endian, no compression; each array one block, a
+UInt32 byte count followed by the raw values, either raw in the AppendedData section after the XML at the offset its
+DataArray names (format="appended", `[output] vtk_encoding = "appended"`, the default) or base64 inside its
+DataArray (format="binary", `vtk_encoding = "inline"`). Types used: Float32 or Float64 for real values (`[output]
+vtk_precision`, "single" by default), Int32, Int64, UInt64. Points are the particle centres; point data are the
+component's output fields. A .pvd collection lists (time, file) pairs. A
 run over MPI ranks writes each frame in pieces, one .vtp per rank, named by a .pvtp (PPolyData); read_vtp reads a
 .pvtp as the whole frame, its pieces joined and ordered by id (a whole frame of water has its fluid particles first,
 then walls and dummies: match particles by id or kind, not by index, across the two).
@@ -11,6 +13,7 @@ then walls and dummies: match particles by id or kind, not by index, across the 
     from riffle_tools import vtp
     frames = vtp.read_pvd("out/run/solids.pvd")    # [(time_s, Path), ...] sorted by time
     frame = vtp.read_vtp(frames[0][1])              # {"points": (N, 3), "velocity": (N, 3), "radius": (N,), ...}
+                                                    # (real arrays as float64, whatever the frame's precision)
     scene, named = vtp.run_scene("out/run")         # the scene file riffle.log names (None if not found)
 """
 import base64
@@ -35,21 +38,61 @@ class VtpError(RuntimeError):
     """A file that is not riffle's VTP/PVD format (the message says what is wrong and where)."""
 
 
-def decode_array(element, path="?"):
-    """One <DataArray format="binary"> as a numpy array, shape (n,) or (n, components)."""
+def _parse(path):
+    """The XML root of a .vtp/.pvtp/.pvd file and its raw appended bytes (None without an AppendedData section).
+    The appended bytes are not XML: the text before them is parsed, closed by the file's end tag."""
+    try:
+        data = pathlib.Path(path).read_bytes()
+    except OSError as error:
+        raise VtpError(f"{path}: {error}") from error
+    marker = data.find(b"<AppendedData")
+    appended = None
+    text = data
+    if marker >= 0:
+        tag_end = data.find(b">", marker)
+        if tag_end < 0 or b'encoding="raw"' not in data[marker:tag_end]:
+            raise VtpError(f"{path}: only raw AppendedData is supported")
+        start = data.find(b"_", tag_end)
+        if start < 0:
+            raise VtpError(f"{path}: AppendedData without its '_' mark")
+        appended = memoryview(data)[start + 1:]
+        text = data[:marker] + b"</VTKFile>"
+    try:
+        return ElementTree.fromstring(text), appended
+    except ElementTree.ParseError as error:
+        raise VtpError(f"{path}: {error}") from error
+
+
+def decode_array(element, path="?", appended=None):
+    """One <DataArray> (format "binary", base64 inside it, or "appended", raw at its offset into `appended`) as a
+    numpy array, shape (n,) or (n, components)."""
     name = element.get("Name", "?")
     kind = element.get("type")
     if kind not in _TYPES:
         raise VtpError(f"{path}: array {name}: type {kind!r} is not supported")
-    if element.get("format") != "binary":
-        raise VtpError(f"{path}: array {name}: format {element.get('format')!r}, expected 'binary'")
-    raw = base64.b64decode("".join((element.text or "").split()))
+    form = element.get("format")
+    if form == "appended":
+        if appended is None:
+            raise VtpError(f"{path}: array {name}: format 'appended' but the file has no AppendedData")
+        offset = int(element.get("offset", "-1"))
+        if offset < 0 or offset + 4 > len(appended):
+            raise VtpError(f"{path}: array {name}: offset {offset} outside the appended data ({len(appended)} bytes)")
+        count = int(np.frombuffer(appended[offset:offset + 4], dtype="<u4")[0])
+        if offset + 4 + count > len(appended):
+            raise VtpError(f"{path}: array {name}: {count} bytes at offset {offset} run past the appended data")
+        raw = bytes(appended[offset:offset + 4 + count])
+    elif form == "binary":
+        raw = base64.b64decode("".join((element.text or "").split()))
+    else:
+        raise VtpError(f"{path}: array {name}: format {form!r}, expected 'binary' or 'appended'")
     if len(raw) < 4:
         raise VtpError(f"{path}: array {name}: no UInt32 size header")
     count = int(np.frombuffer(raw[:4], dtype="<u4")[0])
     if count != len(raw) - 4:
         raise VtpError(f"{path}: array {name}: header says {count} bytes, the block holds {len(raw) - 4}")
     values = np.frombuffer(raw[4:], dtype=_TYPES[kind]).copy()
+    if kind == "Float32":  # the tools compute in double whatever precision the frame was written in
+        values = values.astype(np.float64)
     components = int(element.get("NumberOfComponents", "1"))
     if components > 1:
         if values.size % components:
@@ -65,10 +108,7 @@ def read_vtp(path, fields=None):
     Cell data (walls.vtp) is returned under "cell:<name>"."""
     path = pathlib.Path(path)
     fields = None if fields is None else tuple(fields)  # an iterator is read once
-    try:
-        root = ElementTree.parse(path).getroot()
-    except (ElementTree.ParseError, OSError) as error:
-        raise VtpError(f"{path}: {error}") from error
+    root, appended = _parse(path)
     if root.get("type") == "PPolyData":
         return _read_pieces(path, root, fields)
     if root.get("type") != "PolyData":
@@ -83,15 +123,15 @@ def read_vtp(path, fields=None):
     points = piece.find("Points/DataArray")
     if points is None:
         raise VtpError(f"{path}: no Points")
-    out["points"] = decode_array(points, path).reshape(-1, 3)
+    out["points"] = decode_array(points, path, appended).reshape(-1, 3)
     for element in piece.findall("PointData/DataArray"):
         name = element.get("Name")
         if wanted is None or name in wanted:
-            out[name] = decode_array(element, path)
+            out[name] = decode_array(element, path, appended)
     for element in piece.findall("CellData/DataArray"):
         name = element.get("Name")
         if wanted is None or name in wanted:
-            out["cell:" + name] = decode_array(element, path)
+            out["cell:" + name] = decode_array(element, path, appended)
     count = int(piece.get("NumberOfPoints", len(out["points"])))
     if len(out["points"]) != count:
         raise VtpError(f"{path}: {len(out['points'])} points, the piece says {count}")

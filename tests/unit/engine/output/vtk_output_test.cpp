@@ -34,23 +34,53 @@ std::string base64_decode(const std::string& text) {
   return out;
 }
 
-/// The decoded payload (after the UInt32 byte count) of the DataArray named `name`.
+/// The payload (after the UInt32 byte count) of the DataArray named `name`: base64 inside its element
+/// (format="binary"), or raw in the AppendedData block at its offset (format="appended").
 std::string array_bytes(const std::string& vtp, const std::string& name) {
   // Plain string search: std::regex recurses per character and overflows the stack on long base64 runs.
   const std::size_t tag = vtp.find("Name=\"" + name + "\"");
   REQUIRE(tag != std::string::npos);
   const std::size_t open_end = vtp.find('>', tag);
+  const std::string element = vtp.substr(tag, open_end - tag);
+  std::string block;
+  if (element.find("format=\"appended\"") != std::string::npos) {
+    const std::size_t offset_at = element.find("offset=\"");
+    REQUIRE(offset_at != std::string::npos);
+    const std::size_t offset = std::stoul(element.substr(offset_at + 8));
+    const std::size_t data = vtp.find("<AppendedData encoding=\"raw\">");
+    REQUIRE(data != std::string::npos);
+    REQUIRE(data > open_end);  // the block follows every element
+    const std::size_t base = vtp.find('_', data) + 1;
+    REQUIRE(base + offset + 4 <= vtp.size());
+    std::uint32_t count;
+    std::memcpy(&count, vtp.data() + base + offset, 4);
+    REQUIRE(base + offset + 4 + count <= vtp.size());
+    return vtp.substr(base + offset + 4, count);
+  }
+  CHECK(element.find("format=\"binary\"") != std::string::npos);
   const std::size_t close = vtp.find("</DataArray>", open_end);
   REQUIRE(close != std::string::npos);
   std::string text = vtp.substr(open_end + 1, close - open_end - 1);
   text.erase(std::remove_if(text.begin(), text.end(), [](unsigned char c) { return std::isspace(c); }), text.end());
-  const std::string block = base64_decode(text);
+  block = base64_decode(text);
   REQUIRE(block.size() >= 4);
   std::uint32_t count;
   std::memcpy(&count, block.data(), 4);
   REQUIRE(block.size() == 4 + count);
   return block.substr(4);
 }
+
+/// The type a DataArray named `name` declares.
+std::string array_type(const std::string& vtp, const std::string& name) {
+  const std::size_t tag = vtp.find("Name=\"" + name + "\"");
+  REQUIRE(tag != std::string::npos);
+  const std::size_t type = vtp.rfind("type=\"", tag) + 6;
+  return vtp.substr(type, vtp.find('"', type) - type);
+}
+
+/// Frames that hold the state's own values: double precision, in either encoding.
+constexpr VtkFormat kExactAppended{true, false};
+constexpr VtkFormat kExactInline{false, false};
 
 template <class T>
 std::vector<T> values(const std::string& bytes) {
@@ -73,7 +103,8 @@ TEST_CASE("base64 matches RFC 4648 test vectors") {
 TEST_CASE("solids_vtp carries positions and every output field exactly") {
   const World world = initial_world(test::small_model());
   const Solids& solids = *world.solids;
-  const std::string vtp = solids_vtp(solids);
+  for (const VtkFormat& format : {kExactAppended, kExactInline}) {
+  const std::string vtp = solids_vtp(solids, {}, format);
   CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(solids.size()) + "\"") != std::string::npos);
   const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
   REQUIRE(points.size() == 3 * solids.size());
@@ -85,6 +116,7 @@ TEST_CASE("solids_vtp carries positions and every output field exactly") {
   CHECK(values<double>(array_bytes(vtp, "velocity")).size() == 3 * solids.size());
   // Fields marked not for output stay out.
   CHECK(vtp.find("Name=\"moment_of_inertia\"") == std::string::npos);
+  }
 }
 
 TEST_CASE("solids_vtp writes a grain past a periodic face at its place in the period") {
@@ -99,17 +131,17 @@ TEST_CASE("solids_vtp writes a grain past a periodic face at its place in the pe
   box.periodic = {true, false, false};
   solids.position[0] = Vec3(0.0401, 0.035, 0.01);  // past x = L; past y = 0.03 too, but y is not periodic
   solids.position[1] = Vec3(-0.0002, 0.01, 0.01);  // before x = 0
-  const std::vector<double> points = values<double>(array_bytes(solids_vtp(solids, box), "Points"));
+  const std::vector<double> points = values<double>(array_bytes(solids_vtp(solids, box, kExactAppended), "Points"));
   CHECK(points[0] == doctest::Approx(0.0001).epsilon(1e-12));
   CHECK(points[1] == 0.035);
   CHECK(points[3] == doctest::Approx(0.0398).epsilon(1e-12));
-  CHECK(values<double>(array_bytes(solids_vtp(solids), "Points"))[0] == 0.0401);  // no periodic axis: as it is
+  CHECK(values<double>(array_bytes(solids_vtp(solids, {}, kExactAppended), "Points"))[0] == 0.0401);  // as it is
 }
 
 TEST_CASE("walls_vtp draws each wall as a quad around its centre") {
   const World world = initial_world(test::small_model());
   const Walls& walls = *world.walls;
-  const std::string vtp = walls_vtp(walls);
+  const std::string vtp = walls_vtp(walls, kExactInline);
   CHECK(vtp.find("NumberOfPolys=\"" + std::to_string(walls.size()) + "\"") != std::string::npos);
   const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
   REQUIRE(points.size() == 12 * walls.size());
@@ -120,7 +152,7 @@ TEST_CASE("walls_vtp draws each wall as a quad around its centre") {
                    points[12 * wall + 3 * corner + 2]);
     CHECK((mean / 4.0 - walls.point[wall]).norm() < 1e-15);
   }
-  CHECK(values<std::int64_t>(array_bytes(vtp, "offsets")).back() == static_cast<std::int64_t>(4 * walls.size()));
+  CHECK(values<std::int32_t>(array_bytes(vtp, "offsets")).back() == static_cast<std::int32_t>(4 * walls.size()));
 }
 
 TEST_CASE("pvd_collection lists every frame with its time") {
@@ -153,11 +185,14 @@ TEST_CASE("solids_pvtp and fluid_pvtp declare the arrays their pieces hold and n
   // ParaView's reader takes each piece's arrays from the .pvtp's declarations: they must be the pieces' own, by type,
   // name and components, in order, and the points' array too.
   const World grains = initial_world(test::small_model());
+  for (const VtkFormat& format : {VtkFormat{}, kExactAppended}) {
+    const std::string pvtp = solids_pvtp({"solids_000003_0.vtp", "solids_000003_1.vtp"}, format);
+    CHECK(declared_arrays(pvtp, "<PPointData", "</PPointData>", "<PDataArray") ==
+          declared_arrays(solids_vtp(*grains.solids, {}, format), "<PointData", "</PointData>", "<DataArray"));
+    CHECK(declared_arrays(pvtp, "<PPoints", "</PPoints>", "<PDataArray") ==
+          declared_arrays(solids_vtp(*grains.solids, {}, format), "<Points", "</Points>", "<DataArray"));
+  }
   const std::string pvtp = solids_pvtp({"solids_000003_0.vtp", "solids_000003_1.vtp"});
-  CHECK(declared_arrays(pvtp, "<PPointData", "</PPointData>", "<PDataArray") ==
-        declared_arrays(solids_vtp(*grains.solids), "<PointData", "</PointData>", "<DataArray"));
-  CHECK(declared_arrays(pvtp, "<PPoints", "</PPoints>", "<PDataArray") ==
-        declared_arrays(solids_vtp(*grains.solids), "<Points", "</Points>", "<DataArray"));
   CHECK(pvtp.find("<VTKFile type=\"PPolyData\"") != std::string::npos);
   const std::size_t first = pvtp.find("<Piece Source=\"solids_000003_0.vtp\"/>");
   CHECK(first != std::string::npos);
@@ -175,7 +210,7 @@ TEST_CASE("fluid_vtp carries the MPS particles and their output fields exactly")
     fluid.number_density[i] = 1.0 / (1.0 + static_cast<double>(i));
     fluid.free_surface[i] = static_cast<std::int32_t>(i % 3 == 0);
   }
-  const std::string vtp = fluid_vtp(fluid);
+  const std::string vtp = fluid_vtp(fluid, kExactAppended);
   CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
   CHECK(vtp.find("NumberOfVerts=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
   const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
@@ -212,4 +247,94 @@ TEST_CASE("a run with a fluid writes fluid frames and the fluid.pvd series") {
   const std::string last = test::file_text(out / "vtk/fluid_000002.vtp");
   CHECK(values<std::int32_t>(array_bytes(last, "kind")) == simulation->world().fluid->kind);
   CHECK_FALSE(std::filesystem::exists(out / "solids.pvd"));  // no grains in this scene
+}
+
+TEST_CASE("a frame in single precision holds each real value rounded to the nearest float, the integers exact") {
+  // The scenes' default: points, velocities, pressures as Float32; ids, kinds and flags in their own types.
+  World world = initial_world(test::fluid_model());
+  FluidParticles& fluid = *world.fluid;
+  for (std::size_t i = 0; i < fluid.size(); ++i) fluid.pressure[i] = 1234.5678901234 + 0.1 * static_cast<double>(i);
+  const std::string vtp = fluid_vtp(fluid);
+  CHECK(array_type(vtp, "Points") == "Float32");
+  CHECK(array_type(vtp, "pressure") == "Float32");
+  CHECK(array_type(vtp, "velocity") == "Float32");
+  CHECK(array_type(vtp, "id") == "UInt64");
+  CHECK(array_type(vtp, "kind") == "Int32");
+  CHECK(array_type(vtp, "connectivity") == "Int32");
+  const std::vector<float> points = values<float>(array_bytes(vtp, "Points"));
+  REQUIRE(points.size() == 3 * fluid.size());
+  const std::vector<float> pressure = values<float>(array_bytes(vtp, "pressure"));
+  REQUIRE(pressure.size() == fluid.size());
+  for (std::size_t i = 0; i < fluid.size(); ++i) {
+    CHECK(pressure[i] == static_cast<float>(fluid.pressure[i]));
+    for (int c = 0; c < 3; ++c) CHECK(points[3 * i + static_cast<std::size_t>(c)] == static_cast<float>(fluid.position[i][c]));
+  }
+  CHECK(values<std::uint64_t>(array_bytes(vtp, "id")) == fluid.id);
+  CHECK(values<std::int32_t>(array_bytes(vtp, "kind")) == fluid.kind);
+  const std::vector<std::int32_t> offsets = values<std::int32_t>(array_bytes(vtp, "offsets"));
+  REQUIRE(offsets.size() == fluid.size());
+  CHECK(offsets.back() == static_cast<std::int32_t>(fluid.size()));
+}
+
+TEST_CASE("appended and inline frames hold the same arrays, and the appended block is where its offsets say") {
+  const World world = initial_world(test::small_model());
+  const Solids& solids = *world.solids;
+  for (const bool single : {true, false}) {
+    const std::string appended = solids_vtp(solids, {}, VtkFormat{true, single});
+    const std::string inline_text = solids_vtp(solids, {}, VtkFormat{false, single});
+    // The same elements but for their format: every array's bytes equal.
+    const std::vector<std::string> arrays = declared_arrays(inline_text, "<PointData", "</PointData>", "<DataArray");
+    REQUIRE(arrays.size() >= 4);
+    CHECK(arrays == declared_arrays(appended, "<PointData", "</PointData>", "<DataArray"));
+    for (const char* name : {"Points", "connectivity", "offsets", "radius", "velocity", "id", "size_class"})
+      CHECK_MESSAGE(array_bytes(appended, name) == array_bytes(inline_text, name), name);
+    // Appended: the XML ends with the block, which holds the arrays back to back (each a UInt32 count and its
+    // bytes) from offset 0 to its end; nothing of the arrays inside the elements.
+    CHECK(appended.find("</DataArray>") == std::string::npos);
+    const std::size_t data = appended.find("<AppendedData encoding=\"raw\">\n   _");
+    REQUIRE(data != std::string::npos);
+    const std::size_t base = appended.find('_', data) + 1;
+    const std::string tail = "\n  </AppendedData>\n</VTKFile>\n";
+    REQUIRE(appended.size() > base + tail.size());
+    CHECK(appended.compare(appended.size() - tail.size(), tail.size(), tail) == 0);
+    std::size_t expected_offset = 0, arrays_seen = 0;
+    for (std::size_t at = appended.find("offset=\""); at < data; at = appended.find("offset=\"", at + 1)) {
+      CHECK(std::stoul(appended.substr(at + 8)) == expected_offset);
+      std::uint32_t count;
+      std::memcpy(&count, appended.data() + base + expected_offset, 4);
+      expected_offset += 4 + count;
+      ++arrays_seen;
+    }
+    CHECK(arrays_seen == arrays.size() + 3);  // the point data, the points, connectivity and offsets
+    CHECK(base + expected_offset == appended.size() - tail.size());
+  }
+}
+
+TEST_CASE("[output] vtk_encoding and vtk_precision choose the frames' format; a run writes what they ask") {
+  const auto write_run = [](const char* name, OutputModel::VtkEncoding encoding, OutputModel::VtkPrecision precision) {
+    const auto out = test::scratch_dir(name);
+    Model model = test::small_model();
+    model.output.vtk_interval = 1.0;
+    model.output.vtk_encoding = encoding;
+    model.output.vtk_precision = precision;
+    auto simulation = Simulation::from_model(std::move(model));
+    RunOptions options;
+    options.out_dir = out.string();
+    options.threads = 1;
+    options.until = 0.0;
+    REQUIRE(simulation->run(options).exit_code == kExitOk);
+    return test::file_text(out / "vtk/solids_000000.vtp");
+  };
+  const std::string fast = write_run("vtk_format_default", OutputModel::VtkEncoding::kAppended,
+                                     OutputModel::VtkPrecision::kSingle);
+  CHECK(fast.find("format=\"appended\"") != std::string::npos);
+  CHECK(array_type(fast, "Points") == "Float32");
+  const std::string exact = write_run("vtk_format_exact", OutputModel::VtkEncoding::kInline,
+                                      OutputModel::VtkPrecision::kDouble);
+  CHECK(exact.find("format=\"appended\"") == std::string::npos);
+  CHECK(array_type(exact, "Points") == "Float64");
+  CHECK(fast.size() * 2 < exact.size());
+  const VtkFormat defaults = vtk_format(OutputModel{});
+  CHECK(defaults.appended);
+  CHECK(defaults.single_precision);
 }

@@ -217,6 +217,10 @@ TEST_CASE("bad scenes are rejected with file, line, column, key and a useful mes
        "got \"top\"", 1},
       {"open_faces = [\"z_max\"]", "open_faces = [\"z_max\", \"z_max\"]", "\"z_max\", ^\"z_max\"", "tank.open_faces",
        "\"z_max\" is listed twice", 1},
+      {"vtk_interval = 0.01", "vtk_interval = 0.01\nvtk_encoding = \"ascii\"", "vtk_encoding = ^\"ascii\"",
+       "output.vtk_encoding", "expected one of \"appended\", \"inline\", got \"ascii\"", 1},
+      {"vtk_interval = 0.01", "vtk_interval = 0.01\nvtk_precision = \"half\"", "vtk_precision = ^\"half\"",
+       "output.vtk_precision", "expected one of \"single\", \"double\", got \"half\"", 1},
       {"direction = [1.0, 0.0, 0.0]", "direction = [0.0, 0.0, 0.0]", "direction = ^[", "tank.motion.direction",
        "expected a non-zero direction vector", 1},
       // Geometry. A bad tank size must not also make every grain "outside the tank".
@@ -306,6 +310,18 @@ TEST_CASE("several problems in one scene are all reported, each at its own line"
     for (std::size_t k = 0; k < error.problems().size(); ++k) lines += (k ? "\n" : "") + error.problems()[k];
     CHECK(std::string(error.what()) == lines);
   }
+}
+
+TEST_CASE("[output] vtk_encoding and vtk_precision: unset, raw appended arrays in single precision; as written") {
+  const riffle::Model plain = riffle::parse_scene(std::string(kBaseScene), "base.toml");
+  CHECK(plain.output.vtk_encoding == riffle::OutputModel::VtkEncoding::kAppended);
+  CHECK(plain.output.vtk_precision == riffle::OutputModel::VtkPrecision::kSingle);
+  const riffle::Model exact = riffle::parse_scene(
+      replace_once(kBaseScene, "vtk_interval = 0.01",
+                   "vtk_interval = 0.01\nvtk_encoding = \"inline\"\nvtk_precision = \"double\""),
+      "exact.toml");
+  CHECK(exact.output.vtk_encoding == riffle::OutputModel::VtkEncoding::kInline);
+  CHECK(exact.output.vtk_precision == riffle::OutputModel::VtkPrecision::kDouble);
 }
 
 TEST_CASE("valid edge values are accepted") {
