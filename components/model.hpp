@@ -570,6 +570,8 @@ struct OutputModel {
   static constexpr SceneNames<VtkPrecision, 2> kVtkPrecisionNames{
       {{"single", VtkPrecision::kSingle}, {"double", VtkPrecision::kDouble}}};
   VtkPrecision vtk_precision = VtkPrecision::kSingle;
+  /// The water's frames hold the dummy particles behind the walls too (they only fill the walls' kernel).
+  bool vtk_dummy_particles = false;
   /// [s] 0 = only on signal and at the end; unset in the scene: end_time / 10 for runs of at least 1000 steps of dt
   double checkpoint_interval = 0.0;
   std::int64_t checkpoint_keep = 3;  ///< newest interval checkpoints kept on disk

@@ -77,8 +77,21 @@ const char* integer_type() {
   else return nullptr;
 }
 
+/// The rows a frame writes: every one (`rows` null), or those listed.
 template <class T>
-std::string field_array(FrameArrays& arrays, const char* name, const std::vector<T>& field) {
+const std::vector<T>& rows_of(const std::vector<T>& field, const std::vector<std::uint32_t>* rows,
+                              std::vector<T>& scratch) {
+  if (rows == nullptr) return field;
+  scratch.resize(rows->size());
+  for (std::size_t k = 0; k < rows->size(); ++k) scratch[k] = field[(*rows)[k]];
+  return scratch;
+}
+
+template <class T>
+std::string field_array(FrameArrays& arrays, const char* name, const std::vector<T>& all,
+                        const std::vector<std::uint32_t>* rows) {
+  std::vector<T> scratch;
+  const std::vector<T>& field = rows_of(all, rows, scratch);
   if constexpr (std::is_same_v<T, Vec3>) {
     std::vector<double> flat(3 * field.size());
     for (std::size_t i = 0; i < field.size(); ++i)
@@ -91,14 +104,16 @@ std::string field_array(FrameArrays& arrays, const char* name, const std::vector
   }
 }
 
-/// Every output field of a component's table, as the arrays of one PointData or CellData block.
+/// Every output field of a component's table, as the arrays of one PointData or CellData block: of every row, or
+/// of `rows`.
 template <class Component>
-std::string field_arrays(FrameArrays& arrays, const Component& component) {
+std::string field_arrays(FrameArrays& arrays, const Component& component,
+                         const std::vector<std::uint32_t>* rows = nullptr) {
   std::string out;
   for_each_field_in_order(component, [&](const FieldInfo& info, const auto& field) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     if constexpr (!std::is_same_v<T, std::string>)
-      if (info.output) out += field_array(arrays, info.name, field);
+      if (info.output) out += field_array(arrays, info.name, field, rows);
   });
   return out;
 }
@@ -153,16 +168,16 @@ std::string base64_encode(const void* data, std::size_t size) {
 
 namespace {
 /// Particles of any SoA component as vertices at `position`, its output fields as point data.
-/// Positions wrapped into `box`'s period (unchanged without periodic axes).
+/// Positions wrapped into `box`'s period (unchanged without periodic axes). Every particle, or those `rows` lists.
 template <class Component>
 std::string particles_vtp(const Component& particles, const char* scalars, const PeriodicBox& box,
-                          const VtkFormat& format) {
+                          const VtkFormat& format, const std::vector<std::uint32_t>* rows = nullptr) {
   FrameArrays arrays(format);
-  const std::size_t count = particles.size();
+  const std::size_t count = rows ? rows->size() : particles.size();
   std::vector<double> xyz(3 * count);
   std::vector<std::int64_t> connectivity(count), offsets(count);
   for (std::size_t i = 0; i < count; ++i) {
-    const Vec3 position = box.wrap(particles.position[i]);  // unchanged along non-periodic axes
+    const Vec3 position = box.wrap(particles.position[rows ? (*rows)[i] : i]);  // as it is along non-periodic axes
     for (int c = 0; c < 3; ++c) xyz[3 * i + static_cast<std::size_t>(c)] = position[c];
     connectivity[i] = static_cast<std::int64_t>(i);
     offsets[i] = static_cast<std::int64_t>(i + 1);
@@ -174,7 +189,7 @@ std::string particles_vtp(const Component& particles, const char* scalars, const
                 count, count);
   // Built in this order: the arrays' offsets into the appended block follow it.
   std::string out = std::string(kHeader) + piece + "      <PointData Scalars=\"" + scalars + "\">\n";
-  out += field_arrays(arrays, particles);
+  out += field_arrays(arrays, particles, rows);
   out += "      </PointData>\n";
   out += points_block(arrays, xyz);
   out += connectivity_block(arrays, "Verts", connectivity, offsets);
@@ -220,6 +235,7 @@ VtkFormat vtk_format(const OutputModel& output) {
   VtkFormat format;
   format.appended = output.vtk_encoding == OutputModel::VtkEncoding::kAppended;
   format.single_precision = output.vtk_precision == OutputModel::VtkPrecision::kSingle;
+  format.dummy_particles = output.vtk_dummy_particles;
   return format;
 }
 
@@ -236,7 +252,12 @@ std::string fluid_pvtp(const std::vector<std::string>& pieces, const VtkFormat& 
 }
 
 std::string fluid_vtp(const FluidParticles& fluid, const VtkFormat& format) {
-  return particles_vtp(fluid, "pressure", PeriodicBox{}, format);
+  if (format.dummy_particles) return particles_vtp(fluid, "pressure", PeriodicBox{}, format);
+  std::vector<std::uint32_t> shown;
+  shown.reserve(fluid.size());
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    if (fluid.kind[i] != static_cast<std::int32_t>(FluidKind::kDummy)) shown.push_back(static_cast<std::uint32_t>(i));
+  return particles_vtp(fluid, "pressure", PeriodicBox{}, format, &shown);
 }
 
 std::string walls_vtp(const Walls& walls, const VtkFormat& format) {

@@ -20,6 +20,9 @@ namespace riffle {
 struct VtkFormat {
   bool appended = true;         ///< false: base64 inside each DataArray (XML that any parser reads whole)
   bool single_precision = true;  ///< false: Float64, the state's own values bit for bit
+  /// The water's frames with the dummy layers behind the walls (which only fill the walls' kernel: no pressure of
+  /// their own, 40 % of the seed tank's particles); without them, the water and the wall particles.
+  bool dummy_particles = false;
 };
 /// The format [output] asks for.
 VtkFormat vtk_format(const OutputModel& output);
@@ -28,8 +31,8 @@ VtkFormat vtk_format(const OutputModel& output);
 /// period along `box`'s periodic axes (a grain that crossed a seam is wrapped in the state only at the next
 /// neighbour-list rebuild).
 std::string solids_vtp(const Solids& solids, const PeriodicBox& box = {}, const VtkFormat& format = {});
-/// MPS particles (fluid, wall and dummy) as vertices with every output field of the FluidParticles table as point
-/// data: id, kind, velocity, pressure, number_density, free_surface.
+/// MPS particles (fluid and wall; dummy too with format.dummy_particles) as vertices with every output field of the
+/// FluidParticles table as point data: id, kind, velocity, pressure, number_density, free_surface, ...
 std::string fluid_vtp(const FluidParticles& fluid, const VtkFormat& format = {});
 /// Walls as quads (face centre +- half extents) with every output field of the Walls table as cell data.
 std::string walls_vtp(const Walls& walls, const VtkFormat& format = {});

@@ -378,6 +378,7 @@ void read_output(TableReader& output, Model& model) {
       enum_choice(output, "vtk_encoding", model.output.vtk_encoding, OutputModel::kVtkEncodingNames);
   model.output.vtk_precision =
       enum_choice(output, "vtk_precision", model.output.vtk_precision, OutputModel::kVtkPrecisionNames);
+  model.output.vtk_dummy_particles = output.boolean("vtk_dummy_particles", model.output.vtk_dummy_particles);
   model.output.checkpoint_interval =
       output.number("checkpoint_interval", model.output.checkpoint_interval, "s", Bounds::non_negative());
   model.output.checkpoint_keep = output.integer("checkpoint_keep", model.output.checkpoint_keep, 1, 1000000);

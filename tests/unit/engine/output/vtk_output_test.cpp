@@ -81,6 +81,17 @@ std::string array_type(const std::string& vtp, const std::string& name) {
 /// Frames that hold the state's own values: double precision, in either encoding.
 constexpr VtkFormat kExactAppended{true, false};
 constexpr VtkFormat kExactInline{false, false};
+/// The same with the water's dummy particles: every row of the table.
+constexpr VtkFormat kExactEveryParticle{true, false, true};
+
+/// The rows of the water's table a frame shows by default: all but the dummies.
+template <class T>
+std::vector<T> without_dummies(const FluidParticles& fluid, const std::vector<T>& field) {
+  std::vector<T> kept;
+  for (std::size_t i = 0; i < fluid.size(); ++i)
+    if (fluid.kind[i] != static_cast<std::int32_t>(FluidKind::kDummy)) kept.push_back(field[i]);
+  return kept;
+}
 
 template <class T>
 std::vector<T> values(const std::string& bytes) {
@@ -210,7 +221,7 @@ TEST_CASE("fluid_vtp carries the MPS particles and their output fields exactly")
     fluid.number_density[i] = 1.0 / (1.0 + static_cast<double>(i));
     fluid.free_surface[i] = static_cast<std::int32_t>(i % 3 == 0);
   }
-  const std::string vtp = fluid_vtp(fluid, kExactAppended);
+  const std::string vtp = fluid_vtp(fluid, kExactEveryParticle);
   CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
   CHECK(vtp.find("NumberOfVerts=\"" + std::to_string(fluid.size()) + "\"") != std::string::npos);
   const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
@@ -245,7 +256,8 @@ TEST_CASE("a run with a fluid writes fluid frames and the fluid.pvd series") {
     CHECK_MESSAGE(std::filesystem::exists(out / frame), frame);
   }
   const std::string last = test::file_text(out / "vtk/fluid_000002.vtp");
-  CHECK(values<std::int32_t>(array_bytes(last, "kind")) == simulation->world().fluid->kind);
+  const FluidParticles& fluid = *simulation->world().fluid;
+  CHECK(values<std::int32_t>(array_bytes(last, "kind")) == without_dummies(fluid, fluid.kind));
   CHECK_FALSE(std::filesystem::exists(out / "solids.pvd"));  // no grains in this scene
 }
 
@@ -254,7 +266,7 @@ TEST_CASE("a frame in single precision holds each real value rounded to the near
   World world = initial_world(test::fluid_model());
   FluidParticles& fluid = *world.fluid;
   for (std::size_t i = 0; i < fluid.size(); ++i) fluid.pressure[i] = 1234.5678901234 + 0.1 * static_cast<double>(i);
-  const std::string vtp = fluid_vtp(fluid);
+  const std::string vtp = fluid_vtp(fluid, VtkFormat{true, true, true});  // the defaults, the dummies included
   CHECK(array_type(vtp, "Points") == "Float32");
   CHECK(array_type(vtp, "pressure") == "Float32");
   CHECK(array_type(vtp, "velocity") == "Float32");
@@ -337,4 +349,31 @@ TEST_CASE("[output] vtk_encoding and vtk_precision choose the frames' format; a 
   const VtkFormat defaults = vtk_format(OutputModel{});
   CHECK(defaults.appended);
   CHECK(defaults.single_precision);
+}
+
+TEST_CASE("the water's frames leave the dummy particles out unless asked for them") {
+  // The dummy layers behind the walls only fill the walls' kernel; a frame shows the water and the wall particles,
+  // each with its own values, in table order.
+  World world = initial_world(test::fluid_model());
+  FluidParticles& fluid = *world.fluid;
+  for (std::size_t i = 0; i < fluid.size(); ++i) fluid.pressure[i] = 3.0 * static_cast<double>(i);
+  const std::size_t dummies = static_cast<std::size_t>(
+      std::count(fluid.kind.begin(), fluid.kind.end(), static_cast<std::int32_t>(FluidKind::kDummy)));
+  REQUIRE(dummies > 0);
+  REQUIRE(dummies < fluid.size());
+  const std::string vtp = fluid_vtp(fluid, kExactAppended);
+  CHECK(vtp.find("NumberOfPoints=\"" + std::to_string(fluid.size() - dummies) + "\"") != std::string::npos);
+  CHECK(vtp.find("NumberOfVerts=\"" + std::to_string(fluid.size() - dummies) + "\"") != std::string::npos);
+  CHECK(values<std::uint64_t>(array_bytes(vtp, "id")) == without_dummies(fluid, fluid.id));
+  CHECK(values<double>(array_bytes(vtp, "pressure")) == without_dummies(fluid, fluid.pressure));
+  const std::vector<double> points = values<double>(array_bytes(vtp, "Points"));
+  const std::vector<Vec3> kept = without_dummies(fluid, fluid.position);
+  REQUIRE(points.size() == 3 * kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) CHECK(points[3 * k + 2] == kept[k].z());
+  const std::vector<std::int32_t> offsets = values<std::int32_t>(array_bytes(vtp, "offsets"));
+  CHECK(offsets.back() == static_cast<std::int32_t>(kept.size()));
+  Model model = test::fluid_model();
+  CHECK_FALSE(vtk_format(model.output).dummy_particles);
+  model.output.vtk_dummy_particles = true;
+  CHECK(vtk_format(model.output).dummy_particles);
 }

@@ -312,7 +312,7 @@ TEST_CASE("several problems in one scene are all reported, each at its own line"
   }
 }
 
-TEST_CASE("[output] vtk_encoding and vtk_precision: unset, raw appended arrays in single precision; as written") {
+TEST_CASE("[output] vtk_encoding, vtk_precision, vtk_dummy_particles: unset, raw appended single precision without dummies") {
   const riffle::Model plain = riffle::parse_scene(std::string(kBaseScene), "base.toml");
   CHECK(plain.output.vtk_encoding == riffle::OutputModel::VtkEncoding::kAppended);
   CHECK(plain.output.vtk_precision == riffle::OutputModel::VtkPrecision::kSingle);
@@ -322,6 +322,10 @@ TEST_CASE("[output] vtk_encoding and vtk_precision: unset, raw appended arrays i
       "exact.toml");
   CHECK(exact.output.vtk_encoding == riffle::OutputModel::VtkEncoding::kInline);
   CHECK(exact.output.vtk_precision == riffle::OutputModel::VtkPrecision::kDouble);
+  CHECK_FALSE(plain.output.vtk_dummy_particles);
+  CHECK(riffle::parse_scene(replace_once(kBaseScene, "vtk_interval = 0.01", "vtk_interval = 0.01\nvtk_dummy_particles = true"),
+                            "dummies.toml")
+            .output.vtk_dummy_particles);
 }
 
 TEST_CASE("valid edge values are accepted") {
