@@ -1,5 +1,6 @@
 #include "engine/output/vtk_output.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -298,6 +299,43 @@ std::string pvd_collection(const std::vector<double>& times, const std::vector<s
     out += line;
   }
   return out + "  </Collection>\n</VTKFile>\n";
+}
+
+namespace {
+/// [bytes] of a frame of `rows` rows of `Component` in `format`: per array its UInt32 count and its values (base64:
+/// four characters per three bytes), plus about 105 (appended) or 125 (inline) characters of XML each and 600 for
+/// the file's frame.
+template <class Component>
+double component_frame_bytes(const VtkFormat& format, double rows) {
+  const double real = format.single_precision ? 4.0 : 8.0;
+  double payload = 0.0, arrays = 0.0;
+  const auto add = [&](double bytes) {
+    payload += format.appended ? 4.0 + bytes : std::ceil((4.0 + bytes) / 3.0) * 4.0;
+    arrays += 1.0;
+  };
+  const Component schema;  // an empty table: its fields' names and types
+  for_each_field_in_order(schema, [&](const FieldInfo& info, const auto& field) {
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    if constexpr (!std::is_same_v<T, std::string>) {
+      if (!info.output) return;
+      if constexpr (std::is_same_v<T, Vec3>) add(3.0 * real * rows);
+      else if constexpr (std::is_same_v<T, double>) add(real * rows);
+      else add(static_cast<double>(sizeof(T)) * rows);
+    }
+  });
+  add(3.0 * real * rows);  // the points
+  const double index = rows <= static_cast<double>(std::numeric_limits<std::int32_t>::max()) ? 4.0 : 8.0;
+  add(index * rows);  // connectivity
+  add(index * rows);  // offsets
+  return payload + (format.appended ? 105.0 : 125.0) * arrays + 600.0;
+}
+}  // namespace
+
+FrameBytes estimate_frame_bytes(const VtkFormat& format, double grains, double shown_mps_particles) {
+  FrameBytes bytes;
+  if (grains > 0.0) bytes.grains = component_frame_bytes<Solids>(format, grains);
+  if (shown_mps_particles > 0.0) bytes.water = component_frame_bytes<FluidParticles>(format, shown_mps_particles);
+  return bytes;
 }
 
 }  // namespace riffle

@@ -47,4 +47,13 @@ std::string pvd_collection(const std::vector<double>& times, const std::vector<s
 
 std::string base64_encode(const void* data, std::size_t size);
 
+/// [bytes] the size of one frame of `grains` grains and of `shown_mps_particles` MPS particles (those the frame
+/// shows: without the dummies unless format.dummy_particles) in `format`, from the field tables: what `riffle check`
+/// quotes before a run. Within a few hundred bytes of the written files (the XML's text is estimated).
+struct FrameBytes {
+  double grains = 0.0;  ///< solids_NNNNNN.vtp
+  double water = 0.0;   ///< fluid_NNNNNN.vtp
+};
+FrameBytes estimate_frame_bytes(const VtkFormat& format, double grains, double shown_mps_particles);
+
 }  // namespace riffle

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <new>
 
+#include "engine/output/vtk_output.hpp"
 #include "engine/setup/budget.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/run/registry.hpp"
@@ -42,6 +43,30 @@ const char* kExitCodes =
 extern "C" void handle_stop_signal(int signal_number) { request_stop(signal_number); }
 
 std::string default_out_dir(const Model& model) { return "out/" + model.name; }
+
+/// `riffle check`'s line on the ParaView frames a run will write: how many, and their size in the scene's format
+/// (estimate_frame_bytes), so that a study of many runs knows its disk before it starts.
+std::string describe_frames(const SceneBudget& budget, const Model& model) {
+  const OutputModel& output = model.output;
+  if (!(output.vtk_interval > 0.0)) return "  frames: none (output.vtk_interval = 0)\n";
+  const double frames = std::floor((model.end_time + 0.5 * model.dt) / output.vtk_interval) + 1.0;
+  const VtkFormat format = vtk_format(output);
+  const double shown = model.fluid.enabled ? budget.fluid_particles + budget.wall_particles +
+                                                 (format.dummy_particles ? budget.dummy_particles : 0.0)
+                                           : 0.0;
+  const FrameBytes bytes = estimate_frame_bytes(format, budget.grains, shown);
+  const double frame = bytes.grains + bytes.water;
+  std::string parts;
+  if (bytes.grains > 0.0) parts += "grains " + format_bytes(bytes.grains);
+  if (bytes.water > 0.0) parts += std::string(parts.empty() ? "" : ", ") + "water " + format_bytes(bytes.water);
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "  frames: %.0f, every %g s, of about %s each (%s): about %s in all (%s, %s precision%s)\n", frames,
+                output.vtk_interval, format_bytes(frame).c_str(), parts.c_str(), format_bytes(frames * frame).c_str(),
+                format.appended ? "appended" : "inline base64", format.single_precision ? "single" : "double",
+                model.fluid.enabled ? (format.dummy_particles ? ", dummies included" : ", no dummies") : "");
+  return text;
+}
 
 int report_run(const RunOutcome& outcome) {
   if (!outcome.last_checkpoint.empty() && outcome.exit_code != kExitOk)
@@ -113,6 +138,7 @@ void print_check(const std::string& scene_path, const Model& model) {
                   flow.shields_number, flow.shields_diameter, flow.shields_density);
   }
   std::printf("%s", describe_budget(budget, model).c_str());
+  std::printf("%s", describe_frames(budget, model).c_str());
   // Before a job is queued on many ranks: whether `mpirun -np N riffle run` can spread this scene.
   const std::string spread = Simulation::over_ranks_problem(model);
   if (spread.empty())
