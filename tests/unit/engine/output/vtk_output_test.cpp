@@ -323,7 +323,7 @@ TEST_CASE("appended and inline frames hold the same arrays, and the appended blo
   }
 }
 
-TEST_CASE("[output] vtk_encoding and vtk_precision choose the frames' format; a run writes what they ask") {
+TEST_CASE("[output] vtk_encoding and vtk_precision choose the frames' format, and a run writes what they ask") {
   const auto write_run = [](const char* name, OutputModel::VtkEncoding encoding, OutputModel::VtkPrecision precision) {
     const auto out = test::scratch_dir(name);
     Model model = test::small_model();
