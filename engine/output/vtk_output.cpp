@@ -11,6 +11,30 @@ namespace riffle {
 
 namespace {
 
+/// The VTK type of a frame's real values in `format`.
+const char* real_type(const VtkFormat& format) { return format.single_precision ? "Float32" : "Float64"; }
+
+/// How a field of element type T is written in `format`: its VTK type, its components and its bytes per row. Real
+/// fields (double, Vec3) follow the frame's precision; integers keep their own type. The frames, their .pvtp
+/// declarations and the size estimate all ask here.
+template <class T>
+const char* field_type(const VtkFormat& format) {
+  if constexpr (std::is_same_v<T, double> || std::is_same_v<T, Vec3>) return real_type(format);
+  else if constexpr (std::is_same_v<T, std::int32_t>) return "Int32";
+  else if constexpr (std::is_same_v<T, std::uint64_t>) return "UInt64";
+  else return nullptr;
+}
+template <class T>
+constexpr int field_components() {
+  return std::is_same_v<T, Vec3> ? 3 : 1;
+}
+template <class T>
+double field_row_bytes(const VtkFormat& format) {
+  if constexpr (std::is_same_v<T, double> || std::is_same_v<T, Vec3>)
+    return field_components<T>() * (format.single_precision ? 4.0 : 8.0);
+  else return static_cast<double>(sizeof(T));
+}
+
 /// The arrays of one frame as they are written: each DataArray element (inline: its base64 text inside; appended:
 /// its offset into the block after the XML), and the appended block, each array a UInt32 byte count followed by
 /// its raw bytes.
@@ -19,7 +43,6 @@ class FrameArrays {
   explicit FrameArrays(const VtkFormat& format) : format_(format) {}
 
   const VtkFormat& format() const { return format_; }
-  const char* real_type() const { return format_.single_precision ? "Float32" : "Float64"; }
 
   /// One DataArray of `bytes` raw bytes of `type`.
   std::string array(const char* name, const char* type, int components, const void* values, std::size_t bytes) {
@@ -71,13 +94,6 @@ class FrameArrays {
   std::vector<float> narrowed_;
 };
 
-template <class T>
-const char* integer_type() {
-  if constexpr (std::is_same_v<T, std::int32_t>) return "Int32";
-  else if constexpr (std::is_same_v<T, std::uint64_t>) return "UInt64";
-  else return nullptr;
-}
-
 /// The rows a frame writes: every one (`rows` null), or those listed.
 template <class T>
 const std::vector<T>& rows_of(const std::vector<T>& field, const std::vector<std::uint32_t>* rows,
@@ -101,7 +117,7 @@ std::string field_array(FrameArrays& arrays, const char* name, const std::vector
   } else if constexpr (std::is_same_v<T, double>) {
     return arrays.reals(name, 1, field.data(), field.size());
   } else {
-    return arrays.array(name, integer_type<T>(), 1, field.data(), field.size() * sizeof(T));
+    return arrays.array(name, field_type<T>(arrays.format()), 1, field.data(), field.size() * sizeof(T));
   }
 }
 
@@ -200,7 +216,6 @@ std::string particles_vtp(const Component& particles, const char* scalars, const
 /// The .pvtp of a frame of `Component` in pieces: each output field as a PDataArray of its type and components.
 template <class Component>
 std::string particles_pvtp(const char* scalars, const std::vector<std::string>& pieces, const VtkFormat& format) {
-  const FrameArrays arrays(format);
   std::string out = std::string(
                         "<?xml version=\"1.0\"?>\n"
                         "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" "
@@ -215,8 +230,7 @@ std::string particles_pvtp(const char* scalars, const std::vector<std::string>& 
     if constexpr (!std::is_same_v<T, std::string>) {
       if (!info.output) return;
       std::snprintf(line, sizeof line, "      <PDataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\"/>\n",
-                    std::is_same_v<T, Vec3> || std::is_same_v<T, double> ? arrays.real_type() : integer_type<T>(),
-                    info.name, std::is_same_v<T, Vec3> ? 3 : 1);
+                    field_type<T>(format), info.name, field_components<T>());
       out += line;
     }
   });
@@ -224,7 +238,7 @@ std::string particles_pvtp(const char* scalars, const std::vector<std::string>& 
       "    </PPointData>\n"
       "    <PPoints>\n"
       "      <PDataArray type=\"" +
-      std::string(arrays.real_type()) +
+      std::string(real_type(format)) +
       "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
       "    </PPoints>\n";
   for (const std::string& piece : pieces) out += "    <Piece Source=\"" + piece + "\"/>\n";
@@ -307,7 +321,6 @@ namespace {
 /// the file's frame.
 template <class Component>
 double component_frame_bytes(const VtkFormat& format, double rows) {
-  const double real = format.single_precision ? 4.0 : 8.0;
   double payload = 0.0, arrays = 0.0;
   const auto add = [&](double bytes) {
     payload += format.appended ? 4.0 + bytes : std::ceil((4.0 + bytes) / 3.0) * 4.0;
@@ -318,12 +331,10 @@ double component_frame_bytes(const VtkFormat& format, double rows) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     if constexpr (!std::is_same_v<T, std::string>) {
       if (!info.output) return;
-      if constexpr (std::is_same_v<T, Vec3>) add(3.0 * real * rows);
-      else if constexpr (std::is_same_v<T, double>) add(real * rows);
-      else add(static_cast<double>(sizeof(T)) * rows);
+      add(field_row_bytes<T>(format) * rows);
     }
   });
-  add(3.0 * real * rows);  // the points
+  add(field_row_bytes<Vec3>(format) * rows);  // the points
   const double index = rows <= static_cast<double>(std::numeric_limits<std::int32_t>::max()) ? 4.0 : 8.0;
   add(index * rows);  // connectivity
   add(index * rows);  // offsets

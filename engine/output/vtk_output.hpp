@@ -15,8 +15,9 @@
 namespace riffle {
 
 /// How a frame stores its arrays. The defaults are the scenes': raw bytes appended after the XML, real values in
-/// single precision (a frame is for viewing and plotting: 7 digits; a position of the seed's tank to 1e-8 m), 2.4
-/// times smaller than base64 doubles. Integers (ids, kinds, flags) keep their types in either precision.
+/// single precision (a frame is for viewing and plotting: 7 digits; a position of the seed's tank to 1e-8 m), the
+/// water without its dummy particles: the seed's 5 mm frame 3.4 times smaller than base64 doubles of every particle.
+/// Integers (ids, kinds, flags) keep their types in either precision.
 struct VtkFormat {
   bool appended = true;         ///< false: base64 inside each DataArray (XML that any parser reads whole)
   bool single_precision = true;  ///< false: Float64, the state's own values bit for bit
