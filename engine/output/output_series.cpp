@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <stdexcept>
 
 #include "engine/output/replace_file.hpp"
@@ -49,6 +50,24 @@ void CsvSeries::write_rows(const std::string& rows) {
   file_ << rows;
   file_.flush();
   if (!file_) throw std::runtime_error(path_.string() + ": cannot write");
+}
+
+std::vector<std::string> carry_earlier_series(const fs::path& from_dir, const fs::path& to_dir,
+                                              const std::vector<std::string>& names) {
+  std::vector<std::string> carried;
+  std::error_code error;
+  if (from_dir.empty() || !fs::is_directory(from_dir, error) || fs::equivalent(from_dir, to_dir, error)) return carried;
+  for (const std::string& name : names) {
+    const fs::path source = from_dir / name, target = to_dir / name;
+    if (fs::exists(target, error) || !fs::is_regular_file(source, error)) continue;
+    // Through a temporary name and a rename, like every file a run writes: a kill leaves no half copy to be kept.
+    std::ifstream in(source, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw std::runtime_error(source.string() + ": cannot read the series to carry");
+    replace_file(target, text, Durability::kFlush);
+    carried.push_back(name);
+  }
+  return carried;
 }
 
 IntervalSchedule::IntervalSchedule(double interval, double dt, double start_time)

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace riffle {
 
@@ -30,6 +31,15 @@ class CsvSeries {
   std::filesystem::path path_;
   std::ofstream file_;
 };
+
+/// A run resumed into another folder than its checkpoint's starts its series there with the rows before the
+/// checkpoint: each of `names` that `to_dir` lacks and `from_dir` (the checkpoint's run folder) holds is copied
+/// across, and the CsvSeries the run opens on it then keeps the rows up to the checkpoint, as in a resume in place.
+/// So a folder a run resumed into holds the whole run's series (S and the centroids from t = 0, not from the
+/// resume). A file already in `to_dir` is left as it is. Returns the names copied; throws std::runtime_error if a
+/// copy fails.
+std::vector<std::string> carry_earlier_series(const std::filesystem::path& from_dir, const std::filesystem::path& to_dir,
+                                              const std::vector<std::string>& names);
 
 /// The rows `interval` seconds apart: one on the first output of a fresh run (t = 0), then one after every step
 /// whose end time reaches the next multiple of the interval (within half a step), at most one per step; interval 0

@@ -354,12 +354,7 @@ int run_command(int argc, char** argv) {
       graph_only = std::make_unique<Stepper>(build_pipeline(*model_only), *unlaid, *model_only);
     } else if (*resume) {
       simulation = Simulation::from_checkpoint(checkpoint_path, limits);
-      if (out_dir.empty()) {
-        // The run directory is the one holding checkpoints/, also when the path is a bare name inside checkpoints/.
-        auto run_dir = (std::filesystem::path(checkpoint_path).parent_path() / "..").lexically_normal();
-        if (!run_dir.has_filename()) run_dir = run_dir.parent_path();  // "A/" -> "A"
-        out_dir = run_dir.string();
-      }
+      if (out_dir.empty()) out_dir = checkpoint_run_directory(checkpoint_path).string();
     } else {
       simulation = Simulation::from_scene_file(scene_path, limits, overrides);
       if (out_dir.empty()) out_dir = default_out_dir(simulation->model());

@@ -508,8 +508,34 @@ std::unique_ptr<Simulation> Simulation::from_scene_file(const std::string& path,
   return from_model(load_scene_file(path, limits, overrides));
 }
 
+std::filesystem::path checkpoint_run_directory(const std::string& checkpoint_path) {
+  auto run_dir = (std::filesystem::path(checkpoint_path).parent_path() / "..").lexically_normal();
+  if (!run_dir.has_filename()) run_dir = run_dir.parent_path();  // "A/" -> "A"
+  return run_dir;
+}
+
 std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path, const SceneLimits& limits) {
-  return from_checkpoint_data(read_checkpoint(path), path, limits);
+  std::unique_ptr<Simulation> simulation = from_checkpoint_data(read_checkpoint(path), path, limits);
+  simulation->checkpoint_run_dir_ = checkpoint_run_directory(path);
+  return simulation;
+}
+
+void Simulation::carry_series_into(const std::filesystem::path& out) const {
+  // The series a run writes (their writers keep the rows up to the checkpoint): diagnostics, probes, bed profile.
+  std::vector<std::string> names{"diagnostics.csv"};
+  for (const ProbeModel& probe : model_->output.probes) names.push_back(probe.file);
+  if (model_->output.bed_profile_interval > 0.0 && world_.solids) {
+    names.push_back("bed_profile.csv");
+    names.push_back("class_centroids.csv");
+  }
+  const std::vector<std::string> carried = carry_earlier_series(checkpoint_run_dir_, out, names);
+  if (!carried.empty()) {
+    std::string list;
+    for (const std::string& name : carried) list += (list.empty() ? "" : ", ") + name;
+    spdlog::info("the rows before t = {} s carried from {} (a resume into another folder keeps the whole run's "
+                 "series): {}",
+                 world_.time, checkpoint_run_dir_.string(), list);
+  }
 }
 
 std::unique_ptr<Simulation> Simulation::from_checkpoint_data(CheckpointData data, const std::string& name,
@@ -815,6 +841,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
   std::uint64_t unconverged_pressure_steps = 0;
   FrameFiles frame_files(out);
   try {
+    if (!fresh_run) carry_series_into(out);
     DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run,
                                   model_->fluid.body_force.kind != BodyForceModel::Kind::kNone);
     // Probes and the bed profile keep no state in checkpoints: their schedules depend on the time only.
@@ -1173,6 +1200,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   {
     const World whole = gathered_world();
     outputs_ok = write_on_root([&] {
+      if (!fresh_run) carry_series_into(out);
       diagnostics.emplace(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run, false);
       for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, whole, fresh_run);
       if (model_->output.bed_profile_interval > 0.0) bed_profile.emplace(*model_, out, whole, fresh_run);

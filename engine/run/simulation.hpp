@@ -2,6 +2,7 @@
 // A run: the model, the world, the stepper, and the run loop with its outputs (VTK frames, diagnostics.csv,
 // timings.csv, checkpoints), progress reporting, signal handling and the failure policy.
 #include <atomic>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,6 +51,10 @@ struct RunOutcome {
 
 /// The one-line diagnosis of a failed step (world.step_status), as a run's outcome message gives it.
 std::string diagnosis(const World& world, const Model& model);
+
+/// The run folder a checkpoint belongs to: the folder holding its checkpoints/ (also for a bare file name given from
+/// inside checkpoints/).
+std::filesystem::path checkpoint_run_directory(const std::string& checkpoint_path);
 
 class Simulation {
  public:
@@ -101,10 +106,15 @@ class Simulation {
   /// run() for a run over ranks: every rank steps its grains; rank 0 alone writes, from the gathered world.
   RunOutcome run_over_ranks(const RunOptions& options);
 
+  /// A resumed run in another folder than its checkpoint's: the series before the checkpoint copied into `out`
+  /// (carry_earlier_series), and said in the log.
+  void carry_series_into(const std::filesystem::path& out) const;
+
   std::unique_ptr<const Model> model_;
   World world_;
   OutputState output_;
   std::unique_ptr<Stepper> stepper_;
+  std::filesystem::path checkpoint_run_dir_;  ///< the run folder of the checkpoint this run resumed from, if any
 };
 
 }  // namespace riffle

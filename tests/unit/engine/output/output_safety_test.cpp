@@ -166,6 +166,29 @@ TEST_CASE("a resumed CSV series keeps its rows by rename, then appends") {
   CHECK(temporary_files_in(dir) == 0);
 }
 
+TEST_CASE("a resume into another folder starts its series with the rows before the checkpoint") {
+  const fs::path from = test::scratch_dir("carry_from"), to = test::scratch_dir("carry_to");
+  write_text(from / "diagnostics.csv", "step,value\n1,10\n2,20\n3,30\n");
+  write_text(from / "class_centroids.csv", "time_s,z\n0,1\n");
+  write_text(to / "class_centroids.csv", "time_s,z\n0,7\n");  // the new folder's own file is never replaced
+  const std::vector<std::string> carried =
+      carry_earlier_series(from, to, {"diagnostics.csv", "class_centroids.csv", "probe_absent.csv"});
+  CHECK(carried == std::vector<std::string>{"diagnostics.csv"});
+  CHECK(file_text(to / "class_centroids.csv") == "time_s,z\n0,7\n");
+  CHECK(!fs::exists(to / "probe_absent.csv"));
+  {
+    // The run's writer then keeps the rows up to the checkpoint (step 2), as in a resume in place.
+    CsvSeries series(to / "diagnostics.csv", "step,value", 2.0);
+    series.write_row("3,31");
+  }
+  CHECK(file_text(to / "diagnostics.csv") == "step,value\n1,10\n2,20\n3,31\n");
+  CHECK(file_text(from / "diagnostics.csv") == "step,value\n1,10\n2,20\n3,30\n");  // the source untouched
+  // Into its own folder (a resume in place) or from a folder that is not there, nothing is copied.
+  CHECK(carry_earlier_series(from, from, {"diagnostics.csv"}).empty());
+  CHECK(carry_earlier_series(from / "missing", to, {"probe_absent.csv"}).empty());
+  CHECK(temporary_files_in(to) == 0);
+}
+
 TEST_CASE("one output folder, one run: the lock refuses a second holder until the first lets go") {
   const fs::path dir = test::scratch_dir("output_lock");
   {

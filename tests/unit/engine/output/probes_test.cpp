@@ -316,6 +316,18 @@ interval = 0.005
   REQUIRE(short_walls.size() == 7);  // t = 0, 0.005, ..., 0.025
   CHECK(short_walls.back() == walls[6]);
   CHECK(test::file_lines(c / "class_centroids.csv").size() == 4);  // t = 0, 0.01, 0.02
+
+  // Resume from a's step-20 checkpoint into a new folder: its series start with a's rows up to t = 0.02 and go on
+  // as a's did, so the folder holds the whole run's (S and the centroids from t = 0, not from the resume).
+  const fs::path d = directory / "d";
+  auto elsewhere = Simulation::from_checkpoint((a / "checkpoints" / "step_0000000020.ckpt").string());
+  options.out_dir = d.string();
+  options.until.reset();
+  REQUIRE(elsewhere->run(options).exit_code == kExitOk);
+  for (const char* file : {"probe_grains.csv", "probe_wall_forces.csv", "bed_profile.csv", "class_centroids.csv"}) {
+    CAPTURE(file);
+    CHECK(test::file_text(d / file) == test::file_text(a / file));
+  }
 }
 
 TEST_CASE("a grains probe writes a grain past a periodic face at its place in the period") {
