@@ -329,20 +329,34 @@ std::string frame_name(const char* phase, std::size_t k, const char* suffix) {
 /// Which file each VTK frame of an output folder is in, for the .pvd series: the grains' and the water's frame k in
 /// pieces (a .pvtp naming one .vtp per rank, written over ranks) or whole (one .vtp); the walls always whole. Known
 /// for the frames this run wrote; those of an earlier run (before a resume, maybe on another rank count) are looked
-/// up on disk once each.
+/// up on disk once each. A run resumed into another folder than its checkpoint's (`earlier`) lists the frames before
+/// the checkpoint where they are, by a path relative to its own folder, so that its series shows the whole run.
 class FrameFiles {
  public:
-  explicit FrameFiles(fs::path out) : out_(std::move(out)) {}
+  explicit FrameFiles(fs::path out, fs::path earlier = {}) : out_(std::move(out)), earlier_(std::move(earlier)) {
+    std::error_code error;
+    if (!earlier_.empty() && (!fs::is_directory(earlier_, error) || fs::equivalent(earlier_, out_, error)))
+      earlier_.clear();
+  }
 
   void written(std::size_t k, bool pieces) {
     in_pieces(k);
     pieces_[k] = pieces;
+    if (written_.size() <= k) written_.resize(k + 1, false);
+    written_[k] = true;
   }
 
   /// Relative to the output folder, as the .pvd lists it.
   std::string name(const char* phase, std::size_t k) {
     const bool pieces = std::strcmp(phase, "walls") != 0 && in_pieces(k);
-    return frame_name(phase, k, pieces ? ".pvtp" : ".vtp");
+    const std::string name = frame_name(phase, k, pieces ? ".pvtp" : ".vtp");
+    if (k < written_.size() && written_[k]) return name;
+    std::error_code error;
+    if (!earlier_.empty() && !fs::exists(out_ / name, error) && fs::exists(earlier_ / name, error)) {
+      const fs::path relative = fs::relative(earlier_ / name, out_, error);
+      if (!error && !relative.empty()) return relative.generic_string();
+    }
+    return name;
   }
 
   /// Rewrites a phase's .pvd series listing every frame so far.
@@ -356,14 +370,23 @@ class FrameFiles {
   bool in_pieces(std::size_t k) {
     while (pieces_.size() <= k) {
       const std::size_t j = pieces_.size();
-      pieces_.push_back(fs::exists(out_ / frame_name("solids", j, ".pvtp")) ||
-                        fs::exists(out_ / frame_name("fluid", j, ".pvtp")));
+      const auto pieces_in = [&](const fs::path& folder) {
+        return fs::exists(folder / frame_name("solids", j, ".pvtp")) ||
+               fs::exists(folder / frame_name("fluid", j, ".pvtp"));
+      };
+      // A frame this folder lacks is the earlier folder's, in the form it was written there.
+      const bool here = pieces_in(out_) || fs::exists(out_ / frame_name("solids", j, ".vtp")) ||
+                        fs::exists(out_ / frame_name("fluid", j, ".vtp")) ||
+                        fs::exists(out_ / frame_name("walls", j, ".vtp"));
+      pieces_.push_back(here || earlier_.empty() ? pieces_in(out_) : pieces_in(earlier_));
     }
     return pieces_[k];
   }
 
   fs::path out_;
+  fs::path earlier_;  ///< the checkpoint's run folder, when this run resumed into another; else empty
   std::vector<bool> pieces_;
+  std::vector<bool> written_;  ///< the frames this run wrote (always in out_)
 };
 
 /// The grains where a run failed: the scene's encoding, in double precision (a diagnosis may turn on overlaps of
@@ -839,7 +862,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
 
   double stepping_seconds = 0.0;
   std::uint64_t unconverged_pressure_steps = 0;
-  FrameFiles frame_files(out);
+  FrameFiles frame_files(out, fresh_run ? fs::path() : checkpoint_run_dir_);
   try {
     if (!fresh_run) carry_series_into(out);
     DiagnosticsWriter diagnostics(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run,
@@ -1183,7 +1206,7 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
   };
 
   // A frame in pieces, each rank its own (no gather), or gathered at rank 0 into one file as one rank writes it.
-  FrameFiles frame_files(out);  // rank 0's: the series it writes
+  FrameFiles frame_files(out, fresh_run ? fs::path() : checkpoint_run_dir_);  // rank 0's: the series it writes
   const bool frame_in_pieces = model_->output.vtk_pieces == OutputModel::VtkPieces::kPerRank && ranks::size() > 1;
   const auto write_pieces = [&] {
     const std::string problem = write_vtk_pieces(out, world_, *model_, output_, frame_files);

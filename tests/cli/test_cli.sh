@@ -394,6 +394,19 @@ physics() { tail -n +2 "$1" | cut -d, -f1-11; }  # drops the wall-clock columns
 check "B's diagnostics rows (steps 1..20 carried from A, 21..50 its own) equal A's, wall-clock columns aside" \
   same_text "$(physics B/diagnostics.csv)" "$(physics A/diagnostics.csv)"
 check "B's log says which series it carried from A" contains B.err "carried from A" "diagnostics.csv"
+b_frames_ok() {
+  local k f
+  for k in 0 1 2; do  # before the checkpoint: A's frames, where they are
+    f=$(printf '../A/vtk/solids_%06d.vtp' "$k")
+    grep -qF "file=\"$f\"" B/solids.pvd && [ -f "B/$f" ] || { echo "#   frame $k is not listed as $f"; return 1; }
+  done
+  for k in 3 4 5; do  # after it: B's own
+    f=$(printf 'vtk/solids_%06d.vtp' "$k")
+    grep -qF "file=\"$f\"" B/solids.pvd && [ -f "B/$f" ] || { echo "#   frame $k is not B's $f"; return 1; }
+  done
+  [ ! -e B/vtk/solids_000000.vtp ] || { echo "#   A's frames were copied into B"; return 1; }
+}
+check "B's solids.pvd lists the whole run: A's frames 0-2 by their path from B, its own 3-5" b_frames_ok
 riffle_as T1 run small.toml --out T1 --threads 1
 expect_rc "riffle run --threads 1 exits 0" T1 0
 check "--threads 1 and --threads 2 write byte-identical final checkpoints" \
