@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <fstream>
 #include <new>
 #include <sstream>
@@ -326,17 +327,46 @@ std::string frame_name(const char* phase, std::size_t k, const char* suffix) {
   return name;
 }
 
+/// The files a .pvd series lists, in order (empty if there is none).
+std::vector<std::string> listed_frames(const fs::path& pvd) {
+  std::vector<std::string> files;
+  std::ifstream in(pvd);
+  std::string line;
+  const std::string key = "file=\"";
+  while (std::getline(in, line)) {
+    const std::size_t at = line.find(key);
+    if (at == std::string::npos) continue;
+    const std::size_t begin = at + key.size(), end = line.find('"', begin);
+    if (end != std::string::npos) files.push_back(line.substr(begin, end - begin));
+  }
+  return files;
+}
+
 /// Which file each VTK frame of an output folder is in, for the .pvd series: the grains' and the water's frame k in
 /// pieces (a .pvtp naming one .vtp per rank, written over ranks) or whole (one .vtp); the walls always whole. Known
 /// for the frames this run wrote; those of an earlier run (before a resume, maybe on another rank count) are looked
 /// up on disk once each. A run resumed into another folder than its checkpoint's (`earlier`) lists the frames before
-/// the checkpoint where they are, by a path relative to its own folder, so that its series shows the whole run.
+/// the checkpoint where they are, by a path relative to its own folder, so that its series shows the whole run; a
+/// frame a series already listed elsewhere (a folder branched from another, resumed again) keeps that file.
 class FrameFiles {
  public:
   explicit FrameFiles(fs::path out, fs::path earlier = {}) : out_(std::move(out)), earlier_(std::move(earlier)) {
     std::error_code error;
     if (!earlier_.empty() && (!fs::is_directory(earlier_, error) || fs::equivalent(earlier_, out_, error)))
       earlier_.clear();
+    for (const char* phase : {"solids", "fluid", "walls"}) {
+      std::vector<std::string>& listed = listed_[phase];
+      listed = listed_frames(out_ / (std::string(phase) + ".pvd"));
+      if (earlier_.empty()) continue;
+      // The earlier folder's series, as paths from this folder: where this folder's own series says nothing.
+      const std::vector<std::string> before = listed_frames(earlier_ / (std::string(phase) + ".pvd"));
+      for (std::size_t k = 0; k < before.size(); ++k) {
+        const fs::path relative = fs::relative(earlier_ / before[k], out_, error);
+        if (error || relative.empty()) continue;
+        if (listed.size() <= k) listed.resize(k + 1);
+        if (listed[k].empty() || !fs::exists(out_ / listed[k], error)) listed[k] = relative.generic_string();
+      }
+    }
   }
 
   void written(std::size_t k, bool pieces) {
@@ -350,12 +380,11 @@ class FrameFiles {
   std::string name(const char* phase, std::size_t k) {
     const bool pieces = std::strcmp(phase, "walls") != 0 && in_pieces(k);
     const std::string name = frame_name(phase, k, pieces ? ".pvtp" : ".vtp");
-    if (k < written_.size() && written_[k]) return name;
     std::error_code error;
-    if (!earlier_.empty() && !fs::exists(out_ / name, error) && fs::exists(earlier_ / name, error)) {
-      const fs::path relative = fs::relative(earlier_ / name, out_, error);
-      if (!error && !relative.empty()) return relative.generic_string();
-    }
+    if ((k < written_.size() && written_[k]) || fs::exists(out_ / name, error)) return name;
+    // Not in this folder: the file a series listed for it (this folder's, or the earlier folder's), if it is there.
+    const std::vector<std::string>& listed = listed_[phase];
+    if (k < listed.size() && !listed[k].empty() && fs::exists(out_ / listed[k], error)) return listed[k];
     return name;
   }
 
@@ -370,15 +399,8 @@ class FrameFiles {
   bool in_pieces(std::size_t k) {
     while (pieces_.size() <= k) {
       const std::size_t j = pieces_.size();
-      const auto pieces_in = [&](const fs::path& folder) {
-        return fs::exists(folder / frame_name("solids", j, ".pvtp")) ||
-               fs::exists(folder / frame_name("fluid", j, ".pvtp"));
-      };
-      // A frame this folder lacks is the earlier folder's, in the form it was written there.
-      const bool here = pieces_in(out_) || fs::exists(out_ / frame_name("solids", j, ".vtp")) ||
-                        fs::exists(out_ / frame_name("fluid", j, ".vtp")) ||
-                        fs::exists(out_ / frame_name("walls", j, ".vtp"));
-      pieces_.push_back(here || earlier_.empty() ? pieces_in(out_) : pieces_in(earlier_));
+      pieces_.push_back(fs::exists(out_ / frame_name("solids", j, ".pvtp")) ||
+                        fs::exists(out_ / frame_name("fluid", j, ".pvtp")));
     }
     return pieces_[k];
   }
@@ -387,6 +409,7 @@ class FrameFiles {
   fs::path earlier_;  ///< the checkpoint's run folder, when this run resumed into another; else empty
   std::vector<bool> pieces_;
   std::vector<bool> written_;  ///< the frames this run wrote (always in out_)
+  std::map<std::string, std::vector<std::string>> listed_;  ///< per phase, the files the existing series list
 };
 
 /// The grains where a run failed: the scene's encoding, in double precision (a diagnosis may turn on overlaps of
@@ -539,7 +562,12 @@ std::filesystem::path checkpoint_run_directory(const std::string& checkpoint_pat
 
 std::unique_ptr<Simulation> Simulation::from_checkpoint(const std::string& path, const SceneLimits& limits) {
   std::unique_ptr<Simulation> simulation = from_checkpoint_data(read_checkpoint(path), path, limits);
-  simulation->checkpoint_run_dir_ = checkpoint_run_directory(path);
+  // Only a checkpoint in a run's checkpoints/ folder says which run it is of: one copied elsewhere (or a link to
+  // one) carries nothing rather than another folder's series.
+  std::error_code error;
+  const fs::path located = fs::weakly_canonical(fs::path(path), error);
+  if (!error && located.parent_path().filename() == "checkpoints")
+    simulation->checkpoint_run_dir_ = located.parent_path().parent_path();
   return simulation;
 }
 

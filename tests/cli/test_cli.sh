@@ -393,7 +393,7 @@ physics() { tail -n +2 "$1" | cut -d, -f1-11; }  # drops the wall-clock columns
 # the folder holds the whole run's, as A's does.
 check "B's diagnostics rows (steps 1..20 carried from A, 21..50 its own) equal A's, wall-clock columns aside" \
   same_text "$(physics B/diagnostics.csv)" "$(physics A/diagnostics.csv)"
-check "B's log says which series it carried from A" contains B.err "carried from A" "diagnostics.csv"
+check "B's log says which series it carried from A" contains B.err "carried from $WORK/A " "diagnostics.csv"
 b_frames_ok() {
   local k f
   for k in 0 1 2; do  # before the checkpoint: A's frames, where they are
@@ -407,6 +407,16 @@ b_frames_ok() {
   [ ! -e B/vtk/solids_000000.vtp ] || { echo "#   A's frames were copied into B"; return 1; }
 }
 check "B's solids.pvd lists the whole run: A's frames 0-2 by their path from B, its own 3-5" b_frames_ok
+# B resumed again in its own folder keeps the links to A's frames; a checkpoint copied out of its run's checkpoints/
+# names no run, so its resume into another folder carries nothing.
+riffle_as B_again resume "B/checkpoints/$(ckpt_name 40)" --until 0.05 --threads 2
+expect_rc "B resumed in place from its step-40 checkpoint exits 0" B_again 0
+check "... and its solids.pvd still lists A's frames 0-2 and its own 3-5" b_frames_ok
+cp "A/checkpoints/$(ckpt_name 20)" loose.ckpt
+riffle_as loose resume loose.ckpt --out loose_out --until 0.025 --threads 2
+expect_rc "a checkpoint outside any checkpoints/ folder resumes" loose 0
+check "... carrying no series: its diagnostics start after the checkpoint (steps 21..25)" \
+  test "$(tail -n +2 loose_out/diagnostics.csv | cut -d, -f1 | tr '\n' ' ')" = "21 22 23 24 25 "
 riffle_as T1 run small.toml --out T1 --threads 1
 expect_rc "riffle run --threads 1 exits 0" T1 0
 check "--threads 1 and --threads 2 write byte-identical final checkpoints" \
