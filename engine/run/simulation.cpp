@@ -380,12 +380,19 @@ class FrameFiles {
   std::string name(const char* phase, std::size_t k) {
     const bool pieces = std::strcmp(phase, "walls") != 0 && in_pieces(k);
     const std::string name = frame_name(phase, k, pieces ? ".pvtp" : ".vtp");
+    if (k < written_.size() && written_[k]) return name;
+    // A frame of an earlier run: looked up on disk once (the series is rewritten at every frame).
+    std::vector<std::string>& found = found_[phase];
+    if (k < found.size() && !found[k].empty()) return found[k];
+    if (found.size() <= k) found.resize(k + 1);
+    found[k] = name;
     std::error_code error;
-    if ((k < written_.size() && written_[k]) || fs::exists(out_ / name, error)) return name;
-    // Not in this folder: the file a series listed for it (this folder's, or the earlier folder's), if it is there.
-    const std::vector<std::string>& listed = listed_[phase];
-    if (k < listed.size() && !listed[k].empty() && fs::exists(out_ / listed[k], error)) return listed[k];
-    return name;
+    if (!fs::exists(out_ / name, error)) {
+      // Not in this folder: the file a series listed for it (this folder's, or the earlier folder's), if it is there.
+      const std::vector<std::string>& listed = listed_[phase];
+      if (k < listed.size() && !listed[k].empty() && fs::exists(out_ / listed[k], error)) found[k] = listed[k];
+    }
+    return found[k];
   }
 
   /// Rewrites a phase's .pvd series listing every frame so far.
@@ -410,6 +417,7 @@ class FrameFiles {
   std::vector<bool> pieces_;
   std::vector<bool> written_;  ///< the frames this run wrote (always in out_)
   std::map<std::string, std::vector<std::string>> listed_;  ///< per phase, the files the existing series list
+  std::map<std::string, std::vector<std::string>> found_;   ///< per phase, the earlier frames' files once looked up
 };
 
 /// The grains where a run failed: the scene's encoding, in double precision (a diagnosis may turn on overlaps of
