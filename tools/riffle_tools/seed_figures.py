@@ -395,7 +395,12 @@ def fig06(run, out, args):
                       / np.sum(volume[grains["size_class"] == k])) for k in classes])
         source = "the grain frames (volume-weighted mean centre height)"
     header = ["t_over_T"] + [f"class_{k}_centroid_m" for k in classes]
-    if len(run.solid_times()) > 0 and len(classes) >= 2:
+    # S is measured from the bed at t = 0, which a series starting later (a folder resumed into by an older riffle)
+    # does not hold: then no index rather than one against the bed at the resume.
+    starts_at_zero = bool(rows) and rows[0][0] <= 0.01
+    if rows and not starts_at_zero:
+        print(f"fig06: the centroids start at t/T = {rows[0][0]:g}, not 0: no segregation index drawn")
+    if len(run.solid_times()) > 0 and len(classes) >= 2 and starts_at_zero:
         grains = run.solids(0, ("radius", "size_class"))
         volumes = [float(np.sum(grains["radius"][grains["size_class"] == k] ** 3)) for k in classes]
         for row in rows:

@@ -173,6 +173,12 @@ def measure(run_dir, stages, drift_windows, rise_windows=(), bed_periods=(), ref
     `bed_periods`, and the end-wall circulation over each of `drift_windows` ("K1-K2"). Returns (row, series)."""
     run_dir = pathlib.Path(run_dir)
     t, z, classes = centroid_series(run_dir)
+    if len(t) == 0 or t[0] > 0.01:
+        # S is measured from the bed at t = 0: a folder resumed into by a riffle before it carried the series (or a
+        # series cut short) would give S against the bed at the resume.
+        raise SystemExit(f"study_collect measure: {run_dir / 'class_centroids.csv'} starts at t/T = "
+                         f"{t[0] if len(t) else float('nan'):g}, not 0: S needs the bed at t = 0 (a run resumed "
+                         "into another folder by an older riffle: prepend the rows of the folder it came from)")
     volumes = class_volumes(run_dir, classes)
     s = segregation_series(t, z, volumes)
     row = {}
