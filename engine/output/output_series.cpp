@@ -12,24 +12,82 @@ namespace riffle {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+/// `<stem>.before_resume.csv` beside `path`, or `<stem>.before_resume.<k>.csv` for the first k from 2 that is free.
+fs::path set_aside_path(const fs::path& path) {
+  const std::string stem = path.stem().string() + ".before_resume";
+  fs::path candidate = path.parent_path() / (stem + path.extension().string());
+  for (int k = 2; fs::exists(candidate); ++k)
+    candidate = path.parent_path() / (stem + "." + std::to_string(k) + path.extension().string());
+  return candidate;
+}
+
+/// The comma-separated fields of a line (no quoting: riffle's series hold numbers and plain names).
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', begin);
+    fields.push_back(line.substr(begin, comma - begin));
+    if (comma == std::string::npos) return fields;
+    begin = comma + 1;
+  }
+}
+
+}  // namespace
+
 CsvSeries::CsvSeries(const fs::path& path, const std::string& header, std::optional<double> keep_up_to)
     : path_(path) {
   std::string kept;
   if (keep_up_to && fs::exists(path)) {
     std::ifstream existing(path);
-    std::string line;
-    std::getline(existing, line);
-    if (line == header) {
-      const auto fields = std::count(header.begin(), header.end(), ',');
-      while (std::getline(existing, line)) {
-        if (line.empty() || std::count(line.begin(), line.end(), ',') != fields) continue;
+    std::string earlier_header;
+    std::getline(existing, earlier_header);
+    // An empty file (killed before its header was written) has nothing to keep.
+    if (!earlier_header.empty()) {
+      const std::vector<std::string> earlier_columns = split_fields(earlier_header);
+      const std::vector<std::string> columns = split_fields(header);
+      // Another header: the resumed run writes other columns (on another rank count, with another system or probe
+      // setting, by another riffle). The rows are carried under this run's columns, matched by name (a column the
+      // run no longer writes left out, a new one left empty), provided the first column (the time or step the rows
+      // are kept by) is the same; and the earlier file is kept whole beside the new one, so nothing is lost.
+      const bool same = earlier_header == header;
+      std::vector<std::size_t> source(columns.size(), std::string::npos);
+      for (std::size_t k = 0; k < columns.size(); ++k) {
+        const auto found = std::find(earlier_columns.begin(), earlier_columns.end(), columns[k]);
+        if (found != earlier_columns.end()) source[k] = static_cast<std::size_t>(found - earlier_columns.begin());
+      }
+      const bool carried = same || source.front() == 0;
+      std::string line;
+      while (carried && std::getline(existing, line)) {
+        // A row with another field count than its header is a torn last line.
+        if (line.empty() || static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1 !=
+                                earlier_columns.size())
+          continue;
         double first = 0.0;
         try {
           first = std::stod(line.substr(0, line.find(',')));
         } catch (const std::exception&) {
           continue;
         }
-        if (first <= *keep_up_to) kept += line + "\n";
+        if (first > *keep_up_to) continue;
+        if (same) {
+          kept += line + "\n";
+          continue;
+        }
+        const std::vector<std::string> fields = split_fields(line);
+        for (std::size_t k = 0; k < columns.size(); ++k) {
+          if (k > 0) kept += ',';
+          if (source[k] != std::string::npos) kept += fields[source[k]];
+        }
+        kept += '\n';
+      }
+      if (!same) {
+        existing.close();
+        set_aside_ = set_aside_path(path);
+        fs::copy_file(path, *set_aside_);
+        rows_carried_ = carried;
       }
     }
   }

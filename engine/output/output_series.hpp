@@ -16,9 +16,13 @@ class CsvSeries {
  public:
   /// Replaces `path` with `header` (without the newline) and opens it for appending. With `keep_up_to` set (a
   /// resumed run), the rows of the existing file whose first column is <= *keep_up_to are kept, provided its
-  /// header equals `header`; rows with another field count than the header (a torn last line) are dropped. The
-  /// replacement is a rename of a temporary file (engine/output/replace_file.hpp): a kill never loses the kept rows.
-  /// Throws std::runtime_error if the file cannot be written.
+  /// header equals `header`; rows with another field count than their header (a torn last line) are dropped. An
+  /// existing file with another header (the resumed run writes other columns) is first copied whole to
+  /// `<stem>.before_resume.csv` (set_aside() names it); its rows are then kept under `header`'s columns, matched by
+  /// name (a column not in `header` left out, one new in it left empty), if its first column is `header`'s first
+  /// (rows_carried()), else none. The replacement is a rename of a temporary file (engine/output/replace_file.hpp):
+  /// a kill never loses the kept rows.
+  /// Throws std::runtime_error if the file cannot be written, std::filesystem::filesystem_error if it cannot be set aside.
   CsvSeries(const std::filesystem::path& path, const std::string& header, std::optional<double> keep_up_to);
 
   /// Appends one row (without the newline) and flushes.
@@ -26,9 +30,15 @@ class CsvSeries {
   /// Appends several rows (each ending in a newline) and flushes once.
   void write_rows(const std::string& rows);
   const std::filesystem::path& path() const { return path_; }
+  /// Where an earlier file with another header was copied at the resume, if one was.
+  const std::optional<std::filesystem::path>& set_aside() const { return set_aside_; }
+  /// With set_aside(): whether that file's rows up to the resume were kept here under this series' columns.
+  bool rows_carried() const { return rows_carried_; }
 
  private:
   std::filesystem::path path_;
+  std::optional<std::filesystem::path> set_aside_;
+  bool rows_carried_ = false;
   std::ofstream file_;
 };
 

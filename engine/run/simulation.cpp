@@ -249,9 +249,37 @@ class DiagnosticsWriter {
 
   bool driving_;  ///< the scene has a body force: its column is written
   CsvSeries file_;
+
+ public:
+  const CsvSeries& series() const { return file_; }
+
+ private:
   std::vector<double> previous_totals_;
 };
 
+
+/// A resumed run continues each series file whose columns it writes; one with other columns (a resume on another
+/// number of ranks, with another probe or system, or by another riffle version) goes on under the new columns and
+/// is also kept whole beside them by CsvSeries. Says so, and where.
+void report_set_aside_series(const DiagnosticsWriter& diagnostics, const std::vector<ProbeWriter>& probes,
+                             const std::optional<BedProfileWriter>& bed_profile, double time) {
+  std::vector<const CsvSeries*> series{&diagnostics.series()};
+  for (const ProbeWriter& probe : probes) series.push_back(&probe.series());
+  if (bed_profile)
+    for (const CsvSeries* file : bed_profile->series()) series.push_back(file);
+  for (const CsvSeries* file : series) {
+    if (!file->set_aside()) continue;
+    if (file->rows_carried())
+      spdlog::warn("{} had other columns than this run writes: its rows up to the resume (t = {} s) go on under "
+                   "this run's columns (one it no longer writes left out, a new one empty before the resume); the "
+                   "file as it was is kept in {}",
+                   file->path().string(), time, file->set_aside()->string());
+    else
+      spdlog::warn("{} had other columns than this run writes, and another first column: it starts again at the "
+                   "resume (t = {} s); the file as it was is kept in {}",
+                   file->path().string(), time, file->set_aside()->string());
+  }
+}
 
 std::string checkpoint_name(std::uint64_t step) {
   char name[64];
@@ -909,6 +937,7 @@ RunOutcome Simulation::run(const RunOptions& options) {
     std::optional<BedProfileWriter> bed_profile;
     if (model_->output.bed_profile_interval > 0.0 && world_.solids)
       bed_profile.emplace(*model_, out, world_, fresh_run);
+    report_set_aside_series(diagnostics, probes, bed_profile, world_.time);
     if (fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
       write_vtk_frame(out, world_, *model_, output_, frame_files);
     if (fresh_run) {
@@ -1260,9 +1289,13 @@ RunOutcome Simulation::run_over_ranks(const RunOptions& options) {
     const World whole = gathered_world();
     outputs_ok = write_on_root([&] {
       if (!fresh_run) carry_series_into(out);
-      diagnostics.emplace(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run, false);
+      // The body force is the same on every rank (prescribed, or the controller's on the bulk velocity of all the
+      // water): its column as on one rank, so a run's series keeps its columns when resumed on another rank count.
+      diagnostics.emplace(out / "diagnostics.csv", world_, stepper_->timers(), fresh_run,
+                          model_->fluid.body_force.kind != BodyForceModel::Kind::kNone);
       for (const ProbeModel& probe : model_->output.probes) probes.emplace_back(*model_, probe, out, whole, fresh_run);
       if (model_->output.bed_profile_interval > 0.0) bed_profile.emplace(*model_, out, whole, fresh_run);
+      report_set_aside_series(*diagnostics, probes, bed_profile, world_.time);
       if (!frame_in_pieces && fresh_run && due(model_->output.vtk_interval, output_.frame_times.size()))
         write_vtk_frame(out, whole, *model_, output_, frame_files);
       if (fresh_run) {

@@ -105,6 +105,13 @@ check "the two ranks' run resumed on one rank in its own folder: its series list
   bash -c "grep -qF 'file=\"vtk/solids_000002.pvtp\"' mixed/solids.pvd && grep -qF 'file=\"vtk/solids_000003.vtp\"' mixed/solids.pvd &&
            grep -qF 'file=\"vtk/solids_000004.vtp\"' mixed/solids.pvd && [ ! -e mixed/vtk/solids_000004.pvtp ] &&
            [ \$(grep -c '<DataSet' mixed/solids.pvd) = 5 ]"
+check "... and its diagnostics keep the two ranks' rows (the file as it was kept beside it where the columns differ)" \
+  bash -c "if [ \"\$(head -1 two/diagnostics.csv)\" = \"\$(head -1 mixed/diagnostics.csv)\" ]; then
+             [ ! -e mixed/diagnostics.before_resume.csv ] && [ \$(awk -F, 'NR > 1 && \$1 <= 100' mixed/diagnostics.csv | wc -l) -gt 0 ]
+           else
+             cmp -s two/diagnostics.csv mixed/diagnostics.before_resume.csv && grep -qF 'its rows up to the resume' mixed/riffle.log &&
+             [ \$(awk -F, 'NR > 1 && \$1 <= 100' mixed/diagnostics.csv | wc -l) -gt 0 ]
+           fi"
 
 # A periodic bed (the bed-load channel's, 1,150 grains of 2 mm falling into a box periodic along x and y), then the
 # channel's mean-flow water driving it at Theta = 0.2 over 40 steps: the images across the periodic faces and the

@@ -116,7 +116,27 @@ for n in 1 2; do
 done
 check "... its body force and bulk velocity the same on 2 ranks as on one, to 1e-6" \
   compare_columns bulk1/probe_driven_flow.csv bulk2/probe_driven_flow.csv 2
-
+check "... diagnostics.csv has its body force column on 2 ranks as on one" \
+  bash -c "head -1 bulk1/diagnostics.csv | grep -qF body_force_m_s2 && head -1 bulk2/diagnostics.csv | grep -qF body_force_m_s2"
+# Resumed on one rank in its own folder: the series go on; one whose columns differ from what one rank writes (a
+# system timer only ranks have) goes on under one rank's columns, and the file as it was is kept beside it.
+cp -r bulk2 bulk_resumed
+ranks 1 resume bulk_resumed/checkpoints/final.ckpt --out bulk_resumed --until 0.04 --threads 1 >bulk_resumed.out 2>&1
+check "the 2 ranks' driven block resumes on one rank in its own folder" [ $? = 0 ]
+check "... its diagnostics go on from the 2 ranks' rows (their columns matched by name), the earlier file kept whole" \
+  /usr/bin/python3 - bulk2/diagnostics.csv bulk_resumed <<'PY'
+import csv, os, sys
+earlier = list(csv.DictReader(open(sys.argv[1])))
+now = list(csv.DictReader(open(os.path.join(sys.argv[2], "diagnostics.csv"))))
+aside = os.path.join(sys.argv[2], "diagnostics.before_resume.csv")
+if os.path.exists(aside):
+    assert open(aside).read() == open(sys.argv[1]).read(), "the earlier file is not kept whole"
+    assert "its rows up to the resume" in open(os.path.join(sys.argv[2], "riffle.log")).read(), "no warning in the log"
+assert len(now) > len(earlier), (len(now), len(earlier))
+for a, b in zip(earlier, now):  # every earlier value under its column's name, in order
+    assert all(b[k] == v for k, v in a.items() if k in b), (a, b)
+assert float(now[-1]["time_s"]) > float(earlier[-1]["time_s"])
+PY
 # A splash out of a low open tank (tests/data/splash_escape.toml: 288 particles, droplets over the walls and out of
 # the domain): each rank removes its own escaped particles, the counts are the water's, and rank 0's log names every
 # removed particle once, as one rank's does.

@@ -166,6 +166,48 @@ TEST_CASE("a resumed CSV series keeps its rows by rename, then appends") {
   CHECK(temporary_files_in(dir) == 0);
 }
 
+TEST_CASE("a resumed CSV series with other columns goes on under them and keeps the earlier file whole") {
+  // Before, a resume whose series had another header (another rank count, probe or system timer) dropped every
+  // earlier row silently.
+  const fs::path dir = test::scratch_dir("csv_series_columns");
+  const fs::path path = dir / "diagnostics.csv";
+  const std::string earlier = "step,value,wall_a_s\n1,10,0.1\n2,20,0.2\n3,30,0.3\n3,3";  // a torn last row
+  write_text(path, earlier);
+  {
+    // wall_a_s no longer written, wall_b_s new: the rows to step 2 under the new columns, matched by name.
+    CsvSeries series(path, "step,wall_b_s,value", 2.0);
+    REQUIRE(series.set_aside());
+    CHECK(series.rows_carried());
+    CHECK(*series.set_aside() == dir / "diagnostics.before_resume.csv");
+    series.write_row("3,0.5,31");
+  }
+  CHECK(file_text(dir / "diagnostics.before_resume.csv") == earlier);
+  CHECK(file_text(path) == "step,wall_b_s,value\n1,,10\n2,,20\n3,0.5,31\n");
+  // A second such resume keeps both earlier files; with another first column no row can be placed by its time.
+  write_text(path, earlier);
+  {
+    CsvSeries series(path, "time_s,value", 2.0);
+    REQUIRE(series.set_aside());
+    CHECK_FALSE(series.rows_carried());
+    CHECK(*series.set_aside() == dir / "diagnostics.before_resume.2.csv");
+  }
+  CHECK(file_text(path) == "time_s,value\n");
+  CHECK(file_text(dir / "diagnostics.before_resume.csv") == earlier);
+  CHECK(file_text(dir / "diagnostics.before_resume.2.csv") == earlier);
+  // The same header continues in place and sets nothing aside; an empty file (killed before its header) neither.
+  {
+    CsvSeries series(path, "time_s,value", 2.0);
+    CHECK_FALSE(series.set_aside());
+  }
+  write_text(path, "");
+  {
+    CsvSeries series(path, "step,value", 2.0);
+    CHECK_FALSE(series.set_aside());
+  }
+  CHECK(!fs::exists(dir / "diagnostics.before_resume.3.csv"));
+  CHECK(temporary_files_in(dir) == 0);
+}
+
 TEST_CASE("a resume into another folder starts its series with the rows before the checkpoint") {
   const fs::path from = test::scratch_dir("carry_from"), to = test::scratch_dir("carry_to");
   write_text(from / "diagnostics.csv", "step,value\n1,10\n2,20\n3,30\n");
