@@ -23,7 +23,7 @@ class BedProfileWriter {
     if (schedule_.take(world.time)) write(world);
   }
   bool due(double time) const { return schedule_.due(time); }
-  /// Its two files (CsvSeries::set_aside: where a resume moved earlier rows of other columns).
+  /// Its two files (CsvSeries::set_aside: where a resume copied an earlier file of other columns).
   std::vector<const CsvSeries*> series() const { return {&profile_file_, &centroid_file_}; }
 
  private:

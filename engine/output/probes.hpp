@@ -116,7 +116,7 @@ class ProbeWriter {
   bool reads_every_step() const { return window_.has_value(); }
   /// A line for the run's end, or empty: a bedload_transport probe's means over the rows of the run's second half.
   std::string summary() const;
-  /// The probe's file (CsvSeries::set_aside: where a resume moved earlier rows of other columns).
+  /// The probe's file (CsvSeries::set_aside: where a resume copied an earlier file of other columns).
   const CsvSeries& series() const { return file_; }
 
  private:

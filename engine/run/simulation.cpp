@@ -232,6 +232,9 @@ class DiagnosticsWriter {
     file_.write_row(line);
   }
 
+  /// The file (CsvSeries::set_aside: where a resume copied an earlier file of other columns).
+  const CsvSeries& series() const { return file_; }
+
  private:
   static std::string header(const std::vector<SystemTimer>& timers, bool fluid, bool driving) {
     std::string text = "step,time_s,dt_s,solid_dt_s,solid_translational_energy_J,solid_rotational_energy_J,"
@@ -249,11 +252,6 @@ class DiagnosticsWriter {
 
   bool driving_;  ///< the scene has a body force: its column is written
   CsvSeries file_;
-
- public:
-  const CsvSeries& series() const { return file_; }
-
- private:
   std::vector<double> previous_totals_;
 };
 
