@@ -53,6 +53,8 @@ COMMANDS = [
                                              "spread, frame by frame"),
     ("lattice-response", "lattice_response", "the MPS water's response at a grain's kernel on the particle lattice "
                                              "against the continuum the self-induced correction models"),
+    ("bed-creep", "bed_creep", "a settled bed with nothing driving it: how fast it creeps at each sub-step "
+                               "(runs riffle)"),
     ("ten-cate", "ten_cate", "ten Cate et al.'s sphere settling onto a box's floor against the measurements "
                              "(runs riffle)"),
     ("hindered-settling", "hindered_settling", "hindered settling of a suspension against Richardson & Zaki "
