@@ -9,6 +9,7 @@
 #include <cereal/types/vector.hpp>
 #include <cstdint>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "components/component_id.hpp"
@@ -26,6 +27,9 @@ struct Contacts {
   std::vector<std::uint32_t> pair_offsets;     ///< grains + 1: pairs of first grain i are [offsets[i], offsets[i+1])
   std::vector<std::uint32_t> pair_second;      ///< slot of the second grain (> first), or of a ghost (halo below)
   std::vector<Vec3> pair_spring;               ///< [m] tangential spring, on the first grain; zero when apart
+  /// [N m] rolling spring torque on the first grain ([contact] rolling_law = "elastic_plastic"; zero otherwise and
+  /// when apart)
+  std::vector<Vec3> pair_rolling_spring;
   std::vector<double> pair_overlap;            ///< [m] > 0 while touching, 0 when apart
   // Reverse index for pair forces gathered per grain (lubrication): for grain j, the pairs where it is second,
   // ascending.
@@ -41,6 +45,7 @@ struct Contacts {
   std::vector<std::uint32_t> wall_pair_offsets;  ///< grains + 1
   std::vector<std::uint32_t> wall_pair_wall;     ///< wall slot (walls are never reordered)
   std::vector<Vec3> wall_pair_spring;            ///< [m] tangential spring, on the grain
+  std::vector<Vec3> wall_pair_rolling_spring;    ///< [N m] rolling spring torque on the grain (as pair_rolling_spring)
   std::vector<Vec3> wall_pair_force;             ///< [N] force on the grain (the wall gets the negative)
   std::vector<Vec3> wall_pair_torque;            ///< [N m] torque on the grain
   std::vector<double> wall_pair_overlap;         ///< [m] > 0 while touching, 0 when apart
@@ -73,12 +78,14 @@ struct Contacts {
     visit("pair_offsets", true, self.pair_offsets);
     visit("pair_second", true, self.pair_second);
     visit("pair_spring", true, self.pair_spring);
+    visit("pair_rolling_spring", true, self.pair_rolling_spring);
     visit("pair_overlap", true, self.pair_overlap);
     visit("second_offsets", true, self.second_offsets);
     visit("second_pairs", true, self.second_pairs);
     visit("wall_pair_offsets", true, self.wall_pair_offsets);
     visit("wall_pair_wall", true, self.wall_pair_wall);
     visit("wall_pair_spring", true, self.wall_pair_spring);
+    visit("wall_pair_rolling_spring", true, self.wall_pair_rolling_spring);
     visit("wall_pair_force", true, self.wall_pair_force);
     visit("wall_pair_torque", true, self.wall_pair_torque);
     visit("wall_pair_overlap", true, self.wall_pair_overlap);
@@ -92,6 +99,21 @@ struct Contacts {
   template <class Archive>
   void serialize(Archive& archive) {
     for_each_member(*this, [&](const char* name, bool persistent, auto& member) {
+      // Formats before kFirstFormatWithRollingSprings have no rolling springs: zero, one per pair (visited after the
+      // tangential springs, whose sizes they take).
+      if constexpr (requires { archive.format_version(); })
+        if (archive.format_version() < kFirstFormatWithRollingSprings) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(member)>, std::vector<Vec3>>) {
+            if (std::string_view(name) == "pair_rolling_spring") {
+              member.assign(pair_spring.size(), Vec3::Zero());
+              return;
+            }
+            if (std::string_view(name) == "wall_pair_rolling_spring") {
+              member.assign(wall_pair_spring.size(), Vec3::Zero());
+              return;
+            }
+          }
+        }
       if (persistent) archive(member);
       // Formats up to kLastFormatWithPairForces kept each pair's force and torques after its spring; the contact
       // pass recomputes them every sub-step, so a resume reads and drops them.
@@ -105,6 +127,8 @@ struct Contacts {
 
   /// The last checkpoint format with per-pair forces and torques (engine/output/checkpoint.hpp).
   static constexpr std::uint32_t kLastFormatWithPairForces = 12;
+  /// The first checkpoint format with the rolling springs.
+  static constexpr std::uint32_t kFirstFormatWithRollingSprings = 15;
 };
 
 }  // namespace riffle

@@ -75,6 +75,7 @@ struct GrainGhosts {
 struct CarriedSpring {
   EntityId lower = 0, higher = 0;  ///< grain ids (pairs: lower < higher), or grain id and wall slot (walls)
   Vec3 spring = Vec3::Zero();      ///< [m] oriented for `lower` (pairs) or the grain (walls)
+  Vec3 rolling = Vec3::Zero();     ///< [N m] the rolling spring torque, oriented as `spring`
 };
 
 /// The grains of other MPI ranks that this rank's grains may touch, in a run spread over ranks

@@ -38,6 +38,18 @@ enum class ContactLaw {
   kLinearSpringDashpot  ///< seed 004 Sec. 2.2: linear spring-dashpot whose stiffness is set by a collision time
 };
 
+/// How rolling friction acts (Ai, Chen, Rotter & Ooi 2011, Powder Technol. 206, 269: their models A and C).
+enum class RollingLaw {
+  /// T = -mu_r R* F_n w_rel / |w_rel| (seed 003 Eq. 20; model A): no state, but its sign follows the spin of each
+  /// sub-step, so a contact at rest chatters and a bed under a torque below mu_r R* F_n creeps at a speed of first
+  /// order in the sub-step.
+  kConstantTorque,
+  /// An elastic-plastic spring-dashpot on the relative rotation (model C): a spring torque, incremented by
+  /// -k_r w_rel dt each sub-step and capped at mu_r R* F_n, plus a dashpot while below the cap; it holds a contact at
+  /// rest under any torque below the cap (systems/physics/dem/contact_law.hpp).
+  kElasticPlastic
+};
+
 /// Contact constants of one pair of materials, derived once when the scene is read.
 struct ContactPairParameters {
   double restitution = 1.0;       ///< [1] requested normal coefficient of restitution e, in [0, 1]
@@ -64,6 +76,7 @@ struct ContactPairParameters {
 struct ContactModel {
   bool enabled = false;
   ContactLaw law = ContactLaw::kHertzMindlin;
+  RollingLaw rolling_law = RollingLaw::kConstantTorque;
   std::size_t material_count = 0;
   std::vector<ContactPairParameters> pairs;  ///< material_count x material_count, symmetric; [a * count + b]
   double collision_time = 0.0;     ///< [s] linear law: duration of a normal collision

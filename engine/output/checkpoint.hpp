@@ -29,8 +29,10 @@ namespace riffle {
 // fluctuations); 11: the walls' part of the grains' own disturbance (self_induced_wall_x, _y, _z); 12: the fluid
 // particles removed by reason and the bulk-velocity controller's integral (FluidSummary); 13: without the pairs'
 // forces and torques (Contacts::kLastFormatWithPairForces: the contact pass adds them to the grains directly); 14: the
-// history force's implicit mass (history_mass: the kicks take the step's own part of the history force implicitly).
-inline constexpr std::uint32_t kCheckpointVersion = 14;
+// history force's implicit mass (history_mass: the kicks take the step's own part of the history force implicitly);
+// 15: the contacts' rolling springs (pair_rolling_spring, wall_pair_rolling_spring: [contact] rolling_law =
+// "elastic_plastic"; an older file gives zeros).
+inline constexpr std::uint32_t kCheckpointVersion = 15;
 /// The first format with the mean-flow column.
 inline constexpr std::uint32_t kFirstCheckpointVersionWithMeanFlow = 9;
 /// The oldest format still read: format 4 differs from 5 only by FluidSummary's last_dt (components/fluid.hpp), and

@@ -204,10 +204,11 @@ void check_walls(const Refusal& refusal, const Walls& walls, const Walls& scene)
 void check_contacts(const Refusal& refusal, const Contacts& contacts, const Solids& grains, std::size_t wall_count,
                     const Model& model) {
   const bool empty = contacts.pair_offsets.empty() && contacts.pair_second.empty() && contacts.pair_spring.empty() &&
-                     contacts.pair_overlap.empty() &&
+                     contacts.pair_rolling_spring.empty() && contacts.pair_overlap.empty() &&
                      contacts.second_offsets.empty() && contacts.second_pairs.empty() &&
                      contacts.wall_pair_offsets.empty() && contacts.wall_pair_wall.empty() &&
-                     contacts.wall_pair_spring.empty() && contacts.wall_pair_force.empty() &&
+                     contacts.wall_pair_spring.empty() && contacts.wall_pair_rolling_spring.empty() &&
+                     contacts.wall_pair_force.empty() &&
                      contacts.wall_pair_torque.empty() && contacts.wall_pair_overlap.empty() &&
                      contacts.build_position.empty();
   refusal.finite_value("contacts.build_tank_displacement", contacts.build_tank_displacement);
@@ -217,6 +218,7 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
   const std::string per_pair = "one per grain pair";
   refusal.offsets("contacts.pair_offsets", contacts.pair_offsets, grain_count, pairs);
   refusal.count("contacts.pair_spring", contacts.pair_spring.size(), pairs, per_pair);
+  refusal.count("contacts.pair_rolling_spring", contacts.pair_rolling_spring.size(), pairs, per_pair);
   refusal.count("contacts.pair_overlap", contacts.pair_overlap.size(), pairs, per_pair);
   // A periodic box: a second slot may be a ghost; the halo is rebuilt from the positions the list was built at,
   // exactly as the resumed run will (solid_neighbours), and the ghost stands for its owner.
@@ -252,6 +254,8 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
   const std::string per_wall_pair = "one per grain-wall pair";
   refusal.offsets("contacts.wall_pair_offsets", contacts.wall_pair_offsets, grain_count, wall_pairs);
   refusal.count("contacts.wall_pair_spring", contacts.wall_pair_spring.size(), wall_pairs, per_wall_pair);
+  refusal.count("contacts.wall_pair_rolling_spring", contacts.wall_pair_rolling_spring.size(), wall_pairs,
+                per_wall_pair);
   refusal.count("contacts.wall_pair_force", contacts.wall_pair_force.size(), wall_pairs, per_wall_pair);
   refusal.count("contacts.wall_pair_torque", contacts.wall_pair_torque.size(), wall_pairs, per_wall_pair);
   refusal.count("contacts.wall_pair_overlap", contacts.wall_pair_overlap.size(), wall_pairs, per_wall_pair);
@@ -261,8 +265,10 @@ void check_contacts(const Refusal& refusal, const Contacts& contacts, const Soli
                    "must be below the wall count " + std::to_string(wall_count));
   refusal.count("contacts.build_position", contacts.build_position.size(), grain_count, "one per grain");
   refusal.finite_values("contacts.pair_spring", contacts.pair_spring);
+  refusal.finite_values("contacts.pair_rolling_spring", contacts.pair_rolling_spring);
   refusal.finite_values("contacts.pair_overlap", contacts.pair_overlap);
   refusal.finite_values("contacts.wall_pair_spring", contacts.wall_pair_spring);
+  refusal.finite_values("contacts.wall_pair_rolling_spring", contacts.wall_pair_rolling_spring);
   refusal.finite_values("contacts.wall_pair_force", contacts.wall_pair_force);
   refusal.finite_values("contacts.wall_pair_torque", contacts.wall_pair_torque);
   refusal.finite_values("contacts.wall_pair_overlap", contacts.wall_pair_overlap);

@@ -776,6 +776,7 @@ World Simulation::gathered_world(bool pairs) const {
         const WallContactState& wall = wall_contacts[next];
         contacts.wall_pair_wall.push_back(wall.wall);
         contacts.wall_pair_spring.push_back(wall.spring);
+        contacts.wall_pair_rolling_spring.push_back(wall.rolling);
         contacts.wall_pair_force.push_back(wall.force);
         contacts.wall_pair_torque.push_back(wall.torque);
         contacts.wall_pair_overlap.push_back(wall.overlap);
@@ -790,7 +791,7 @@ World Simulation::gathered_world(bool pairs) const {
   // a one-rank run holds, so the file resumes on any number of ranks.
   contacts.ranks.carried_pair_springs = std::move(pair_springs);
   for (const WallContactState& wall : wall_contacts)
-    contacts.ranks.carried_wall_springs.push_back({wall.grain, wall.wall, wall.spring});
+    contacts.ranks.carried_wall_springs.push_back({wall.grain, wall.wall, wall.spring, wall.rolling});
   rebuild_neighbour_list(*whole.solids, contacts, *whole.walls, *whole.tank_motion, *model_, false);
   contacts.rebuilds = world_.contacts->rebuilds;
   // The touching pairs' overlaps, as the contact pass left them on the ranks: a resume (and a split) reads a pair with

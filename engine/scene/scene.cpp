@@ -399,6 +399,11 @@ void read_contact(TableReader& contact, Model& model) {
   defaults.friction = contact.number("friction", std::nullopt, "1", Bounds::non_negative());
   defaults.rolling_friction =
       contact.number("rolling_friction", defaults.rolling_friction, "1", Bounds::non_negative());
+  // Ai et al. (2011) model A (the seed's) or C: systems/physics/dem/contact_law.hpp.
+  out.rolling_law = contact.choice("rolling_law", "constant_torque", {"constant_torque", "elastic_plastic"}) ==
+                            "elastic_plastic"
+                        ? RollingLaw::kElasticPlastic
+                        : RollingLaw::kConstantTorque;
   if (out.law == ContactLaw::kLinearSpringDashpot)
     out.collision_time = contact.number("collision_time", std::nullopt, "s", Bounds::positive());
   out.max_impact_speed = contact.number("max_impact_speed", out.max_impact_speed, "m/s", Bounds::positive());

@@ -116,15 +116,16 @@ struct ContactSums {
   Vec3* torque;
 };
 
-/// A pair that has just separated carries no overlap or spring (the next touch starts afresh).
-void clear_separated(double& overlap, Vec3& spring) {
+/// A pair that has just separated carries no overlap or springs (the next touch starts afresh).
+void clear_separated(double& overlap, Vec3& spring, Vec3& rolling_spring) {
   overlap = 0.0;
   spring = Vec3::Zero();
+  rolling_spring = Vec3::Zero();
 }
 
 template <class Neighbours>
 void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProperties& properties,
-                 const Neighbours& neighbours, const ContactModel& model, bool rolling, double dt,
+                 const Neighbours& neighbours, const ContactModel& model, RollingTerm rolling, double dt,
                  Contacts& contacts, const ContactSums& sums) {
   // Gather the remaining inputs of the touching pairs. The pair coefficients are shared by the whole batch when every
   // pair is of the same two materials (a bed of one material: every batch but those with a wall material's grain),
@@ -161,6 +162,15 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     one_material_pair &= static_cast<int>(properties.material[i] == first_material_i) &
                          static_cast<int>(neighbours.material(j) == first_material_j);
   }
+  if (rolling == RollingTerm::kElasticPlastic)
+    for (std::size_t p = 0; p < count; ++p) {
+      const Vec3& rolling_spring = contacts.pair_rolling_spring[b.pair[p]];
+      b.rsx[p] = rolling_spring.x();
+      b.rsy[p] = rolling_spring.y();
+      b.rsz[p] = rolling_spring.z();
+      b.rolling_inertia[p] = pair_rolling_inertia(b.mass_i[p], b.ri[p], b.mass_j[p], b.rj[p],
+                                                  properties.fixed[b.first[p]] != 0, neighbours.fixed(b.second[p]));
+    }
   if (any_fixed) {
     for (std::size_t p = 0; p < count; ++p)
       b.effective_mass[p] = pair_reduced_mass(b.mass_i[p], b.mass_j[p], properties.fixed[b.first[p]] != 0,
@@ -190,6 +200,7 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
     const Vec3 force(b.fx[p], b.fy[p], b.fz[p]);
     contacts.pair_overlap[k] = b.overlap[p];
     contacts.pair_spring[k] = Vec3(b.sx[p], b.sy[p], b.sz[p]);
+    if (rolling == RollingTerm::kElasticPlastic) contacts.pair_rolling_spring[k] = Vec3(b.rsx[p], b.rsy[p], b.rsz[p]);
     // Newton's third law: the second grain (its owner, for a ghost) takes the negative force. Only this slab's task
     // writes these grains in this phase (contact_slabs.hpp).
     const std::uint32_t i = b.first[p], j = neighbours.owner(b.second[p]);
@@ -213,7 +224,8 @@ void flush_batch(SpherePairBatch& b, const GrainState& grains, const GrainProper
 template <class Neighbours>
 void slab_contact_forces(const std::uint32_t* slots, std::size_t slot_count, const GrainState& grains,
                          const GrainProperties& properties, const Neighbours& neighbours, const Walls& walls,
-                         Contacts& contacts, const ContactModel& law, bool rolling, double dt, const ContactSums& sums) {
+                         Contacts& contacts, const ContactModel& law, RollingTerm rolling, double dt,
+                         const ContactSums& sums) {
   SpherePairBatch batch;
   std::size_t count = 0;  // batch.count, in a register while filling
   // Raw pointers held in registers: the compiler cannot tell the batch stores from the vectors' own fields.
@@ -254,7 +266,7 @@ void slab_contact_forces(const std::uint32_t* slots, std::size_t slot_count, con
       // One comparison of the two flags: tested one after the other, the first alone would mispredict often.
       const bool was_touching = pair_overlap[k] > 0.0;
       if (__builtin_expect(static_cast<int>(was_touching) > static_cast<int>(touching), 0))
-        clear_separated(contacts.pair_overlap[k], contacts.pair_spring[k]);
+        clear_separated(contacts.pair_overlap[k], contacts.pair_spring[k], contacts.pair_rolling_spring[k]);
       if (count == kContactBatch) {
         batch.count = count;
         flush_batch(batch, grains, properties, view, law, rolling, dt, contacts, sums);
@@ -268,7 +280,8 @@ void slab_contact_forces(const std::uint32_t* slots, std::size_t slot_count, con
       const double overlap = radius - height;
       if (overlap <= 0.0) {
         if (contacts.wall_pair_overlap[k] > 0.0) {
-          clear_separated(contacts.wall_pair_overlap[k], contacts.wall_pair_spring[k]);
+          clear_separated(contacts.wall_pair_overlap[k], contacts.wall_pair_spring[k],
+                          contacts.wall_pair_rolling_spring[k]);
           contacts.wall_pair_force[k] = Vec3::Zero();
           contacts.wall_pair_torque[k] = Vec3::Zero();
         }
@@ -283,8 +296,10 @@ void slab_contact_forces(const std::uint32_t* slots, std::size_t slot_count, con
       geometry.relative_angular_velocity = angular_velocity;
       geometry.effective_radius = radius;  // a plane has zero curvature
       geometry.effective_mass = mass;      // a wall does not move in response
-      const ContactResponse response = evaluate_contact(law.law, law.pair(material, walls.material[wall]), geometry,
-                                                        contacts.wall_pair_spring[k], dt);
+      geometry.rolling_inertia = sphere_rolling_inertia(mass, radius);
+      const ContactResponse response =
+          evaluate_contact(law.law, law.rolling_law, law.pair(material, walls.material[wall]), geometry,
+                           contacts.wall_pair_spring[k], contacts.wall_pair_rolling_spring[k], dt);
       const Vec3 torque = arm.cross(response.force_on_first) + response.rolling_torque_on_first;
       contacts.wall_pair_force[k] = response.force_on_first;  // kept for the walls' reaction (probes)
       contacts.wall_pair_torque[k] = torque;
@@ -300,8 +315,10 @@ template <class Neighbours>
 void contact_forces(const GrainState& grains, const GrainProperties& properties, const Neighbours& neighbours,
                     const Walls& walls, Contacts& contacts, const ContactModel& law, double dt,
                     GrainContactForce& contact, const ContactSlabSchedule& schedule) {
-  bool rolling = false;
-  for (const ContactPairParameters& pair : law.pairs) rolling = rolling || pair.rolling_friction > 0.0;
+  bool any_rolling_friction = false;
+  for (const ContactPairParameters& pair : law.pairs)
+    any_rolling_friction = any_rolling_friction || pair.rolling_friction > 0.0;
+  const RollingTerm rolling = rolling_term(law.rolling_law, any_rolling_friction);
   const std::size_t count = grains.size();
   contact.contact_force.resize(count);
   contact.contact_torque.resize(count);

@@ -320,6 +320,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
                 contacts.pair_second.begin() + contacts.pair_offsets[block * kSearchChunk]);
   });
   contacts.pair_spring.assign(pairs, Vec3::Zero());
+  contacts.pair_rolling_spring.assign(pairs, Vec3::Zero());
   contacts.pair_overlap.assign(pairs, 0.0);
 
   // 4. Reverse index: pairs where each grain is second (itself or through a ghost: the force goes to the owner),
@@ -368,6 +369,7 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
   }
   const std::size_t wall_pairs = contacts.wall_pair_wall.size();
   contacts.wall_pair_spring.assign(wall_pairs, Vec3::Zero());
+  contacts.wall_pair_rolling_spring.assign(wall_pairs, Vec3::Zero());
   contacts.wall_pair_force.assign(wall_pairs, Vec3::Zero());
   contacts.wall_pair_torque.assign(wall_pairs, Vec3::Zero());
   contacts.wall_pair_overlap.assign(wall_pairs, 0.0);
@@ -385,14 +387,18 @@ void rebuild_neighbour_list(Solids& solids, Contacts& contacts, const Walls& wal
           const EntityId first = solids.id[i], second = search.id_of(j);
           const bool first_lower = first < second;
           if (const CarriedSpring* found =
-                  saved_pair_springs.find(first_lower ? first : second, first_lower ? second : first))
+                  saved_pair_springs.find(first_lower ? first : second, first_lower ? second : first)) {
             contacts.pair_spring[k] = first_lower ? found->spring : Vec3(-found->spring);
+            contacts.pair_rolling_spring[k] = first_lower ? found->rolling : Vec3(-found->rolling);
+          }
         }
         for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k) {
           const std::uint32_t wall = contacts.wall_pair_wall[k];
           if ((solids.position[i] - walls.point[wall]).dot(walls.normal[wall]) >= solids.radius[i]) continue;
-          if (const CarriedSpring* found = saved_wall_springs.find(solids.id[i], wall))
+          if (const CarriedSpring* found = saved_wall_springs.find(solids.id[i], wall)) {
             contacts.wall_pair_spring[k] = found->spring;
+            contacts.wall_pair_rolling_spring[k] = found->rolling;
+          }
         }
       }
     });

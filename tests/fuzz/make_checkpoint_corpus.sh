@@ -3,8 +3,8 @@
 # every scene of tests/fuzz/checkpoint_scenes for a few steps and keeps its final checkpoint, and, for scenes that
 # write interval checkpoints, the first of them too (a state in the middle of a run). The scenes are small so that
 # every fuzz input stays fast; the files are a few hundred KB at most. The found_*.ckpt beside them are inputs the
-# fuzzer found (kept as regression seeds: each crashed an earlier build), and the v4_* to v13_*.ckpt are seeds as
-# riffle wrote them in checkpoint formats 4 to 13 (compatibility fixtures: all must still load); this script leaves them alone.
+# fuzzer found (kept as regression seeds: each crashed an earlier build), and the v4_* to v14_*.ckpt are seeds as
+# riffle wrote them in checkpoint formats 4 to 14 (compatibility fixtures: all must still load); this script leaves them alone.
 #
 # Usage, from the repository root:  tests/fuzz/make_checkpoint_corpus.sh build/riffle
 set -euo pipefail

@@ -15,7 +15,15 @@
 // requested one. For Hertz-Mindlin c = sqrt(5) |beta| with the seed-003 beta when the cut-off is ignored.
 // Tangential: k_t = 8 G* sqrt(R* d) (Mindlin) or 2/7 k_n (linear, equal tangential and normal periods);
 // gamma_t from the same c. Coulomb limit |F_t| <= mu F_n; when sliding the spring is reset to carry mu F_n alone
-// (Cundall & Strack 1979). Rolling friction (seed 003 Eq. 20): T = -mu_r R* F_n (w_rel / |w_rel|).
+// (Cundall & Strack 1979). Rolling friction, [contact] rolling_law (Ai, Chen, Rotter & Ooi 2011, Powder Technol.
+// 206, 269):
+//   "constant_torque" (seed 003 Eq. 20; their model A): T = -mu_r R* F_n (w_rel / |w_rel|);
+//   "elastic_plastic" (their model C, after Iwashita & Oda 1998): a spring torque M, M += -k_r w_rel dt each
+//   sub-step with k_r = 2.25 mu_r^2 R*^2 k_n (k_n the normal stiffness F_n / d of the law), capped at
+//   |M| <= mu_r R* F_n, plus a dashpot -C_r w_rel while below the cap, C_r = 2 eta_r sqrt(I_r k_r) with eta_r = 0.3
+//   (their choice) and I_r the pair's rolling inertia 1 / sum 1 / (I + m R^2) (7/5 m R^2 per sphere; a wall or a
+//   fixed grain does not turn). Both act on the whole relative spin w_first - w_second, its twist about the normal
+//   included; the spring is not rotated with the pair (a contact turns little while it lasts).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -26,6 +34,17 @@
 
 namespace riffle {
 
+/// The rolling-friction term of a contact evaluation: none (no pair has mu_r), or one of the RollingLaw models.
+enum class RollingTerm { kNone, kConstantTorque, kElasticPlastic };
+inline RollingTerm rolling_term(RollingLaw law, bool any_rolling_friction) {
+  if (!any_rolling_friction) return RollingTerm::kNone;
+  return law == RollingLaw::kElasticPlastic ? RollingTerm::kElasticPlastic : RollingTerm::kConstantTorque;
+}
+/// Ai et al. (2011): k_r = kRollingStiffnessFactor mu_r^2 R*^2 k_n (2.25 in 3D) and the dashpot's fraction of
+/// critical damping eta_r.
+inline constexpr double kRollingStiffnessFactor = 2.25;
+inline constexpr double kRollingDampingRatio = 0.3;
+
 struct ContactGeometry {
   Vec3 normal;                     ///< [1] unit, from the first body to the second
   double overlap = 0.0;            ///< [m] > 0 while touching
@@ -33,6 +52,7 @@ struct ContactGeometry {
   Vec3 relative_angular_velocity;  ///< [rad/s] w_first - w_second (rolling friction)
   double effective_radius = 0.0;   ///< [m] R*: 1/R* = 1/R_i + 1/R_j (a plane has 1/R = 0)
   double effective_mass = 0.0;     ///< [kg] m*: 1/m* = 1/m_i + 1/m_j (a wall has 1/m = 0)
+  double rolling_inertia = 0.0;    ///< [kg m^2] I_r (elastic-plastic rolling only): 1/I_r = sum 1/(I + m R^2)
 };
 
 struct ContactResponse {
@@ -61,6 +81,8 @@ struct ContactLaneInput {
   double damping_ratio;             ///< gamma_t / gamma_n
   double friction, rolling;         ///< mu, mu_r
   double sx, sy, sz;                ///< [m] tangential spring before this sub-step
+  double rsx, rsy, rsz;             ///< [N m] rolling spring torque on the first body before this sub-step
+  double rolling_inertia;           ///< [kg m^2] I_r (elastic-plastic rolling only)
 };
 
 struct ContactLaneOutput {
@@ -68,12 +90,13 @@ struct ContactLaneOutput {
   double rtx, rty, rtz;  ///< [N m] rolling torque on the first body (the second gets the negative)
   double normal_force;   ///< [N] >= 0
   double sx, sy, sz;     ///< [m] tangential spring after this sub-step
+  double rsx, rsy, rsz;  ///< [N m] rolling spring torque after this sub-step (zero but for elastic-plastic rolling)
   bool sliding;
 };
 
-/// Evaluates one contact over a sub-step of length dt and advances its tangential spring. kRolling = false leaves
-/// out rolling friction (exactly zero torque); with kRolling a pair with mu_r = 0 or no relative spin gets 0 * w_rel.
-template <ContactLaw kLaw, bool kRolling>
+/// Evaluates one contact over a sub-step of length dt and advances its tangential (and rolling) spring. kNone leaves
+/// out rolling friction (exactly zero torque); otherwise a pair with mu_r = 0 or no relative spin gets 0 * w_rel.
+template <ContactLaw kLaw, RollingTerm kRolling>
 [[gnu::always_inline]] inline ContactLaneOutput contact_law_lane(const ContactLaneInput& in, double dt) {
   const double nx = in.nx, ny = in.ny, nz = in.nz;
   const double overlap = in.overlap;
@@ -135,16 +158,43 @@ template <ContactLaw kLaw, bool kRolling>
   out.normal_force = normal_force;
   out.sliding = sliding;
 
-  // Rolling friction, T = -mu_r R* F_n w_rel / |w_rel| (a square root and a division per pair, skipped when no
-  // material pair has mu_r).
+  // Rolling friction (the header's two laws; skipped when no material pair has mu_r). Constant torque,
+  // T = -mu_r R* F_n w_rel / |w_rel|: a square root and a division per pair.
   out.rtx = out.rty = out.rtz = 0.0;
-  if constexpr (kRolling) {
+  out.rsx = out.rsy = out.rsz = 0.0;
+  if constexpr (kRolling == RollingTerm::kConstantTorque) {
     const double spin = std::sqrt(in.rwx * in.rwx + in.rwy * in.rwy + in.rwz * in.rwz);
     const double rolling_scale_any = -in.rolling * in.effective_radius * normal_force / spin;
     const double rolling_scale = ((in.rolling > 0.0) & (spin > 0.0)) ? rolling_scale_any : 0.0;
     out.rtx = rolling_scale * in.rwx;
     out.rty = rolling_scale * in.rwy;
     out.rtz = rolling_scale * in.rwz;
+  } else if constexpr (kRolling == RollingTerm::kElasticPlastic) {
+    // The spring takes the sub-step's relative rotation, then is capped at the full mobilisation mu_r R* F_n (the
+    // dashpot acts only below it: Ai et al.'s f = 0 at full mobilisation). k_n = F_n / d of the law: Hertz's
+    // 4/3 E* sqrt(R* d), or the linear k_n; a pair with mu_r = 0 gets k_r = 0 and a zero cap.
+    const double arm = in.rolling * in.effective_radius;
+    const double rolling_stiffness = kRollingStiffnessFactor * arm * arm * normal_stiffness;
+    const double step_stiffness = rolling_stiffness * dt;
+    double mx = in.rsx - step_stiffness * in.rwx;
+    double my = in.rsy - step_stiffness * in.rwy;
+    double mz = in.rsz - step_stiffness * in.rwz;
+    const double cap = arm * normal_force;
+    const double spring_squared = mx * mx + my * my + mz * mz;
+    const bool mobilised = spring_squared > cap * cap;
+    const double cap_scale_any = cap / std::sqrt(spring_squared);
+    const double cap_scale = mobilised ? cap_scale_any : 1.0;
+    mx *= cap_scale;
+    my *= cap_scale;
+    mz *= cap_scale;
+    const double damping_any = 2.0 * kRollingDampingRatio * std::sqrt(in.rolling_inertia * rolling_stiffness);
+    const double rolling_damping = mobilised ? 0.0 : damping_any;
+    out.rsx = mx;
+    out.rsy = my;
+    out.rsz = mz;
+    out.rtx = mx - rolling_damping * in.rwx;
+    out.rty = my - rolling_damping * in.rwy;
+    out.rtz = mz - rolling_damping * in.rwz;
   }
   return out;
 }
@@ -156,7 +206,8 @@ inline double lane_damping(ContactLaw law, const ContactPairParameters& pair) {
 
 /// The lane's inputs for `contact` with `pair`'s coefficients and `spring` under `law`.
 inline ContactLaneInput contact_lane_input(ContactLaw law, const ContactPairParameters& pair,
-                                           const ContactGeometry& contact, const Vec3& spring) {
+                                           const ContactGeometry& contact, const Vec3& spring,
+                                           const Vec3& rolling_spring) {
   ContactLaneInput in;
   in.nx = contact.normal.x();
   in.ny = contact.normal.y();
@@ -179,28 +230,61 @@ inline ContactLaneInput contact_lane_input(ContactLaw law, const ContactPairPara
   in.sx = spring.x();
   in.sy = spring.y();
   in.sz = spring.z();
+  in.rsx = rolling_spring.x();
+  in.rsy = rolling_spring.y();
+  in.rsz = rolling_spring.z();
+  in.rolling_inertia = contact.rolling_inertia;
   return in;
 }
 
-/// Evaluates one contact over a sub-step of length dt and advances its tangential spring: contact_law_lane on one
-/// contact (rolling friction only where the pair has mu_r).
-inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParameters& pair,
-                                        const ContactGeometry& contact, Vec3& tangential_spring, double dt) {
-  const ContactLaneInput in = contact_lane_input(law, pair, contact, tangential_spring);
-  const bool rolling = pair.rolling_friction > 0.0;
-  const ContactLaneOutput out =
-      law == ContactLaw::kHertzMindlin
-          ? (rolling ? contact_law_lane<ContactLaw::kHertzMindlin, true>(in, dt)
-                     : contact_law_lane<ContactLaw::kHertzMindlin, false>(in, dt))
-          : (rolling ? contact_law_lane<ContactLaw::kLinearSpringDashpot, true>(in, dt)
-                     : contact_law_lane<ContactLaw::kLinearSpringDashpot, false>(in, dt));
+/// Evaluates one contact over a sub-step of length dt and advances its tangential and rolling springs:
+/// contact_law_lane on one contact (rolling friction only where the pair has mu_r, by `rolling_law`).
+inline ContactResponse evaluate_contact(ContactLaw law, RollingLaw rolling_law, const ContactPairParameters& pair,
+                                        const ContactGeometry& contact, Vec3& tangential_spring, Vec3& rolling_spring,
+                                        double dt) {
+  const ContactLaneInput in = contact_lane_input(law, pair, contact, tangential_spring, rolling_spring);
+  const RollingTerm rolling = rolling_term(rolling_law, pair.rolling_friction > 0.0);
+  ContactLaneOutput out;
+  if (law == ContactLaw::kHertzMindlin) {
+    if (rolling == RollingTerm::kNone) out = contact_law_lane<ContactLaw::kHertzMindlin, RollingTerm::kNone>(in, dt);
+    else if (rolling == RollingTerm::kConstantTorque)
+      out = contact_law_lane<ContactLaw::kHertzMindlin, RollingTerm::kConstantTorque>(in, dt);
+    else out = contact_law_lane<ContactLaw::kHertzMindlin, RollingTerm::kElasticPlastic>(in, dt);
+  } else {
+    if (rolling == RollingTerm::kNone)
+      out = contact_law_lane<ContactLaw::kLinearSpringDashpot, RollingTerm::kNone>(in, dt);
+    else if (rolling == RollingTerm::kConstantTorque)
+      out = contact_law_lane<ContactLaw::kLinearSpringDashpot, RollingTerm::kConstantTorque>(in, dt);
+    else out = contact_law_lane<ContactLaw::kLinearSpringDashpot, RollingTerm::kElasticPlastic>(in, dt);
+  }
   tangential_spring = Vec3(out.sx, out.sy, out.sz);
+  rolling_spring = Vec3(out.rsx, out.rsy, out.rsz);
   ContactResponse response;
   response.force_on_first = Vec3(out.fx, out.fy, out.fz);
   response.rolling_torque_on_first = Vec3(out.rtx, out.rty, out.rtz);
   response.normal_force = out.normal_force;
   response.sliding = out.sliding;
   return response;
+}
+
+/// The same with the constant-torque rolling friction, which keeps no rolling spring (the calibration's impacts,
+/// which have no spin, and callers without a contact history of their own).
+inline ContactResponse evaluate_contact(ContactLaw law, const ContactPairParameters& pair,
+                                        const ContactGeometry& contact, Vec3& tangential_spring, double dt) {
+  Vec3 no_rolling_spring = Vec3::Zero();
+  return evaluate_contact(law, RollingLaw::kConstantTorque, pair, contact, tangential_spring, no_rolling_spring, dt);
+}
+
+/// [kg m^2] A sphere's resistance to turning about a contact point on its surface, I + m R^2 = 7/5 m R^2, and a
+/// pair's rolling inertia 1/I_r = 1/(I_i + m_i R_i^2) + 1/(I_j + m_j R_j^2); against a fixed grain (or a wall) the
+/// free grain's own, as for pair_reduced_mass.
+inline double sphere_rolling_inertia(double mass, double radius) { return 1.4 * mass * radius * radius; }
+inline double pair_rolling_inertia(double mass_i, double radius_i, double mass_j, double radius_j, bool fixed_i,
+                                   bool fixed_j) {
+  const double inertia_i = sphere_rolling_inertia(mass_i, radius_i), inertia_j = sphere_rolling_inertia(mass_j, radius_j);
+  if (fixed_j && !fixed_i) return inertia_i;
+  if (fixed_i && !fixed_j) return inertia_j;
+  return inertia_i * inertia_j / (inertia_i + inertia_j);
 }
 
 /// [kg] The reduced mass m_i m_j / (m_i + m_j) of a grain pair in the contact (and lubrication) laws; against a fixed
@@ -231,6 +315,9 @@ struct SpherePairBatch {
   alignas(64) double wix[kContactBatch], wiy[kContactBatch], wiz[kContactBatch];  // angular velocity of the first
   alignas(64) double wjx[kContactBatch], wjy[kContactBatch], wjz[kContactBatch];  // angular velocity of the second
   alignas(64) double sx[kContactBatch], sy[kContactBatch], sz[kContactBatch];     // tangential spring (in old, out new)
+  // Elastic-plastic rolling only (else not read or written): the rolling spring (in old, out new) and I_r.
+  alignas(64) double rsx[kContactBatch], rsy[kContactBatch], rsz[kContactBatch];
+  alignas(64) double rolling_inertia[kContactBatch];
   alignas(64) double ri[kContactBatch], rj[kContactBatch];
   alignas(64) double effective_mass[kContactBatch];  // pair_reduced_mass
   alignas(64) double mass_i[kContactBatch], mass_j[kContactBatch];  // the caller's, to form effective_mass
@@ -255,8 +342,8 @@ struct SpherePairBatch {
 
 /// Evaluates the first b.count pairs of `b` (sphere i first, sphere j second, touching and at distinct centres):
 /// contact geometry from the centres, contact_law_lane, and the torques about each centre (lever arms R_i n and
-/// -R_j n) plus rolling friction. `rolling`: whether any pair may have mu_r > 0 (false skips that term).
-void evaluate_sphere_pair_batch(SpherePairBatch& b, ContactLaw law, bool rolling, double dt);
+/// -R_j n) plus rolling friction. `rolling`: kNone where no pair has mu_r > 0 (skips that term), else the scene's law.
+void evaluate_sphere_pair_batch(SpherePairBatch& b, ContactLaw law, RollingTerm rolling, double dt);
 
 /// Fills the derived coefficients of `pair` from its moduli, damping and restitution (call after those are set).
 void prepare_contact_pair(ContactPairParameters& pair, ContactLaw law, double collision_time);

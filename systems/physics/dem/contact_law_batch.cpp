@@ -6,7 +6,7 @@ namespace riffle {
 
 namespace {
 
-template <ContactLaw kLaw, bool kRolling, bool kShared>
+template <ContactLaw kLaw, RollingTerm kRolling, bool kShared>
 [[gnu::always_inline]] inline void evaluate_batch(SpherePairBatch& b, double dt) {
   const std::size_t count = b.count;
   const SpherePairCoefficients shared = b.shared;
@@ -49,12 +49,25 @@ template <ContactLaw kLaw, bool kRolling, bool kShared>
     in.sx = b.sx[p];
     in.sy = b.sy[p];
     in.sz = b.sz[p];
+    if constexpr (kRolling == RollingTerm::kElasticPlastic) {
+      in.rsx = b.rsx[p];
+      in.rsy = b.rsy[p];
+      in.rsz = b.rsz[p];
+      in.rolling_inertia = b.rolling_inertia[p];
+    } else {
+      in.rsx = in.rsy = in.rsz = in.rolling_inertia = 0.0;
+    }
 
     const ContactLaneOutput out = contact_law_lane<kLaw, kRolling>(in, dt);
 
     b.sx[p] = out.sx;
     b.sy[p] = out.sy;
     b.sz[p] = out.sz;
+    if constexpr (kRolling == RollingTerm::kElasticPlastic) {
+      b.rsx[p] = out.rsx;
+      b.rsy[p] = out.rsy;
+      b.rsz[p] = out.rsz;
+    }
     b.overlap[p] = in.overlap;
     const double fx = out.fx, fy = out.fy, fz = out.fz;
     b.fx[p] = fx;
@@ -81,7 +94,7 @@ template <ContactLaw kLaw, bool kRolling, bool kShared>
 #define RIFFLE_CONTACT_KERNEL_CLONES
 #endif
 /// The batch's coefficients shared or per pair.
-template <ContactLaw kLaw, bool kRolling>
+template <ContactLaw kLaw, RollingTerm kRolling>
 [[gnu::always_inline]] inline void evaluate(SpherePairBatch& b, double dt) {
   if (b.shared_coefficients)
     evaluate_batch<kLaw, kRolling, true>(b, dt);
@@ -89,25 +102,35 @@ template <ContactLaw kLaw, bool kRolling>
     evaluate_batch<kLaw, kRolling, false>(b, dt);
 }
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_hertz(SpherePairBatch& b, double dt) {
-  evaluate<ContactLaw::kHertzMindlin, false>(b, dt);
+  evaluate<ContactLaw::kHertzMindlin, RollingTerm::kNone>(b, dt);
 }
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_hertz_rolling(SpherePairBatch& b, double dt) {
-  evaluate<ContactLaw::kHertzMindlin, true>(b, dt);
+  evaluate<ContactLaw::kHertzMindlin, RollingTerm::kConstantTorque>(b, dt);
+}
+RIFFLE_CONTACT_KERNEL_CLONES void evaluate_hertz_rolling_spring(SpherePairBatch& b, double dt) {
+  evaluate<ContactLaw::kHertzMindlin, RollingTerm::kElasticPlastic>(b, dt);
 }
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_linear(SpherePairBatch& b, double dt) {
-  evaluate<ContactLaw::kLinearSpringDashpot, false>(b, dt);
+  evaluate<ContactLaw::kLinearSpringDashpot, RollingTerm::kNone>(b, dt);
 }
 RIFFLE_CONTACT_KERNEL_CLONES void evaluate_linear_rolling(SpherePairBatch& b, double dt) {
-  evaluate<ContactLaw::kLinearSpringDashpot, true>(b, dt);
+  evaluate<ContactLaw::kLinearSpringDashpot, RollingTerm::kConstantTorque>(b, dt);
+}
+RIFFLE_CONTACT_KERNEL_CLONES void evaluate_linear_rolling_spring(SpherePairBatch& b, double dt) {
+  evaluate<ContactLaw::kLinearSpringDashpot, RollingTerm::kElasticPlastic>(b, dt);
 }
 
 }  // namespace
 
-void evaluate_sphere_pair_batch(SpherePairBatch& b, ContactLaw law, bool rolling, double dt) {
-  if (law == ContactLaw::kHertzMindlin)
-    rolling ? evaluate_hertz_rolling(b, dt) : evaluate_hertz(b, dt);
-  else
-    rolling ? evaluate_linear_rolling(b, dt) : evaluate_linear(b, dt);
+void evaluate_sphere_pair_batch(SpherePairBatch& b, ContactLaw law, RollingTerm rolling, double dt) {
+  const bool hertz = law == ContactLaw::kHertzMindlin;
+  switch (rolling) {
+    case RollingTerm::kNone: hertz ? evaluate_hertz(b, dt) : evaluate_linear(b, dt); return;
+    case RollingTerm::kConstantTorque: hertz ? evaluate_hertz_rolling(b, dt) : evaluate_linear_rolling(b, dt); return;
+    case RollingTerm::kElasticPlastic:
+      hertz ? evaluate_hertz_rolling_spring(b, dt) : evaluate_linear_rolling_spring(b, dt);
+      return;
+  }
 }
 
 }  // namespace riffle

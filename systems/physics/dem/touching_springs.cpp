@@ -16,7 +16,9 @@ std::vector<CarriedSpring> touching_pair_springs(const Solids& solids, const Con
       if (contacts.pair_overlap[k] <= 0.0) continue;
       const EntityId first = solids.id[i], second = grain_id_behind(solids, contacts, contacts.pair_second[k]);
       const Vec3& spring = contacts.pair_spring[k];
-      springs.push_back(first < second ? CarriedSpring{first, second, spring} : CarriedSpring{second, first, -spring});
+      const Vec3& rolling = contacts.pair_rolling_spring[k];
+      springs.push_back(first < second ? CarriedSpring{first, second, spring, rolling}
+                                       : CarriedSpring{second, first, -spring, -rolling});
     }
   return springs;
 }
@@ -27,7 +29,8 @@ std::vector<CarriedSpring> touching_wall_springs(const Solids& solids, const Con
   for (std::size_t i = 0; i < solids.size(); ++i)
     for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
       if (contacts.wall_pair_overlap[k] > 0.0)
-        springs.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k]});
+        springs.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k],
+                           contacts.wall_pair_rolling_spring[k]});
   return springs;
 }
 

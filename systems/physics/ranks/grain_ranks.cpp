@@ -21,6 +21,7 @@ void pack_spring(const CarriedSpring& spring, ByteWriter& out) {
   out.put(spring.lower);
   out.put(spring.higher);
   out.put(spring.spring);
+  out.put(spring.rolling);
 }
 
 CarriedSpring unpack_spring(ByteReader& in) {
@@ -28,6 +29,7 @@ CarriedSpring unpack_spring(ByteReader& in) {
   spring.lower = in.get<EntityId>();
   spring.higher = in.get<EntityId>();
   spring.spring = in.get<Vec3>();
+  spring.rolling = in.get<Vec3>();
   return spring;
 }
 
@@ -326,12 +328,14 @@ void gather_contacts_at_root(const Solids& solids, const Contacts& contacts, std
       for (std::uint32_t k = contacts.wall_pair_offsets[i]; k < contacts.wall_pair_offsets[i + 1]; ++k)
         if (contacts.wall_pair_overlap[k] > 0.0)
           touching.push_back({solids.id[i], contacts.wall_pair_wall[k], contacts.wall_pair_spring[k],
-                              contacts.wall_pair_force[k], contacts.wall_pair_torque[k], contacts.wall_pair_overlap[k]});
+                              contacts.wall_pair_rolling_spring[k], contacts.wall_pair_force[k],
+                              contacts.wall_pair_torque[k], contacts.wall_pair_overlap[k]});
   out.put(static_cast<std::uint64_t>(touching.size()));
   for (const WallContactState& wall : touching) {
     out.put(wall.grain);
     out.put(wall.wall);
     out.put(wall.spring);
+    out.put(wall.rolling);
     out.put(wall.force);
     out.put(wall.torque);
     out.put(wall.overlap);
@@ -349,6 +353,7 @@ void gather_contacts_at_root(const Solids& solids, const Contacts& contacts, std
       wall.grain = in.get<EntityId>();
       wall.wall = in.get<std::uint32_t>();
       wall.spring = in.get<Vec3>();
+      wall.rolling = in.get<Vec3>();
       wall.force = in.get<Vec3>();
       wall.torque = in.get<Vec3>();
       wall.overlap = in.get<double>();

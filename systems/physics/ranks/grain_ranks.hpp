@@ -76,7 +76,7 @@ void return_rank_ghost_sums(const Contacts& contacts, const std::vector<Vec3>& p
 struct WallContactState {
   EntityId grain = 0;
   std::uint32_t wall = 0;
-  Vec3 spring = Vec3::Zero(), force = Vec3::Zero(), torque = Vec3::Zero();
+  Vec3 spring = Vec3::Zero(), rolling = Vec3::Zero(), force = Vec3::Zero(), torque = Vec3::Zero();
   double overlap = 0.0;
 };
 

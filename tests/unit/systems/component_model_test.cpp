@@ -303,6 +303,30 @@ TEST_CASE("checkpoints of the corpus read and write back: the current format byt
       old_payload.erase(at + before.size(), dropped);
       ++legacy_contacts;
     }
+    // Formats before 15 have no rolling springs: the new payload holds a vector of zero 3-vectors, one per pair,
+    // after the pairs' springs, and one per wall pair after the wall pairs' springs (found by the bytes before them).
+    if (data.world.contacts && data.world.contacts->valid && old_version < Contacts::kFirstFormatWithRollingSprings) {
+      const Contacts& contacts = *data.world.contacts;
+      for (const bool walls : {false, true}) {
+        std::ostringstream stream;
+        {
+          cereal::BinaryOutputArchive archive(stream);
+          if (walls)
+            archive(contacts.wall_pair_offsets, contacts.wall_pair_wall, contacts.wall_pair_spring);
+          else
+            archive(contacts.pair_offsets, contacts.pair_second, contacts.pair_spring);
+        }
+        const std::string before = stream.str();
+        const std::size_t at = new_payload.find(before);
+        REQUIRE(at != std::string::npos);
+        const std::vector<Vec3>& rolling = walls ? contacts.wall_pair_rolling_spring : contacts.pair_rolling_spring;
+        CHECK(rolling.size() == (walls ? contacts.wall_pair_count() : contacts.pair_count()));
+        for (const Vec3& value : rolling) CHECK(value == Vec3::Zero());
+        const std::size_t added = 8 + 3 * sizeof(double) * rolling.size();
+        REQUIRE(at + before.size() + added <= new_payload.size());
+        new_payload.erase(at + before.size(), added);
+      }
+    }
     // The fields a table gained since the old format, written at its end (the grains' table comes before the fluid's
     // in the payload, World::kParts): each at its default; erased from the new payload where it first differs.
     const auto erase_added = [&](const auto& table) {

@@ -195,14 +195,14 @@ TEST_CASE("a fluid checkpoint whose field lengths disagree is refused, not padde
   CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "short.ckpt"), doctest::Contains("pressure holds"), CheckpointError);
 }
 
-TEST_CASE("checkpoints of a format before 4 or after 14 are refused") {
-  CHECK(kCheckpointVersion == 14);
+TEST_CASE("checkpoints of a format before 4 or after 15 are refused") {
+  CHECK(kCheckpointVersion == 15);
   CHECK(kOldestCheckpointVersionRead == 4);
-  for (const std::uint32_t version : {3u, 15u}) {
+  for (const std::uint32_t version : {3u, 16u}) {
     std::string bytes = encode_checkpoint(sample_checkpoint());
     std::memcpy(bytes.data() + 8, &version, sizeof version);
     const std::string expected = "x.ckpt: checkpoint format version " + std::to_string(version) +
-                                 ", but this riffle reads version 14 (and 4)";
+                                 ", but this riffle reads version 15 (and 4)";
     CHECK_THROWS_WITH_AS(decode_checkpoint(bytes, "x.ckpt"), doctest::Contains(expected.c_str()), CheckpointError);
   }
 }

@@ -340,6 +340,54 @@ TEST_CASE("rolling friction opposes the relative spin with magnitude mu_r R* F_n
   }
 }
 
+TEST_CASE("elastic-plastic rolling friction: a spring torque -k_r w_rel dt a sub-step with a dashpot, capped at mu_r R* F_n") {
+  // Ai et al. (2011) model C, written out again: k_r = 2.25 mu_r^2 R*^2 k_n with k_n = F_n / d (no normal motion, so
+  // F_n is the spring's alone), C_r = 2 (0.3) sqrt(I_r k_r), the dashpot off at full mobilisation.
+  for (ContactLaw law : kLaws) {
+    INFO(name_of(law));
+    const double rolling = 0.05;
+    const ContactPairParameters pair = pair_parameters(law, 0.5, 0.3, rolling);
+    ContactGeometry geometry = skew_contact(2e-5, Vec3::Zero());
+    geometry.rolling_inertia = 1.4 * geometry.effective_mass * geometry.effective_radius * geometry.effective_radius;
+    const Vec3 spin = 1e-3 * geometry.relative_angular_velocity;  // slow: one sub-step stays below the cap
+    geometry.relative_angular_velocity = spin;
+    Vec3 spring = Vec3::Zero(), rolling_spring = Vec3::Zero();
+    const ContactResponse first =
+        evaluate_contact(law, RollingLaw::kElasticPlastic, pair, geometry, spring, rolling_spring, kDt);
+    const double normal_stiffness = first.normal_force / geometry.overlap;
+    const double arm = rolling * geometry.effective_radius;
+    const double rolling_stiffness = 2.25 * arm * arm * normal_stiffness;
+    const double damping = 0.6 * std::sqrt(geometry.rolling_inertia * rolling_stiffness);
+    const double cap = arm * first.normal_force;
+    const Vec3 expected_spring = -rolling_stiffness * kDt * spin;
+    REQUIRE(expected_spring.norm() < cap);
+    CHECK((rolling_spring - expected_spring).norm() < 1e-12 * expected_spring.norm());
+    CHECK((first.rolling_torque_on_first - (expected_spring - damping * spin)).norm() <
+          1e-12 * (expected_spring - damping * spin).norm());
+    // No spin: the spring holds its torque (a contact at rest stays at rest under it) and there is no dashpot.
+    geometry.relative_angular_velocity = Vec3::Zero();
+    const Vec3 held = rolling_spring;
+    const ContactResponse at_rest =
+        evaluate_contact(law, RollingLaw::kElasticPlastic, pair, geometry, spring, rolling_spring, kDt);
+    CHECK(rolling_spring == held);
+    CHECK(at_rest.rolling_torque_on_first == held);
+    // Past the cap: the torque is mu_r R* F_n along the spring, with no dashpot, and the spring is left at the cap.
+    geometry.relative_angular_velocity = spin;
+    rolling_spring = -10.0 * cap * spin.normalized();
+    const ContactResponse mobilised =
+        evaluate_contact(law, RollingLaw::kElasticPlastic, pair, geometry, spring, rolling_spring, kDt);
+    CHECK(mobilised.rolling_torque_on_first.norm() == doctest::Approx(cap).epsilon(1e-12));
+    CHECK(mobilised.rolling_torque_on_first.dot(spin) == doctest::Approx(-cap * spin.norm()).epsilon(1e-12));
+    CHECK(rolling_spring.norm() == doctest::Approx(cap).epsilon(1e-12));
+    // Without rolling friction nothing acts and nothing is kept.
+    const ContactPairParameters without = pair_parameters(law, 0.5, 0.3, 0.0);
+    rolling_spring = Vec3::Zero();
+    CHECK(evaluate_contact(law, RollingLaw::kElasticPlastic, without, geometry, spring, rolling_spring, kDt)
+              .rolling_torque_on_first.norm() == 0.0);
+    CHECK(rolling_spring.norm() == 0.0);
+  }
+}
+
 TEST_CASE("the restitution the DEM integrator achieves converges to the requested one at first order in dt/t_c") {
   // discrete_restitution runs evaluate_contact inside riffle's velocity Verlet. Velocity Verlet is second order for
   // a conservative force, but the dashpot sees the half-step velocity, so the damped rebound converges at first
@@ -383,7 +431,7 @@ namespace {
 
 /// One sphere pair for evaluate_sphere_pair_batch: centres, velocities, spins, radii, masses and a spring.
 struct SpherePair {
-  Vec3 centre_line, velocity_i, velocity_j, spin_i, spin_j, spring;
+  Vec3 centre_line, velocity_i, velocity_j, spin_i, spin_j, spring, rolling_spring;
   double radius_i, radius_j, mass_i, mass_j;
 };
 
@@ -402,6 +450,8 @@ SpherePair sphere_pair(int k) {
   pair.spin_i = Vec3(3.0, -1.0 * s, 2.0);
   pair.spin_j = Vec3(-1.0, 0.5, 0.1 * k);
   pair.spring = Vec3(2.0, -1.0, 0.3 * (k % 3)) * 1e-8 * s;  // partly out of the tangent plane
+  // Elastic-plastic rolling: some lanes below the cap mu_r R* F_n (~1e-7 N m here), some above it.
+  pair.rolling_spring = Vec3(1.0, -0.5 * s, 0.2 * (k % 4)) * (k % 2 == 0 ? 1e-9 : 1e-6);
   return pair;
 }
 
@@ -413,6 +463,8 @@ void put(SpherePairBatch& batch, std::size_t p, const SpherePair& pair, const Co
   batch.wix[p] = pair.spin_i.x(), batch.wiy[p] = pair.spin_i.y(), batch.wiz[p] = pair.spin_i.z();
   batch.wjx[p] = pair.spin_j.x(), batch.wjy[p] = pair.spin_j.y(), batch.wjz[p] = pair.spin_j.z();
   batch.sx[p] = pair.spring.x(), batch.sy[p] = pair.spring.y(), batch.sz[p] = pair.spring.z();
+  batch.rsx[p] = pair.rolling_spring.x(), batch.rsy[p] = pair.rolling_spring.y(), batch.rsz[p] = pair.rolling_spring.z();
+  batch.rolling_inertia[p] = pair_rolling_inertia(pair.mass_i, pair.radius_i, pair.mass_j, pair.radius_j, false, false);
   batch.ri[p] = pair.radius_i, batch.rj[p] = pair.radius_j;
   batch.effective_mass[p] = pair_reduced_mass(pair.mass_i, pair.mass_j, false, false);
   batch.stiffness_a[p] = coefficients.normal_stiffness_coefficient;
@@ -432,12 +484,15 @@ TEST_CASE("the batched sphere-pair kernel is evaluate_contact on the pair's geom
   // The coefficients come per pair or, for a batch of one material pair, once for all (`shared`).
   for (ContactLaw law : kLaws)
     for (double friction : {50.0, 1e-3})  // sticks, slides
-      for (bool rolling : {false, true})
+      for (RollingTerm rolling : {RollingTerm::kNone, RollingTerm::kConstantTorque, RollingTerm::kElasticPlastic})
         for (bool shared : {false, true})
         for (std::size_t count : {std::size_t{1}, std::size_t{7}, kContactBatch}) {
-          INFO(name_of(law) << ", mu " << friction << ", rolling " << rolling << ", shared " << shared << ", "
-                            << count << " pairs");
-          const ContactPairParameters coefficients = pair_parameters(law, 0.5, friction, rolling ? 0.05 : 0.0);
+          INFO(name_of(law) << ", mu " << friction << ", rolling term " << static_cast<int>(rolling) << ", shared "
+                            << shared << ", " << count << " pairs");
+          const bool any_rolling = rolling != RollingTerm::kNone;
+          const RollingLaw rolling_law =
+              rolling == RollingTerm::kElasticPlastic ? RollingLaw::kElasticPlastic : RollingLaw::kConstantTorque;
+          const ContactPairParameters coefficients = pair_parameters(law, 0.5, friction, any_rolling ? 0.05 : 0.0);
           SpherePairBatch batch;
           batch.count = count;
           for (std::size_t p = 0; p < count; ++p) put(batch, p, sphere_pair(static_cast<int>(p)), coefficients, law);
@@ -463,18 +518,23 @@ TEST_CASE("the batched sphere-pair kernel is evaluate_contact on the pair's geom
             geometry.relative_angular_velocity = pair.spin_i - pair.spin_j;
             geometry.effective_radius = pair.radius_i * pair.radius_j / (pair.radius_i + pair.radius_j);
             geometry.effective_mass = pair.mass_i * pair.mass_j / (pair.mass_i + pair.mass_j);
-            Vec3 spring = pair.spring;
-            const ContactResponse expected = evaluate_contact(law, coefficients, geometry, spring, kDt);
+            geometry.rolling_inertia =
+                pair_rolling_inertia(pair.mass_i, pair.radius_i, pair.mass_j, pair.radius_j, false, false);
+            Vec3 spring = pair.spring, rolling_spring = pair.rolling_spring;
+            const ContactResponse expected =
+                evaluate_contact(law, rolling_law, coefficients, geometry, spring, rolling_spring, kDt);
             slid += expected.sliding;
             CHECK(batch.overlap[p] == geometry.overlap);
             CHECK(Vec3(batch.sx[p], batch.sy[p], batch.sz[p]) == spring);
+            if (rolling == RollingTerm::kElasticPlastic)
+              CHECK(Vec3(batch.rsx[p], batch.rsy[p], batch.rsz[p]) == rolling_spring);
             CHECK(Vec3(batch.fx[p], batch.fy[p], batch.fz[p]) == expected.force_on_first);
             CHECK(Vec3(batch.tix[p], batch.tiy[p], batch.tiz[p]) ==
                   arm_i.cross(expected.force_on_first) + expected.rolling_torque_on_first);
             CHECK(Vec3(batch.tjx[p], batch.tjy[p], batch.tjz[p]) ==
                   (pair.radius_j * geometry.normal).cross(expected.force_on_first) -
                       expected.rolling_torque_on_first);
-            if (rolling) CHECK(expected.rolling_torque_on_first.norm() > 0.0);
+            if (any_rolling) CHECK(expected.rolling_torque_on_first.norm() > 0.0);
           }
           CHECK(slid == (friction < 1.0 ? static_cast<int>(count) : 0));  // both regimes were exercised
         }
