@@ -80,10 +80,12 @@ TEST_CASE("the grain count and summary are unchanged by reordering") {
 namespace {
 /// Grains falling into a pile with contacts: rebuilds, reordering by cell (every rebuild) and sliding contacts, so
 /// tangential springs must be carried across reorders and checkpoints.
-std::string contact_scene() {
+/// `rolling_law`: [contact] rolling_law ("elastic_plastic": rolling springs too).
+std::string contact_scene(const std::string& rolling_law = "constant_torque") {
   return SceneBuilder().run({.end_time = 1.0, .dt = 1.0e-3})
       .material("grain", {.density = 1318.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
       .contact({.restitution = 0.5, .friction = 0.4, .rolling_friction = 0.01}).set("sort_every_rebuild", 1)
+      .set("rolling_law", rolling_law)
       .tank({.size = {0.04, 0.04, 0.1}, .wall_material = "grain"}).tank_motion({.amplitude = 0.01, .frequency = 3.0})
       .block({.min = {0.004, 0.004, 0.004}, .max = {0.036, 0.036, 0.03}, .spacing = 0.0062, .radius = 0.0025,
               .material = "grain", .velocity = {0.2, -0.1, 0.0}})
@@ -92,25 +94,31 @@ std::string contact_scene() {
 }  // namespace
 
 TEST_CASE("with contacts: one and two threads, and resumed runs, give byte-identical checkpoints") {
-  const std::string one = checkpoint_bytes_after(contact_scene(), "pile.toml", 1, 60);
-  const std::string two = checkpoint_bytes_after(contact_scene(), "pile.toml", 2, 60);
-  CHECK(one == two);
+  for (const std::string rolling_law : {"constant_torque", "elastic_plastic"}) {
+    INFO("rolling_law " << rolling_law);
+    const std::string one = checkpoint_bytes_after(contact_scene(rolling_law), "pile.toml", 1, 60);
+    const std::string two = checkpoint_bytes_after(contact_scene(rolling_law), "pile.toml", 2, 60);
+    CHECK(one == two);
 
-  const auto directory = test::scratch_dir("determinism_contacts");
-  auto first_part = Simulation::from_model(parse_scene(contact_scene(), "pile.toml"));
-  for (int step = 0; step < 37; ++step) first_part->step();
-  // The list was rebuilt (and the grains reordered) and springs are loaded: the checkpoint must carry both.
-  const Contacts& contacts = *first_part->world().contacts;
-  CHECK(contacts.rebuilds > 1);
-  bool loaded_spring = false;
-  for (const Vec3& spring : contacts.pair_spring) loaded_spring = loaded_spring || spring.norm() > 0.0;
-  CHECK(loaded_spring);
-  const std::string path = (directory / "part.ckpt").string();
-  write_checkpoint(path, first_part->checkpoint_data());
-  first_part.reset();
-  auto resumed = Simulation::from_checkpoint(path);
-  for (int step = 37; step < 60; ++step) resumed->step();
-  CHECK(encode_checkpoint(resumed->checkpoint_data()) == two);
+    const auto directory = test::scratch_dir("determinism_contacts");
+    auto first_part = Simulation::from_model(parse_scene(contact_scene(rolling_law), "pile.toml"));
+    for (int step = 0; step < 37; ++step) first_part->step();
+    // The list was rebuilt (and the grains reordered) and springs are loaded: the checkpoint must carry both.
+    const Contacts& contacts = *first_part->world().contacts;
+    CHECK(contacts.rebuilds > 1);
+    bool loaded_spring = false, loaded_rolling_spring = false;
+    for (const Vec3& spring : contacts.pair_spring) loaded_spring = loaded_spring || spring.norm() > 0.0;
+    for (const Vec3& spring : contacts.pair_rolling_spring)
+      loaded_rolling_spring = loaded_rolling_spring || spring.norm() > 0.0;
+    CHECK(loaded_spring);
+    CHECK(loaded_rolling_spring == (rolling_law == "elastic_plastic"));
+    const std::string path = (directory / "part.ckpt").string();
+    write_checkpoint(path, first_part->checkpoint_data());
+    first_part.reset();
+    auto resumed = Simulation::from_checkpoint(path);
+    for (int step = 37; step < 60; ++step) resumed->step();
+    CHECK(encode_checkpoint(resumed->checkpoint_data()) == two);
+  }
 }
 
 namespace {
