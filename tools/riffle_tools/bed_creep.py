@@ -1,5 +1,5 @@
 """A settled bed at rest, and how fast it creeps: the drift a contact law's time integration leaves in a bed whose
-exact answer is rest (docs/cases/seed-experiment.md, "Why the sub-step moves the late sorting").
+exact answer is rest (docs/cases/seed-experiment.md, "A bed at rest creeps under the constant-torque rolling friction").
 
 Runs riffle on a scene of a settled bed with nothing driving it (tests/data/resting_bed_creep.toml: the seed bed
 under gravity tilted below the rolling angle) once per sub-step count and variant, then reads the grains' frames at
