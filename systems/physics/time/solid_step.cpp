@@ -35,6 +35,21 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
   auto mass_of = [&](std::int32_t material, double radius) {
     return model.materials[static_cast<std::size_t>(material)].density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   };
+  // The elastic-plastic rolling spring (contact_law.hpp) swings the pair's relative spin at omega_r^2 = k_r / I,
+  // 1/I = sum 1/(2/5 m R^2) over the spheres that turn (the spins alone: the stiffest, the contact point held by the
+  // tangential spring), where the normal contact swings at omega_n^2 = k_n / m*. With k_r = 2.25 mu_r^2 R*^2 k_n the
+  // ratio omega_r / omega_n = sqrt(2.25 mu_r^2 R*^2 m* / I) does not depend on k_n, so the rolling swing's half
+  // period is the contact time over it, resolved by as many sub-steps as a collision: a bound only where the ratio
+  // passes 1 (a grain on a wall at mu_r > 0.42, two equal grains at 0.84).
+  auto rolling_ratio = [&](const ContactPairParameters& pair, double effective_radius, double effective_mass,
+                           double inverse_spin_inertia) {
+    if (contact.rolling_law != RollingLaw::kElasticPlastic || !(pair.rolling_friction > 0.0)) return 0.0;
+    const double arm = pair.rolling_friction * effective_radius;
+    return std::sqrt(kRollingStiffnessFactor * arm * arm * effective_mass * inverse_spin_inertia);
+  };
+  auto inverse_spin_inertia_of = [&](std::int32_t material, double radius) {
+    return 1.0 / (0.4 * mass_of(material, radius) * radius * radius);
+  };
   char text[256];
   for (const auto& [material, radius] : smallest_radius) {
     const Material& props = model.materials[static_cast<std::size_t>(material)];
@@ -54,6 +69,16 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
       std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%s grains of %g and %g m)",
                     collision, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
       consider(collision / contact.steps_per_collision, text);
+      const double pair_rolling = rolling_ratio(
+          pair, effective_radius, effective_mass,
+          inverse_spin_inertia_of(material, radius) + inverse_spin_inertia_of(other, other_radius));
+      if (pair_rolling > 1.0) {
+        std::snprintf(text, sizeof text,
+                      "the elastic-plastic rolling spring's half swing, contact time %.3g s / %.3g, / %g steps per "
+                      "collision (%s grains of %g and %g m)",
+                      collision, pair_rolling, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
+        consider(collision / (pair_rolling * contact.steps_per_collision), text);
+      }
       if (material <= other) {
         std::snprintf(text, sizeof text, "a %g m grain of %s on a %g m grain of %s", radius, props.name.c_str(), other_radius,
                       model.materials[static_cast<std::size_t>(other)].name.c_str());
@@ -68,6 +93,15 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
     std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%g m grain of %s on a wall)",
                   wall_collision, contact.steps_per_collision, radius, props.name.c_str());
     consider(wall_collision / contact.steps_per_collision, text);
+    const double wall_rolling =
+        rolling_ratio(wall, radius, mass_of(material, radius), inverse_spin_inertia_of(material, radius));
+    if (wall_rolling > 1.0) {
+      std::snprintf(text, sizeof text,
+                    "the elastic-plastic rolling spring's half swing, contact time %.3g s / %.3g, / %g steps per "
+                    "collision (%g m grain of %s on a wall)",
+                    wall_collision, wall_rolling, contact.steps_per_collision, radius, props.name.c_str());
+      consider(wall_collision / (wall_rolling * contact.steps_per_collision), text);
+    }
     std::snprintf(text, sizeof text, "a %g m grain of %s on a wall", radius, props.name.c_str());
     impacts.push_back({&wall, radius, mass_of(material, radius), wall_collision, text});
   }

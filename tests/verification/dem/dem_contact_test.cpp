@@ -682,13 +682,14 @@ TEST_CASE("an elastic frictionless gas of grains in a closed box keeps its energ
 
 namespace {
 /// A scene of two grain sizes of "grain" in a tank of "glass", for the sub-step estimates.
-std::string substep_scene(const std::string& law, const std::string& substeps_line) {
+std::string substep_scene(const std::string& law, const std::string& substeps_line,
+                          const std::string& contact_lines = "") {
   SceneBuilder scene;
   scene.run({.end_time = 1.0, .dt = 1.0e-3}).verbatim(substeps_line)
       .material("grain", {.density = 1318.0, .young_modulus = 1.0e8, .poisson_ratio = 0.3})
       .material("glass", {.density = 2500.0, .young_modulus = 1.0e10, .poisson_ratio = 0.25})
       .tank({.size = {0.05, 0.05, 0.05}, .wall_material = "glass"})
-      .contact({.law = law, .restitution = 0.5, .friction = 0.4});
+      .contact({.law = law, .restitution = 0.5, .friction = 0.4}).verbatim(contact_lines);
   if (law == "linear_spring_dashpot") scene.set("collision_time", 1.0e-3);
   return scene.sphere({.position = {0.01, 0.01, 0.01}, .radius = 0.0025, .material = "grain"})
       .sphere({.position = {0.03, 0.03, 0.03}, .radius = 0.005, .material = "grain"}).toml();
@@ -741,6 +742,32 @@ TEST_CASE("the DEM sub-step is chosen within the stability estimates, and a scen
     const Model given =
         parse_scene(substep_scene(law, "solid_substeps = " + std::to_string(enough) + "\n"), "substeps.toml");
     CHECK(given.solid_substeps == enough);
+  }
+}
+
+TEST_CASE("a stiff elastic-plastic rolling spring shortens the sub-step to resolve its swing as a collision is") {
+  // The rolling spring k_r = 2.25 mu_r^2 R*^2 k_n turns the pair's relative spin at omega_r^2 = k_r / I (1/I the sum
+  // of 1 / (2/5 m R^2) over the spheres that turn), the normal contact at omega_n^2 = k_n / m*. On the glass wall
+  // (R* = R, m* = m, the wall does not turn): omega_r / omega_n = sqrt(2.25 mu_r^2 / 0.4) = 2.372 mu_r; two equal
+  // 5 mm grains: R* = R/2, m* = m/2, I = m R^2 / 5, so 1.186 mu_r. The swing's half period is the contact time over
+  // that ratio, and the estimate resolves it by the same 16 steps wherever it is the shorter.
+  const double wall_young = 1.0 / ((1.0 - kPoisson * kPoisson) / kYoung + (1.0 - 0.25 * 0.25) / 1.0e10);
+  const double wall_contact = hertz_contact_time(wall_young, kRadius, kMass, 1.0);
+  for (const double mu_r : {0.1, 0.4, 0.8, 1.5}) {
+    const double wall_ratio = std::sqrt(2.25 * mu_r * mu_r / 0.4);
+    const double pair_ratio = std::sqrt(2.25 * mu_r * mu_r * 0.25 * 0.5 / 0.2);
+    const double pair_contact = hertz_contact_time(kEffectiveYoung, 0.5 * kRadius, 0.5 * kMass, 1.0);
+    const double expected = std::min({wall_contact / 16.0, wall_contact / (16.0 * wall_ratio),
+                                      pair_contact / (16.0 * std::max(1.0, pair_ratio))});
+    INFO("mu_r = " << mu_r << ", rolling over normal frequency: wall " << wall_ratio << ", grains " << pair_ratio);
+    const std::string rolling = "rolling_friction = " + std::to_string(mu_r) + "\n";
+    const Model elastic =
+        parse_scene(substep_scene("hertz_mindlin", "", rolling + "rolling_law = \"elastic_plastic\"\n"), "s.toml");
+    CHECK(elastic.contact.stable_solid_dt == doctest::Approx(expected).epsilon(1e-12));
+    if (wall_ratio > 1.0) CHECK(elastic.contact.stable_solid_dt_reason.find("rolling spring") != std::string::npos);
+    // The constant torque has no spring: the contact alone sets the sub-step, whatever mu_r.
+    const Model constant = parse_scene(substep_scene("hertz_mindlin", "", rolling), "s.toml");
+    CHECK(constant.contact.stable_solid_dt == doctest::Approx(wall_contact / 16.0).epsilon(1e-12));
   }
 }
 
