@@ -76,7 +76,7 @@ struct ContactPairParameters {
 struct ContactModel {
   bool enabled = false;
   ContactLaw law = ContactLaw::kHertzMindlin;
-  RollingLaw rolling_law = RollingLaw::kConstantTorque;
+  RollingLaw rolling_law = RollingLaw::kElasticPlastic;  ///< holds a contact at rest below its cap at every sub-step
   std::size_t material_count = 0;
   std::vector<ContactPairParameters> pairs;  ///< material_count x material_count, symmetric; [a * count + b]
   double collision_time = 0.0;     ///< [s] linear law: duration of a normal collision

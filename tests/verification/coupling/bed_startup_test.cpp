@@ -31,6 +31,7 @@ SceneBuilder sheared_box(double end_time, const std::string& tank_keys = "", dou
       .material("grain", {.density = 2650.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
       .contact({.law = "hertz_mindlin", .restitution = 0.5, .friction = 0.5, .rolling_friction = 0.05,
                 .max_impact_speed = 1.0})
+      .set("rolling_law", "constant_torque")  // seed 003 Eq. 20, as the sheared-bed scenes name it
       .tank({.size = {0.02, 0.02, height}, .wall_material = "grain"}).verbatim(tank_keys);
   return scene;
 }

@@ -765,8 +765,12 @@ TEST_CASE("a stiff elastic-plastic rolling spring shortens the sub-step to resol
         parse_scene(substep_scene("hertz_mindlin", "", rolling + "rolling_law = \"elastic_plastic\"\n"), "s.toml");
     CHECK(elastic.contact.stable_solid_dt == doctest::Approx(expected).epsilon(1e-12));
     if (wall_ratio > 1.0) CHECK(elastic.contact.stable_solid_dt_reason.find("rolling spring") != std::string::npos);
+    // The default law is the elastic-plastic one.
+    const Model by_default = parse_scene(substep_scene("hertz_mindlin", "", rolling), "s.toml");
+    CHECK(by_default.contact.stable_solid_dt == elastic.contact.stable_solid_dt);
     // The constant torque has no spring: the contact alone sets the sub-step, whatever mu_r.
-    const Model constant = parse_scene(substep_scene("hertz_mindlin", "", rolling), "s.toml");
+    const Model constant =
+        parse_scene(substep_scene("hertz_mindlin", "", rolling + "rolling_law = \"constant_torque\"\n"), "s.toml");
     CHECK(constant.contact.stable_solid_dt == doctest::Approx(wall_contact / 16.0).epsilon(1e-12));
   }
 }
