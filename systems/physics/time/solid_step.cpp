@@ -51,6 +51,16 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
     return 1.0 / (0.4 * mass_of(material, radius) * radius * radius);
   };
   char text[256];
+  // The contact time over the rolling spring's frequency ratio, where that ratio passes 1; `impact` names the pair.
+  auto consider_rolling = [&](double contact_time, double ratio, const char* impact) {
+    if (!(ratio > 1.0)) return;
+    std::snprintf(text, sizeof text,
+                  "the elastic-plastic rolling spring's half swing, contact time %.3g s / %.3g, / %g steps per "
+                  "collision (%s)",
+                  contact_time, ratio, contact.steps_per_collision, impact);
+    consider(contact_time / (ratio * contact.steps_per_collision), text);
+  };
+  char impact_name[160];
   for (const auto& [material, radius] : smallest_radius) {
     const Material& props = model.materials[static_cast<std::size_t>(material)];
     const double rayleigh = rayleigh_time(radius, props.density, props.young_modulus, props.poisson_ratio);
@@ -69,16 +79,13 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
       std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%s grains of %g and %g m)",
                     collision, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
       consider(collision / contact.steps_per_collision, text);
-      const double pair_rolling = rolling_ratio(
-          pair, effective_radius, effective_mass,
-          inverse_spin_inertia_of(material, radius) + inverse_spin_inertia_of(other, other_radius));
-      if (pair_rolling > 1.0) {
-        std::snprintf(text, sizeof text,
-                      "the elastic-plastic rolling spring's half swing, contact time %.3g s / %.3g, / %g steps per "
-                      "collision (%s grains of %g and %g m)",
-                      collision, pair_rolling, contact.steps_per_collision, props.name.c_str(), radius, other_radius);
-        consider(collision / (pair_rolling * contact.steps_per_collision), text);
-      }
+      std::snprintf(impact_name, sizeof impact_name, "%s grains of %g and %g m", props.name.c_str(), radius,
+                    other_radius);
+      consider_rolling(collision,
+                       rolling_ratio(pair, effective_radius, effective_mass,
+                                     inverse_spin_inertia_of(material, radius) +
+                                         inverse_spin_inertia_of(other, other_radius)),
+                       impact_name);
       if (material <= other) {
         std::snprintf(text, sizeof text, "a %g m grain of %s on a %g m grain of %s", radius, props.name.c_str(), other_radius,
                       model.materials[static_cast<std::size_t>(other)].name.c_str());
@@ -93,15 +100,10 @@ StableStep stable_solid_step(const Model& model, std::vector<DesignImpact>& impa
     std::snprintf(text, sizeof text, "contact time %.3g s / %g steps per collision (%g m grain of %s on a wall)",
                   wall_collision, contact.steps_per_collision, radius, props.name.c_str());
     consider(wall_collision / contact.steps_per_collision, text);
-    const double wall_rolling =
-        rolling_ratio(wall, radius, mass_of(material, radius), inverse_spin_inertia_of(material, radius));
-    if (wall_rolling > 1.0) {
-      std::snprintf(text, sizeof text,
-                    "the elastic-plastic rolling spring's half swing, contact time %.3g s / %.3g, / %g steps per "
-                    "collision (%g m grain of %s on a wall)",
-                    wall_collision, wall_rolling, contact.steps_per_collision, radius, props.name.c_str());
-      consider(wall_collision / (wall_rolling * contact.steps_per_collision), text);
-    }
+    std::snprintf(impact_name, sizeof impact_name, "%g m grain of %s on a wall", radius, props.name.c_str());
+    consider_rolling(wall_collision,
+                     rolling_ratio(wall, radius, mass_of(material, radius), inverse_spin_inertia_of(material, radius)),
+                     impact_name);
     std::snprintf(text, sizeof text, "a %g m grain of %s on a wall", radius, props.name.c_str());
     impacts.push_back({&wall, radius, mass_of(material, radius), wall_collision, text});
   }
