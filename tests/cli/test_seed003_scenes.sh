@@ -51,4 +51,24 @@ for scene in sheared_bed_small sheared_bed_small_wide sheared_bed_large sheared_
     echo "ok $scene: valid, and runs its first steps periodic"
   fi
 done
+# The tilted bed (scenes/bed_tilt.toml, dry: the slope at which the small bed flows) starts from the mean-flow small
+# bed's settle: valid, fixes its bottom layer, and runs its first steps periodic with gravity tilted.
+file="$source_dir/scenes/bed_tilt.toml"
+grep -q '^initial_state = "../out/sheared_bed_mean_flow_settle/checkpoints/final.ckpt"' "$file" ||
+  { echo "FAIL bed_tilt: its initial_state is not the mean-flow small bed's settled checkpoint"; status=1; }
+sed "s|^initial_state = .*|initial_state = \"$work/sheared_bed_mean_flow_settle/checkpoints/final.ckpt\"|" "$file" \
+  > "$work/bed_tilt.toml"
+if ! ran=$("$riffle" run "$work/bed_tilt.toml" --until 0.001 --threads 1 --out "$work/bed_tilt_run" \
+             --set 'run.gravity=[3.355218, 0.0, -9.218385]' 2>&1) ||
+   [ ! -s "$work/bed_tilt_run/probe_moving_fraction.csv" ]; then
+  echo "FAIL bed_tilt: does not run its first steps tilted (or writes no moving-fraction probe):"
+  echo "$ran" | tail -5
+  status=1
+elif ! grep -q 'of the grains are fixed for the whole run' <<<"$ran"; then
+  echo "FAIL bed_tilt: it sets fixed_below, but its run fixed no grain:"
+  echo "$ran" | tail -5
+  status=1
+else
+  echo "ok bed_tilt: valid, fixes its floor, and runs its first steps tilted"
+fi
 exit $status

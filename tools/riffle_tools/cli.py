@@ -55,6 +55,8 @@ COMMANDS = [
                                              "against the continuum the self-induced correction models"),
     ("bed-creep", "bed_creep", "a settled bed with nothing driving it: how fast it creeps at each sub-step "
                                "(runs riffle)"),
+    ("bed-tilt", "bed_tilt", "a settled bed tilted in gravity: the slope at which it starts to flow (runs "
+                             "riffle)"),
     ("ten-cate", "ten_cate", "ten Cate et al.'s sphere settling onto a box's floor against the measurements "
                              "(runs riffle)"),
     ("hindered-settling", "hindered_settling", "hindered settling of a suspension against Richardson & Zaki "
