@@ -2,7 +2,7 @@
 """Self-test of tools/riffle-tools bed-tilt with a stand-in for riffle: a script that reads the tilt from the
 command line's run.gravity and writes a moving-fraction probe that stays at 0 below 23.3 degrees (a bed that holds),
 rises to 1 above it (a bed that flows), and rises then falls back to 0.2 at exactly 21 degrees (a partial slide,
-counted as neither). Checks: the gravity handed to riffle is 9.81 (sin, 0, -cos) of each angle; each listed angle is
+counted as neither; at 23 instead, in a second sweep, where a halving lands on it). Checks: the gravity handed to riffle is 9.81 (sin, 0, -cos) of each angle; each listed angle is
 run once per variant with the variant's own --set; the halvings close in on 23.3 (the interval after two is 2 wide
 less two halvings: [23, 23.5]); the tangents in onset.csv are the interval's; a second call runs nothing and writes
 the same tables; a failing run fails the sweep.
@@ -37,7 +37,7 @@ with open(os.path.join(out, "probe_moving_fraction.csv"), "w") as probe:
     probe.write("time_s,step,class_0_moving_fraction,all_moving_fraction\n")
     for k in range(101):
         t = 0.01 * k
-        if abs(angle - 21.0) < 1e-3:
+        if abs(angle - float(os.environ.get("PARTIAL_ANGLE", "21"))) < 1e-3:
             f = min(1.0, 10 * t) if t < 0.5 else 0.2
         else:
             f = 0.0 if angle < 23.3 else min(1.0, 5 * t)
@@ -98,6 +98,19 @@ def main():
         failures.append("a second call ran riffle again")
     if ((work / "tilt.csv").read_text(), (work / "onset.csv").read_text()) != first_tables:
         failures.append("a second call wrote other tables")
+
+    # A partial slide at a halving's angle (23, in [22, 24]) ends the halving: no angle run twice, the interval
+    # [22, 24] with the partial one named.
+    partial = run_tool(base / "partial", stand_in, env={**os.environ, "PARTIAL_ANGLE": "23"})
+    if partial.returncode != 0:
+        failures.append("the sweep with a partial slide at 23 failed")
+    else:
+        angles = [(row["variant"], row["angle_deg"]) for row in read(base / "partial" / "tilt.csv")]
+        if len(angles) != len(set(angles)) or len(angles) != 12:
+            failures.append(f"with a partial slide at 23: runs {angles}")
+        for row in read(base / "partial" / "onset.csv"):
+            if (row["holds_up_to_deg"], row["flows_from_deg"], row["partial_deg"]) != ("22.0", "24.0", "23"):
+                failures.append(f"with a partial slide at 23: onset {row}")
 
     failing = run_tool(base / "failing", stand_in, env={**os.environ, "STAND_IN_FAIL": "1"})
     if failing.returncode == 0:

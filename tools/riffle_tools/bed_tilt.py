@@ -5,7 +5,7 @@ Runs riffle on a scene of a settled, periodic bed on a rough floor (scenes/bed_t
 bottom layer fixed) once per angle, with gravity tilted by theta about y, g = |g| (sin theta, 0, -cos theta), and
 reads the moving fraction (|v| > 0.01 m/s, fixed grains left out) over the run's last `--window` seconds: a bed that
 holds has f_m near 0 there, one that flows near 1. Then halves the interval between the steepest angle that held and
-the gentlest that flowed `--refine` times. The onset angle is reported as that interval; its tangent is the bed's
+the gentlest that flowed `--refine` times (stopping early where a halving lands on a partial slide). The onset angle is reported as that interval; its tangent is the bed's
 friction against starting, the angle of repose that Dey's threshold model and seed 003's Sec. 5 read. With
 `--start-from CKPT` (a flowing bed's checkpoint, e.g. a steeper run's final.ckpt) every run starts from that moving
 bed instead, and the interval is the angle at which a flow stops (the dynamic angle of repose, below the onset's).
@@ -106,6 +106,8 @@ def main(argv=None):
         results = {}
 
         def run_angle(angle):
+            if angle in results:  # run already (a halving that lands on a listed angle)
+                return
             run = work / name / f"{angle:g}"
             if not finished(run, args.end):
                 gravity = ", ".join(f"{value:.6f}" for value in tilted_gravity(angle))
@@ -131,9 +133,15 @@ def main(argv=None):
             low, high = onset_interval(results)
             if low is None or high is None:
                 break
-            run_angle(round(0.5 * (low + high), 4))
+            middle = round(0.5 * (low + high), 4)
+            if middle in results:  # a partial slide there: halving cannot narrow the interval further
+                break
+            run_angle(middle)
         low, high = onset_interval(results)
+        partial = sorted(angle for angle, state in results.items() if state == "partial"
+                         and (low is None or angle > low) and (high is None or angle < high))
         onsets.append({"variant": name, "holds_up_to_deg": low, "flows_from_deg": high,
+                       "partial_deg": " ".join(f"{angle:g}" for angle in partial),
                        "friction_low": math.tan(math.radians(low)) if low is not None else None,
                        "friction_high": math.tan(math.radians(high)) if high is not None else None})
 
@@ -148,13 +156,14 @@ def main(argv=None):
     for row in table:
         print(f"| {row['variant']} | {row['angle_deg']:g} | {row['state']} | {row['late_moving_fraction']:.3f} | "
               f"{row['peak_moving_fraction']:.3f} |")
-    print("\n| variant | holds up to [deg] | flows from [deg] | tan, the two |")
-    print("|---|---|---|---|")
+    print("\n| variant | holds up to [deg] | flows from [deg] | tan, the two | partial slides between [deg] |")
+    print("|---|---|---|---|---|")
     for row in onsets:
         def show(value, form):
             return "-" if value is None else format(value, form)
         print(f"| {row['variant']} | {show(row['holds_up_to_deg'], 'g')} | {show(row['flows_from_deg'], 'g')} | "
-              f"{show(row['friction_low'], '.3f')} - {show(row['friction_high'], '.3f')} |")
+              f"{show(row['friction_low'], '.3f')} - {show(row['friction_high'], '.3f')} | "
+              f"{row['partial_deg'] or '-'} |")
     print(f"\n({work / 'tilt.csv'}, {work / 'onset.csv'})")
     return 0
 
