@@ -112,6 +112,17 @@ def main():
             if (row["holds_up_to_deg"], row["flows_from_deg"], row["partial_deg"]) != ("22.0", "24.0", "23"):
                 failures.append(f"with a partial slide at 23: onset {row}")
 
+    # --start-from (a flowing bed) comes after every --set, so it overrides a bed given with --set.
+    started = base / "started"
+    command = RIFFLE_TOOLS + ["bed-tilt", "--riffle", str(stand_in), "--work", str(started), "--angles", "20",
+                              "--set", 'solids.initial_state="settled.ckpt"', "--start-from", str(base / "flow.ckpt")]
+    if subprocess.run(command, capture_output=True, text=True).returncode != 0:
+        failures.append("the sweep with --start-from failed")
+    else:
+        logged = (started / "calls.txt").read_text().split()
+        if logged[-1] != f'solids.initial_state="{(base / "flow.ckpt").resolve()}"':
+            failures.append(f"--start-from is not the last initial_state: {logged}")
+
     failing = run_tool(base / "failing", stand_in, env={**os.environ, "STAND_IN_FAIL": "1"})
     if failing.returncode == 0:
         failures.append("a failing run did not fail the sweep")

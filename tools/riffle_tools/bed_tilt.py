@@ -12,9 +12,11 @@ bed instead, and the interval is the angle at which a flow stops (the dynamic an
 
   tools/riffle-tools bed-tilt --angles 18 20 22 24 26 28 [--refine 2] [--work out/bed_tilt]
       [--variant "no_rolling:contact.rolling_friction=0.0"] [--scene scenes/bed_tilt.toml] [--threads 1]
-      [--start-from out/bed_tilt/scene/30/checkpoints/final.ckpt]
+      [--start-from out/bed_tilt/scene/30/checkpoints/final.ckpt] [--set KEY=VALUE]
 
-A variant is NAME:KEY=VALUE[;KEY=VALUE...] (riffle's --set); the scene as written is always run as "scene".
+A variant is NAME:KEY=VALUE[;KEY=VALUE...] (riffle's --set); the scene as written is always run as "scene"; --set
+KEY=VALUE is added to every run (seed 003's large bed: --set 'solids.initial_state="/abs/path/final.ckpt"' --set
+solids.fixed_below=0.0015).
 Writes WORK/tilt.csv (every run) and WORK/onset.csv (per variant). A run whose folder already holds a finished run
 is read, not run again.
 """
@@ -90,6 +92,8 @@ def main(argv=None):
     parser.add_argument("--refine", type=int, default=0,
                         help="times to halve the interval between the steepest hold and the gentlest flow")
     parser.add_argument("--variant", type=parse_variant, action="append", default=[])
+    parser.add_argument("--set", dest="common", action="append", default=[], metavar="KEY=VALUE",
+                        help="riffle's --set for every run, the scene's own included (another bed, say)")
     parser.add_argument("--end", type=float, default=1.0, help="[s] the run's length (the scene's end_time)")
     parser.add_argument("--window", type=float, default=0.2, help="[s] the run's last seconds read")
     parser.add_argument("--threads", type=int, default=1)
@@ -113,11 +117,11 @@ def main(argv=None):
                 gravity = ", ".join(f"{value:.6f}" for value in tilted_gravity(angle))
                 command = [args.riffle, "run", args.scene, "--threads", str(args.threads), "--out", str(run),
                            "--until", str(args.end), "--log-level", "warn", "--set", f"run.gravity=[{gravity}]"]
-                if args.start_from:
+                for item in args.common + sets:
+                    command += ["--set", item]
+                if args.start_from:  # last: riffle takes the last --set of a key, and this one overrides a bed's
                     start = pathlib.Path(args.start_from).resolve()
                     command += ["--set", f'solids.initial_state="{start}"']
-                for item in sets:
-                    command += ["--set", item]
                 print("running:", " ".join(command), file=sys.stderr, flush=True)
                 if subprocess.run(command).returncode != 0:
                     raise SystemExit(f"riffle failed for {run}")
