@@ -4,7 +4,7 @@ command line's run.gravity and writes a moving-fraction probe that stays at 0 be
 rises to 1 above it (a bed that flows), and rises then falls back to 0.2 at exactly 21 degrees (a partial slide,
 counted as neither; at 23 instead, in a second sweep, where a halving lands on it). Checks: the gravity handed to riffle is 9.81 (sin, 0, -cos) of each angle; each listed angle is
 run once per variant with the variant's own --set; the halvings close in on 23.3 (the interval after two is 2 wide
-less two halvings: [23, 23.5]); the tangents in onset.csv are the interval's; a second call runs nothing and writes
+less two halvings: [23, 23.5]); the tangents in onset.csv are the interval's; the figure is written; a second call runs nothing and writes
 the same tables; a failing run fails the sweep.
 
 Usage: /usr/bin/python3 tests/tools/test_bed_tilt.py [WORK_DIR]   (exit 0 = pass)
@@ -91,6 +91,8 @@ def main():
             failures.append(f"{row['variant']}: onset interval [{low}, {high}], expected [23, 23.5]")
         if abs(float(row["friction_low"]) - math.tan(math.radians(23.0))) > 1e-12:
             failures.append(f"{row['variant']}: tangent of the hold {row['friction_low']}")
+    if not (work / "tilt.png").is_file() or (work / "tilt.png").stat().st_size < 1000:
+        failures.append("no figure tilt.png")
     first_tables = ((work / "tilt.csv").read_text(), (work / "onset.csv").read_text())
 
     again = run_tool(work, stand_in)

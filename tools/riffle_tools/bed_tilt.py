@@ -17,7 +17,8 @@ bed instead, and the interval is the angle at which a flow stops (the dynamic an
 A variant is NAME:KEY=VALUE[;KEY=VALUE...] (riffle's --set); the scene as written is always run as "scene"; --set
 KEY=VALUE is added to every run (seed 003's large bed: --set 'solids.initial_state="/abs/path/final.ckpt"' --set
 solids.fixed_below=0.0015).
-Writes WORK/tilt.csv (every run) and WORK/onset.csv (per variant). A run whose folder already holds a finished run
+Writes WORK/tilt.csv (every run), WORK/onset.csv (per variant) and WORK/tilt.png (f_m against time, a panel per
+variant; the window read shaded). A run whose folder already holds a finished run
 is read, not run again.
 """
 import argparse
@@ -29,6 +30,7 @@ import sys
 
 import numpy as np
 
+from riffle_tools import plotting
 from riffle_tools.bed_creep import parse_variant
 
 GRAVITY = 9.81  # [m/s^2]
@@ -105,7 +107,7 @@ def main(argv=None):
     work = pathlib.Path(args.work)
     work.mkdir(parents=True, exist_ok=True)
 
-    table, onsets = [], []
+    table, onsets, histories = [], [], {}
     for name, sets in [("scene", [])] + args.variant:
         results = {}
 
@@ -128,6 +130,7 @@ def main(argv=None):
             times, moving = read_moving_fraction(run)
             state, mean = classify(times, moving, args.window)
             results[angle] = state
+            histories[(name, angle)] = (times, moving, state)
             table.append({"variant": name, "angle_deg": angle, "state": state, "late_moving_fraction": mean,
                           "peak_moving_fraction": float(moving.max())})
 
@@ -168,8 +171,34 @@ def main(argv=None):
         print(f"| {row['variant']} | {show(row['holds_up_to_deg'], 'g')} | {show(row['flows_from_deg'], 'g')} | "
               f"{show(row['friction_low'], '.3f')} - {show(row['friction_high'], '.3f')} | "
               f"{row['partial_deg'] or '-'} |")
-    print(f"\n({work / 'tilt.csv'}, {work / 'onset.csv'})")
+    plot_histories(histories, args.window, work / "tilt.png")
+    print(f"\n({work / 'tilt.csv'}, {work / 'onset.csv'}, {work / 'tilt.png'})")
     return 0
+
+
+def plot_histories(histories, window, path):
+    """f_m against time for every run, a panel per variant, coloured by angle, dashed where the bed held."""
+    plt = plotting.pyplot("bed_tilt")
+    variants = sorted({name for name, _ in histories})
+    figure, axes = plt.subplots(1, len(variants), figsize=(5.0 * len(variants), 3.8), squeeze=False, sharey=True)
+    angles = sorted({angle for _, angle in histories})
+    colours = plt.get_cmap("viridis")
+    for axis, name in zip(axes[0], variants):
+        for angle in angles:
+            if (name, angle) not in histories:
+                continue
+            times, moving, state = histories[(name, angle)]
+            shade = colours((angle - angles[0]) / max(angles[-1] - angles[0], 1e-9))
+            axis.plot(times, moving, color=shade, linestyle="-" if state == "flows" else "--" if state == "holds"
+                      else ":", label=f"{angle:g}° {state}")
+        axis.axvspan(max(times[-1] - window, 0.0), times[-1], color="0.9", zorder=0)
+        axis.set_title(name)
+        axis.set_xlabel("t [s]")
+        axis.legend(fontsize=7, ncol=2)
+    axes[0][0].set_ylabel("moving fraction f_m (|v| > 0.01 m/s)")
+    figure.tight_layout()
+    plotting.write(figure, path, "bed_tilt")
+    plt.close(figure)
 
 
 if __name__ == "__main__":
