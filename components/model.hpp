@@ -626,10 +626,29 @@ struct MeanFlowModel {
   double shields_number = 0.0;
   double shields_diameter = 0.0;        ///< [m] d of the Shields number
   double shields_density = 0.0;         ///< [kg/m^3] rho_s (from shields_material)
+  /// A drive that pulls the water towards a target profile (seed 003's "corona" forcing, plane-averaged): on the
+  /// water of every cell the acceleration volume_fraction (strength / |velocity|) (u_target(z) - u), a proportional
+  /// controller whose gain is strength / |velocity| where it acts and which acts on volume_fraction of the water,
+  /// towards u_target = velocity ((z - base) / (top - base))^exponent above base and 0 below it. The grains feel it
+  /// only through the water.
+  struct ProfileForcing {
+    bool enabled = false;
+    double velocity = 0.0;          ///< [m/s] u_target at the top (the seed's u_top)
+    double exponent = 1.0 / 7.0;    ///< [1] the power law's exponent (Schlichting's 1/7)
+    double base = 0.0;              ///< [m] where u_target starts from 0 (the seed's h_bed), scene coordinates
+    double strength = 0.0;          ///< [m/s^2] a_0, the controller's acceleration per unit of relative slip
+    double volume_fraction = 1.0;   ///< [1] the share of the water the forcing acts on (the seed's corona: 0.1)
+
+    /// [1/s] The relaxation rate of the plane average, volume_fraction strength / |velocity|.
+    double rate() const { return volume_fraction * strength / std::abs(velocity); }
+  };
+  ProfileForcing profile_forcing;
   /// The start: kRest the water at rest; kLogLaw u = (u*/kappa) ln(1 + (z - z_bed) / z0) above the bed (z0 =
-  /// roughness_length), u* of the drive, so a turbulent channel need not spin up from rest.
-  enum class Initial { kRest, kLogLaw };
-  static constexpr SceneNames<Initial, 2> kInitialNames{{{"rest", Initial::kRest}, {"log_law", Initial::kLogLaw}}};
+  /// roughness_length), u* of the drive, so a turbulent channel need not spin up from rest; kTargetProfile the
+  /// profile forcing's target.
+  enum class Initial { kRest, kLogLaw, kTargetProfile };
+  static constexpr SceneNames<Initial, 3> kInitialNames{
+      {{"rest", Initial::kRest}, {"log_law", Initial::kLogLaw}, {"target_profile", Initial::kTargetProfile}}};
   Initial initial = Initial::kLogLaw;
   double initial_roughness_length = 0.0;  ///< [m] z0 of the initial log law; 0 = shields_diameter / 30
   /// What the grains read beyond the mean velocity: kNone the plane average alone; kLangevin a velocity fluctuation

@@ -136,6 +136,13 @@ void print_check(const std::string& scene_path, const Model& model) {
       std::printf("  drive: Shields number %g of d = %g m, rho_s = %g kg/m^3 (a slope; the body force follows the "
                   "bed surface)\n",
                   flow.shields_number, flow.shields_diameter, flow.shields_density);
+    if (flow.profile_forcing.enabled) {
+      const MeanFlowModel::ProfileForcing& forcing = flow.profile_forcing;
+      std::printf("  drive: pulled towards u = %g m/s ((z - %g m) / %g m)^%.4g at %.4g /s (%g m/s^2 over %g m/s on "
+                  "%g of the water; relaxes in %.3g s)\n",
+                  forcing.velocity, forcing.base, flow.top - forcing.base, forcing.exponent, forcing.rate(),
+                  forcing.strength, std::abs(forcing.velocity), forcing.volume_fraction, 1.0 / forcing.rate());
+    }
   }
   std::printf("%s", describe_budget(budget, model).c_str());
   std::printf("%s", describe_frames(budget, model).c_str());

@@ -8,6 +8,30 @@
 
 namespace riffle {
 
+namespace {
+
+/// [mean_flow.profile_forcing]: seed 003's drive (its Sec. 2.4, Eq. 25, towards its Eq. 27's profile), plane-averaged.
+void read_profile_forcing(TableReader& reader, MeanFlowModel& out) {
+  MeanFlowModel::ProfileForcing& forcing = out.profile_forcing;
+  forcing.enabled = true;
+  if (out.shields_number > 0.0)
+    reader.problem("", "give the drive once: shields_number (a slope) or [mean_flow.profile_forcing]");
+  if (out.body_force.kind != BodyForceModel::Kind::kNone)
+    reader.problem("", "give the drive once: [mean_flow.body_force] or [mean_flow.profile_forcing]");
+  forcing.velocity = reader.number("velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
+  if (forcing.velocity == 0.0) reader.problem("velocity", "a target at rest pulls nothing: give the top's velocity");
+  forcing.exponent = reader.number("exponent", forcing.exponent, "1", Bounds::closed(0.01, 1.0));
+  forcing.base = reader.number("base", std::nullopt, "m", Bounds::any());
+  if (!(forcing.base >= out.bottom && forcing.base < out.top))
+    reader.problem("base", "the target profile starts inside the column, between its floor (" +
+                               format_number(out.bottom) + " m) and its top (" + format_number(out.top) + " m)");
+  forcing.strength = reader.number("strength", std::nullopt, "m/s^2", Bounds::positive());
+  forcing.volume_fraction = reader.number("volume_fraction", forcing.volume_fraction, "1", Bounds::closed(1e-6, 1.0));
+  reader.finish();
+}
+
+}  // namespace
+
 void read_mean_flow(TableReader& flow, Model& model) {
   MeanFlowModel& out = model.mean_flow;
   out.enabled = true;
@@ -69,7 +93,11 @@ void read_mean_flow(TableReader& flow, Model& model) {
     if (out.body_force.kind == BodyForceModel::Kind::kBulkVelocity)
       body_force->problem("kind", "the mean-flow fluid takes a constant or sinusoidal body force (or shields_number)");
   }
+  if (auto forcing = flow.table("profile_forcing", false)) read_profile_forcing(*forcing, out);
   out.initial = enum_choice(flow, "initial", out.initial, MeanFlowModel::kInitialNames);
+  if (out.initial == MeanFlowModel::Initial::kTargetProfile && !out.profile_forcing.enabled)
+    flow.problem("initial", "\"target_profile\" starts the water on [mean_flow.profile_forcing]'s target: give that "
+                            "table, or start from \"rest\" or \"log_law\"");
   out.initial_roughness_length =
       flow.number("initial_roughness_length", out.initial_roughness_length, "m", Bounds::non_negative());
   out.fluctuations = enum_choice(flow, "fluctuations", out.fluctuations, MeanFlowModel::kFluctuationsNames);

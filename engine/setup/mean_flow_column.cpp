@@ -31,6 +31,10 @@ MeanFlowColumn initial_column(const Model& model, const Solids* grains) {
   }
   const double bed = column.bed_surface;
   column.body_force = mean_flow_body_force(flow, std::abs(model.gravity.z()), bed, 0.0);
+  if (flow.initial == MeanFlowModel::Initial::kTargetProfile) {
+    column.velocity_x = profile_forcing_target(flow);  // the forcing's own profile (0 in and below the bed's base)
+    return column;
+  }
   if (flow.initial != MeanFlowModel::Initial::kLogLaw) return column;
   if (flow.top_boundary == MeanFlowModel::Top::kLid) {
     for (std::size_t i = 0; i < grid.cells; ++i) {

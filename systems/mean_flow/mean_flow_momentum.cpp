@@ -10,7 +10,9 @@ MeanFlowMomentum::MeanFlowMomentum(const Model& model)
       gravity_(std::abs(model.gravity.z())),
       grid_(column_grid(model.mean_flow)),
       ends_x_(column_ends(model.mean_flow, true)),
-      ends_y_(column_ends(model.mean_flow, false)) {}
+      ends_y_(column_ends(model.mean_flow, false)),
+      target_(profile_forcing_target(model.mean_flow)),
+      target_y_(target_.size(), 0.0) {}
 
 void MeanFlowMomentum::run(SystemContext& context) {
   MeanFlowColumn& column = context.write<MeanFlowColumn>();
@@ -33,10 +35,15 @@ void MeanFlowMomentum::run(SystemContext& context) {
   }
   column.body_force = mean_flow_body_force(model_, gravity_, column.bed_surface, context.time);
   ColumnStep step{model_.density, nu, context.dt, column.body_force};
+  if (model_.profile_forcing.enabled) {
+    step.relaxation_rate = model_.profile_forcing.rate();
+    step.relaxation_target = &target_;
+  }
   const ColumnStresses along_x =
       advance_column(grid_, column.solid_fraction, column.eddy_viscosity, column.impulse_x, ends_x_, step,
                      column.velocity_x);
   step.body_force = 0.0;  // the drive is along x
+  step.relaxation_target = &target_y_;
   advance_column(grid_, column.solid_fraction, column.eddy_viscosity, column.impulse_y, ends_y_, step,
                  column.velocity_y);
   column.floor_stress = along_x.floor;

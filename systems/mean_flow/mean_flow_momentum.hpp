@@ -1,6 +1,6 @@
 #pragma once
 // Advances the mean-flow fluid's column by one engine step (systems/physics/mean_flow/column.hpp): the eddy
-// viscosity of the closure from the last velocities, the drive of this step, the grains' drag impulse of the last
+// viscosity of the closure from the last velocities, the drive of this step (a body force, a lid, a profile forcing along x), the grains' drag impulse of the last
 // step taken from the water, and one implicit step of each horizontal velocity component. Runs first in the step,
 // so the grains' sub-steps read the water this step leaves (solid_mean_flow_sampling).
 #include "systems/physics/mean_flow/column_model.hpp"
@@ -20,6 +20,8 @@ class MeanFlowMomentum final : public System {
   double gravity_;  ///< [m/s^2] |g_z|, for the Shields drive
   ColumnGrid grid_;
   ColumnEnds ends_x_, ends_y_;
+  std::vector<double> target_;  ///< [m/s] the profile forcing's target per cell along x (empty without one)
+  std::vector<double> target_y_;  ///< [m/s] and along y: at rest (the forcing pulls the whole velocity, seed 003 Eq. 25)
 };
 
 }  // namespace riffle

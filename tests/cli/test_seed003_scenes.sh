@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Seed 003's sheared beds (the small one also in a box 4 x wider in x and y, for runs over MPI ranks) and the
 # oscillatory sheet flow (scenes/sheared_bed_*.toml, scenes/oscillatory_sheet_flow.toml),
-# and the mean-flow fluid's beds (scenes/sheared_bed_mean_flow.toml, bedload_channel.toml, single_grain_channel.toml)
+# and the mean-flow fluid's beds (scenes/sheared_bed_mean_flow.toml, sheared_bed_profile_forcing.toml,
+# bedload_channel.toml, single_grain_channel.toml)
 # are periodic along x and y with grains and water: since the coupling looks across the seam, `riffle check`
 # must accept each of them, and each must run its first millisecond periodic and write its bed-load probe.
 # (Only the first steps: the whole runs are studies, docs/RESULTS.md.)
@@ -51,6 +52,30 @@ for scene in sheared_bed_small sheared_bed_small_wide sheared_bed_large sheared_
     echo "ok $scene: valid, and runs its first steps periodic"
   fi
 done
+# The small bed under seed 003's own drive (scenes/sheared_bed_profile_forcing.toml: a free top, the water pulled
+# towards the seed's 1/7-power profile) starts from the mean-flow small bed's settled checkpoint too; its first steps
+# must pull the water (a positive Shields number in its probe) and `riffle check` must name the drive.
+file="$source_dir/scenes/sheared_bed_profile_forcing.toml"
+grep -q '^initial_state = "../out/sheared_bed_mean_flow_settle/checkpoints/final.ckpt"' "$file" ||
+  { echo "FAIL sheared_bed_profile_forcing: its initial_state is not the mean-flow small bed's settled checkpoint"; status=1; }
+sed "s|^initial_state = .*|initial_state = \"$work/sheared_bed_mean_flow_settle/checkpoints/final.ckpt\"|" "$file" \
+  > "$work/sheared_bed_profile_forcing.toml"
+if ! checked=$("$riffle" check "$work/sheared_bed_profile_forcing.toml" 2>&1) ||
+   ! grep -q 'drive: pulled towards u = 0.6 m/s' <<<"$checked"; then
+  echo "FAIL sheared_bed_profile_forcing: riffle check refused it or does not name its drive:"
+  echo "$checked" | tail -5
+  status=1
+elif ! ran=$("$riffle" run "$work/sheared_bed_profile_forcing.toml" --until 0.012 --threads 1 \
+               --out "$work/sheared_bed_profile_forcing_run" 2>&1) ||
+     ! awk -F, 'NR > 2 && $3 > 0 { pulled = 1 } END { exit !pulled }' \
+         "$work/sheared_bed_profile_forcing_run/probe_bedload_transport.csv"; then
+  echo "FAIL sheared_bed_profile_forcing: does not run its first steps, or its drive puts no stress on the bed:"
+  echo "$ran" | tail -5
+  status=1
+else
+  echo "ok sheared_bed_profile_forcing: valid, names its drive, and its first steps pull the water over the bed"
+fi
+
 # The tilted bed (scenes/bed_tilt.toml, dry: the slope at which the small bed flows) starts from the mean-flow small
 # bed's settle: valid, fixes its bottom layer, and runs its first steps periodic with gravity tilted.
 file="$source_dir/scenes/bed_tilt.toml"

@@ -187,6 +187,9 @@ ColumnStresses advance_column(const ColumnGrid& grid, const std::vector<double>&
   check_sizes(grid, solid_fraction.size(), eddy_viscosity.size(), "advance_column");
   check_sizes(grid, velocity.size(), 0, "advance_column");
   check_sizes(grid, impulse.size(), 0, "advance_column");
+  const bool relaxed = step.relaxation_rate > 0.0;
+  if (relaxed && (step.relaxation_target == nullptr || step.relaxation_target->size() != cells))
+    throw std::invalid_argument("advance_column: a relaxation needs a target per cell");
   const double h = grid.cell_height;
   // Face conductances D_j = rho eps_j (nu + nu_t,j) / distance: h between centres, h/2 from the floor or the lid.
   std::vector<double> conductance(cells + 1, 0.0);
@@ -204,9 +207,13 @@ ColumnStresses advance_column(const ColumnGrid& grid, const std::vector<double>&
   for (std::size_t i = 0; i < cells; ++i) {
     const double mass = step.density * water_share(solid_fraction, i) * h;
     const double lower = i > 0 ? -step.dt * conductance[i] : 0.0;
-    const double diagonal = mass + step.dt * (conductance[i] + conductance[i + 1]);
+    double diagonal = mass + step.dt * (conductance[i] + conductance[i + 1]);
     const double above = i + 1 < cells ? -step.dt * conductance[i + 1] : 0.0;
     double right = mass * velocity[i] + step.dt * mass * step.body_force - impulse[i];
+    if (relaxed) {
+      diagonal += step.dt * mass * step.relaxation_rate;
+      right += step.dt * mass * step.relaxation_rate * (*step.relaxation_target)[i];
+    }
     if (i == 0) right += step.dt * conductance[0] * ends.bottom_value;
     if (i + 1 == cells && ends.top_given) right += step.dt * conductance[cells] * ends.top_value;
     const double pivot = diagonal - lower * previous_upper;

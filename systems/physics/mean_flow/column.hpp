@@ -90,11 +90,14 @@ std::vector<double> eddy_viscosities(const ColumnGrid& grid, const std::vector<d
 /// the cell's own), the floor a no-slip wall moving at ends.bottom_value, the top a lid at ends.top_value or free of
 /// stress. `impulse_i` [N s/m^2] is the momentum the grains took from the water in cell i over the last step (their
 /// drag impulse over the plan area, with its sign: the water loses it). Tridiagonal (Thomas): O(cells).
+/// A relaxation k (u_target,i - u_i) towards a target profile adds to f (a profile forcing), implicit in u.
 struct ColumnStep {
   double density = 1000.0;    ///< [kg/m^3] rho
   double viscosity = 1e-6;    ///< [m^2/s] nu
   double dt = 0.0;            ///< [s]
   double body_force = 0.0;    ///< [m/s^2] f, on the water (a pressure gradient -dp/dx = rho f, or gravity down a slope)
+  double relaxation_rate = 0.0;                        ///< [1/s] k; 0: none
+  const std::vector<double>* relaxation_target = nullptr;  ///< [m/s] u_target per cell (needed when k > 0)
 };
 struct ColumnStresses {
   double floor = 0.0;  ///< [Pa] tau at the floor after the step (the water's stress on it, along the component)

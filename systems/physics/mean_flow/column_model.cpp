@@ -27,6 +27,34 @@ double mean_flow_body_force(const MeanFlowModel& model, double gravity, double b
   return model.body_force.prescribed(time);
 }
 
+std::vector<double> profile_forcing_target(const MeanFlowModel& model) {
+  const MeanFlowModel::ProfileForcing& forcing = model.profile_forcing;
+  if (!forcing.enabled) return {};
+  const ColumnGrid grid = column_grid(model);
+  std::vector<double> target(grid.cells, 0.0);
+  const double span = model.top - forcing.base;
+  for (std::size_t i = 0; i < grid.cells; ++i) {
+    const double above = grid.centre(i) - forcing.base;
+    if (above > 0.0) target[i] = forcing.velocity * std::pow(above / span, forcing.exponent);
+  }
+  return target;
+}
+
+double profile_forcing_stress(const MeanFlowModel& model, const MeanFlowColumn& column) {
+  if (!model.profile_forcing.enabled) return 0.0;
+  const ColumnGrid grid = column_grid(model);
+  const std::vector<double> target = profile_forcing_target(model);
+  const double rate = model.profile_forcing.rate();
+  double pull = 0.0;
+  for (std::size_t i = 0; i < grid.cells; ++i) {
+    const double above_bed = std::clamp(grid.face(i + 1) - column.bed_surface, 0.0, grid.cell_height);
+    if (above_bed <= 0.0) continue;
+    const double water = 1.0 - (column.solid_fraction.empty() ? 0.0 : column.solid_fraction[i]);
+    pull += model.density * water * above_bed * rate * (target[i] - column.velocity_x[i]);
+  }
+  return pull;
+}
+
 double column_plan_area(const Model& model) { return model.tank.size.x() * model.tank.size.y(); }
 
 void fill_solid_fraction(const Model& model, const GrainState& grains, const GrainProperties& properties,
@@ -46,7 +74,8 @@ void fill_solid_fraction(const Model& model, const GrainState& grains, const Gra
 }
 
 double column_bed_stress(const MeanFlowModel& model, const MeanFlowColumn& column) {
-  return model.density * column.body_force * (model.top - column.bed_surface) + column.top_stress;
+  return model.density * column.body_force * (model.top - column.bed_surface) + column.top_stress +
+         profile_forcing_stress(model, column);
 }
 
 }  // namespace riffle

@@ -18,11 +18,18 @@ ColumnEnds column_ends(const MeanFlowModel& model, bool along_x);
 /// [m/s^2] The body force on the water at `time` with the bed surface at `bed_surface`: the Shields drive's
 /// Theta (rho_s - rho) g d / (rho (top - z_bed)), else the prescribed body force (constant or sinusoidal).
 double mean_flow_body_force(const MeanFlowModel& model, double gravity, double bed_surface, double time);
+/// [m/s] The profile forcing's target at each cell centre (empty without one): velocity ((z - base) / (top -
+/// base))^exponent above base, 0 at and below it.
+std::vector<double> profile_forcing_target(const MeanFlowModel& model);
+/// [Pa] The profile forcing's pull on the water above the bed surface, per plan area: the sum over the cells (the
+/// part of each above the bed) of rho eps h k (u_target - u) with the column's velocity; 0 without a forcing.
+double profile_forcing_stress(const MeanFlowModel& model, const MeanFlowColumn& column);
 /// [m^2] The plan area the column stands for: the periodic box's x by y.
 double column_plan_area(const Model& model);
 
-/// [Pa] The stress the water above the bed carries into it: its drive over the depth above the bed surface and the
-/// lid's traction, rho f (top - z_bed) + tau_lid (the momentum balance of the water above the bed).
+/// [Pa] The stress the water above the bed carries into it: its drive over the depth above the bed surface, the
+/// lid's traction and the profile forcing's pull above the bed, rho f (top - z_bed) + tau_lid + that pull (the
+/// momentum balance of the water above the bed).
 double column_bed_stress(const MeanFlowModel& model, const MeanFlowColumn& column);
 /// The grains' solid fraction per cell (each sphere's exact volume between the cells' faces over the cell's volume,
 /// at most 1 - coupling.min_voidage) and the bed surface, into `column`; `scratch` is reused. Grains in slot order:

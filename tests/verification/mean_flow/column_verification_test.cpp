@@ -1,6 +1,6 @@
 // The mean-flow fluid's column (systems/physics/mean_flow/column.hpp) against exact solutions and published laws:
 // laminar plane Couette (linear, to rounding), open-channel Poiseuille (second order in h, with the scheme's exact
-// error f h^2 / (8 nu)), the start-up of Couette flow (first order in dt, backward Euler), and the turbulent open
+// error f h^2 / (8 nu)), a laminar channel pulled towards a uniform stream by a profile forcing (second order in h), the start-up of Couette flow (first order in dt, backward Euler), and the turbulent open
 // channel over a smooth floor (van Driest's mixing length: the log law u+ = ln z+ / 0.41 + 5.2) and over a rough one
 // (Nikuradse: u+ = ln(z / k_s) / 0.41 + 8.5), each also against the closure's own continuous profile, found here by
 // quadrature, to second order in h.
@@ -182,6 +182,43 @@ TEST_CASE("mean-flow column verification: open-channel Poiseuille flow converges
   std::printf("Poiseuille: relative max error %.3e %.3e %.3e (10, 20, 40 cells), observed order %.4f %.4f\n",
               errors[0], errors[1], errors[2], order_coarse, order_fine);
   CHECK(order_coarse == doctest::Approx(2.0).epsilon(0.05));
+  CHECK(order_fine == doctest::Approx(2.0).epsilon(0.05));
+}
+
+TEST_CASE("mean-flow column verification: a flow pulled towards a uniform target converges at second order in h") {
+  // The profile forcing k (U - u) on a laminar open channel: nu u'' + k (U - u) = 0, u(0) = 0, u'(H) = 0, so u = U (1 -
+  // cosh((H - z) / delta) / cosh(H / delta)), delta = sqrt(nu / k): a boundary layer delta thick under a uniform
+  // stream. In the steady state the floor carries the whole pull, sum_i rho h k (U - u_i), to rounding.
+  const double depth = 0.01, nu = 1e-6, k = 0.04, stream = 0.3;
+  const double delta = std::sqrt(nu / k);
+  ColumnStep step;
+  step.viscosity = nu;
+  std::vector<double> errors;
+  for (const std::size_t cells : {10u, 20u, 40u, 80u}) {
+    const ColumnGrid grid = grid_of(cells, depth);
+    const std::vector<double> target(cells, stream);
+    step.relaxation_rate = k;
+    step.relaxation_target = &target;
+    std::vector<double> u(cells, 0.0);
+    const ColumnStresses stresses = laminar_steady(grid, ColumnEnds{}, step, u);
+    double error = 0.0, pull = 0.0;
+    for (std::size_t i = 0; i < cells; ++i) {
+      const double z = grid.centre(i);
+      const double exact = stream * (1.0 - std::cosh((depth - z) / delta) / std::cosh(depth / delta));
+      error = std::max(error, std::abs(u[i] - exact));
+      pull += 1000.0 * grid.cell_height * k * (stream - u[i]);
+    }
+    errors.push_back(error / stream);
+    CHECK(stresses.floor == doctest::Approx(pull).epsilon(1e-10));
+    // and the continuum's floor stress rho nu U tanh(H / delta) / delta to the grid's order
+    CHECK(stresses.floor ==
+          doctest::Approx(1000.0 * nu * stream * std::tanh(depth / delta) / delta).epsilon(2.0 / (cells * cells)));
+  }
+  const double order_coarse = observed_order(errors[1], errors[2]);
+  const double order_fine = observed_order(errors[2], errors[3]);
+  std::printf("pulled towards a uniform stream: relative max error %.3e %.3e %.3e %.3e (10-80 cells), observed order "
+              "%.4f %.4f\n", errors[0], errors[1], errors[2], errors[3], order_coarse, order_fine);
+  CHECK(order_coarse == doctest::Approx(2.0).epsilon(0.1));
   CHECK(order_fine == doctest::Approx(2.0).epsilon(0.05));
 }
 

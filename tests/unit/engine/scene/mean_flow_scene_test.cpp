@@ -80,3 +80,38 @@ TEST_CASE("mean-flow grains: a lift without the mean-flow fluid, fluctuations wi
 }
 
 }  // namespace riffle
+
+TEST_CASE("mean-flow drive: a profile forcing is read with its defaults, given twice, out of the column or at rest it is refused") {
+  const std::string forcing = "[mean_flow.profile_forcing]\nvelocity = 0.6\nbase = 0.005\nstrength = 2.5\n";
+  const Model plain = parse_scene(channel("initial = \"target_profile\"\n", forcing), "channel.toml");
+  const MeanFlowModel::ProfileForcing& read = plain.mean_flow.profile_forcing;
+  CHECK(read.enabled);
+  CHECK(read.velocity == 0.6);
+  CHECK(read.base == 0.005);
+  CHECK(read.strength == 2.5);
+  CHECK(read.exponent == doctest::Approx(1.0 / 7.0).epsilon(1e-15));
+  CHECK(read.volume_fraction == 1.0);
+  CHECK(plain.mean_flow.initial == MeanFlowModel::Initial::kTargetProfile);
+  CHECK_FALSE(parse_scene(channel(), "channel.toml").mean_flow.profile_forcing.enabled);
+
+  const auto only_problem = [](const std::string& text) {
+    const std::vector<std::string> problems = test::problems_of(text, "channel.toml");
+    REQUIRE(problems.size() == 1);
+    return problems[0];
+  };
+  CHECK(only_problem(channel("shields_number = 0.1\nshields_diameter = 0.002\nshields_material = \"quartz\"\n", forcing))
+            .find("mean_flow.profile_forcing: give the drive once: shields_number") != std::string::npos);
+  CHECK(only_problem(channel("", "[mean_flow.body_force]\nkind = \"constant\"\nacceleration = 0.1\n" + forcing))
+            .find("give the drive once: [mean_flow.body_force] or [mean_flow.profile_forcing]") != std::string::npos);
+  const std::string below = only_problem(
+      channel("", "[mean_flow.profile_forcing]\nvelocity = 0.6\nbase = 0.03\nstrength = 2.5\n"));
+  CHECK(below.rfind("channel.toml:26:8: mean_flow.profile_forcing.base: ", 0) == 0);
+  CHECK(below.find("between its floor (0 m) and its top (0.02 m)") != std::string::npos);
+  CHECK(only_problem(channel("", "[mean_flow.profile_forcing]\nvelocity = 0.0\nbase = 0.005\nstrength = 2.5\n"))
+            .find("profile_forcing.velocity: a target at rest pulls nothing") != std::string::npos);
+  CHECK(only_problem(channel("", "[mean_flow.profile_forcing]\nvelocity = 0.6\nbase = 0.005\n"))
+            .find("mean_flow.profile_forcing.strength") != std::string::npos);
+  CHECK(only_problem(channel("initial = \"target_profile\"\n"))
+            .find("mean_flow.initial: \"target_profile\" starts the water on [mean_flow.profile_forcing]'s target") !=
+        std::string::npos);
+}

@@ -1,6 +1,7 @@
 // The mean-flow fluid's column (systems/physics/mean_flow/column.hpp) against closed forms: the sphere's slices and
 // caps, its deposit at the column's ends, the profile's interpolation and ends, the bed surface, the mixing length
-// (kappa z in clear water, none in a packed bed, van Driest's damping) and the momentum step's exact discrete balance.
+// (kappa z in clear water, none in a packed bed, van Driest's damping), the momentum step's exact discrete balance
+// (with a profile forcing's pull too) and the profile forcing's target and its pull on the water above a bed.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "systems/physics/mean_flow/column.hpp"
+#include "systems/physics/mean_flow/column_model.hpp"
 #include "systems/physics/measures/bedload.hpp"
 
 using namespace riffle;
@@ -282,18 +284,28 @@ TEST_CASE("mean-flow column: the momentum step's discrete balance holds to round
     step.viscosity = 1e-6 * (0.5 + unit(random));
     step.dt = std::pow(10.0, -5.0 + 5.0 * unit(random));
     step.body_force = unit(random) - 0.5;
+    // Every third trial also pulls towards a target profile (a profile forcing), implicit in u'.
+    std::vector<double> target(cells);
+    for (double& t : target) t = unit(random) - 0.5;
+    if (trial % 3 == 0) {
+      step.relaxation_rate = 10.0 * unit(random);
+      step.relaxation_target = &target;
+    }
     CAPTURE(trial);
     CAPTURE(cells);
     CAPTURE(step.dt);
     const std::vector<double> before = velocity;
     const double momentum_before = column_momentum(grid, phi, before, step.density);
     const ColumnStresses stresses = advance_column(grid, phi, nu_t, impulse, ends, step, velocity);
-    // sum rho eps h (u' - u) = dt sum rho eps h f - sum impulse + dt (tau_top - tau_floor)
+    // sum rho eps h (u' - u) = dt sum rho eps h (f + k (u_target - u')) - sum impulse + dt (tau_top - tau_floor)
     double change = 0.0, gravity = 0.0, exchange = 0.0, scale = 0.0;
     for (std::size_t i = 0; i < cells; ++i) {
       const double mass = step.density * (1.0 - phi[i]) * grid.cell_height;
       change += mass * (velocity[i] - before[i]);
       gravity += step.dt * mass * step.body_force;
+      const double pull = step.dt * mass * step.relaxation_rate * (target[i] - velocity[i]);
+      gravity += pull;
+      scale += std::abs(pull);
       exchange += impulse[i];
       scale += mass * (std::abs(velocity[i]) + std::abs(before[i])) + std::abs(step.dt * mass * step.body_force) +
                std::abs(impulse[i]);
@@ -309,4 +321,51 @@ TEST_CASE("mean-flow column: the momentum step's discrete balance holds to round
     CHECK(column_shear_stress(grid, phi, nu_t, velocity, ends, step.density, step.viscosity, grid.top()) ==
           doctest::Approx(stresses.top).epsilon(1e-12).scale(1e-12));
   }
+}
+
+TEST_CASE("mean-flow column: the profile forcing's target is the power law above its base, and its pull above the bed is in the bed's stress") {
+  MeanFlowModel flow;
+  flow.bottom = 0.0;
+  flow.top = 0.02;
+  flow.cells = 200;
+  flow.cell_size = 1e-4;
+  CHECK(profile_forcing_target(flow).empty());
+  MeanFlowColumn column;
+  column.velocity_x.assign(flow.cells, 0.3);
+  column.solid_fraction.assign(flow.cells, 0.0);
+  column.bed_surface = 0.00505;  // half-way up cell 50
+  CHECK(profile_forcing_stress(flow, column) == 0.0);
+  CHECK(column_bed_stress(flow, column) == 0.0);
+
+  MeanFlowModel::ProfileForcing& forcing = flow.profile_forcing;
+  forcing.enabled = true;
+  forcing.velocity = -0.8;  // along -x: the rate takes |velocity|, the target its sign
+  forcing.base = 0.005;
+  forcing.strength = 4.0;
+  forcing.volume_fraction = 0.1;
+  CHECK(forcing.rate() == doctest::Approx(0.5).epsilon(1e-15));
+  const std::vector<double> target = profile_forcing_target(flow);
+  REQUIRE(target.size() == flow.cells);
+  for (std::size_t i = 0; i < flow.cells; ++i) {
+    const double z = (static_cast<double>(i) + 0.5) * flow.cell_size;
+    CAPTURE(i);
+    if (z <= forcing.base) CHECK(target[i] == 0.0);
+    else CHECK(target[i] == doctest::Approx(-0.8 * std::pow((z - 0.005) / 0.015, 1.0 / 7.0)).epsilon(1e-14));
+  }
+  CHECK(target[199] == doctest::Approx(-0.8 * std::pow(0.01495 / 0.015, 1.0 / 7.0)).epsilon(1e-14));
+
+  // The pull on the water above the bed: rho (1 - phi) k (u_target - u) over each cell's part above the surface
+  // (cell 50 half of it), with a solid fraction that halves the water in the cells 50-59.
+  for (std::size_t i = 50; i < 60; ++i) column.solid_fraction[i] = 0.5;
+  double expected = 0.0;
+  for (std::size_t i = 50; i < flow.cells; ++i) {
+    const double above = i == 50 ? 0.5e-4 : 1e-4;
+    const double water = i < 60 ? 0.5 : 1.0;
+    expected += 1000.0 * water * above * 0.5 * (target[i] - 0.3);
+  }
+  CHECK(profile_forcing_stress(flow, column) == doctest::Approx(expected).epsilon(1e-12));
+  // The bed's stress adds it to the drive's and the lid's (here none).
+  CHECK(column_bed_stress(flow, column) == doctest::Approx(expected).epsilon(1e-12));
+  column.top_stress = 0.25;
+  CHECK(column_bed_stress(flow, column) == doctest::Approx(expected + 0.25).epsilon(1e-12));
 }
