@@ -30,8 +30,10 @@ namespace {
 /// 0.1 s) under a lid at 0.2 m/s, grains of 2 mm in a block 5 to 12 mm above the floor (spacing 4 mm: no contacts),
 /// `gravity` along z, the liquid laminar or turbulent.
 /// `read_more`: the grains also read the shear lift ([coupling] lift) and, in turbulent water, Langevin velocity
-/// fluctuations ([mean_flow] fluctuations = "langevin").
-std::string couette_scene(double gravity, bool fixed, const char* turbulence, int cells = 64, bool read_more = false) {
+/// fluctuations ([mean_flow] fluctuations = "langevin"). `pulled`: a free top instead of the lid, the water pulled
+/// towards a 1/7-power profile of 0.2 m/s at the top ([mean_flow.profile_forcing]) and started on it.
+std::string couette_scene(double gravity, bool fixed, const char* turbulence, int cells = 64, bool read_more = false,
+                          bool pulled = false) {
   SceneBuilder scene;
   scene.run({.name = "mean_flow_couette", .end_time = 1.0, .dt = 1.0e-3, .gravity = {0.0, 0.0, gravity}})
       .material("quartz", {.density = 2650.0, .young_modulus = 1.0e7, .poisson_ratio = 0.3})
@@ -41,14 +43,16 @@ std::string couette_scene(double gravity, bool fixed, const char* turbulence, in
   if (fixed) scene.set("fixed_below", 0.02);
   scene.block({.min = {0.002, 0.002, 0.005}, .max = {0.018, 0.018, 0.012}, .spacing = 0.004, .radius = 0.001,
                .material = "quartz"});
-  scene.table("mean_flow")
-      .set("cells", cells)
-      .set("kinematic_viscosity", 1.0e-3)
-      .set("top", "lid")
-      .set("lid_velocity", 0.2)
-      .set("turbulence", turbulence)
-      .set("initial", "rest");
+  scene.table("mean_flow").set("cells", cells).set("kinematic_viscosity", 1.0e-3).set("turbulence", turbulence);
+  if (pulled) scene.set("top", "free").set("initial", "target_profile");
+  else scene.set("top", "lid").set("lid_velocity", 0.2).set("initial", "rest");
   if (read_more && std::string(turbulence) == "mixing_length") scene.set("fluctuations", "langevin");
+  if (pulled)
+    scene.table("mean_flow.profile_forcing")
+        .set("velocity", 0.2)
+        .set("base", 0.004)
+        .set("strength", 2.0)
+        .set("volume_fraction", 0.5);
   if (read_more) scene.coupling().set("lift", true);
   return scene.toml();
 }
@@ -235,26 +239,31 @@ TEST_CASE("each grain's velocity fluctuation is its Langevin state's, advanced o
 }
 
 TEST_CASE("a mean-flow run is byte-identical on one and two threads and after a resume") {
-  // With the lift and the velocity fluctuations on: their draws are named by grain and step, not by the thread.
-  const std::string scene = couette_scene(-9.81, false, "mixing_length", 48, true);
-  const auto bytes_after = [&](int threads, int steps) {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-    auto simulation = Simulation::from_model(parse_scene(scene, "couette.toml"));
-    for (int step = 0; step < steps; ++step) simulation->step();
-    REQUIRE(simulation->world().step_status.ok());
-    return encode_checkpoint(simulation->checkpoint_data());
-  };
-  const std::string one = bytes_after(1, 40);
-  CHECK(one == bytes_after(2, 40));
-  const auto directory = test::scratch_dir("mean_flow_resume");
-  auto first = Simulation::from_model(parse_scene(scene, "couette.toml"));
-  for (int step = 0; step < 17; ++step) first->step();
-  const std::string path = (directory / "part.ckpt").string();
-  write_checkpoint(path, first->checkpoint_data());
-  first.reset();
-  auto resumed = Simulation::from_checkpoint(path);
-  for (int step = 17; step < 40; ++step) resumed->step();
-  CHECK(encode_checkpoint(resumed->checkpoint_data()) == one);
+  // With the lift and the velocity fluctuations on: their draws are named by grain and step, not by the thread. Under
+  // a lid, and pulled towards a profile under a free top.
+  for (const bool pulled : {false, true}) {
+    CAPTURE(pulled);
+    const std::string scene = couette_scene(-9.81, false, "mixing_length", 48, true, pulled);
+    const auto bytes_after = [&](int threads, int steps) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+      auto simulation = Simulation::from_model(parse_scene(scene, "couette.toml"));
+      for (int step = 0; step < steps; ++step) simulation->step();
+      REQUIRE(simulation->world().step_status.ok());
+      return encode_checkpoint(simulation->checkpoint_data());
+    };
+    const std::string one = bytes_after(1, 40);
+    CHECK(one == bytes_after(2, 40));
+    const auto directory = test::scratch_dir("mean_flow_resume");
+    auto first = Simulation::from_model(parse_scene(scene, "couette.toml"));
+    for (int step = 0; step < 17; ++step) first->step();
+    const std::string path = (directory / "part.ckpt").string();
+    write_checkpoint(path, first->checkpoint_data());
+    first.reset();
+    auto resumed = Simulation::from_checkpoint(path);
+    for (int step = 17; step < 40; ++step) resumed->step();
+    CHECK(encode_checkpoint(resumed->checkpoint_data()) == one);
+    if (pulled) CHECK(resumed->world().mean_flow->velocity_x.back() > 0.1);  // the pull holds the water up
+  }
 }
 
 }  // namespace riffle
