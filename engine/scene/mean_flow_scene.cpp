@@ -19,7 +19,8 @@ void read_profile_forcing(TableReader& reader, MeanFlowModel& out) {
   if (out.body_force.kind != BodyForceModel::Kind::kNone)
     reader.problem("", "give the drive once: [mean_flow.body_force] or [mean_flow.profile_forcing]");
   forcing.velocity = reader.number("velocity", std::nullopt, "m/s", Bounds::closed(-100.0, 100.0));
-  if (forcing.velocity == 0.0) reader.problem("velocity", "a target at rest pulls nothing: give the top's velocity");
+  if (reader.has("velocity") && forcing.velocity == 0.0)
+    reader.problem("velocity", "a target at rest pulls nothing: give the top's velocity");
   forcing.exponent = reader.number("exponent", forcing.exponent, "1", Bounds::closed(0.01, 1.0));
   forcing.base = reader.number("base", std::nullopt, "m", Bounds::any());
   if (!(forcing.base >= out.bottom && forcing.base < out.top))

@@ -111,6 +111,8 @@ TEST_CASE("mean-flow drive: a profile forcing is read with its defaults, given t
             .find("profile_forcing.velocity: a target at rest pulls nothing") != std::string::npos);
   CHECK(only_problem(channel("", "[mean_flow.profile_forcing]\nvelocity = 0.6\nbase = 0.005\n"))
             .find("mean_flow.profile_forcing.strength") != std::string::npos);
+  CHECK(only_problem(channel("", "[mean_flow.profile_forcing]\nbase = 0.005\nstrength = 2.5\n"))
+            .find("mean_flow.profile_forcing.velocity: missing required key") != std::string::npos);
   CHECK(only_problem(channel("initial = \"target_profile\"\n"))
             .find("mean_flow.initial: \"target_profile\" starts the water on [mean_flow.profile_forcing]'s target") !=
         std::string::npos);
